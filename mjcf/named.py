@@ -1,0 +1,262 @@
+"""Named indexing: MjModel/MjData fields indexed by the names of the objects that own their rows.
+
+    physics.named.data.qpos["hip"]               # data.qpos[jnt_qposadr[hip] : +1], shape (1,)
+    physics.named.data.qpos["root"][:3] = 0, 0, 1 # a free joint's 7 rows are a view
+    physics.named.data.xpos[["torso", "head"]]   # (2, 3): rows of two bodies
+    physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
+    physics.named.data.sensordata["touch"]       # sensor_adr / sensor_dim slice
+    physics.named.data.qvel[3:6], physics.named.data.qpos[mask]   # ints, slices, masks: as numpy
+    physics.named.data.xpos["torso", 2]          # a tuple indexes the following axes too
+    physics.named.data.qpos.axes.row.names       # the owner name of every row
+    print(physics.named.data.qpos)               # a table of names and values
+
+Every field `mjcf.fields.indexed_fields(struct)` lists is here, under `model` or `data`. A
+name stands for the rows its object owns: one row (an int index, so numpy drops the axis) for a
+field with one row per object, the object's block (a slice, kept as an axis) for an addressed
+field (qpos, qvel, sensordata, act ...). A list of names concatenates their rows. Reads follow
+numpy: a name or a slice gives a view, a list a copy. Assignment through any key writes through.
+Unnamed objects are reachable by integer index only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+
+from mjcf import errors, fields
+
+if TYPE_CHECKING:
+    from mjcf.physics import Physics
+
+_REPR_ROWS = 40  # longer fields print their head and tail only
+
+
+@dataclasses.dataclass(frozen=True)
+class Axis:
+    """The row axis of a field: `names[i]` is the name of the object owning row i ('' if none)."""
+
+    kind: mujoco.mjtObj
+    names: tuple[str, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class Axes:
+    """The named axes of a field; only rows are named."""
+
+    row: Axis
+
+
+class _NameTable:
+    """Object names of one kind and the rows each owns under one address scheme."""
+
+    def __init__(self, model: mujoco.MjModel, field: fields.Field) -> None:
+        self.kind = field.kind
+        self.address = field.address
+        self.names = fields.names(model, field.kind)
+        ids = np.arange(len(self.names), dtype=np.intp)
+        if field.address is None:
+            self.starts, self.counts = ids, np.ones_like(ids)
+        else:
+            self.starts, self.counts = fields.rows(model, field.address)
+        self.ids = {name: i for i, name in enumerate(self.names) if name}
+        size = int(getattr(model, field.size))
+        owners = np.full(size, -1, dtype=np.intp)
+        rows, _ = fields.row_index(model, field.address, ids)
+        owners[rows] = np.repeat(ids, self.counts)
+        self.row_names = tuple(self.names[i] if i >= 0 else "" for i in owners)
+        self.first_rows = frozenset(
+            int(s) for s, c in zip(self.starts, self.counts, strict=True) if c
+        )
+
+    def key(self, name: str, field_name: str) -> int | slice:
+        """The index of `name`'s rows: an int for one-row-per-object fields, else a slice."""
+        i = self.ids.get(name)
+        one_each = self.address is not None and self.address.one_each
+        if i is None or (one_each and self.counts[i] == 0):
+            valid = [n for n, j in self.ids.items() if self.counts[j] or not one_each]
+            close = difflib.get_close_matches(name, valid, n=3)
+            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            kind = fields.kind_name(self.kind)
+            owns = "" if i is None else f"; {kind} {name!r} owns no rows of it"
+            raise errors.NotFoundError(
+                f"{field_name} has no row named {name!r}{hint}{owns}; "
+                f"{kind} names: {valid[:20]}{' ...' if len(valid) > 20 else ''}"
+            )
+        start, count = int(self.starts[i]), int(self.counts[i])
+        if self.address is None or (one_each and count == 1):
+            return start
+        # An object may own no rows (a stateless actuator's act): an empty slice, not -1:-1.
+        return slice(start, start + count) if count else slice(0, 0)
+
+    def rows(self, names: list[Any], field_name: str) -> np.ndarray:
+        """The rows of several names (or raw int rows) concatenated, as an index array."""
+        parts = []
+        for item in names:
+            key = self.key(item, field_name) if isinstance(item, str) else item
+            if isinstance(key, slice):
+                parts.append(np.arange(key.start, key.stop, dtype=np.intp))
+            else:
+                parts.append(np.array([key], dtype=np.intp))
+        return np.concatenate(parts) if parts else np.zeros(0, dtype=np.intp)
+
+
+class FieldIndexer:
+    """One MjModel/MjData field, indexed by object names as well as numpy keys."""
+
+    __slots__ = ("_field", "_physics", "_table", "_table_model")
+
+    def __init__(self, physics: Physics, field: fields.Field) -> None:
+        self._physics = physics
+        self._field = field
+        self._table: _NameTable | None = None
+        self._table_model: mujoco.MjModel | None = None
+
+    @property
+    def field(self) -> fields.Field:
+        """How this field is indexed (kind, address scheme, MjModel or MjData)."""
+        return self._field
+
+    @property
+    def array(self) -> np.ndarray:
+        """The whole MjModel/MjData array (a view)."""
+        physics = self._physics
+        source = physics._model if self._field.struct == "model" else physics._data
+        return getattr(source, self._field.name)
+
+    @property
+    def axes(self) -> Axes:
+        """The names of the objects owning each row: `axes.row.names`."""
+        table = self._names()
+        return Axes(Axis(table.kind, table.row_names))
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of the whole array."""
+        return self.array.shape
+
+    def __len__(self) -> int:
+        return len(self.array)
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
+        array = self.array
+        return array.copy() if copy else np.asarray(array, dtype=dtype)
+
+    def _names(self) -> _NameTable:
+        # Re-resolve when the physics holds another model than the one the names came from.
+        model = self._physics._model
+        if self._table is None or self._table_model is not model:
+            self._table = _NameTable(model, self._field)
+            self._table_model = model
+        return self._table
+
+    def _resolve(self, key: Any) -> Any:
+        """Translate names in `key` (first axis only) to numpy row indices."""
+        if isinstance(key, tuple):
+            return (self._resolve(key[0]), *key[1:]) if key else key
+        if isinstance(key, str):
+            return self._names().key(key, self._field.name)
+        if isinstance(key, (list, np.ndarray)) and any(isinstance(k, str) for k in key):
+            return self._names().rows(list(key), self._field.name)
+        return key
+
+    def __getitem__(self, key: Any) -> Any:
+        """Rows by name, list of names, int, slice or mask; raises NotFoundError for a name."""
+        array = self.array
+        resolved = self._resolve(key)
+        try:
+            return array[resolved]
+        except IndexError as e:
+            raise errors.BindingError(f"{self._field.name}[{key!r}]: {e}") from e
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        """Write rows selected as in __getitem__; raises BindingError for a shape mismatch."""
+        array = self.array
+        resolved = self._resolve(key)
+        try:
+            array[resolved] = value
+        except (ValueError, TypeError, IndexError) as e:
+            raise errors.BindingError(
+                f"cannot write {np.shape(value)}-shaped values to {self._field.name}[{key!r}] "
+                f"of shape {np.shape(array[resolved])}: {e}"
+            ) from e
+
+    def __repr__(self) -> str:
+        field = self._field
+        array = self.array
+        table = self._names()
+        via = f" via {field.address.start}" if field.address else ""
+        lines = [
+            f"{field.struct}.{field.name}: {array.shape[0]} rows of "
+            f"{fields.kind_name(field.kind)}{via}, shape {array.shape}"
+        ]
+        shown = range(len(array))
+        if len(array) > _REPR_ROWS:
+            shown = [*range(_REPR_ROWS - 5), -1, *range(len(array) - 5, len(array))]
+        width = max((len(n) for n in table.row_names), default=0)
+        for row in shown:
+            if row < 0:
+                lines.append("  ...")
+                continue
+            label = table.row_names[row] if row in table.first_rows else ""
+            value = np.array2string(
+                np.asarray(array[row]), precision=4, suppress_small=True, max_line_width=200
+            )
+            lines.append(f"{row:>5}  {label:<{width}}  {value}")
+        return "\n".join(lines)
+
+
+class StructView:
+    """The indexed fields of MjModel (`physics.named.model`) or MjData (`physics.named.data`)."""
+
+    __slots__ = ("_indexers", "_physics", "_struct")
+
+    def __init__(self, physics: Physics, struct: fields.Struct) -> None:
+        self._physics = physics
+        self._struct = struct
+        self._indexers: dict[str, FieldIndexer] = {}
+
+    def __getattr__(self, name: str) -> FieldIndexer:
+        indexer = self._indexers.get(name)
+        if indexer is not None:
+            return indexer
+        field = fields.indexed_fields(self._struct).get(name)
+        if field is None:
+            raise errors.BindingError(self._unknown(name))
+        indexer = self._indexers[name] = FieldIndexer(self._physics, field)
+        return indexer
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in self.__slots__:
+            object.__setattr__(self, name, value)
+            return
+        # `named.model.geom_rgba = x` would silently do nothing useful: write the rows instead.
+        self.__getattr__(name)[:] = value
+
+    def __dir__(self) -> list[str]:
+        return sorted({*super().__dir__(), *fields.indexed_fields(self._struct)})
+
+    def _unknown(self, name: str) -> str:
+        raw = self._physics._model if self._struct == "model" else self._physics._data
+        label = "MjModel" if self._struct == "model" else "MjData"
+        if isinstance(getattr(raw, name, None), np.ndarray):
+            return (
+                f"{label} field '{name}' is not indexed by any kind of object; "
+                f"use physics.{self._struct}.{name}"
+            )
+        close = difflib.get_close_matches(name, list(fields.indexed_fields(self._struct)), n=3)
+        hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+        return f"{label} has no indexed field '{name}'{hint}"
+
+
+class NamedAccess:
+    """`physics.named`: `.model` and `.data` views of every field indexed by object names."""
+
+    __slots__ = ("data", "model")
+
+    def __init__(self, physics: Physics) -> None:
+        self.model = StructView(physics, "model")
+        self.data = StructView(physics, "data")

@@ -1,0 +1,381 @@
+"""Physics: one MuJoCo simulation (MjModel + MjData) with bindings, named access and rendering.
+
+    physics = Physics.from_xml_path("humanoid.xml")
+    with physics.reset_context():                       # reset, then forward on exit
+        physics.named.data.qpos["root"][:3] = [0, 0, 1.4]
+    physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
+    arm = physics.bind_names(mujoco.mjtObj.mjOBJ_JOINT, ["hip_x", "hip_y"])
+    arm.qpos = [0.1, 0.2]                               # live views; see mjcf.binding
+    with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
+        physics.step(10)
+    frame = physics.render(240, 320, camera_id=-1)      # needs MUJOCO_GL=egl when headless
+    clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
+
+`model` and `data` are the raw `mujoco.MjModel` / `MjData`; they stay the same objects for the
+life of the physics (reset works in place), so bindings and views stay valid. `copy()` and
+unpickling give a physics with its own MjData (and MjModel, unless shared). Subclasses (e.g.
+composer's) keep their extra attributes through `copy()` (shallow) and pickling; they override
+nothing to get that, as long as their attributes are picklable.
+
+Stepping does not check for divergence (a check costs about a microsecond per call): call
+`check_invalid_state()` or step inside `check_divergence()` where it matters.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy as copy_module
+import ctypes.util
+import difflib
+import os
+import platform
+from collections.abc import Iterator, Mapping, Sequence
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from mjcf import binding as binding_module
+from mjcf import errors, fields, named
+
+# MuJoCo warnings that mean the state was invalid: non-finite or huge qpos/qvel, bad qacc
+# (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls.
+_INVALID_STATE_WARNINGS = (
+    mujoco.mjtWarning.mjWARN_BADQPOS,
+    mujoco.mjtWarning.mjWARN_BADQVEL,
+    mujoco.mjtWarning.mjWARN_BADQACC,
+    mujoco.mjtWarning.mjWARN_BADCTRL,
+)
+_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+
+# Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
+_TRANSIENT = ("_model", "_data", "_warnings", "_bindings", "_named", "_renderers")
+
+
+class Physics:
+    """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name."""
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
+        """Wrap `model` and `data` (a new MjData, forwarded, if None)."""
+        if data is None:
+            data = mujoco.MjData(model)
+            mujoco.mj_forward(model, data)
+        self._attach(model, data)
+
+    def _attach(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Hold `model` and `data`, dropping every cache built for the previous ones.
+
+        The one place a physics changes its MjModel/MjData; bindings made before then raise
+        BindingError when read, named views re-resolve their indices.
+        """
+        for stale in self.__dict__.get("_bindings", {}).values():
+            stale._detach()
+        self._model = model
+        self._data = data
+        self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
+        self._bindings: dict[tuple, binding_module.Binding] = {}
+        self._named: named.NamedAccess | None = None
+        self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+
+    # -- construction --------------------------------------------------------------------
+
+    @classmethod
+    def from_model(cls, model: mujoco.MjModel) -> Physics:
+        """A physics on `model` (not copied) with a new, forwarded MjData."""
+        return cls(model)
+
+    @classmethod
+    def from_xml_string(
+        cls, xml: str | bytes, assets: Mapping[str, bytes] | None = None
+    ) -> Physics:
+        """Compile MJCF text (assets: {file name: contents}); raises CompileError."""
+        if isinstance(xml, bytes):
+            xml = xml.decode("utf-8")
+        return cls(_compile(mujoco.MjModel.from_xml_string, xml, dict(assets or {})))
+
+    @classmethod
+    def from_xml_path(cls, path: str | os.PathLike[str]) -> Physics:
+        """Compile the MJCF file at `path`; raises CompileError."""
+        return cls(_compile(mujoco.MjModel.from_xml_path, os.fspath(path), None))
+
+    @classmethod
+    def from_binary_path(cls, path: str | os.PathLike[str]) -> Physics:
+        """Load a compiled MJB file; raises CompileError."""
+        return cls(_compile(mujoco.MjModel.from_binary_path, os.fspath(path), None))
+
+    # -- state ---------------------------------------------------------------------------
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        """The raw mujoco.MjModel."""
+        return self._model
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """The raw mujoco.MjData."""
+        return self._data
+
+    @property
+    def named(self) -> named.NamedAccess:
+        """Named indexing: `physics.named.data.qpos['hip']`, `.model.geom_rgba['floor']`."""
+        if self._named is None:
+            self._named = named.NamedAccess(self)
+        return self._named
+
+    def timestep(self) -> float:
+        """The simulation timestep in seconds (model.opt.timestep)."""
+        return float(self._model.opt.timestep)
+
+    def time(self) -> float:
+        """The simulation time in seconds (data.time)."""
+        return float(self._data.time)
+
+    def step(self, nstep: int = 1) -> None:
+        """Advance the simulation by `nstep` timesteps (mj_step); does not check divergence."""
+        mujoco.mj_step(self._model, self._data, nstep)
+
+    def forward(self) -> None:
+        """Recompute every derived quantity from the state (mj_forward)."""
+        mujoco.mj_forward(self._model, self._data)
+
+    def reset(self, keyframe: int | str | None = None) -> None:
+        """Reset the state to qpos0, or to a keyframe (index or name), then forward.
+
+        Raises NotFoundError for a keyframe the model does not have.
+        """
+        if keyframe is None:
+            mujoco.mj_resetData(self._model, self._data)
+        else:
+            mujoco.mj_resetDataKeyframe(self._model, self._data, self._keyframe_id(keyframe))
+        mujoco.mj_forward(self._model, self._data)
+
+    def _keyframe_id(self, keyframe: int | str) -> int:
+        nkey = self._model.nkey
+        names = fields.names(self._model, mujoco.mjtObj.mjOBJ_KEY)
+        if isinstance(keyframe, str):
+            key_id = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
+            if key_id < 0:
+                raise errors.NotFoundError(
+                    f"no keyframe named {keyframe!r}{_did_you_mean(keyframe, names)}; "
+                    f"keyframes: {list(names)}"
+                )
+            return key_id
+        if not 0 <= int(keyframe) < nkey:
+            raise errors.NotFoundError(
+                f"keyframe index {keyframe} is out of range: the model has {nkey} keyframes"
+            )
+        return int(keyframe)
+
+    @contextlib.contextmanager
+    def reset_context(self, keyframe: int | str | None = None) -> Iterator[Physics]:
+        """Reset, let the block set up the state, then forward and check it is valid.
+
+        Raises PhysicsError if the state set in the block is invalid.
+        """
+        self.reset(keyframe)
+        yield self
+        self.forward()
+        self.check_invalid_state()
+
+    def check_invalid_state(self) -> None:
+        """Raise PhysicsError if MuJoCo flagged a bad qpos, qvel, qacc or ctrl since the reset.
+
+        MuJoCo counts these warnings in data.warning; for bad qpos/qvel/qacc it has also
+        reset the state, so the simulation did not continue from the bad values.
+        """
+        warnings = self._warnings
+        if not any(warnings[w] for w in _INVALID_STATE_WARNINGS):
+            return
+        found = []
+        for warning in _INVALID_STATE_WARNINGS:
+            if warnings[warning]:
+                info = self._data.warning[warning].lastinfo
+                found.append(f"{warning.name} x{warnings[warning]} ({self._locate(warning, info)})")
+        raise errors.PhysicsError(
+            f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
+            f"{', '.join(found)}; reset the physics to continue"
+        )
+
+    def _locate(self, warning: mujoco.mjtWarning, index: int) -> str:
+        """'joint <name>' (or actuator) owning the qpos/dof/ctrl index a warning reports."""
+        field = {
+            mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
+            mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
+        }.get(warning, "qvel")
+        spec = fields.indexed_field(field)
+        starts, counts = fields.rows(self._model, spec.address)
+        owner = np.flatnonzero((starts <= index) & (index < starts + counts))
+        if owner.size == 0:
+            return f"{field} index {index}"
+        name = fields.names(self._model, spec.kind)[owner[0]] or f"#{owner[0]}"
+        return f"{field} index {index}, {fields.kind_name(spec.kind)} {name!r}"
+
+    @contextlib.contextmanager
+    def check_divergence(self) -> Iterator[Physics]:
+        """Run the block, then raise PhysicsError if the simulation became invalid in it."""
+        yield self
+        self.check_invalid_state()
+
+    # -- copies and pickling -------------------------------------------------------------
+
+    def copy(self, share_model: bool = True) -> Physics:
+        """A physics of the same class with a copy of the MjData (and MjModel unless shared).
+
+        Extra attributes of subclasses are copied shallowly; caches and renderers are not.
+        """
+        model = self._model if share_model else copy_module.copy(self._model)
+        data = mujoco.MjData(model)
+        mujoco.mj_copyData(data, model, self._data)
+        new = type(self).__new__(type(self))
+        new.__dict__.update({k: v for k, v in self.__dict__.items() if k not in _TRANSIENT})
+        new._attach(model, data)
+        return new
+
+    def __copy__(self) -> Physics:
+        return self.copy(share_model=True)
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Physics:
+        return self.copy(share_model=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The model (pickled by mujoco as MJB bytes), the integration state, extra attributes."""
+        state = np.empty(mujoco.mj_stateSize(self._model, _STATE))
+        mujoco.mj_getState(self._model, self._data, state, _STATE)
+        extras = {k: v for k, v in self.__dict__.items() if k not in _TRANSIENT}
+        return {"model": self._model, "state": state, "extras": extras}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        model = state["model"]
+        data = mujoco.MjData(model)
+        mujoco.mj_setState(model, data, state["state"], _STATE)
+        # Derived quantities are not part of the state: recompute them from it.
+        mujoco.mj_forward(model, data)
+        self.__dict__.update(state["extras"])
+        self._attach(model, data)
+
+    # -- bindings ------------------------------------------------------------------------
+
+    def _binding(
+        self, kind: mujoco.mjtObj, ids: int | Sequence[int] | np.ndarray
+    ) -> binding_module.Binding:
+        """The binding of objects `ids` of `kind` (cached); raises BindingError.
+
+        An int binds one object (fields without a leading axis); a list binds several.
+        """
+        single = np.ndim(ids) == 0
+        array = np.asarray(ids)
+        cache_key = (int(kind), single, array.dtype.str, array.tobytes())
+        found = self._bindings.get(cache_key)
+        if found is None:
+            found = binding_module.make_binding(self, kind, ids)
+            self._bindings[cache_key] = found
+        return found
+
+    def bind_names(self, kind: mujoco.mjtObj, names: str | Sequence[str]) -> binding_module.Binding:
+        """The binding of the objects of `kind` called `names` (one str: a single object).
+
+        Raises NotFoundError for a name the model does not have.
+        """
+        single = isinstance(names, str)
+        wanted = [names] if single else list(names)
+        ids = [mujoco.mj_name2id(self._model, kind, name) for name in wanted]
+        if min(ids, default=0) < 0:
+            missing = wanted[ids.index(-1)]
+            known = [n for n in fields.names(self._model, kind) if n]
+            raise errors.NotFoundError(
+                f"no {fields.kind_name(kind)} named {missing!r}{_did_you_mean(missing, known)}"
+            )
+        return self._binding(kind, ids[0] if single else np.array(ids, dtype=np.intp))
+
+    # -- rendering -----------------------------------------------------------------------
+
+    def render(
+        self,
+        height: int = 240,
+        width: int = 320,
+        camera_id: int | str = -1,
+        depth: bool = False,
+        segmentation: bool = False,
+        scene_option: mujoco.MjvOption | None = None,
+    ) -> np.ndarray:
+        """An image of the current state: (h, w, 3) uint8 RGB, (h, w) float depth in meters,
+        or (h, w, 2) int32 segmentation (object id, object type).
+
+        camera_id -1 is the free camera; a camera id or name picks a model camera.
+        Raises RenderError when no OpenGL backend can be created or the request is invalid.
+        """
+        renderer = self._renderer(int(height), int(width))
+        try:
+            renderer.update_scene(self._data, camera=camera_id, scene_option=scene_option)
+        except ValueError as e:
+            raise errors.RenderError(f"cannot render camera {camera_id!r}: {e}") from e
+        if depth:
+            renderer.enable_depth_rendering()
+        elif segmentation:
+            renderer.enable_segmentation_rendering()
+        try:
+            return renderer.render()
+        finally:
+            renderer.disable_depth_rendering()
+            renderer.disable_segmentation_rendering()
+
+    def _renderer(self, height: int, width: int) -> mujoco.Renderer:
+        renderer = self._renderers.get((height, width))
+        if renderer is not None:
+            return renderer
+        try:
+            renderer = mujoco.Renderer(self._model, height, width)
+        except ValueError as e:  # larger than the model's offscreen framebuffer
+            raise errors.RenderError(str(e)) from e
+        except (ImportError, OSError, RuntimeError, AttributeError, mujoco.FatalError) as e:
+            raise errors.RenderError(_no_backend_message(e)) from e
+        self._renderers[(height, width)] = renderer
+        return renderer
+
+    def close(self) -> None:
+        """Free the renderers' OpenGL resources; the physics itself stays usable."""
+        renderers = self.__dict__.get("_renderers") or {}
+        for renderer in renderers.values():
+            renderer.close()
+        renderers.clear()
+
+    def __del__(self) -> None:
+        self.close()
+
+
+def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:
+    try:
+        return loader(source) if assets is None else loader(source, assets)
+    except ValueError as e:
+        raise errors.CompileError(f"MuJoCo could not load the model: {e}") from e
+
+
+def _did_you_mean(name: str, names: Sequence[str]) -> str:
+    close = difflib.get_close_matches(name, list(names), n=3)
+    return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+
+
+# The system library each MUJOCO_GL backend loads, and the Debian/Ubuntu packages providing it.
+_BACKEND_LIBRARIES = {
+    "egl": ("EGL", "libEGL.so.1", "libegl1 libegl-mesa0 libgl1"),
+    "osmesa": ("OSMesa", "libOSMesa.so", "libosmesa6"),
+    "glfw": ("GL", "libGL.so.1", "libgl1 libglfw3"),
+}
+
+
+def _no_backend_message(cause: BaseException) -> str:
+    """Why no OpenGL context could be made, naming the missing library and the fix."""
+    backend = os.environ.get("MUJOCO_GL", "").strip().lower() or "glfw"
+    lib, soname, packages = _BACKEND_LIBRARIES.get(backend, _BACKEND_LIBRARIES["glfw"])
+    if ctypes.util.find_library(lib) is None:
+        reason = f"{soname} is not installed (apt-get install {packages})"
+    elif backend == "glfw" and platform.system() == "Linux" and not os.environ.get("DISPLAY"):
+        reason = "GLFW needs a display and $DISPLAY is not set"
+    else:
+        reason = f"{type(cause).__name__}: {cause}"
+    return (
+        f"no OpenGL backend could be created with MUJOCO_GL={backend!r}: {reason}. "
+        "For headless rendering set MUJOCO_GL=egl (apt-get install libegl1 libegl-mesa0 "
+        "libgl1) or MUJOCO_GL=osmesa (apt-get install libosmesa6) before Python imports "
+        "mujoco."
+    )
