@@ -46,6 +46,14 @@ _INVALID_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
     mujoco.mjtWarning.mjWARN_BADCTRL,
 )
+_INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
+# The array whose index each warning's lastinfo reports.
+_WARNING_FIELD = {
+    mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
+    mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
+    mujoco.mjtWarning.mjWARN_BADQACC: "qvel",
+    mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
+}
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
@@ -178,30 +186,36 @@ class Physics:
         self.check_invalid_state()
 
     def check_invalid_state(self) -> None:
-        """Raise PhysicsError if MuJoCo flagged a bad qpos, qvel, qacc or ctrl since the reset.
+        """Raise PhysicsError if the state is invalid: MuJoCo flagged a bad qpos, qvel, qacc or
+        ctrl since the last reset, or qpos, qvel or qacc hold NaN or infinity.
 
-        MuJoCo counts these warnings in data.warning; for bad qpos/qvel/qacc it has also
-        reset the state, so the simulation did not continue from the bad values.
+        For bad qpos/qvel/qacc MuJoCo has also reset the state itself, so the simulation did
+        not continue from the bad values; the warning counters stay set until `reset()`.
         """
         warnings = self._warnings
-        if not any(warnings[w] for w in _INVALID_STATE_WARNINGS):
-            return
-        found = []
-        for warning in _INVALID_STATE_WARNINGS:
-            if warnings[warning]:
-                info = self._data.warning[warning].lastinfo
-                found.append(f"{warning.name} x{warnings[warning]} ({self._locate(warning, info)})")
-        raise errors.PhysicsError(
-            f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
-            f"{', '.join(found)}; reset the physics to continue"
-        )
+        if warnings[_INVALID_STATE_IDS].any():
+            found = []
+            for warning in _INVALID_STATE_WARNINGS:
+                if warnings[warning]:
+                    where = self._locate(
+                        _WARNING_FIELD[warning], self._data.warning[warning].lastinfo
+                    )
+                    found.append(f"{warning.name} x{warnings[warning]} ({where})")
+            raise errors.PhysicsError(
+                f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
+                f"{', '.join(found)}; reset the physics to continue"
+            )
+        # MuJoCo checks qpos/qvel only when stepping: catch values set since, e.g. by a user.
+        for field in ("qpos", "qvel", "qacc"):
+            finite = np.isfinite(getattr(self._data, field))
+            if not finite.all():
+                where = self._locate(field, int(np.flatnonzero(~finite)[0]))
+                raise errors.PhysicsError(
+                    f"physics state is invalid at t={self.time():.6g}: non-finite {where}"
+                )
 
-    def _locate(self, warning: mujoco.mjtWarning, index: int) -> str:
-        """'joint <name>' (or actuator) owning the qpos/dof/ctrl index a warning reports."""
-        field = {
-            mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
-            mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
-        }.get(warning, "qvel")
+    def _locate(self, field: str, index: int) -> str:
+        """'<field> index <i>, joint <name>': the object owning row `index` of qpos/qvel/ctrl."""
         spec = fields.indexed_field(field)
         starts, counts = fields.rows(self._model, spec.address)
         owner = np.flatnonzero((starts <= index) & (index < starts + counts))
