@@ -21,12 +21,10 @@ import itertools
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import mujoco
 
-if TYPE_CHECKING:
-    from mjcf.schema.generate import Attribute, Element
+from mjcf.schema._docs import Attribute, Element
 
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
@@ -61,6 +59,8 @@ _MODEL_COUNT = 12
 _ONE_OF = re.compile(r"(at most )?one of (.+?) (?:must|can) be specified")
 # Fragments parsed on their own: replicate renames elements across the document.
 _ALONE = re.compile(r"<replicate[ />]")
+# Fragments per document: a rejected one costs a parse of the others again.
+_BATCH = 50
 _LINE = re.compile(r"line (\d+)")
 # Errors that mean "this child is not allowed here", as opposed to a bad probe.
 # (A flexcomp needs a named body as its parent; replicate never is one.)
@@ -234,18 +234,20 @@ class Prober:
                 results[index] = self.error(probes[index])
             else:
                 pending.append(index)
-        while pending:
-            failure = self._parse([fragments[i] for i in pending])
-            if failure is None:
-                break
-            line = _LINE.search(failure)
-            position = int(line.group(1)) - 2 if line else -1
-            if not 0 <= position < len(pending):
-                for index in pending:
-                    results[index] = self.error(probes[index])
-                break
-            index = pending.pop(position)
-            results[index] = self.error(probes[index])
+        for start in range(0, len(pending), _BATCH):
+            batch = pending[start : start + _BATCH]
+            while batch:
+                failure = self._parse([fragments[i] for i in batch])
+                if failure is None:
+                    break
+                line = _LINE.search(failure)
+                position = int(line.group(1)) - 2 if line else -1
+                if not 0 <= position < len(batch):
+                    for index in batch:
+                        results[index] = self.error(probes[index])
+                    break
+                index = batch.pop(position)
+                results[index] = self.error(probes[index])
         return results
 
     def require_accepted(self, probes: Sequence[Probe]) -> None:
@@ -298,6 +300,10 @@ def unrecognized(error: str, name: str) -> bool:
     return f"unrecognized attribute: '{name}'" in error
 
 
+# How the reader of keyword lists (camera output="rgb depth") reports a bad one.
+LIST_READER = "invalid keyword: '(null)'"
+
+
 def bad_keyword(error: str, value: str, name: str | None = None) -> bool:
     """Whether ``error`` says the reader has no keyword ``value`` (for attribute ``name``).
 
@@ -307,7 +313,7 @@ def bad_keyword(error: str, value: str, name: str | None = None) -> bool:
     quoted = re.escape(f"'{value}'")
     pattern = rf"invalid keyword: {quoted}|unknown [\w ]+ {quoted}|unknown object type$"
     if name is not None:
-        pattern += rf"|invalid keyword: '\(null\)'|problem reading attribute '{name}'"
+        pattern += rf"|{re.escape(LIST_READER)}|problem reading attribute '{name}'"
     return re.search(pattern, error.split(" Element ")[0]) is not None
 
 

@@ -32,275 +32,36 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import math
 import re
 import sys
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _annotations, _probe, _rst
+from mjcf.schema import _annotations, _probe
+from mjcf.schema._docs import (
+    BODY,
+    DEFAULT,
+    META,
+    ROOT,
+    WORLDBODY,
+    Attribute,
+    Element,
+    SchemaError,
+    doc_dir,
+    elements_from_docs,
+    listed_values,
+)
 from mjcf.schema._probe import Probe
 
 OUTPUT = Path(__file__).with_name("mjcf_schema.json")
-ROOT = "mujoco"
-BODY = "body"
-WORLDBODY = "worldbody"
-DEFAULT = "default"
-# Meta elements the reference documents outside XMLschema.rst (include is the
-# parser's business, not the schema's).
-META = ("body-frame", "replicate")
 # Elements holding the kinematic tree; their children are probed.
 TREE_HOLDERS = (WORLDBODY, BODY, *META)
-ANY_OBJECT_TYPE = "(any element type that can be named)"
-_ONCE_ICONS = {"!", "?", "dot", "star"}  # star: the root
-_RECURSIVE_ICONS = {"@", "sync"}
 
 logger = logging.getLogger(__name__)
 
 
-class SchemaError(RuntimeError):
-    """The documentation says something the generator cannot turn into a schema."""
-
-
-@dataclass
-class Attribute:
-    """One attribute of one element, as it is being worked out."""
-
-    name: str
-    kind: str  # identifier, string, file, reference, keyword, int, real
-    required: bool = False
-    default: str | None = None
-    values: list[str] = field(default_factory=list)
-    count: int | None = None  # documented count of numbers; None: depends on the model
-    multiple_of: int | None = None
-    min: int = 1
-    max: int | None = 1
-    namespace: str | None = None
-    namespace_from: str | None = None
-    namespace_map: dict[str, str] = field(default_factory=dict)
-    is_list: bool = False
-    any_object_type: bool = False  # keyword over every type of named element
-    description: str = ""  # the documentation text, for values listed there
-
-    def to_json(self) -> dict:
-        """The attribute's entry in the JSON file."""
-        spec: dict = {"type": self.kind}
-        if self.kind == "reference":
-            if self.namespace_from:
-                spec["namespace_from"] = self.namespace_from
-                spec["namespace_map"] = self.namespace_map
-            else:
-                spec["namespace"] = self.namespace
-            if self.is_list:
-                spec["list"] = True
-        elif self.kind == "keyword":
-            spec["values"] = self.values
-            if self.is_list:
-                spec["list"] = True
-        elif self.kind in ("int", "real"):
-            spec["min"] = self.min
-            spec["max"] = self.max
-            if self.multiple_of:
-                spec["multiple_of"] = self.multiple_of
-        spec["required"] = self.required
-        if self.kind in ("string", "keyword", "int", "real"):
-            spec["default"] = self.default
-        return spec
-
-
-@dataclass
-class Element:
-    """One element key of the schema, as it is being worked out."""
-
-    key: str
-    tag: str
-    repeated: bool
-    attributes: dict[str, Attribute] = field(default_factory=dict)
-    children: list[str] = field(default_factory=list)
-    namespace: str | None = None
-
-    def to_json(self) -> dict:
-        """The element's entry in the JSON file."""
-        return {
-            "tag": self.tag,
-            "namespace": self.namespace,
-            "repeated": self.repeated,
-            "attributes": {name: a.to_json() for name, a in self.attributes.items()},
-            "children": self.children,
-        }
-
-
-# -- the documents ----------------------------------------------------------------
-
-
-def doc_dir() -> Path:
-    """The documentation directory of the installed mujoco wheel."""
-    return Path(mujoco.__file__).parent / "doc"
-
-
-def parse_value(name: str, text: str) -> Attribute:
-    """An attribute from its documented value text, e.g. ``real(3), "0 0 0"``."""
-    type_text, status = _split_first(text)
-    attribute = Attribute(name, "string")
-    keywords = re.fullmatch(r"\[(.*)\]", type_text)
-    typed = re.fullmatch(r"(string|int|real)(?:\((.+)\))?", type_text)
-    if keywords:
-        attribute.kind = "keyword"
-        attribute.values = [value.strip() for value in keywords.group(1).split(",")]
-    elif type_text == "bool":
-        attribute.kind, attribute.values = "keyword", ["false", "true"]
-    elif type_text == ANY_OBJECT_TYPE:
-        attribute.kind, attribute.any_object_type = "keyword", True
-    elif typed:
-        attribute.kind = typed.group(1)
-        if typed.group(2) is not None:
-            count, multiple_of = _count(typed.group(2))
-            if attribute.kind == "string":
-                attribute.is_list = True
-            attribute.count, attribute.multiple_of = count, multiple_of
-        elif attribute.kind != "string":
-            attribute.count = 1
-    else:
-        raise SchemaError(f"attribute {name!r}: unknown type {type_text!r} in {text!r}")
-    # "required (except at the top level)", "required for slider-crank
-    # transmission": conditions the reader checks, not a required attribute.
-    attribute.required = status == "required"
-    default = re.match(r'"([^"]*)"', status)
-    if default:
-        attribute.default = _expand_default(default.group(1), attribute)
-    return attribute
-
-
-def _split_first(text: str) -> tuple[str, str]:
-    """Split ``text`` at its first comma outside brackets: (type, status)."""
-    depth = 0
-    for index, char in enumerate(text):
-        if char in "[(":
-            depth += 1
-        elif char in "])":
-            depth -= 1
-        elif char == "," and depth == 0:
-            return text[:index].strip(), text[index + 1 :].strip()
-    return text.strip(), ""
-
-
-def _count(expression: str) -> tuple[int | None, int | None]:
-    """(fixed count, multiple) from a documented size: "3", "1 or 3", "3*nvert"."""
-    alternatives = [part.strip() for part in expression.split(" or ")]
-    if all(part.isdigit() for part in alternatives):
-        return max(int(part) for part in alternatives), None
-    factors = []
-    for part in alternatives:
-        leading = re.match(r"(\d+)\*", part)
-        factors.append(int(leading.group(1)) if leading else 1)
-    multiple = math.gcd(*factors)
-    return None, multiple if multiple > 1 else None
-
-
-def _expand_default(text: str, attribute: Attribute) -> str | None:
-    """Spell out "1 0 ... 0" for a fixed count; None when the count is the model's."""
-    if attribute.kind not in ("int", "real") or "..." not in text:
-        return text
-    if attribute.count is None:
-        return None
-    head, tail = (part.split() for part in text.split("...", 1))
-    fill = tail[0] if tail else head[-1]
-    return " ".join(head + [fill] * (attribute.count - len(head) - len(tail)) + tail)
-
-
-class _Resolver:
-    """Finds the block documenting an attribute's type, following "see there" links."""
-
-    def __init__(self, reference: _rst.Reference) -> None:
-        self.reference = reference
-
-    def find(self, anchor: str, name: str) -> _rst.AttributeDoc | None:
-        """The documentation, with a value text, of attribute ``name`` at ``anchor``."""
-        found = self._follow(anchor, name, set())
-        if found is None:
-            source = _annotations.TYPE_SOURCES.get(anchor) or _annotations.TYPE_SOURCES.get(name)
-            if source is not None:
-                found = self._at(*source, set())
-        return found
-
-    def _follow(self, anchor: str, name: str, seen: set[str]) -> _rst.AttributeDoc | None:
-        doc = self.reference.attributes.get(anchor)
-        if doc is None or anchor in seen:
-            return None
-        seen.add(anchor)
-        if doc.value is not None:
-            return doc
-        for target in _rst.refs_in(doc.description):
-            found = self._at(target, name, seen)
-            if found is not None:
-                return found
-        return None
-
-    def _at(self, label: str, name: str, seen: set[str]) -> _rst.AttributeDoc | None:
-        """Attribute ``name`` of the element, or in the section, labelled ``label``."""
-        element = self.reference.elements.get(label)
-        if element is not None:
-            for anchor in element.attribute_anchors:
-                if anchor.rsplit("-", 1)[-1] == name:
-                    found = self._follow(anchor, name, seen)
-                    if found is not None:
-                        return found
-        return self.reference.sections.get(label, {}).get(name)
-
-
-def elements_from_docs(docs: Path) -> tuple[dict[str, Element], list[tuple[str, str]]]:
-    """Elements with their documented attributes and children; and the documented edges."""
-    tree = _rst.parse_schema_tree((docs / "XMLschema.rst").read_text())
-    reference = _rst.parse_reference((docs / "XMLreference.rst").read_text())
-    _rst.parse_reference((docs / "modeling.rst").read_text(), reference)
-    resolver = _Resolver(reference)
-    elements: dict[str, Element] = {}
-    edges: list[tuple[str, str]] = []
-    unresolved: list[str] = []
-
-    def attributes(pairs: list[tuple[str, str]]) -> dict[str, Attribute]:
-        result = {}
-        for name, anchor in pairs:
-            doc = resolver.find(anchor, name)
-            if doc is None or doc.value is None:
-                unresolved.append(anchor)
-            else:
-                result[name] = parse_value(name, doc.value)
-                result[name].description = doc.description
-        return result
-
-    def visit(node: _rst.SchemaNode, parent: str | None) -> str:
-        key = WORLDBODY if node.anchor == BODY and parent == ROOT else node.anchor
-        if parent is not None:
-            edges.append((parent, key))
-        if key == WORLDBODY:
-            # The documented (world)body restricted; the probes say how.
-            elements[key] = Element(key, WORLDBODY, node.icon not in _ONCE_ICONS)
-            elements[key].children = [visit(node, WORLDBODY)]
-            return key
-        tag = node.label.removeprefix("(world)")
-        element = Element(key, tag, node.icon not in _ONCE_ICONS)
-        first = elements.setdefault(key, element)  # in document order
-        element.attributes = attributes(node.attributes)
-        element.children = [visit(child, key) for child in node.children]
-        if node.icon in _RECURSIVE_ICONS:
-            element.children.append(key)
-            edges.append((key, key))
-        if first.to_json() != element.to_json():
-            raise SchemaError(f"element {key!r} is documented differently in two places")
-        return key
-
-    visit(tree, None)
-    for key in META:
-        doc = reference.elements[key]
-        pairs = [(anchor.rsplit("-", 1)[-1], anchor) for anchor in doc.attribute_anchors]
-        elements[key] = Element(key, doc.tag, doc.icon not in _ONCE_ICONS, attributes(pairs))
-    if unresolved:
-        raise SchemaError("no documented type for: " + ", ".join(unresolved))
-    elements[BODY].children.extend(META)
-    return elements, edges
+# -- what the documentation leaves open ----------------------------------------------
 
 
 def classify_strings(elements: dict[str, Element]) -> None:
@@ -310,27 +71,20 @@ def classify_strings(elements: dict[str, Element]) -> None:
         for name, attribute in element.attributes.items():
             if attribute.kind != "string":
                 continue
-            choice = _annotations.BY_ELEMENT.get((key, name))
+            override = _annotations.BY_ELEMENT.get((key, name))
+            choice = override or _annotations.REFERENCES.get(name)
             if name == "name" or (key == DEFAULT and name == "class"):
                 attribute.kind = "identifier"
-            elif choice is None and name in _annotations.NAMESPACE_FROM:
+            elif override is None and name in _annotations.NAMESPACE_FROM:
                 attribute.kind = "reference"
                 attribute.namespace_from = _annotations.NAMESPACE_FROM[name]
-            elif choice in (None, "string", "file"):
-                choice = choice or _annotations.REFERENCES.get(name)
-                if choice is None and name in _annotations.FILES:
-                    choice = "file"
-                if choice is None and name in _annotations.PLAIN_STRINGS:
-                    choice = "string"
-                if choice is None:
-                    unclassified.append(f"{key}/{name}")
-                elif choice in ("string", "file"):
-                    attribute.kind = choice
-                else:
-                    attribute.kind, attribute.namespace = "reference", choice
-            else:
+            elif choice not in (None, "string", "file"):
                 attribute.kind, attribute.namespace = "reference", choice
-            if attribute.kind not in ("reference", "keyword"):
+            elif choice == "file" or (choice is None and name in _annotations.FILES):
+                attribute.kind = "file"
+            elif choice is None and name not in _annotations.PLAIN_STRINGS:
+                unclassified.append(f"{key}/{name}")
+            if attribute.kind != "reference":
                 attribute.is_list = False
     if unclassified:
         raise SchemaError(
@@ -459,7 +213,7 @@ def _enumerated_strings(prober: _probe.Prober, elements: dict[str, Element]) -> 
             if not _probe.bad_keyword(error, "probe_text"):
                 _note(f"{key}/{attribute.name}: the reader checks the text: {error}")
                 continue
-            values = re.findall(r"^(?:\* - )?:at(?:-val)?:`(\w+)`", attribute.description, re.M)
+            values = listed_values(attribute.description)
             if not values:
                 raise SchemaError(f"{key}/{attribute.name}: a keyword, but no values documented")
             _note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
@@ -537,17 +291,12 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         for attribute in element.attributes.values():
             if attribute.kind != "keyword" or attribute.any_object_type:
                 continue
-            if _accepts(prober, key, attribute.name, "probe_keyword"):
+            error = prober.error(Probe(key, {attribute.name: "probe_keyword"}))
+            if not (error and _probe.bad_keyword(error, "probe_keyword", attribute.name)):
                 _note(f"{key}/{attribute.name}: the reader accepts any keyword")
-            pair = " ".join(attribute.values[:2])
-            if len(attribute.values) > 1 and _accepts(prober, key, attribute.name, pair):
-                attribute.is_list = True
-
-
-def _accepts(prober: _probe.Prober, key: str, name: str, value: str) -> bool:
-    """Whether the reader takes ``value`` for keyword attribute ``name`` of ``key``."""
-    error = prober.error(Probe(key, {name: value}))
-    return error is None or not _probe.bad_keyword(error, value, name)
+            elif _probe.LIST_READER in error:  # a list of keywords? try two
+                pair = {attribute.name: " ".join(attribute.values[:2])}
+                attribute.is_list = prober.error(Probe(key, pair)) is None
 
 
 def _arity(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
@@ -582,29 +331,26 @@ def build(docs: Path | None = None) -> dict:
 
 
 def dumps(schema: dict) -> str:
-    """The JSON text: one line per attribute, so diffs show what changed."""
-    lines = ["{"]
-    lines.append(f'  "mujoco_version": {json.dumps(schema["mujoco_version"])},')
-    lines.append(f'  "root": {json.dumps(schema["root"])},')
-    lines.append('  "elements": {')
-    items = list(schema["elements"].items())
-    for position, (key, element) in enumerate(items):
-        lines.append(f"    {json.dumps(key)}: {{")
-        for field_name in ("tag", "namespace", "repeated"):
-            lines.append(f"      {json.dumps(field_name)}: {json.dumps(element[field_name])},")
-        attributes = list(element["attributes"].items())
-        if attributes:
-            lines.append('      "attributes": {')
-            for index, (name, spec) in enumerate(attributes):
-                comma = "," if index < len(attributes) - 1 else ""
-                lines.append(f"        {json.dumps(name)}: {json.dumps(spec)}{comma}")
-            lines.append("      },")
-        else:
-            lines.append('      "attributes": {},')
-        lines.append(f'      "children": {json.dumps(element["children"])}')
-        lines.append("    }" + ("," if position < len(items) - 1 else ""))
-    lines.extend(["  }", "}"])
-    return "\n".join(lines) + "\n"
+    """The JSON text, one line per attribute so that diffs show what changed."""
+
+    def element(key: str, data: dict) -> str:
+        fields = [
+            f"      {json.dumps(f)}: {json.dumps(data[f])}"
+            for f in ("tag", "namespace", "repeated")
+        ]
+        specs = ",\n".join(
+            f"        {json.dumps(name)}: {json.dumps(spec)}"
+            for name, spec in data["attributes"].items()
+        )
+        fields.append('      "attributes": {' + (f"\n{specs}\n      " if specs else "") + "}")
+        fields.append(f'      "children": {json.dumps(data["children"])}')
+        return f"    {json.dumps(key)}: {{\n" + ",\n".join(fields) + "\n    }"
+
+    head = "".join(
+        f"  {json.dumps(k)}: {json.dumps(schema[k])},\n" for k in ("mujoco_version", "root")
+    )
+    elements = ",\n".join(element(key, data) for key, data in schema["elements"].items())
+    return "{\n" + head + '  "elements": {\n' + elements + "\n  }\n}\n"
 
 
 def main(argv: list[str] | None = None) -> int:
