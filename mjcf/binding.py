@@ -15,18 +15,19 @@ field with one row per object comes with a leading axis of len(ids); an addresse
 qvel, sensordata, act ...) comes as the objects' rows concatenated, so a free joint contributes
 7 qpos rows. A single id drops the leading axis (a body's `xpos` is (3,), its `mass` a 0-d view).
 
-Views and copies: when the bound rows form one contiguous range, a read is a numpy view of the
-MjModel/MjData buffer. Otherwise it is a copy whose item assignments (`b.qpos[0] = 1`,
-`b.qpos[:] += 1`) write the whole copy back; other in-place writes to such a copy (`out=`,
-`np.copyto`, writes through a slice of it) do not. Assigning the attribute always writes
-through. Index arrays are computed once per binding; a read costs one numpy index.
+Views and copies: when the bound rows are evenly spaced (a run, or every k-th row), a read is a
+numpy view of the MjModel/MjData buffer. Otherwise it is a copy whose item assignments
+(`b.qpos[0] = 1`, `b.qpos[:] += 1`) write the whole copy back; other in-place writes to such a
+copy (`out=`, `np.copyto`, writes through a slice of it) do not. Assigning the attribute always
+writes through. Index arrays are computed once per binding; a read costs one numpy index.
+A binding reads the physics' current MjData: it stays valid through `reset()` and pickling, and
+raises BindingError once the physics holds another model.
 """
 
 from __future__ import annotations
 
 import difflib
 import functools
-from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -41,7 +42,7 @@ Key = int | slice | tuple | np.ndarray
 
 
 class WriteThrough(np.ndarray):
-    """A copy of non-contiguous bound rows whose item assignments write back to MjModel/MjData.
+    """A copy of bound rows no slice covers, whose item assignments write back to the source.
 
     Only the array a binding returned writes back; arrays derived from it (slices, ufunc
     results) are plain copies that share its class.
@@ -62,10 +63,21 @@ class WriteThrough(np.ndarray):
 class Binding:
     """Fields of the objects `ids` of one `kind`, read and written in one physics.
 
-    Make bindings with `Physics._binding(kind, ids)` (cached per physics), not directly.
+    Make bindings with `Physics._binding(kind, ids)`: the physics caches them and tells them
+    when it changes MjData, which a binding made directly would not hear.
     """
 
-    __slots__ = ("_cache", "_data", "_ids", "_keys", "_kind", "_model", "_physics", "_single")
+    __slots__ = (
+        "__weakref__",
+        "_cache",
+        "_data",
+        "_ids",
+        "_keys",
+        "_kind",
+        "_model",
+        "_physics",
+        "_single",
+    )
     _fields: dict[str, fields.Field] = {}
 
     def __init__(self, physics: Physics, kind: mujoco.mjtObj, ids: int | np.ndarray) -> None:
@@ -90,12 +102,30 @@ class Binding:
             raise errors.BindingError(
                 f"{name} ids must not repeat (writes would race), got {array.tolist()}"
             )
-        object.__setattr__(self, "_physics", physics)
-        object.__setattr__(self, "_kind", kind)
-        object.__setattr__(self, "_ids", array.astype(np.intp))
-        object.__setattr__(self, "_single", single)
+        self.__setstate__(
+            {"physics": physics, "kind": kind, "ids": array.astype(np.intp), "single": single}
+        )
         object.__setattr__(self, "_model", model)
         object.__setattr__(self, "_data", physics._data)
+        physics._live_bindings.add(self)  # so that the physics can `_detach` us
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        # By state, not by class: binding classes are made at run time, one per kind.
+        return _restore, (self.__getstate__(),)
+
+    def __getstate__(self) -> dict[str, Any]:
+        # Cached arrays would unpickle as detached copies: keep only what says what is bound.
+        return {"physics": self._physics, "kind": int(self._kind), "ids": self._ids,
+                "single": self._single}  # fmt: skip
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Bind `state`'s ids; the model and data are adopted at the first read (`_entry`)."""
+        object.__setattr__(self, "_physics", state["physics"])
+        object.__setattr__(self, "_kind", mujoco.mjtObj(state["kind"]))
+        object.__setattr__(self, "_ids", state["ids"])
+        object.__setattr__(self, "_single", state["single"])
+        object.__setattr__(self, "_model", None)
+        object.__setattr__(self, "_data", None)
         object.__setattr__(self, "_cache", {})
         object.__setattr__(self, "_keys", {})
 
@@ -113,12 +143,15 @@ class Binding:
         """(field array, key, key is fancy) for attribute `name`, refreshed if data changed."""
         physics = self._physics
         if physics._data is not self._data:
-            if physics._model is not self._model:
+            if self._model is None:  # unpickled: adopt the physics' model
+                object.__setattr__(self, "_model", physics._model)
+                physics._live_bindings.add(self)  # so that `_detach` reaches us
+            elif physics._model is not self._model:
                 raise errors.BindingError(
                     f"this {fields.kind_name(self._kind)} binding was made for a model the "
                     "physics no longer holds; bind again"
                 )
-            # Same model, new MjData (e.g. restored state): the cached arrays are stale.
+            # New MjData for the same model: the cached arrays are stale.
             object.__setattr__(self, "_data", physics._data)
             self._cache.clear()
         entry = self._cache.get(name)
@@ -269,8 +302,8 @@ def binding_class(kind: mujoco.mjtObj) -> type[Binding]:
     return type(f"{class_name}Binding", (Binding,), namespace)
 
 
-def make_binding(
-    physics: Physics, kind: mujoco.mjtObj, ids: int | Sequence[int] | np.ndarray
-) -> Binding:
-    """A new binding of `ids` (an int, or a list for a leading axis) of `kind` in `physics`."""
-    return binding_class(kind)(physics, kind, ids)
+def _restore(state: dict[str, Any]) -> Binding:
+    """Unpickle a binding; it adopts its (possibly still unpickling) physics at first read."""
+    binding = object.__new__(binding_class(mujoco.mjtObj(state["kind"])))
+    binding.__setstate__(state)
+    return binding

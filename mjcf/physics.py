@@ -14,8 +14,8 @@
 `model` and `data` are the raw `mujoco.MjModel` / `MjData`; they stay the same objects for the
 life of the physics (reset works in place), so bindings and views stay valid. `copy()` and
 unpickling give a physics with its own MjData (and MjModel, unless shared). Subclasses (e.g.
-composer's) keep their extra attributes through `copy()` (shallow) and pickling; they override
-nothing to get that, as long as their attributes are picklable.
+composer's) keep their extra attributes, bindings included, through `copy()` and pickling;
+they override nothing to get that, as long as their attributes are picklable.
 
 Stepping does not check for divergence (a check costs about a microsecond per call): call
 `check_invalid_state()` or step inside `check_divergence()` where it matters.
@@ -29,6 +29,7 @@ import ctypes.util
 import difflib
 import os
 import platform
+import weakref
 from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
@@ -39,25 +40,27 @@ from mjcf import binding as binding_module
 from mjcf import errors, fields, named
 
 # MuJoCo warnings that mean the state was invalid: non-finite or huge qpos/qvel, bad qacc
-# (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls.
-_INVALID_STATE_WARNINGS = (
-    mujoco.mjtWarning.mjWARN_BADQPOS,
-    mujoco.mjtWarning.mjWARN_BADQVEL,
-    mujoco.mjtWarning.mjWARN_BADQACC,
-    mujoco.mjtWarning.mjWARN_BADCTRL,
-)
-_INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
-# The array whose index each warning's lastinfo reports.
-_WARNING_FIELD = {
+# (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls;
+# each with the array whose index the warning's lastinfo reports.
+_INVALID_STATE_WARNINGS = {
     mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
     mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
     mujoco.mjtWarning.mjWARN_BADQACC: "qvel",
     mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
 }
+_INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
-_TRANSIENT = ("_model", "_data", "_warnings", "_bindings", "_named", "_renderers")
+_TRANSIENT = (
+    "_model",
+    "_data",
+    "_warnings",
+    "_bindings",
+    "_live_bindings",
+    "_named",
+    "_renderers",
+)
 
 
 class Physics:
@@ -73,11 +76,15 @@ class Physics:
     def _attach(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Hold `model` and `data`, dropping every cache built for the previous ones.
 
-        The one place a physics changes its MjModel/MjData; bindings made before then raise
-        BindingError when read, named views re-resolve their indices.
+        The one place a physics changes its MjModel/MjData. Bindings made before then read
+        the new MjData if the model is the same, else raise BindingError; named views
+        re-resolve their indices.
         """
-        for stale in self.__dict__.get("_bindings", {}).values():
-            stale._detach()
+        live = self.__dict__.get("_live_bindings")
+        if live is None:
+            live = self._live_bindings = weakref.WeakSet()
+        for binding in live:
+            binding._detach()
         self._model = model
         self._data = data
         self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
@@ -195,11 +202,9 @@ class Physics:
         warnings = self._warnings
         if warnings[_INVALID_STATE_IDS].any():
             found = []
-            for warning in _INVALID_STATE_WARNINGS:
+            for warning, field in _INVALID_STATE_WARNINGS.items():
                 if warnings[warning]:
-                    where = self._locate(
-                        _WARNING_FIELD[warning], self._data.warning[warning].lastinfo
-                    )
+                    where = self._locate(field, self._data.warning[warning].lastinfo)
                     found.append(f"{warning.name} x{warnings[warning]} ({where})")
             raise errors.PhysicsError(
                 f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
@@ -235,14 +240,18 @@ class Physics:
     def copy(self, share_model: bool = True) -> Physics:
         """A physics of the same class with a copy of the MjData (and MjModel unless shared).
 
-        Extra attributes of subclasses are copied shallowly; caches and renderers are not.
+        Extra attributes of subclasses are deep-copied, as pickling would, except that
+        references to this physics (e.g. in bindings) and to a shared model point at the copy
+        and the shared model. Caches and renderers are not copied.
         """
         model = self._model if share_model else copy_module.copy(self._model)
         data = mujoco.MjData(model)
         mujoco.mj_copyData(data, model, self._data)
         new = type(self).__new__(type(self))
-        new.__dict__.update({k: v for k, v in self.__dict__.items() if k not in _TRANSIENT})
         new._attach(model, data)
+        memo = {id(self): new, id(self._model): model, id(self._data): data}
+        extras = {k: v for k, v in self.__dict__.items() if k not in _TRANSIENT}
+        new.__dict__.update(copy_module.deepcopy(extras, memo))
         return new
 
     def __copy__(self) -> Physics:
@@ -281,8 +290,8 @@ class Physics:
         cache_key = (int(kind), single, array.dtype.str, array.tobytes())
         found = self._bindings.get(cache_key)
         if found is None:
-            found = binding_module.make_binding(self, kind, ids)
-            self._bindings[cache_key] = found
+            kind = mujoco.mjtObj(kind)
+            found = self._bindings[cache_key] = binding_module.binding_class(kind)(self, kind, ids)
         return found
 
     def bind_names(self, kind: mujoco.mjtObj, names: str | Sequence[str]) -> binding_module.Binding:

@@ -239,6 +239,27 @@ def test_bindings_are_cached_and_follow_reset_and_copy():
     assert np.array_equal(restored._binding(Obj.mjOBJ_JOINT, ids).qpos, [0.4, 0.5, 0.6])
 
 
+class ObservedPhysics(Physics):
+    """A physics holding bindings, as composer's observables will."""
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
+        super().__init__(model, data)
+        self.legs = self._binding(Obj.mjOBJ_JOINT, np.array([1, 2, 3]))
+
+
+def test_bindings_pickle_and_copy_with_their_physics():
+    physics = ObservedPhysics.from_xml_path(GYM_ASSETS / "ant.xml")
+    physics.legs.qpos = [0.1, 0.2, 0.3]
+    for clone in (pickle.loads(pickle.dumps(physics)), physics.copy()):
+        assert clone.legs is not physics.legs and clone.legs._physics is clone
+        assert np.array_equal(clone.legs.qpos, [0.1, 0.2, 0.3])
+        clone.legs.qpos = [1.0, 1.0, 1.0]  # writes the clone's MjData only
+        assert np.array_equal(clone.data.qpos[7:10], [1, 1, 1])
+        assert np.array_equal(physics.legs.qpos, [0.1, 0.2, 0.3])
+        clone.reset()
+        assert np.array_equal(clone.legs.qpos, clone.data.qpos[7:10])
+
+
 def test_binding_made_before_a_model_change_refuses_to_read():
     physics = Physics.from_xml_path(GYM_ASSETS / "humanoid.xml")
     joints = physics._binding(Obj.mjOBJ_JOINT, [1, 2])
