@@ -1,0 +1,87 @@
+"""Cost of a bound read and write per call, next to raw numpy indexing of MjData, same run.
+
+    python bench/bench_bind.py            # gymnasium's humanoid
+
+Prints ns per call and the ratio to the raw equivalent: `binding.qpos` against
+`data.qpos[idx]` for joints whose qpos rows are scattered (a fancy index), and against
+`data.qpos[a:b]` for joints whose rows are one contiguous run (a view). The target is a ratio
+within 2x. Bound and raw calls are timed in alternating rounds and each figure is the best
+round, so that noise from other processes hits both sides alike.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import timeit
+from pathlib import Path
+
+import gymnasium
+import mujoco
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+
+from mjcf.physics import Physics
+
+ROUNDS = 40
+NUMBER = 20_000
+
+
+def best_ns(bound, raw) -> tuple[float, float]:
+    """Best per-call times (ns) of `bound` and `raw`, timed in alternating rounds."""
+    best_bound = best_raw = float("inf")
+    for _ in range(ROUNDS):
+        best_bound = min(best_bound, timeit.timeit(bound, number=NUMBER))
+        best_raw = min(best_raw, timeit.timeit(raw, number=NUMBER))
+    return best_bound / NUMBER * 1e9, best_raw / NUMBER * 1e9
+
+
+def main() -> None:
+    path = os.path.join(os.path.dirname(gymnasium.__file__), "envs/mujoco/assets/humanoid.xml")
+    physics = Physics.from_xml_path(path)
+    model, data = physics.model, physics.data
+    joint = mujoco.mjtObj.mjOBJ_JOINT
+
+    # Irregularly scattered joints: no slice covers their qpos rows, so reads are copies
+    # (fancy indexing) that write back on item assignment.
+    scattered = np.array([1, 2, 5, 6, 9, 13, 14, 17])
+    fancy = physics._binding(joint, scattered)
+    idx = model.jnt_qposadr[scattered].astype(np.intp)
+    # Consecutive joints: one run of rows, so reads are views.
+    run = np.arange(1, 8)
+    contiguous = physics._binding(joint, run)
+    lo, hi = int(model.jnt_qposadr[run[0]]), int(model.jnt_qposadr[run[-1]]) + 1
+    values = np.linspace(-0.1, 0.1, idx.size)
+    run_values = np.linspace(-0.1, 0.1, hi - lo)
+
+    assert np.array_equal(fancy.qpos, data.qpos[idx])
+    assert np.array_equal(contiguous.qpos, data.qpos[lo:hi])
+
+    def raw_write_fancy() -> None:
+        data.qpos[idx] = values
+
+    def bind_write_fancy() -> None:
+        fancy.qpos = values
+
+    def raw_write_slice() -> None:
+        data.qpos[lo:hi] = run_values
+
+    def bind_write_slice() -> None:
+        contiguous.qpos = run_values
+
+    rows = [
+        ("read, scattered rows", lambda: fancy.qpos, lambda: data.qpos[idx]),
+        ("read, contiguous rows", lambda: contiguous.qpos, lambda: data.qpos[lo:hi]),
+        ("write, scattered rows", bind_write_fancy, raw_write_fancy),
+        ("write, contiguous rows", bind_write_slice, raw_write_slice),
+    ]
+    print(f"humanoid: nq={model.nq}; {idx.size} scattered joints, {run.size} contiguous joints")
+    print(f"{'case':<24}{'bind ns':>10}{'raw ns':>10}{'ratio':>8}")
+    for name, bound, raw in rows:
+        b, r = best_ns(bound, raw)
+        print(f"{name:<24}{b:>10.0f}{r:>10.0f}{b / r:>8.2f}")
+
+
+if __name__ == "__main__":
+    main()
