@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -63,14 +64,22 @@ class _NameTable:
         else:
             self.starts, self.counts = fields.rows(model, field.address)
         self.ids = {name: i for i, name in enumerate(self.names) if name}
-        size = int(getattr(model, field.size))
-        owners = np.full(size, -1, dtype=np.intp)
-        rows, _ = fields.row_index(model, field.address, ids)
+        self._model = model
+        self._field = field
+
+    @functools.cached_property
+    def row_names(self) -> tuple[str, ...]:
+        """The name of the object owning each row ('' for none); built when first asked for."""
+        ids = np.arange(len(self.names), dtype=np.intp)
+        owners = np.full(int(getattr(self._model, self._field.size)), -1, dtype=np.intp)
+        rows, _ = fields.row_index(self._model, self._field.address, ids)
         owners[rows] = np.repeat(ids, self.counts)
-        self.row_names = tuple(self.names[i] if i >= 0 else "" for i in owners)
-        self.first_rows = frozenset(
-            int(s) for s, c in zip(self.starts, self.counts, strict=True) if c
-        )
+        return tuple(self.names[i] if i >= 0 else "" for i in owners)
+
+    @functools.cached_property
+    def first_rows(self) -> frozenset[int]:
+        """The first row of every object that owns rows (where repr prints its name)."""
+        return frozenset(int(s) for s, c in zip(self.starts, self.counts, strict=True) if c)
 
     def key(self, name: str, field_name: str) -> int | slice:
         """The index of `name`'s rows: an int for one-row-per-object fields, else a slice."""
@@ -142,8 +151,7 @@ class FieldIndexer:
         return len(self.array)
 
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
-        array = self.array
-        return array.copy() if copy else np.asarray(array, dtype=dtype)
+        return np.array(self.array, dtype=dtype, copy=copy)
 
     def _names(self) -> _NameTable:
         # Re-resolve when the physics holds another model than the one the names came from.
@@ -159,8 +167,10 @@ class FieldIndexer:
             return (self._resolve(key[0]), *key[1:]) if key else key
         if isinstance(key, str):
             return self._names().key(key, self._field.name)
-        if isinstance(key, (list, np.ndarray)) and any(isinstance(k, str) for k in key):
-            return self._names().rows(list(key), self._field.name)
+        if isinstance(key, np.ndarray) and key.dtype.kind in "US":
+            return self._names().rows(key.tolist(), self._field.name)
+        if isinstance(key, list) and any(isinstance(k, str) for k in key):
+            return self._names().rows(key, self._field.name)
         return key
 
     def __getitem__(self, key: Any) -> Any:
@@ -178,7 +188,9 @@ class FieldIndexer:
         resolved = self._resolve(key)
         try:
             array[resolved] = value
-        except (ValueError, TypeError, IndexError) as e:
+        except IndexError as e:
+            raise errors.BindingError(f"{self._field.name}[{key!r}]: {e}") from e
+        except (ValueError, TypeError) as e:
             raise errors.BindingError(
                 f"cannot write {np.shape(value)}-shaped values to {self._field.name}[{key!r}] "
                 f"of shape {np.shape(array[resolved])}: {e}"

@@ -125,6 +125,7 @@ def test_numpy_keys_pass_through():
     assert named.xpos["torso", 2] == data.xpos[1, 2]
     assert np.array_equal(named.xpos[["torso", 3]], data.xpos[[1, 3]])
     assert np.array_equal(np.asarray(named.xpos), data.xpos)
+    assert np.array_equal(named.xpos[np.array(["torso", "pelvis"])], data.xpos[[1, 3]])
     assert named.xpos.shape == data.xpos.shape and len(named.qpos) == physics.model.nq
 
 
