@@ -285,9 +285,10 @@ class Physics:
 
         An int binds one object (fields without a leading axis); a list binds several.
         """
-        single = np.ndim(ids) == 0
         array = np.asarray(ids)
-        cache_key = (int(kind), single, array.dtype.str, array.tobytes())
+        if array.dtype.kind in "iu":  # one cache entry per id list, whatever its int type
+            array = array.astype(np.intp, copy=False)
+        cache_key = (int(kind), array.ndim, array.dtype.str, array.tobytes())
         found = self._bindings.get(cache_key)
         if found is None:
             kind = mujoco.mjtObj(kind)

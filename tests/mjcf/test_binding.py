@@ -224,7 +224,8 @@ def test_bindings_are_cached_and_follow_reset_and_copy():
     physics = load(GYM_ASSETS / "humanoid.xml")
     ids = np.array([1, 4, 7])
     joints = physics._binding(Obj.mjOBJ_JOINT, ids)
-    assert physics._binding(Obj.mjOBJ_JOINT, ids.copy()) is joints
+    assert physics._binding(Obj.mjOBJ_JOINT, ids.astype(np.int32)) is joints
+    assert physics._binding(Obj.mjOBJ_JOINT, [1, 4, 7]) is joints
     assert physics._binding(Obj.mjOBJ_JOINT, 1) is not physics._binding(Obj.mjOBJ_JOINT, [1])
     joints.qpos = [0.1, 0.2, 0.3]
     physics.reset()
