@@ -13,6 +13,10 @@ MuJoCo's reader checks the whole document against its own schema before it
 reads any value, except inside ``frame`` and ``replicate`` (meta elements
 read by separate code that ignores attributes it does not know); for those
 the probe checks that an attribute changes the model MuJoCo writes back.
+
+A probe's error is judged by what it is about: an unknown attribute, a bad
+keyword, a wrong count of numbers. A value the reader reads and then finds
+meaningless in its context still shows that the reader knows the attribute.
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ from mjcf.schema._docs import Attribute, Element
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
 _FILES = {_MODEL_FILE: b"<mujoco/>"}
-# Every probe document starts with an asset model, for `attach model=` to name.
+# Documents naming this model (`attach model=`) start by defining it.
 _MODEL_NAME = "probe_model"
 _PRELUDE = f'<asset><model name="{_MODEL_NAME}" file="{_MODEL_FILE}"/></asset>'
 # A count of numbers larger than any fixed arity; divisible by 1..8.
@@ -134,7 +138,7 @@ class Prober:
             return {"default": "main", "model": _MODEL_NAME}.get(attribute.namespace or "", "p")
         if kind == "file":
             return _MODEL_FILE
-        if kind == "keyword":
+        if kind == "keyword":  # no values yet: an object type keyword before probing
             return attribute.default or (attribute.values[0] if attribute.values else "body")
         if kind in ("int", "real"):
             return " ".join(["1"] * (count or attribute.count or _MODEL_COUNT))
@@ -296,8 +300,8 @@ def _start_tag(tag: str, values: dict[str, str]) -> str:
 
 
 def unrecognized(error: str, name: str) -> bool:
-    """Whether ``error`` says the reader does not know attribute ``name``."""
-    return f"unrecognized attribute: '{name}'" in error
+    """Whether ``error`` says the reader does not take attribute ``name`` there."""
+    return f"unrecognized attribute: '{name}'" in error or "cannot have attributes" in error
 
 
 # How the reader of keyword lists (camera output="rgb depth") reports a bad one.
@@ -345,9 +349,13 @@ def allowed_children(prober: Prober, container: str, candidates: list[str]) -> l
 
 
 def accepted_attributes(prober: Prober, key: str, candidates: list[Attribute]) -> list[str]:
-    """The names of the candidate attributes MuJoCo's reader accepts on element ``key``."""
+    """The names of the candidate attributes MuJoCo's reader knows on element ``key``."""
     errors = prober.errors([Probe(key, {a.name: prober.value(a)}) for a in candidates])
-    return [a.name for a, error in zip(candidates, errors, strict=True) if error is None]
+    return [
+        a.name
+        for a, error in zip(candidates, errors, strict=True)
+        if not (error and unrecognized(error, a.name))
+    ]
 
 
 def has_effect(prober: Prober, key: str, attribute: Attribute) -> bool:
@@ -371,10 +379,11 @@ def has_effect(prober: Prober, key: str, attribute: Attribute) -> bool:
 def arity(prober: Prober, key: str, attribute: Attribute) -> Arity:
     """The numbers of values MuJoCo's reader accepts for a numeric attribute.
 
-    Only errors about the attribute's text count as rejections: a count the
-    reader reads and then finds meaningless (``maxhullvert="1"``) is accepted.
-    Counts between 1 and the documented one are assumed to behave like their
-    ends when both ends agree.
+    The documented count must be known to be accepted (``attribute.count``;
+    None when it depends on the model). Only errors about the attribute's text
+    count as rejections: a count the reader reads and then finds meaningless
+    (``maxhullvert="1"``) is accepted. Counts between 1 and the documented one
+    are assumed to behave like their ends when both ends agree.
     """
 
     def rejected(count: int) -> bool:
@@ -383,7 +392,10 @@ def arity(prober: Prober, key: str, attribute: Attribute) -> Arity:
 
     documented = attribute.count
     if documented is None:
-        return Arity(1, _largest_accepted(rejected, 1))
+        low = next((count for count in range(1, _MODEL_COUNT + 1) if not rejected(count)), None)
+        if low is None:
+            raise ProbeError(f"{key}/{attribute.name}: no count up to {_MODEL_COUNT} accepted")
+        return Arity(low, _largest_accepted(rejected, low))
     maximum = documented if rejected(documented + 1) else _largest_accepted(rejected, documented)
     if documented == 1:
         return Arity(1, maximum)

@@ -282,6 +282,9 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
     for (key, attribute, value), error in zip(probes, errors, strict=True):
         if error and _probe.unrecognized(error, attribute.name):
             unknown.append(f"{key}/{attribute.name}")
+        elif error and attribute.count and _probe.bad_count(error, attribute.name):
+            _note(f"{key}/{attribute.name}: the reader rejects the documented {attribute.count}")
+            attribute.count = None  # probe from scratch
         elif error and _probe.bad_keyword(error, value):
             _note(f"{key}/{attribute.name}: the reader rejects documented keyword {value!r}")
             attribute.values.remove(value)
