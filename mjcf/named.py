@@ -202,7 +202,7 @@ class FieldIndexer:
         table = self._names()
         via = f" via {field.address.start}" if field.address else ""
         lines = [
-            f"{field.struct}.{field.name}: {array.shape[0]} rows of "
+            f"{field.struct}.{field.name}: {array.shape[0]} row{'' if len(array) == 1 else 's'} of "
             f"{fields.kind_name(field.kind)}{via}, shape {array.shape}"
         ]
         shown = range(len(array))

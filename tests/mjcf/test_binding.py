@@ -19,9 +19,11 @@ GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata" / "model.xml"
 MENAGERIE = Path(__file__).parents[2] / ".." / "shared" / "models" / "menagerie"
 UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
+GRIPPER = MENAGERIE / "robotiq_2f85" / "2f85.xml"
 
 needs_menagerie = pytest.mark.skipif(
-    not UR5E.exists(), reason=f"menagerie models not found at {UR5E.resolve()}"
+    not (UR5E.exists() and GRIPPER.exists()),
+    reason=f"menagerie models not found at {MENAGERIE.resolve()}",
 )
 
 
@@ -40,6 +42,7 @@ MODELS = {
     "ant": lambda: load(GYM_ASSETS / "ant.xml"),
     "mujoco testdata": lambda: load(MUJOCO_TESTDATA),
     "ur5e": pytest.param(lambda: load(UR5E), marks=needs_menagerie),
+    "robotiq 2f85": pytest.param(lambda: load(GRIPPER), marks=needs_menagerie),
 }
 
 
@@ -130,6 +133,26 @@ def test_actuator_ctrl_writes_move_the_ur5e():
     physics.step(1500)
     assert np.abs(joints.qpos - target).max() < 0.1 * start_error
     assert np.abs(arm.force).max() > 0
+
+
+@needs_menagerie
+def test_gripper_tendon_and_equality_rows():
+    physics = load(GRIPPER)
+    model, data = physics.model, physics.data
+    split = physics.bind_names(Obj.mjOBJ_TENDON, "split")
+    assert split.length.shape == () and split.length == data.ten_length[0]
+    assert np.array_equal(split.range, model.tendon_range[0])
+    couplings = physics._binding(Obj.mjOBJ_EQUALITY, np.arange(model.neq))
+    assert np.array_equal(couplings.data, model.eq_data)
+    assert np.array_equal(couplings.active, data.eq_active)
+    couplings.active = False  # a state field written through
+    assert not data.eq_active.any()
+    couplings.active = True
+    fingers = physics._binding(Obj.mjOBJ_ACTUATOR, 0)
+    closing = physics._binding(Obj.mjOBJ_JOINT, np.arange(model.njnt))
+    fingers.ctrl = 255.0  # fully closed
+    physics.step(500)
+    assert np.abs(closing.qpos).max() > 0.1
 
 
 def test_actuator_ctrl_writes_move_the_humanoid():
