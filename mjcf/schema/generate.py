@@ -155,6 +155,7 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
     _minimal(prober, elements)
     _edges(prober, elements, edges)
     _values(prober, elements)
+    _number_kinds(prober, elements)
     for key, element in elements.items():
         for attribute in element.attributes.values():
             if attribute.kind in ("int", "real"):
@@ -300,6 +301,25 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             elif _probe.LIST_READER in error:  # a list of keywords? try two
                 pair = {attribute.name: " ".join(attribute.values[:2])}
                 attribute.is_list = prober.error(Probe(key, pair)) is None
+
+
+def _number_kinds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Documented ints are read as integers and reals as reals: only ints refuse 0.5."""
+    numbers = [
+        (key, attribute)
+        for key, element in elements.items()
+        for attribute in element.attributes.values()
+        if attribute.kind in ("int", "real")
+    ]
+    probes = [Probe(key, {a.name: " ".join(["0.5"] * (a.count or 1))}) for key, a in numbers]
+    reals = [i for i, (_, a) in enumerate(numbers) if a.kind == "real"]
+    errors = dict(zip(reals, prober.errors([probes[i] for i in reals]), strict=True))
+    for index, (key, attribute) in enumerate(numbers):
+        error = errors[index] if index in errors else prober.error(probes[index])
+        kind = "int" if error and _probe.bad_count(error, attribute.name) else "real"
+        if kind != attribute.kind:
+            _note(f"{key}/{attribute.name}: documented {attribute.kind}, the reader reads {kind}")
+            attribute.kind = kind
 
 
 def _arity(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
