@@ -12,19 +12,21 @@ Run it after upgrading mujoco and commit the result. Where the data comes from:
   strings are file paths): the hand-kept tables in ``_annotations.py``; a string
   attribute they do not cover stops the generator with a list to decide on;
 * what only MuJoCo's XML reader knows, probed with ``MjSpec.from_string``
-  (``_probe.py``): how many numbers each attribute takes, which children
-  ``worldbody``, ``frame`` and ``replicate`` accept, which object types name
-  things. Every element, parent, attribute and keyword the documents give is
+  (``_probe.py``, no compiling): how many numbers each attribute takes, which
+  children ``worldbody``, ``frame`` and ``replicate`` accept, which object types
+  name things, which keyword attributes take a list. Every element, parent,
+  attribute, keyword, int/real type and required attribute the documents give is
   also checked against the reader; where they disagree the reader wins and a
-  note is logged.
+  note is logged (shown unless ``-q``).
 
 The file maps element keys (MuJoCo's doc anchors: ``body-geom``,
 ``default-geom``, ``actuator-position``; plus ``worldbody``) to
 ``{"tag", "namespace", "repeated", "attributes", "children"}``. Attribute
 specs have a ``type`` of ``identifier``, ``string``, ``file``, ``reference``
 (``namespace``, or ``namespace_from``/``namespace_map``; ``list``),
-``keyword`` (``values``) or ``int``/``real`` (``min``/``max`` numbers, ``max``
-null when unbounded, ``multiple_of``), with ``required`` and ``default``.
+``keyword`` (``values``; ``list``) or ``int``/``real`` (``min``/``max``
+numbers, counting from 1; ``max`` null when unbounded; ``multiple_of``), with
+``required`` and ``default``.
 """
 
 from __future__ import annotations
