@@ -11,8 +11,9 @@ reports only its first error.
 
 MuJoCo's reader checks the whole document against its own schema before it
 reads any value, except inside ``frame`` and ``replicate`` (meta elements
-read by separate code that ignores attributes it does not know); for those
-the probe checks that an attribute changes the model MuJoCo writes back.
+read by separate code that ignores attributes it does not know); there an
+attribute is known when a nonsense value is refused or a value changes the
+model MuJoCo writes back.
 
 A probe's error is judged by what it is about: an unknown attribute, a bad
 keyword, a wrong count of numbers. A value the reader reads and then finds
@@ -33,9 +34,13 @@ from mjcf.schema._docs import Attribute, Element
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
 _FILES = {_MODEL_FILE: b"<mujoco/>"}
-# Documents naming this model (`attach model=`) start by defining it.
+# Documents naming this model (`attach model=`) or class start by defining it.
 _MODEL_NAME = "probe_model"
-_PRELUDE = f'<asset><model name="{_MODEL_NAME}" file="{_MODEL_FILE}"/></asset>'
+_CLASS_NAME = "probe_class"
+_PRELUDES = {
+    _MODEL_NAME: f'<asset><model name="{_MODEL_NAME}" file="{_MODEL_FILE}"/></asset>',
+    _CLASS_NAME: f'<default><default class="{_CLASS_NAME}"/></default>',
+}
 # A count of numbers larger than any fixed arity; divisible by 1..8.
 _MANY = 840
 # Content for frame and replicate probes: a named geom shows replicated names.
@@ -135,7 +140,9 @@ class Prober:
         if kind == "identifier":  # "_": replicate appends digits to names
             return f"probe{next(self._serial)}_"
         if kind == "reference":
-            return {"default": "main", "model": _MODEL_NAME}.get(attribute.namespace or "", "p")
+            return {"default": _CLASS_NAME, "model": _MODEL_NAME}.get(
+                attribute.namespace or "", "p"
+            )
         if kind == "file":
             return _MODEL_FILE
         if kind == "keyword":  # no values yet: an object type keyword before probing
@@ -265,11 +272,12 @@ class Prober:
             raise ProbeError("MuJoCo rejects probes:\n  " + "\n  ".join(failures))
 
     def written(self, probe: Probe) -> str | None:
-        """The MJCF MuJoCo writes back after reading the probe; None if it cannot."""
+        """The MJCF MuJoCo writes back after reading the probe (the probe's own
+        names made alike, so documents compare); None if it cannot."""
         self.parses += 1
         try:
             spec = mujoco.MjSpec.from_string(self._document([self.fragment(probe)]), include=_FILES)
-            return spec.to_xml()
+            return re.sub(r"probe\d+_", "probe_", spec.to_xml())
         except ValueError:
             return None
 
@@ -286,8 +294,9 @@ class Prober:
         start = f"<{tag}>"
         if fragments and fragments[0].startswith(start[:-1]):
             start, fragments = fragments[0], fragments[1:]
-        if any(_MODEL_NAME in fragment for fragment in fragments):
-            start += _PRELUDE
+        for name, prelude in _PRELUDES.items():
+            if any(f'"{name}"' in fragment for fragment in fragments):
+                start += prelude
         return "\n".join([start, *fragments, f"</{tag}>"])
 
 
@@ -358,22 +367,15 @@ def accepted_attributes(prober: Prober, key: str, candidates: list[Attribute]) -
     ]
 
 
-def has_effect(prober: Prober, key: str, attribute: Attribute) -> bool:
-    """Whether setting ``attribute`` changes what MuJoCo writes back (frame, replicate)."""
-    base = prober.written(Probe(key, inner=_INNER))
-    if attribute.kind in ("int", "real"):
-        count = attribute.count or 1
-        # Numbers unlike the fill: distinct (no two axes parallel) or equal (isotropic).
-        candidates = [" ".join(str(2 + i) for i in range(count)), " ".join(["2"] * count)]
-    elif attribute.kind == "keyword":
-        candidates = [value for value in attribute.values if value != attribute.default]
-    else:
-        candidates = [prober.value(attribute)]
-    for value in candidates:
-        written = prober.written(Probe(key, {attribute.name: value}, inner=_INNER))
-        if written is not None and written != base:
-            return True
-    return False
+def is_read(prober: Prober, key: str, attribute: Attribute) -> bool:
+    """Whether MuJoCo reads ``attribute`` of an element that ignores unknown ones
+    (frame, replicate): a nonsense value is refused, or a value changes the model
+    MuJoCo writes back."""
+    if prober.error(Probe(key, {attribute.name: "probe_nonsense"})) is not None:
+        return True
+    base = prober.written(Probe(key, omit=(attribute.name,), inner=_INNER))
+    changed = prober.written(Probe(key, {attribute.name: "probe_text"}, inner=_INNER))
+    return changed is not None and changed != base
 
 
 def arity(prober: Prober, key: str, attribute: Attribute) -> Arity:

@@ -278,7 +278,7 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         for attribute in element.attributes.values():
             values = attribute.values if attribute.kind == "keyword" else [prober.value(attribute)]
             probes.extend((key, attribute, value) for value in values)
-            if key in META and not _probe.has_effect(prober, key, attribute):
+            if key in META and not _probe.is_read(prober, key, attribute):
                 raise SchemaError(f"{key}/{attribute.name}: MuJoCo ignores this attribute")
     errors = prober.errors([Probe(key, {a.name: value}) for key, a, value in probes])
     unknown = []
