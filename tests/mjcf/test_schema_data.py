@@ -31,11 +31,6 @@ def elements(schema: dict) -> dict:
     return schema["elements"]
 
 
-def specs(elements: dict, tag: str) -> list[tuple[str, dict]]:
-    """Every (key, element) with this tag."""
-    return [(key, element) for key, element in elements.items() if element["tag"] == tag]
-
-
 # -- the file is what the installed mujoco gives ------------------------------------------
 
 
