@@ -1,0 +1,194 @@
+"""Attaching one model to another.
+
+    arm = mjcf.from_path('ur5e.xml')
+    gripper = mjcf.from_path('2f85.xml')
+    frame = arm.find('site', 'attachment_site').attach(gripper)   # or body.attach, model.attach
+    arm.find('actuator', '2f85/fingers_actuator')                 # scoped names
+    scene.attach(arm).add('freejoint')                             # a free-floating model
+    gripper.detach()                                               # or frame.detach()
+
+The child model keeps its own tree and name scope; the parent holds an
+`AttachmentFrame` where the child's world body goes. The frame is written as a MuJoCo
+`<frame>` (so the child's free joints stay free), or as a `<body>` once joints or an
+inertial are added to it. A model is attached in one place at a time; attach a
+`copy.deepcopy` of it to use it twice.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from mjcf import errors, schema
+from mjcf.element import Element
+from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
+from mjcf.schema import ElementSpec
+
+if TYPE_CHECKING:
+    from mjcf.composition import ModelContext
+    from mjcf.root import RootElement
+
+_ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
+_PLACES = frozenset({"body", "worldbody", "frame", "site"})
+
+
+def _frame_spec() -> tuple[ElementSpec, frozenset[str], frozenset[str]]:
+    """The schema of attachment frames: a `<frame>`'s attributes and a body's, with
+    a body's joints, free joint and inertial as the only children."""
+    body = schema.MUJOCO.child("worldbody").child("body")
+    frame = body.child("frame")
+    attributes = {}
+    for source in (frame, body):
+        for name, attribute in source.attributes.items():
+            if name != "childclass":
+                attributes.setdefault(name, attribute)
+    children = {tag: body.child(tag) for tag in ("joint", "freejoint", "inertial")}
+    spec = ElementSpec.synthesize(
+        "attachment_frame", "attachment_frame", "attachment_frame", attributes, children
+    )
+    body_only = frozenset(body.attributes) - frozenset(frame.attributes)
+    frame_only = frozenset(frame.attributes) - frozenset(body.attributes)
+    return spec, body_only, frame_only
+
+
+FRAME_SPEC, _BODY_ONLY, _FRAME_ONLY = _frame_spec()
+
+
+class AttachmentFrame(Element):
+    """Where an attached model sits in its parent: a frame with a pose, that may get
+    joints (`frame.add('freejoint')`), an inertial and a name."""
+
+    __slots__ = ("_attached",)
+
+    _attached: RootElement
+
+    @property
+    def attached_model(self) -> RootElement:
+        """The model attached here."""
+        return self._attached
+
+    def compiles_to_body(self) -> bool:
+        """Whether this frame is written as a `<body>` (it has joints, an inertial or
+        body-only attributes) rather than a `<frame>`."""
+        if self._children or any(name in _BODY_ONLY for name in self._attrs):
+            frame_only = [name for name in self._attrs if name in _FRAME_ONLY]
+            if frame_only:
+                raise errors.AttachmentError(
+                    f"{self.path}: {frame_only} apply to frames only, and this attachment "
+                    "frame is a body (it has joints, an inertial or body attributes)"
+                )
+            return True
+        return False
+
+    def detach(self) -> None:
+        """Detach the attached model (see `RootElement.detach`)."""
+        detach(self._attached)
+
+    def remove(self, affect_attachments: bool = False) -> None:
+        """Removing an attachment frame detaches its model."""
+        detach(self._attached)
+
+    def _describe(self) -> str:
+        return f"<attachment_frame of {self._attached.model!r}>"
+
+
+def attach(place: Element, child: RootElement) -> AttachmentFrame:
+    """Attach model `child` at `place` (a site, body, frame or the world body) and
+    return its attachment frame. Raises mjcf.AttachmentError for a model that is
+    already attached, that would contain itself, or whose settings conflict, and
+    mjcf.NameError if a model of the same name is attached here already; the tree is
+    unchanged then."""
+    from mjcf import composition
+    from mjcf.root import RootElement
+
+    if not isinstance(child, RootElement):
+        raise errors.AttachmentError(
+            f"only a model (mjcf.RootElement) can be attached, got {child!r}"
+        )
+    if place._spec.tag not in _PLACES or isinstance(place, AttachmentFrame):
+        raise errors.AttachmentError(
+            f"{place.path}: models attach to a site, body, frame or worldbody, not <{place.tag}>"
+        )
+    if not place._is_registered():
+        raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
+    if child._frame is not None:
+        raise errors.AttachmentError(
+            f"model {child.model!r} is already attached to model {child._frame.root.model!r}; "
+            "detach it first, or attach a copy (copy.deepcopy(model))"
+        )
+    model: RootElement | None = place.root
+    while model is not None:
+        if model is child:
+            raise errors.AttachmentError(
+                f"model {child.model!r} cannot be attached inside itself ({place.path})"
+            )
+        model = model.parent_model
+    composition.check_compatible(place.root.namescope.root.model, child)
+    if place.root.namescope.root.model is not place.root:
+        composition.check_compatible(place.root, child)
+    body = place._parent if place._spec.tag == "site" else place
+    frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
+    object.__setattr__(frame, "_attached", child)
+    if place._spec.tag == "site":
+        for name in ("pos", *_ORIENTATION):
+            value = place._attrs.get(name)
+            if value is not None:
+                frame._attrs[name] = place._get_value(place._spec.attributes[name])
+                if hasattr(frame._attrs[name], "copy"):
+                    frame._attrs[name] = frame._attrs[name].copy()
+    place.root.namescope.add_child(child.namescope)
+    body._children.append(frame)
+    place.root._attachments.append(frame)
+    object.__setattr__(child, "_frame", frame)
+    return frame
+
+
+def detach(child: RootElement) -> None:
+    """Detach model `child` from the model it is attached to; raises
+    mjcf.AttachmentError if it is not attached."""
+    frame = child._frame
+    if frame is None:
+        raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
+    parent = frame._parent
+    frame._unregister_subtree()
+    parent._children.remove(frame)
+    object.__setattr__(frame, "_parent", None)
+    frame.root.namescope.remove_child(child.namescope)
+    frame.root._attachments.remove(frame)
+    object.__setattr__(child, "_frame", None)
+
+
+def frame_of(model: RootElement) -> AttachmentFrame | None:
+    """The attachment frame of `model`, or None if it is not attached."""
+    return model._frame
+
+
+def attached_models(root: RootElement) -> list[RootElement]:
+    """Every model attached inside `root`: each attached model followed by those attached
+    inside it, in the order they were attached. Sections other than the world body are
+    written in this order."""
+    found: list[RootElement] = []
+    for frame in root._attachments:
+        found.append(frame._attached)
+        found.extend(attached_models(frame._attached))
+    return found
+
+
+def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
+    """The attachment frame of the model attached inside `root` under the scoped name
+    `identifier` ('arm' or 'arm/gripper'), or the frame given that name."""
+    scope = root.namescope
+    for part in split_identifier(identifier):
+        scope = scope.child(part)
+        if scope is None:
+            named = root.namescope.get("attachment_frame", identifier)
+            return named if isinstance(named, AttachmentFrame) else None
+    return scope.model._frame
+
+
+def frame_output_name(frame: AttachmentFrame, owner: ModelContext) -> str:
+    """The name an attachment frame is written with: its own name in its model's scope,
+    or the attached model's scope prefix ('arm/'), which no user name can take."""
+    name = frame._attrs.get("name")
+    if name is not None:
+        return owner.prefix + name
+    return owner.prefix + frame._attached.model + PREFIX_SEPARATOR

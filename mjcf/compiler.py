@@ -1,0 +1,87 @@
+"""Compiling a model tree into a `mujoco.MjModel`.
+
+    compiled = compiler.compile_composition(model)
+    compiled.model                      # mujoco.MjModel
+    compiled.name_of(element)           # the name `element` has in compiled.model
+
+The tree is written once (every element named, so that any element can be bound),
+MuJoCo compiles the text with the assets passed in memory, and keyframes of attached
+models are filled in. A MuJoCo error becomes an `mjcf.CompileError` that names the
+element it points at and, in debug mode, the Python line that created it.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING, NamedTuple
+
+import mujoco
+
+from mjcf import attachment, errors, keyframes, serializer
+from mjcf.namescope import unescape
+
+if TYPE_CHECKING:
+    from mjcf.composition import Composition
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+
+_LINE = re.compile(r"line (\d+)")
+
+
+class Compiled(NamedTuple):
+    """A compiled model and how its elements are named in it."""
+
+    model: mujoco.MjModel
+    composition: Composition
+    xml: str
+    assets: dict[str, bytes]
+
+    def name_of(self, element: Element) -> str:
+        """The name `element` has in the compiled model; raises mjcf.BindingError for
+        an element that is not part of it."""
+        composition = self.composition
+        try:
+            context = composition.context(element.root)
+        except errors.ReferenceError as error:
+            raise errors.BindingError(f"{element.path}: {error}") from None
+        if not element._is_registered():
+            raise errors.BindingError(f"{element.path}: the element was removed from its model")
+        if isinstance(element, attachment.AttachmentFrame):
+            return attachment.frame_output_name(element, composition.context(element.root))
+        name = element.identifier
+        if name is None:
+            name = composition.auto_names().get(element)
+            if name is None:
+                raise errors.BindingError(f"{element.path}: was added after the model was compiled")
+            return name
+        if element._spec.namespace == "default":
+            return context.class_text(name)
+        return context.prefix + unescape(name)
+
+
+def compile_composition(root: RootElement) -> Compiled:
+    """Write `root` (with attached models) and compile it; raises mjcf.CompileError
+    naming the offending element when MuJoCo rejects it."""
+    xml, assets, composition, lines = serializer.serialize_for_compile(root)
+    try:
+        model = mujoco.MjModel.from_xml_string(xml, assets)
+    except ValueError as error:
+        raise errors.CompileError(_explain(str(error), lines)) from None
+    compiled = Compiled(model, composition, xml, assets)
+    keyframes.fill(model, composition, compiled.name_of)
+    return compiled
+
+
+def _explain(message: str, lines: list[Element | None]) -> str:
+    """MuJoCo's message, plus the element its line number points at."""
+    match = _LINE.search(message)
+    if match is None:
+        return message
+    line = int(match.group(1))
+    element = lines[line - 1] if 0 < line <= len(lines) else None
+    if element is None:
+        return message
+    where = f"\n  in {element.path}"
+    if element._source is not None:
+        where += f" (created at {element._source})"
+    return message.rstrip() + where

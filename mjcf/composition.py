@@ -1,0 +1,462 @@
+"""How attached models are composed into one MJCF document.
+
+A model attached to another keeps its own tree; only its serialization is composed.
+For each model in the output, a `ModelContext` says how its names and values are
+written:
+
+- names are scoped by the model's prefix relative to the output model ('arm/');
+- default classes stay isolated: an attached model's global defaults become a class
+  named after its scope ('arm/'), set as `childclass` on its attachment frame and as
+  `class` on its elements outside the world body; if the output model itself has
+  global defaults and attachments, they move to a class '/' the same way, so that no
+  model's defaults leak into another's;
+- compiler settings that only change how a model's numbers are read are converted to
+  the output model's: `angle` (euler, axisangle, and the range/ref/springref of hinge
+  and ball joints) and `eulerseq` (euler becomes quat); the other compiler settings
+  must agree, and `option`/`size`/`visual`/`statistic` values merge attribute by
+  attribute, a conflict between two explicit values being an `AttachmentError`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mjcf import attachment, defaults, errors, schema
+from mjcf.namescope import PREFIX_SEPARATOR, WORLD
+from mjcf.namescope import unescape as _unescape
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+    from mjcf.schema import AttributeSpec
+
+# Compiler settings that locate files: assets are resolved per model and written with
+# final names, so these never reach the output.
+FILE_SETTINGS = frozenset({"meshdir", "texturedir", "assetdir", "strippath"})
+# Compiler settings converted per model instead of required to agree.
+_CONVERTED_SETTINGS = frozenset({"angle", "eulerseq"})
+_ANGLE_JOINT_ATTRIBUTES = ("range", "ref", "springref")
+_ANGLE_JOINT_TYPES = frozenset({"hinge", "ball"})
+MAIN = "main"
+
+
+class ModelContext:
+    """How one model's elements are written in one output document."""
+
+    __slots__ = (
+        "angle_scale",
+        "composition",
+        "euler_seq",
+        "inject_class",
+        "is_output",
+        "main_class_written",
+        "main_reference",
+        "model",
+        "plain",
+        "prefix",
+        "rewrites",
+    )
+
+    def __init__(self, composition: Composition, model: RootElement, prefix: str) -> None:
+        self.composition = composition
+        self.model = model
+        self.prefix = prefix
+        self.is_output = model is composition.root
+        self.main_class_written: str | None = None
+        self.main_reference = MAIN
+        self.inject_class = False
+        self.angle_scale: float | None = None
+        self.euler_seq: str | None = None
+        self.plain = True
+        self.rewrites = True
+
+    def finish(self) -> None:
+        """Decide whether names and values can be written as stored."""
+        self.plain = (
+            not self.prefix and self.main_reference == MAIN and not self.model._escaped_names
+        )
+        self.rewrites = not (
+            self.plain
+            and not self.inject_class
+            and self.angle_scale is None
+            and self.euler_seq is None
+            and not self.composition.auto_named
+        )
+
+    # -- names ---------------------------------------------------------------------------
+
+    def class_text(self, name: str) -> str:
+        if name == MAIN:
+            return self.main_reference
+        return self.prefix + _unescape(name)
+
+    def identifier_text(self, element: Element, value: str) -> str:
+        if element._spec.namespace == "default":
+            return self.class_text(value)
+        return self.prefix + _unescape(value)
+
+    def reference_text(self, attribute: AttributeSpec, value: str) -> str:
+        if attribute.namespace == "default":
+            return self.class_text(value)
+        if value == WORLD and attribute.namespace in ("body", None):
+            return value  # the world body is shared, never scoped
+        return self.prefix + _unescape(value)
+
+    # -- per-element changes --------------------------------------------------------------
+
+    def rewrite(self, element: Element) -> dict[str, str | None] | None:
+        """Attributes this output writes differently from what the element stores
+        (None values are left out), or None when it writes them as stored."""
+        if not self.rewrites:
+            return None
+        composition = self.composition
+        override = None
+        spec = element._spec
+        if spec.identifier is not None and spec.identifier not in element._attrs:
+            name = composition.generated_name(element, self)
+            if name is not None:
+                override = {spec.identifier: name}
+        if self.inject_class:
+            parent = element._parent
+            if parent is not None and parent._parent is self.model:
+                attribute = self._class_attribute(element, parent._spec.tag)
+                if attribute is not None:
+                    override = override or {}
+                    override[attribute] = self.main_reference
+        if self.angle_scale is not None or self.euler_seq is not None:
+            converted = self._convert_angles(element)
+            if converted:
+                override = override or {}
+                override.update(converted)
+        return override
+
+    def _class_attribute(self, element: Element, section: str) -> str | None:
+        attributes = element._spec.attributes
+        attrs = element._attrs
+        if section == "default":
+            return None
+        if section == "worldbody":
+            if not self.is_output:
+                return None
+            if (
+                "childclass" in attributes
+                and "childclass" not in attrs
+                and "class" not in attributes
+            ):
+                return "childclass"
+        if "class" in attributes and "class" not in attrs:
+            return "class"
+        return None
+
+    def _convert_angles(self, element: Element) -> dict[str, str | None]:
+        out: dict[str, str | None] = {}
+        attrs = element._attrs
+        scale = self.angle_scale or 1.0
+        if "euler" in attrs:
+            euler = _numbers(element, "euler") * scale
+            if self.euler_seq is not None:
+                out["euler"] = None
+                out["quat"] = _text(euler_to_quat(euler, self.euler_seq))
+            else:
+                out["euler"] = _text(euler)
+        if self.angle_scale is None:
+            return out
+        if "axisangle" in attrs:
+            axisangle = _numbers(element, "axisangle").copy()
+            axisangle[3] *= scale
+            out["axisangle"] = _text(axisangle)
+        if element._spec.tag == "joint" and element._spec.namespace == "joint":
+            joint_type = defaults.effective_value(element, "type") or "hinge"
+            if joint_type in _ANGLE_JOINT_TYPES:
+                for name in _ANGLE_JOINT_ATTRIBUTES:
+                    value = defaults.effective_value(element, name)
+                    if value is not None:
+                        out[name] = _text(np.atleast_1d(np.asarray(value, dtype=float)) * scale)
+        return out
+
+
+class MergedSettings:
+    """The attributes and once-only children of a settings section, merged over the
+    models of one output."""
+
+    __slots__ = ("attributes", "children", "sources")
+
+    def __init__(self) -> None:
+        self.attributes: dict[str, str] = {}
+        self.children: dict[str, MergedSettings] = {}
+        self.sources: dict[str, tuple[RootElement, object]] = {}
+
+
+class Composition:
+    """The models composed into one output document, and how each is written."""
+
+    def __init__(self, root: RootElement, auto_name_all: bool = False) -> None:
+        self.root = root
+        # Compiling names every element, so that each can be bound to the simulation.
+        self.auto_name_all = auto_name_all
+        self._auto_names: dict[Element, str] = {}
+        self._auto_counts: dict[str, int] = {}
+        self._models = [root, *attachment.attached_models(root)]
+        self.has_attachments = len(self._models) > 1
+        self.auto_named = auto_name_all or any(m._referenced_unnamed for m in self._models)
+        self._contexts: dict[RootElement, ModelContext] = {}
+        moved = len(self._models) > 1 and _has_global_defaults(root)
+        root_angle = _setting(root, "angle")
+        root_seq = _setting(root, "eulerseq")
+        for model in self._models:
+            context = ModelContext(self, model, model.namescope.prefix(root.namescope))
+            if model is root:
+                if moved:
+                    context.main_class_written = context.main_reference = PREFIX_SEPARATOR
+                    context.inject_class = True
+            else:
+                context.main_class_written = context.main_reference = context.prefix
+                context.inject_class = True
+                angle = _setting(model, "angle")
+                if angle != root_angle:
+                    context.angle_scale = math.pi / 180 if angle == "degree" else 180 / math.pi
+                seq = _setting(model, "eulerseq")
+                if seq != root_seq:
+                    context.euler_seq = seq
+            context.finish()
+            self._contexts[model] = context
+
+    def check(self) -> None:
+        """Raise mjcf.AttachmentError if an attached model's settings conflict."""
+        for model in self._models[1:]:
+            check_compatible(self.root, model)
+
+    def context(self, model: RootElement) -> ModelContext:
+        """The context of `model`; raises mjcf.ReferenceError for a model that is not
+        part of this output."""
+        context = self._contexts.get(model)
+        if context is None:
+            raise errors.ReferenceError(
+                f"model {model.model!r} is not attached inside model {self.root.model!r}"
+            )
+        return context
+
+    def attached_contexts(self) -> list[ModelContext]:
+        """Contexts of the attached models, in the order they are written."""
+        return [self._contexts[m] for m in self._models[1:]]
+
+    def default_roots(self) -> list[tuple[ModelContext, Element]]:
+        """(context, global default element) of each model, in writing order."""
+        return [(self._contexts[m], m.default) for m in self._models]
+
+    # -- settings -------------------------------------------------------------------------
+
+    def merged_settings(self, tag: str) -> MergedSettings:
+        """One settings section merged over all models; raises mjcf.AttachmentError
+        when two models set one value differently."""
+        merged = MergedSettings()
+        for model in self._models:
+            skip = FILE_SETTINGS if tag == "compiler" else frozenset()
+            if tag == "compiler" and model is not self.root:
+                skip = skip | _CONVERTED_SETTINGS
+            _merge_into(merged, model._section(tag), model, skip)
+        return merged
+
+    def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
+        """The keys to write: the output model's, and those of attached models."""
+        from mjcf import keyframes
+
+        return keyframes.keys_to_write(self, for_compile)
+
+    # -- references and names --------------------------------------------------------------
+
+    def element_reference_text(
+        self, element: Element, attribute: AttributeSpec, target: Element
+    ) -> str:
+        """The written name of a referenced element object."""
+        if not target._is_registered():
+            raise errors.ReferenceError(
+                f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
+            )
+        context = self._contexts.get(target.root)
+        if context is None:
+            raise errors.ReferenceError(
+                f"{element.path}: {attribute.name!r} refers to {target.path} in model "
+                f"{target.root.model!r}, which is not attached inside model {self.root.model!r}"
+            )
+        if isinstance(target, attachment.AttachmentFrame):
+            return attachment.frame_output_name(target, context)
+        if target._spec.tag == "worldbody":
+            return WORLD
+        name = target.identifier
+        if name is None:
+            name = self.auto_name(target, context)
+        if name is None:
+            raise errors.ReferenceError(
+                f"{element.path}: {attribute.name!r} refers to an unnamed {target.path}"
+            )
+        if target._spec.namespace == "default":
+            return context.class_text(name)
+        return context.prefix + _unescape(name)
+
+    def generated_name(self, element: Element, context: ModelContext) -> str | None:
+        """The name written for an element without a name attribute: its scoped file
+        name for meshes and textures named after their file (when that could change),
+        else a generated name if it must have one, else None."""
+        implicit = element.identifier
+        if implicit is not None:
+            if context.plain and not self.auto_name_all:
+                return None
+            return context.prefix + implicit
+        return self.auto_name(element, context)
+
+    def auto_name(self, element: Element, context: ModelContext) -> str | None:
+        """A generated name for an unnamed element that must be named in this output
+        (every unnamed element when compiling, so that it can be bound)."""
+        spec = element._spec
+        if spec.namespace in (None, "default") or element.identifier is not None:
+            return None
+        name = self._auto_names.get(element)
+        if name is not None:
+            return name
+        if not self.auto_name_all and element not in element.root._referenced_unnamed:
+            return None
+        count = self._auto_counts.get(spec.namespace, 0)
+        self._auto_counts[spec.namespace] = count + 1
+        # '//' cannot occur in a user's scoped name, so generated names never clash.
+        name = f"{context.prefix}//unnamed_{spec.namespace}_{count}"
+        self._auto_names[element] = name
+        return name
+
+    def auto_names(self) -> dict[Element, str]:
+        """`{element: generated name}` of the elements named by this output."""
+        return self._auto_names
+
+    def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
+        """An attachment frame's own joints belong to the model that owns the frame, not
+        to the attached model whose class the frame sets as childclass."""
+        override = context.rewrite(child) or {}
+        if "class" in child._spec.attributes and "class" not in child._attrs:
+            override["class"] = context.main_reference
+        return override or None
+
+
+def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, str | None]:
+    """Attributes an attachment frame writes besides its own: its output name and the
+    attached model's default class."""
+    return {
+        "name": attachment.frame_output_name(frame, child_context.composition.context(frame.root)),
+        "childclass": child_context.main_reference,
+    }
+
+
+def check_compatible(parent: RootElement, child: RootElement) -> None:
+    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: a
+    compiler setting that is not converted differs, or a setting both models give
+    explicitly differs."""
+    for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
+        if name in FILE_SETTINGS or name in _CONVERTED_SETTINGS:
+            continue
+        mine, theirs = _setting(parent, name), _setting(child, name)
+        if not _same(attribute, mine, theirs):
+            raise errors.AttachmentError(
+                f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
+                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on both"
+            )
+    for tag in ("option", "size", "visual", "statistic"):
+        merged = MergedSettings()
+        _merge_into(merged, parent._section(tag), parent, frozenset())
+        _merge_into(merged, child._section(tag), child, frozenset())
+
+
+def _merge_into(
+    merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
+) -> None:
+    tag = section._spec.tag
+    for name in section._attrs:
+        if name in skip:
+            continue
+        attribute = section._spec.attributes[name]
+        value = section._attrs[name]
+        text = value if type(value) is str else attribute.converter.to_text(value)
+        previous = merged.sources.get(name)
+        if previous is None:
+            merged.attributes[name] = text
+            merged.sources[name] = (model, section._get_value(attribute))
+            continue
+        other_model, other_value = previous
+        if not _same(attribute, other_value, section._get_value(attribute)):
+            raise errors.AttachmentError(
+                f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
+                f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
+                "one value: set the same value on both, or on neither"
+            )
+    for child in section._children:
+        if child._spec.repeated:
+            continue
+        target = merged.children.get(child._spec.tag)
+        if target is None:
+            target = merged.children[child._spec.tag] = MergedSettings()
+        _merge_into(target, child, model, frozenset())
+
+
+def _same(attribute: AttributeSpec, a: object, b: object) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a_array, b_array = np.asarray(a), np.asarray(b)
+        return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
+    return a == b
+
+
+def _setting(model: RootElement, name: str) -> object:
+    """A compiler setting of `model`: its explicit value, or MuJoCo's default."""
+    compiler = model._section("compiler")
+    attribute = compiler._spec.attributes[name]
+    value = compiler._get_value(attribute)
+    if value is None and attribute.default is not None:
+        try:
+            value = attribute.converter.from_text(attribute.default)
+        except ValueError:
+            value = attribute.default
+    return value
+
+
+def _has_global_defaults(root: RootElement) -> bool:
+    return any(
+        child._spec.tag != "default" and (child._attrs or child._children)
+        for child in root.default._children
+    )
+
+
+def _numbers(element: Element, name: str) -> np.ndarray:
+    return np.atleast_1d(
+        np.asarray(element._get_value(element._spec.attributes[name]), dtype=float)
+    )
+
+
+def _text(values: np.ndarray) -> str:
+    from mjcf.values import format_number
+
+    return " ".join(format_number(v) for v in np.asarray(values, dtype=float).ravel().tolist())
+
+
+def euler_to_quat(euler: np.ndarray, sequence: str) -> np.ndarray:
+    """The quaternion of Euler angles (radians) in MuJoCo's `eulerseq` convention:
+    lower-case axes rotate with the frame (intrinsic), upper-case stay fixed."""
+    quat = np.array([1.0, 0.0, 0.0, 0.0])
+    for angle, axis in zip(euler, sequence, strict=True):
+        index = "xyz".index(axis.lower())
+        half = angle / 2
+        rotation = np.zeros(4)
+        rotation[0] = math.cos(half)
+        rotation[1 + index] = math.sin(half)
+        quat = _quat_mul(quat, rotation) if axis.islower() else _quat_mul(rotation, quat)
+    return quat
+
+
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([
+        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+    ])  # fmt: skip

@@ -1,0 +1,150 @@
+"""`include_copy`: merge a copy of another model (or element) into this one, without a
+name scope, as MuJoCo's `<include>` would.
+
+    scene.include_copy(mjcf.from_path('floor.xml'))     # its names join scene's
+    body.include_copy(other_body)                         # same-tag elements too
+
+Attributes are merged (a value both sides set differently is an error, unless
+`override_attributes`), children are copied, names must not collide. Everything is
+checked before anything changes.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import TYPE_CHECKING, Any
+
+from mjcf import attachment, errors
+from mjcf.composition import _same
+from mjcf.namescope import unescape
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+
+
+def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
+    """Merge a copy of `source` into `target` (see module docstring). Raises
+    mjcf.SchemaError for elements of different tags, mjcf.AttachmentError for
+    conflicting attribute values and mjcf.NameError for names already taken; the
+    tree is unchanged then."""
+    from mjcf.root import RootElement
+
+    if target.tag != source.tag or isinstance(target, RootElement) != isinstance(
+        source, RootElement
+    ):
+        raise errors.SchemaError(
+            f"{target.path}: include_copy needs an element of the same kind, got {source.path}"
+        )
+    if _contains(source, target):
+        raise errors.AttachmentError(f"{target.path}: cannot include a copy of its own ancestor")
+    plan: list[tuple[Element, dict[str, Any], list[Element]]] = []
+    _plan_merge(target, source, override_attributes, plan)
+    _check_names(target, plan)
+    clones: dict[int, Element] = {}
+    for destination, attributes, children in plan:
+        destination._attrs.update(attributes)
+        for child in children:
+            clone = _clone(child, destination, clones)
+            destination._children.append(clone)
+            for element in clone.iter():
+                element._register()
+    _relink_references(clones)
+
+
+def _contains(ancestor: Element, element: Element) -> bool:
+    current: Element | None = element
+    while current is not None:
+        if current is ancestor:
+            return True
+        current = current._parent
+    return False
+
+
+def _plan_merge(target: Element, source: Element, override: bool, plan: list) -> None:
+    attributes = {}
+    for name, value in source._attrs.items():
+        if name == "model":
+            continue
+        mine = target._attrs.get(name)
+        if mine is not None and not override:
+            spec = target._spec.attributes[name]
+            if not _same(spec, target._get_value(spec), source._get_value(spec)):
+                raise errors.AttachmentError(
+                    f"{target.path}: {name!r} is {target.get_attribute_xml_string(name)!r} here "
+                    f"and {source.get_attribute_xml_string(name)!r} in {source.path}; pass "
+                    "override_attributes=True to take the included value"
+                )
+            continue
+        attributes[name] = _copy_value(value)
+    children = []
+    for child in source._children:
+        if child._spec.repeated:
+            children.append(child)
+            continue
+        existing = target._single_child(child._spec.tag)
+        if existing is None:
+            children.append(child)
+        else:
+            _plan_merge(existing, child, override, plan)
+    plan.append((target, attributes, children))
+
+
+def _check_names(target: Element, plan: list) -> None:
+    scope = target.root.namescope
+    seen: dict[tuple[str, str], Element] = {}
+    for _, _, children in plan:
+        for child in children:
+            for element in child.iter():
+                namespace = element._spec.namespace
+                name = element.identifier
+                if namespace is None or name is None or element._implicit():
+                    continue
+                key = (namespace, unescape(name))
+                existing = scope.get(namespace, name) or seen.get(key)
+                if existing is not None:
+                    raise errors.NameError(
+                        f"{target.path}: cannot include {element.path}: the name {name!r} is "
+                        f"already used by another {namespace}: {existing.path}"
+                    )
+                seen[key] = element
+                if isinstance(element, attachment.AttachmentFrame):
+                    model_name = element.attached_model.model
+                    if scope.child(model_name) is not None:
+                        raise errors.NameError(
+                            f"{target.path}: a model named {model_name!r} is already attached"
+                        )
+
+
+def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
+    cls = type(element)
+    clone = cls._make(element._spec, parent, parent.root)
+    object.__setattr__(clone, "_attrs", {k: _copy_value(v) for k, v in element._attrs.items()})
+    clones[id(element)] = clone
+    if isinstance(element, attachment.AttachmentFrame):
+        child_model = copy.deepcopy(element.attached_model)
+        object.__setattr__(child_model, "_frame", None)
+        object.__setattr__(clone, "_attached", child_model)
+        object.__setattr__(child_model, "_frame", clone)
+        parent.root.namescope.add_child(child_model.namescope)
+        parent.root._attachments.append(clone)
+    for child in element._children:
+        clone._children.append(_clone(child, clone, clones))
+    return clone
+
+
+def _relink_references(clones: dict[int, Element]) -> None:
+    """References to copied elements point at their copies."""
+    from mjcf.element import Element
+
+    for clone in clones.values():
+        for name, value in clone._attrs.items():
+            if isinstance(value, Element) and id(value) in clones:
+                clone._attrs[name] = clones[id(value)]
+            elif isinstance(value, list):
+                clone._attrs[name] = [
+                    clones.get(id(v), v) if isinstance(v, Element) else v for v in value
+                ]
+
+
+def _copy_value(value: Any) -> Any:
+    return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value

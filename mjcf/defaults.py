@@ -1,0 +1,172 @@
+"""Default classes: which class an element uses, the value it gets from it, and
+`commit_defaults`, which writes those values onto the elements.
+
+    mjcf.commit_defaults(model)      # every element now carries its default values;
+                                     # the <default> section is emptied; the compiled
+                                     # model is unchanged
+
+An element uses its `class`, else the `childclass` of its nearest enclosing body or
+frame, else the model's global defaults ('main'). A class inherits from the classes
+it is nested in. Actuators share one default per class, set by every actuator
+element of the class in order (see MuJoCo's "actuator shortcuts").
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from mjcf import errors
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+
+MAIN = "main"
+# Elements whose defaults come from a default child of another tag.
+_DEFAULT_TAG = {"spatial": "tendon", "fixed": "tendon"}
+_EQUALITY_TAGS = frozenset({"connect", "weld", "joint", "tendon", "flex", "flexstrain"})
+
+
+def default_tag(element: Element) -> str | None:
+    """The tag of the default-class child that gives `element` its defaults, or None if
+    this kind of element takes no defaults."""
+    spec = element._spec
+    if "class" not in spec.attributes:
+        return None
+    parent = element._parent
+    if parent is not None and parent._spec.tag == "equality" and spec.tag in _EQUALITY_TAGS:
+        return "equality"
+    return _DEFAULT_TAG.get(spec.tag, spec.tag)
+
+
+def class_of(element: Element) -> Element:
+    """The default class element (a `<default>`) that `element` uses."""
+    model = element.root
+    name = element._attrs.get("class")
+    if name is None:
+        ancestor = element._parent
+        while ancestor is not None and ancestor._parent is not None:
+            childclass = ancestor._attrs.get("childclass")
+            if childclass is not None:
+                name = childclass
+                break
+            ancestor = ancestor._parent
+    if name is None:
+        return model.default
+    if not isinstance(name, str):
+        return name
+    found = model.find("default", name)
+    if found is None:
+        raise errors.ReferenceError(f"{element.path}: default class {name!r} does not exist")
+    return found
+
+
+def class_chain(default: Element) -> list[Element]:
+    """`default` and the classes it inherits from, outermost (main) first."""
+    chain = []
+    current: Element | None = default
+    while current is not None and current._spec.tag == "default":
+        chain.append(current)
+        current = current._parent
+    return chain[::-1]
+
+
+def effective_value(element: Element, name: str) -> Any:
+    """The value of attribute `name` that MuJoCo uses for `element`: its own, else its
+    default class's, else None (MuJoCo's built-in default)."""
+    attribute = element._spec.attributes[name]
+    if name in element._attrs:
+        return element._get_value(attribute)
+    tag = default_tag(element)
+    if tag is None:
+        return None
+    for default in reversed(class_chain(class_of(element))):
+        for child in default._children:
+            if child._spec.tag == tag and name in child._attrs:
+                return child._get_value(child._spec.attributes[name])
+    return None
+
+
+def commit_defaults(root: RootElement) -> None:
+    """Write every value that elements of `root` (and of the models attached to it)
+    get from default classes onto the elements themselves, then remove the default
+    classes and `class`/`childclass` attributes, so the model no longer needs them. The
+    compiled model is unchanged. Raises mjcf.ReferenceError for a class that does not
+    exist; the model is unchanged then."""
+    from mjcf import attachment
+
+    models = [root, *attachment.attached_models(root)]
+    plans = []
+    for model in models:
+        for element in model.iter():
+            tag = default_tag(element)
+            if tag is None or element._parent is None or _inside_default(element):
+                continue
+            values = _defaults_for(element, tag)
+            if values:
+                plans.append((element, values))
+    for element, values in plans:
+        for name, value in values.items():
+            if name not in element._attrs:
+                element._attrs[name] = value
+    for model in models:
+        for element in model.iter():
+            if _inside_default(element):
+                continue
+            element._attrs.pop("class", None)
+            element._attrs.pop("childclass", None)
+        for child in list(model.default._children):
+            child._unregister_subtree()
+        model.default._children.clear()
+        model.default._attrs.clear()
+
+
+def _inside_default(element: Element) -> bool:
+    parent = element._parent
+    while parent is not None:
+        if parent._spec.tag == "default":
+            return True
+        parent = parent._parent
+    return False
+
+
+def _defaults_for(element: Element, tag: str) -> dict[str, Any]:
+    values: dict[str, Any] = {}
+    attributes = element._spec.attributes
+    for default in class_chain(class_of(element)):
+        for child in default._children:
+            child_tag = child._spec.tag
+            if child_tag == tag:
+                source = child
+            elif tag in _ACTUATOR_TAGS and child_tag in _ACTUATOR_TAGS:
+                source = child
+                _reset_shortcut(values, child_tag, tag)
+            else:
+                continue
+            for name, value in source._attrs.items():
+                if name in attributes and name != "class":
+                    values[name] = _copy(value)
+                elif child_tag != tag:
+                    raise errors.AttributeValueError(
+                        f"{element.path}: its default class sets <{child_tag} {name}>, which "
+                        f"<{element.tag}> does not have; commit_defaults cannot express it"
+                    )
+    return values
+
+
+def _reset_shortcut(values: dict[str, Any], default_tag_: str, tag: str) -> None:
+    """A default actuator of another shortcut resets the gain, bias and dynamics that
+    the element's own shortcut sets anyway."""
+    if default_tag_ != tag:
+        for name in ("gainprm", "biasprm", "dynprm", "gaintype", "biastype", "dyntype"):
+            values.pop(name, None)
+
+
+def _copy(value: Any) -> Any:
+    return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value
+
+
+_ACTUATOR_TAGS = frozenset({
+    "general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder",
+    "muscle", "adhesion", "dcmotor", "pid", "orientation", "plugin",
+})  # fmt: skip

@@ -1,0 +1,589 @@
+"""`Element`: one MJCF element, with its attributes as Python attributes.
+
+    body = model.worldbody.add('body', name='arm', pos=[0, 0, 1])
+    geom = body.add('geom', type='capsule', size=[0.05, 0.2])
+    geom.rgba = [1, 0, 0, 1]          # validated now, against MuJoCo's schema
+    geom.size                        # array([0.05, 0.2])
+    body.geom[0] is geom             # repeated children by tag, indexable by name too
+    model.find('geom', ...)          # see RootElement
+    del geom.rgba                    # or geom.rgba = None
+
+Every change is checked when it is made and raises an `mjcf.Error` naming the element
+path and the attribute; a change that raises leaves the tree as it was. Attribute
+values are never affected by default classes (see `commit_defaults`). The `class`
+attribute is `dclass` in Python.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+
+from mjcf import debugging, errors
+from mjcf import values as _values
+from mjcf.namescope import PREFIX_SEPARATOR
+from mjcf.namescope import unescape as _unescape
+from mjcf.schema import AttributeSpec, ElementSpec
+
+if TYPE_CHECKING:
+    from mjcf.namescope import NameScope
+    from mjcf.root import RootElement
+
+# Python spellings of MJCF attribute names that are Python keywords.
+_ALIASES = {"dclass": "class", "class_": "class"}
+# Asset elements that MuJoCo names after their file when they have no name.
+_NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
+
+
+class ElementList(list):
+    """The repeated children of one tag: a list that is also indexable by name."""
+
+    def __getitem__(self, key):  # type: ignore[override]
+        if isinstance(key, str):
+            for element in self:
+                if element.identifier == key:
+                    return element
+            raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
+        return super().__getitem__(key)
+
+    def tags(self) -> str:
+        return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"
+
+
+class Element:
+    """An MJCF element. Create elements with `parent.add(tag, **attributes)`."""
+
+    __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec")
+
+    _spec: ElementSpec
+    _parent: Element | None
+    _root: RootElement
+    _attrs: dict[str, Any]
+    _children: list[Element]
+    _source: Any
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        raise TypeError("create elements with parent.add(tag, **attributes)")
+
+    @classmethod
+    def _make(cls, spec: ElementSpec, parent: Element | None, root: RootElement) -> Element:
+        element = object.__new__(cls)
+        setter = object.__setattr__
+        setter(element, "_spec", spec)
+        setter(element, "_parent", parent)
+        setter(element, "_root", root)
+        setter(element, "_attrs", {})
+        setter(element, "_children", [])
+        setter(element, "_source", debugging.creation_site())
+        return element
+
+    # -- identity and place in the tree ---------------------------------------------------
+
+    @property
+    def tag(self) -> str:
+        """The XML tag, e.g. 'geom'."""
+        return self._spec.tag
+
+    @property
+    def spec(self) -> ElementSpec:
+        """The schema of this element in its place of the tree."""
+        return self._spec
+
+    @property
+    def parent(self) -> Element | None:
+        """The parent element (None for a root, or after `remove()`)."""
+        return self._parent
+
+    @property
+    def root(self) -> RootElement:
+        """The model (`RootElement`) this element belongs to."""
+        return self._root
+
+    @property
+    def namescope(self) -> NameScope:
+        """The name scope of this element's model."""
+        return self._root.namescope
+
+    @property
+    def identifier(self) -> str | None:
+        """This element's name (its class for a default), or the name MuJoCo gives
+        an unnamed mesh/texture/hfield/skin after its file; None if unnamed."""
+        spec = self._spec
+        if spec.identifier is None:
+            return None
+        value = self._attrs.get(spec.identifier)
+        if value is None and spec.tag in _NAMED_AFTER_FILE:
+            return _name_from_file(self._attrs.get("file"))
+        return value
+
+    @property
+    def full_identifier(self) -> str | None:
+        """The scoped name MuJoCo will see for this element in the outermost model
+        ('arm/gripper/pad'), or None if unnamed."""
+        return self.prefixed_identifier(None)
+
+    def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
+        """This element's scoped name relative to model `prefix_root` (default: the
+        outermost model it is attached into)."""
+        name = self.identifier
+        if name is None:
+            return None
+        scope = None if prefix_root is None else prefix_root.namescope
+        return self._root.namescope.prefix(scope) + name
+
+    @property
+    def path(self) -> str:
+        """Where this element is, for messages: '<worldbody>/<body name="arm">/<geom>'."""
+        parts = []
+        element: Element | None = self
+        while element is not None and element._parent is not None:
+            parts.append(element._describe())
+            element = element._parent
+        model = self._root._attrs.get("model")
+        prefix = f"model {model!r}: " if model and element is self._root else ""
+        if element is not self._root:
+            prefix = "(removed) "
+        return prefix + "/".join(reversed(parts)) if parts else prefix + "<mujoco>"
+
+    def _describe(self) -> str:
+        spec = self._spec
+        ident = self._attrs.get(spec.identifier) if spec.identifier else None
+        if isinstance(ident, str):
+            return f'<{spec.tag} {spec.identifier}="{ident}">'
+        return f"<{spec.tag}>"
+
+    # -- attributes ----------------------------------------------------------------------
+
+    def _attribute_spec(self, name: str) -> AttributeSpec:
+        spec = self._spec
+        attribute = spec.attributes.get(_ALIASES.get(name, name))
+        if attribute is None:
+            known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
+            raise errors.AttributeError(
+                f"{self.path}: <{spec.tag}> has no attribute {name!r}"
+                + _values.suggest(name, [k for k in known if k])
+            )
+        return attribute
+
+    def __getattr__(self, name: str) -> Any:
+        if name[:1] == "_":
+            raise AttributeError(name)  # private names never reach the schema
+        spec = self._spec
+        attribute = spec.attributes.get(_ALIASES.get(name, name))
+        if attribute is not None:
+            return self._get_value(attribute)
+        child_spec = spec.children.get(name.rstrip("_"))
+        if child_spec is not None:
+            return self.get_children(child_spec.tag)
+        known = list(spec.attributes) + list(spec.children)
+        raise errors.AttributeError(
+            f"{self.path}: <{spec.tag}> has no attribute or child {name!r}"
+            + _values.suggest(name, known)
+        )
+
+    def _get_value(self, attribute: AttributeSpec) -> Any:
+        value = self._attrs.get(attribute.name)
+        if value is None or type(value) is not str:
+            return value
+        converter = attribute.converter
+        if converter.lazy:
+            value = self._convert(attribute, value, from_text=True)
+            self._attrs[attribute.name] = value
+        elif attribute.kind == "reference":
+            target = self._resolve_reference(attribute, value)
+            if target is not None:
+                self._attrs[attribute.name] = value = target
+        elif attribute.kind == "file":
+            from mjcf import assets
+
+            self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
+        return value
+
+    def _convert(self, attribute: AttributeSpec, value: object, from_text: bool = False) -> Any:
+        try:
+            if from_text:
+                return attribute.converter.from_text(value)
+            return attribute.converter.from_python(value)
+        except _values.InvalidValue as error:
+            raise errors.AttributeValueError(f"{self.path}: {attribute.name!r} {error}") from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name[:1] == "_":
+            object.__setattr__(self, name, value)
+            return
+        self._set_attribute(self._attribute_spec(name), value)
+
+    def __delattr__(self, name: str) -> None:
+        if name[:1] == "_":
+            object.__delattr__(self, name)
+            return
+        self._set_attribute(self._attribute_spec(name), None)
+
+    def _set_attribute(self, attribute: AttributeSpec, value: Any) -> None:
+        name = attribute.name
+        if value is None:
+            if attribute.required and name in self._attrs:
+                raise errors.AttributeValueError(
+                    f"{self.path}: {name!r} is required by <{self.tag}> and cannot be removed"
+                )
+            if attribute.kind == "identifier":
+                self._rename(None)
+            self._attrs.pop(name, None)
+            return
+        stored = self._convert(attribute, value)
+        if attribute.kind == "identifier":
+            self._check_name(stored)
+            self._rename(stored)
+        elif attribute.kind == "reference":
+            self._check_reference(attribute, stored)
+        elif attribute.kind == "file" and self._spec.tag in _NAMED_AFTER_FILE:
+            self._rename_after_file(stored)
+        self._attrs[name] = stored
+
+    def get_attributes(self) -> dict[str, Any]:
+        """The attributes that are set, as Python values (`class` under 'dclass')."""
+        return {
+            ("dclass" if name == "class" else name): self._get_value(self._spec.attributes[name])
+            for name in self._attrs
+        }
+
+    def set_attributes(self, **attributes: Any) -> None:
+        """Set several attributes at once; if any is invalid, none is set."""
+        converted = self._prepare(attributes)
+        self._apply(converted)
+
+    def get_attribute_xml_string(
+        self, name: str, prefix_root: RootElement | None = None
+    ) -> str | None:
+        """The attribute as it would be written to XML (scoped names for references)."""
+        from mjcf import serializer
+
+        attribute = self._attribute_spec(name)
+        if attribute.name not in self._attrs:
+            return None
+        return serializer.attribute_text(self, attribute, prefix_root)
+
+    def _prepare(self, attributes: dict[str, Any]) -> list[tuple[AttributeSpec, Any]]:
+        """Convert and check every attribute without changing anything."""
+        converted = []
+        for name, value in attributes.items():
+            attribute = self._attribute_spec(name)
+            if value is None:
+                converted.append((attribute, None))
+                continue
+            stored = self._convert(attribute, value)
+            if attribute.kind == "identifier":
+                self._check_name(stored)
+                self._check_free(stored)
+            elif attribute.kind == "reference":
+                self._check_reference(attribute, stored)
+            converted.append((attribute, stored))
+        return converted
+
+    def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
+        for attribute, stored in converted:
+            self._set_attribute(attribute, stored)
+
+    # -- names ---------------------------------------------------------------------------
+
+    def _check_name(self, name: str) -> None:
+        if PREFIX_SEPARATOR in name.replace("\\" + PREFIX_SEPARATOR, ""):
+            raise errors.NameError(
+                f"{self.path}: name {name!r} contains {PREFIX_SEPARATOR!r}, which separates "
+                "the names of attached models; write it as '\\/' (or parse with "
+                "escape_separators=True)"
+            )
+
+    def _check_free(self, name: str) -> None:
+        namespace = self._spec.namespace
+        if namespace is None or not self._is_registered():
+            return
+        existing = self._root.namescope.get(namespace, name)
+        if existing is not None and existing is not self:
+            raise errors.NameError(
+                f"{self.path}: the name {name!r} is already used by another {namespace} "
+                f"in model {self._root.namescope.name!r}: {existing.path}"
+            )
+
+    def _is_registered(self) -> bool:
+        """Whether this element is part of its model's tree (not removed)."""
+        element: Element = self
+        while element._parent is not None:
+            element = element._parent
+        return element is self._root
+
+    def _rename(self, new_name: str | None) -> None:
+        namespace = self._spec.namespace
+        if namespace is None or not self._is_registered():
+            return
+        scope = self._root.namescope
+        if new_name is not None:
+            self._check_free(new_name)
+        old = self.identifier
+        if old is not None:
+            scope.unregister(namespace, _unescape(old), self)
+        if new_name is not None:
+            scope.register(namespace, _unescape(new_name), self)
+            if "\\" in new_name:
+                object.__setattr__(self._root, "_escaped_names", True)
+        elif self._spec.tag in _NAMED_AFTER_FILE:
+            implicit = _name_from_file(self._attrs.get("file"))
+            if implicit is not None:
+                scope.namespace(namespace).setdefault(implicit, self)
+
+    def _rename_after_file(self, file_value: object) -> None:
+        if self._attrs.get("name") is not None or not self._is_registered():
+            return
+        scope = self._root.namescope
+        old = self.identifier
+        if old is not None:
+            scope.unregister(self._spec.namespace, old, self)
+        new = _name_from_file(file_value)
+        if new is not None:
+            scope.namespace(self._spec.namespace).setdefault(new, self)
+
+    def _register(self) -> None:
+        """Record this element's name in its model's scope (an implicit name after a
+        file never clashes: MuJoCo reports repeated file names itself)."""
+        namespace = self._spec.namespace
+        name = self.identifier if namespace is not None else None
+        if name is None:
+            return
+        scope = self._root.namescope
+        if self._implicit():
+            scope.namespace(namespace).setdefault(_unescape(name), self)
+            return
+        scope.register(namespace, _unescape(name), self)
+        if "\\" in name:
+            object.__setattr__(self._root, "_escaped_names", True)
+
+    def _implicit(self) -> bool:
+        return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
+
+    def _unregister_subtree(self) -> None:
+        scope = self._root.namescope
+        for element in self.iter():
+            namespace = element._spec.namespace
+            name = element.identifier
+            if namespace is not None and name is not None:
+                scope.unregister(namespace, _unescape(name), element)
+
+    # -- references ------------------------------------------------------------------------
+
+    def _check_reference(self, attribute: AttributeSpec, value: Any) -> None:
+        items = value if isinstance(value, list) else [value]
+        namespace = attribute.reference_namespace(self._attrs)
+        for item in items:
+            if isinstance(item, Element):
+                if namespace is not None and item._spec.namespace != namespace:
+                    raise errors.ReferenceError(
+                        f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
+                        f"{item.path} (a {item._spec.namespace or item.tag})"
+                    )
+                if item.identifier is None:
+                    item._root._referenced_unnamed.add(item)
+
+    def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
+        namespace = attribute.reference_namespace(self._attrs)
+        if namespace is None or attribute.is_list:
+            return None
+        return self._root.namescope.get(namespace, name)
+
+    # -- children -------------------------------------------------------------------------
+
+    def _child_spec(self, tag: str) -> ElementSpec:
+        child = self._spec.children.get(tag)
+        if child is None:
+            raise errors.SchemaError(
+                f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
+                + _values.suggest(tag, self._spec.children)
+                + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
+            )
+        return child
+
+    def add(self, tag: str, **attributes: Any) -> Element:
+        """Add a child element `tag` with `attributes`, and return it. Raises
+        mjcf.SchemaError if MJCF does not allow it here, and the errors of setting
+        each attribute; nothing is added then."""
+        return self.insert(tag, len(self._children), **attributes)
+
+    def insert(self, tag: str, position: int, **attributes: Any) -> Element:
+        """Like `add`, at `position` among this element's children."""
+        spec = self._child_spec(tag)
+        if not spec.repeated:
+            existing = self._single_child(tag)
+            if existing is not None:
+                if existing._attrs or existing._children:
+                    raise errors.SchemaError(
+                        f"{self.path}: <{self.tag}> may have only one <{tag}>, and it has "
+                        "one already; set its attributes instead"
+                    )
+                existing.set_attributes(**attributes)
+                return existing
+        element = self._new_child(spec)
+        converted = element._prepare(attributes)
+        element._apply_unregistered(converted)
+        name = element.identifier
+        if name is not None and spec.namespace is not None and not element._implicit():
+            existing = self._root.namescope.get(spec.namespace, name)
+            if existing is not None:
+                raise errors.NameError(
+                    f"{self.path}: cannot add <{tag}>: the name {name!r} is already "
+                    f"used by another {spec.namespace}: {existing.path}"
+                )
+        self._children.insert(position, element)
+        element._register()
+        return element
+
+    def _new_child(self, spec: ElementSpec) -> Element:
+        return Element._make(spec, self, self._root)
+
+    def _apply_unregistered(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
+        for attribute, stored in converted:
+            if stored is not None:
+                self._attrs[attribute.name] = stored
+
+    def _single_child(self, tag: str) -> Element | None:
+        for child in self._children:
+            if child._spec.tag == tag:
+                return child
+        return None
+
+    def get_children(self, tag: str) -> Any:
+        """Children with `tag`: an `ElementList` for repeated elements, or the single
+        child for elements that may appear once (created empty on first access)."""
+        spec = self._child_spec(tag)
+        if spec.repeated:
+            return ElementList(c for c in self._children if c._spec.tag == tag)
+        child = self._single_child(tag)
+        if child is None:
+            child = self._new_child(spec)
+            self._children.append(child)
+        return child
+
+    def all_children(self) -> list[Element]:
+        """The direct children of this element, in order."""
+        return list(self._children)
+
+    def iter(self) -> Iterator[Element]:
+        """This element and its descendants in document order (not into attached
+        models)."""
+        stack = [self]
+        while stack:
+            element = stack.pop()
+            yield element
+            stack.extend(reversed(element._children))
+
+    def remove(self, affect_attachments: bool = False) -> None:
+        """Remove this element (and its subtree) from the model. Raises mjcf.SchemaError
+        for a model's top-level sections, which always exist."""
+        parent = self._parent
+        if parent is None:
+            raise errors.SchemaError(
+                f"{self.path}: a model root or removed element cannot be removed"
+            )
+        if parent._parent is None and parent is self._root:
+            raise errors.SchemaError(
+                f"{self.path}: the <{self.tag}> section always exists; remove its children"
+            )
+        from mjcf import attachment
+
+        frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
+        if frames and not affect_attachments:
+            models = ", ".join(repr(frame.attached_model.model) for frame in frames)
+            raise errors.AttachmentError(
+                f"{self.path}: models {models} are attached inside; detach them first, or "
+                "call remove(affect_attachments=True)"
+            )
+        for frame in frames:
+            frame.detach()
+        self._unregister_subtree()
+        parent._children.remove(self)
+        object.__setattr__(self, "_parent", None)
+
+    def attach(self, child: RootElement) -> Element:
+        """Attach model `child` here (a site, body, frame or the world body) and return
+        its attachment frame; its names become scoped ('child_model/name'). Raises
+        mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
+        from mjcf import attachment
+
+        return attachment.attach(self, child)
+
+    def include_copy(self, other: Element, override_attributes: bool = False) -> None:
+        """Merge a copy of `other` (an element of the same tag, or another model into
+        this model) into this element, without a name scope, as `<include>` would; see
+        `mjcf.copying`. Nothing changes if it raises."""
+        from mjcf import copying
+
+        copying.include_copy(self, other, override_attributes)
+
+    # -- finding ------------------------------------------------------------------------
+
+    def find(self, namespace: str, identifier: str) -> Element | None:
+        """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
+        'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
+        inside this element, or None."""
+        from mjcf import traversal
+
+        return traversal.find(self, namespace, identifier)
+
+    def find_all(
+        self,
+        namespace: str,
+        immediate_children_only: bool = False,
+        exclude_attachments: bool = False,
+    ) -> list[Element]:
+        """Every element of `namespace` (or with tag `namespace`) inside this element,
+        in the order MuJoCo will see them, including attached models' unless excluded."""
+        from mjcf import traversal
+
+        return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
+
+    # -- XML -------------------------------------------------------------------------------
+
+    def to_xml(self, prefix_root: RootElement | None = None, precision: int = 17):
+        """This element (and its subtree, with attached models) as an lxml element."""
+        from lxml import etree
+
+        return etree.fromstring(
+            self.to_xml_string(prefix_root, precision=precision, pretty_print=False)
+        )
+
+    def to_xml_string(
+        self,
+        prefix_root: RootElement | None = None,
+        self_only: bool = False,
+        pretty_print: bool = True,
+        precision: int = 17,
+    ) -> str:
+        """XML text of this element (with its subtree and attached models unless
+        `self_only`). Numbers keep their source text, or are written with `precision`
+        significant digits (17: exact). Raises mjcf errors for missing required
+        attributes and dangling references."""
+        from mjcf import serializer
+
+        return serializer.to_xml_string(self, prefix_root, self_only, pretty_print, precision)
+
+    def __repr__(self) -> str:
+        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+
+    def __dir__(self) -> list[str]:
+        names = set(super().__dir__())
+        names.update(_ALIASES.get(n, n) for n in self._spec.attributes if n != "class")
+        if "class" in self._spec.attributes:
+            names.add("dclass")
+        names.update(self._spec.children)
+        return sorted(n for n in names if n.isidentifier())
+
+    def __copy__(self) -> Element:
+        raise TypeError("copy a model with copy.deepcopy(root)")
+
+
+def _name_from_file(value: object) -> str | None:
+    if value is None:
+        return None
+    path = value if isinstance(value, str) else getattr(value, "name", None)
+    if not path:
+        return None
+    base = path.replace("\\", "/").rsplit("/", 1)[-1]
+    return base.rsplit(".", 1)[0] if "." in base else base

@@ -1,0 +1,60 @@
+"""Finding the frames, free joints and joints that place models and bodies.
+
+frame = mjcf.get_attachment_frame(arm)        # where model `arm` is attached
+mjcf.get_frame_freejoint(frame)               # its free joint, if it floats
+mjcf.get_frame_joints(frame)                  # all joints of the frame
+mjcf.get_freejoint(body)                      # a body's free joint, or None
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from mjcf import attachment
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+
+
+def get_attachment_frame(model: RootElement) -> Element | None:
+    """The attachment frame of `model` in the model it is attached to, or None."""
+    return attachment.frame_of(model)
+
+
+def get_freejoint(element: Element | None) -> Element | None:
+    """The free joint of a body or attachment frame (a `<freejoint>`, or a `<joint
+    type="free">`), or None."""
+    if element is None or not (
+        element.tag == "body" or isinstance(element, attachment.AttachmentFrame)
+    ):
+        return None
+    for child in element._children:
+        if child.tag == "freejoint" or (
+            child.tag == "joint" and child._attrs.get("type") == "free"
+        ):
+            return child
+    return None
+
+
+def get_frame_freejoint(frame: Element | None) -> Element | None:
+    """The free joint of an attachment frame (or of the frame of an attached model, as
+    dm_control code passes it), or None."""
+    return get_freejoint(_as_frame(frame))
+
+
+def get_frame_joints(frame: Element | None) -> list[Element]:
+    """Every joint (including a free joint) of an attachment frame (or of the frame of
+    an attached model), in order."""
+    frame = _as_frame(frame)
+    if frame is None:
+        return []
+    return [child for child in frame._children if child._spec.namespace == "joint"]
+
+
+def _as_frame(element: Element | None) -> Element | None:
+    from mjcf.root import RootElement
+
+    if isinstance(element, RootElement):
+        return attachment.frame_of(element)
+    return element

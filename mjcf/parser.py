@@ -1,0 +1,367 @@
+"""Reading MJCF: `from_path`, `from_xml_string`, `from_file`.
+
+    model = mjcf.from_path('robot.xml')                    # <include>s merged
+    model = mjcf.from_xml_string('<mujoco>...</mujoco>', model_dir='assets/')
+    model = mjcf.from_xml_string(xml, assets={'mesh.stl': stl_bytes})
+
+Every element and attribute is checked against MuJoCo's schema while reading (unknown
+names with a "did you mean", wrong numbers, bad keywords, duplicate names, and
+references to elements that do not exist); errors name the file, line and element.
+Attribute text is kept as read until used, so reading stays close to lxml's speed.
+
+The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
+never touches the network, and limits nesting depth.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import IO
+
+from lxml import etree
+
+from mjcf import debugging, errors
+from mjcf import values as _values
+from mjcf.element import Element
+from mjcf.namescope import PREFIX_SEPARATOR, unescape
+from mjcf.root import RootElement
+
+_MAX_INCLUDES = 1000
+
+
+def _xml_parser() -> etree.XMLParser:
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        remove_comments=True,
+        remove_pis=True,
+        huge_tree=False,
+    )
+
+
+def from_xml_string(
+    xml_string: str | bytes,
+    escape_separators: bool = False,
+    model_dir: str = "",
+    resolve_references: bool = True,
+    assets: dict[str, bytes] | None = None,
+) -> RootElement:
+    """Parse MJCF text into a model. `model_dir` is where relative file names (meshes,
+    includes) are found; `assets` supplies file contents by name; `escape_separators`
+    accepts '/' in names (as '\\/'); `resolve_references` checks that every reference
+    names an existing element. Raises mjcf.ParseError for malformed XML and other
+    mjcf errors for schema violations."""
+    return _parse(xml_string, escape_separators, model_dir, resolve_references, assets, None)
+
+
+def from_path(
+    path: str | os.PathLike,
+    escape_separators: bool = False,
+    resolve_references: bool = True,
+    assets: dict[str, bytes] | None = None,
+) -> RootElement:
+    """Parse an MJCF file; its directory becomes the model's `model_dir`. Raises
+    mjcf.ParseError if it cannot be read (see `from_xml_string` for the rest)."""
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError as error:
+        raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
+    model_dir = os.path.dirname(os.path.abspath(path))
+    return _parse(data, escape_separators, model_dir, resolve_references, assets, path)
+
+
+def from_file(
+    file_object: IO,
+    escape_separators: bool = False,
+    model_dir: str = "",
+    resolve_references: bool = True,
+    assets: dict[str, bytes] | None = None,
+) -> RootElement:
+    """Parse MJCF from an open file (text or binary); `model_dir` defaults to the
+    file's directory when it has a name."""
+    data = file_object.read()
+    name = getattr(file_object, "name", None)
+    if not model_dir and isinstance(name, str) and os.path.exists(name):
+        model_dir = os.path.dirname(os.path.abspath(name))
+    return _parse(data, escape_separators, model_dir, resolve_references, assets,
+                  name if isinstance(name, str) else None)  # fmt: skip
+
+
+def _parse(
+    data: str | bytes,
+    escape_separators: bool,
+    model_dir: str,
+    resolve_references: bool,
+    assets: dict[str, bytes] | None,
+    filename: str | None,
+) -> RootElement:
+    xml_root = _read_xml(data, filename)
+    if xml_root.tag != "mujoco":
+        raise errors.ParseError(
+            f"{_where(filename, xml_root)}: the root element of an MJCF model is <mujoco>, "
+            f"got <{xml_root.tag}>"
+        )
+    model_dir = os.fspath(model_dir) if model_dir else ""
+    included: set[str] = set()
+    if filename is not None:
+        included.add(os.path.abspath(filename))
+    _expand_includes(xml_root, model_dir or os.getcwd(), filename, assets or {}, included)
+    name = xml_root.attrib.get("model")
+    if name is not None and PREFIX_SEPARATOR in name:
+        if not escape_separators:
+            raise errors.NameError(
+                f"{_where(filename, xml_root)}: model name {name!r} contains '/', which "
+                "separates the names of attached models"
+            )
+        name = name.replace(PREFIX_SEPARATOR, "-")
+    root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
+    builder = _Builder(root, filename, escape_separators)
+    builder.build(xml_root)
+    if resolve_references:
+        builder.check_references()
+    return root
+
+
+def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    try:
+        tree = etree.fromstring(data, _xml_parser(), base_url=filename)
+    except etree.XMLSyntaxError as error:
+        line = error.lineno if error.lineno is not None else "?"
+        raise errors.ParseError(
+            f"{filename or '<string>'}:{line}: malformed XML: {error.msg}"
+        ) from None
+    doctype = tree.getroottree().docinfo
+    if doctype.internalDTD is not None or doctype.externalDTD is not None or doctype.doctype:
+        raise errors.ParseError(
+            f"{filename or '<string>'}: MJCF does not use DTDs, and models that declare one "
+            "(or entities) are refused"
+        )
+    return tree
+
+
+def _expand_includes(
+    element: etree._Element, model_dir: str, filename: str | None, assets: dict, included: set[str]
+) -> None:
+    """Replace every <include file=...> below `element` by the children of the
+    included file's root, recursively, as MuJoCo does."""
+    for include in list(element.iter("include")):
+        if include.getparent() is None:
+            continue
+        file_attr = include.attrib.get("file")
+        where = _where(filename, include)
+        if not file_attr:
+            raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
+        data, path = _include_source(file_attr, model_dir, filename, assets, where)
+        key = os.path.abspath(path) if path else "asset:" + file_attr
+        if key in included:
+            raise errors.ParseError(
+                f"{where}: {file_attr!r} is included more than once (or includes itself); "
+                "MuJoCo allows each file to be included once"
+            )
+        if len(included) > _MAX_INCLUDES:
+            raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
+        included.add(key)
+        included_root = _read_xml(data, path or file_attr)
+        _expand_includes(included_root, model_dir, path or file_attr, assets, included)
+        children = [c for c in included_root if isinstance(c.tag, str)]
+        if not children:
+            raise errors.ParseError(f"{where}: included file {file_attr!r} has no elements")
+        parent = include.getparent()
+        position = parent.index(include)
+        parent.remove(include)
+        for offset, child in enumerate(children):
+            parent.insert(position + offset, child)
+
+
+def _include_source(
+    file_attr: str, model_dir: str, filename: str | None, assets: dict, where: str
+) -> tuple[bytes, str | None]:
+    """The contents and path of an included file: from `assets`, else relative to the
+    main model's directory, else to the including file's directory (MuJoCo's order)."""
+    for key in (file_attr, os.path.basename(file_attr)):
+        if key in assets:
+            return assets[key], None
+    candidates = [file_attr] if os.path.isabs(file_attr) else [os.path.join(model_dir, file_attr)]
+    if filename is not None and not os.path.isabs(file_attr):
+        candidates.append(os.path.join(os.path.dirname(os.path.abspath(filename)), file_attr))
+    for candidate in candidates:
+        if os.path.isfile(candidate):
+            try:
+                with open(candidate, "rb") as handle:
+                    return handle.read(), candidate
+            except OSError as error:
+                raise errors.ParseError(
+                    f"{where}: cannot read {candidate!r}: {error.strerror}"
+                ) from None
+    looked = ", ".join(map(repr, candidates))
+    raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
+
+
+def _where(filename: str | None, element: etree._Element) -> str:
+    source = getattr(element, "base", None) or filename or "<string>"
+    return f"{source}:{element.sourceline}"
+
+
+class _Builder:
+    """Turns an lxml tree into elements of one model."""
+
+    def __init__(self, root: RootElement, filename: str | None, escape_separators: bool) -> None:
+        self.root = root
+        self.filename = filename
+        self.escape = escape_separators
+        self.with_references: list[Element] = []
+        self.generated_names = False  # <replicate>/<attach> make names we do not see
+
+    def build(self, xml_root: etree._Element) -> None:
+        root = self.root
+        for name in xml_root.attrib:
+            if name != "model" and not name.startswith("{"):
+                raise errors.AttributeError(
+                    f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
+                )
+        sections = {section.tag: section for section in root._children}
+        for xml_section in xml_root:
+            tag = xml_section.tag
+            if not isinstance(tag, str):
+                continue
+            section = sections.get(tag)
+            if section is None:
+                raise errors.SchemaError(
+                    f"{_where(self.filename, xml_section)}: <mujoco> cannot have a <{tag}> child"
+                    + _values.suggest(tag, sections)
+                )
+            attrib = dict(xml_section.attrib)
+            if tag == "default" and attrib.get("class") in ("main", None):
+                attrib.pop("class", None)
+            self._set_attributes(section, attrib, xml_section, merge=True)
+            self._children(section, xml_section)
+
+    def _set_attributes(
+        self, element: Element, attrib: dict, xml: etree._Element, merge: bool = False
+    ) -> None:
+        spec = element._spec
+        attributes = spec.attributes
+        for name, text in list(attrib.items()):
+            attribute = attributes.get(name)
+            if attribute is None:
+                if name.startswith("{"):  # namespaced, e.g. xsi:noNamespaceSchemaLocation
+                    del attrib[name]
+                    continue
+                raise errors.AttributeError(
+                    f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> has no attribute "
+                    f"{name!r}" + _values.suggest(name, attributes)
+                )
+            kind = attribute.kind
+            if kind == "identifier" or kind == "reference":
+                attrib[name] = self._name_text(element, attribute, text, xml)
+            elif kind != "string" and kind != "file":
+                try:
+                    attribute.converter.check_text(text)
+                except _values.InvalidValue as error:
+                    raise errors.AttributeValueError(
+                        f"{_where(self.filename, xml)}: {element.path}: {name!r} {error}"
+                    ) from None
+        if merge:
+            element._attrs.update(attrib)
+        else:
+            object.__setattr__(element, "_attrs", attrib)
+
+    def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+        if PREFIX_SEPARATOR in text:
+            if not self.escape:
+                raise errors.NameError(
+                    f"{_where(self.filename, xml)}: {element.path}: {attribute.name!r} is "
+                    f"{text!r}, which contains '/', the separator of attached models' names; "
+                    "parse with escape_separators=True to keep it"
+                )
+            text = text.replace(PREFIX_SEPARATOR, "\\" + PREFIX_SEPARATOR)
+        return text
+
+    def _children(self, parent: Element, xml_parent: etree._Element) -> None:
+        specs = parent._spec.children
+        root = self.root
+        scope = root.namescope
+        make = Element._make
+        filename = self.filename
+        for xml in xml_parent:
+            tag = xml.tag
+            if not isinstance(tag, str):
+                if isinstance(xml, etree._Entity):
+                    raise errors.ParseError(
+                        f"{_where(filename, xml_parent)}: entities are not allowed"
+                    )
+                continue
+            spec = specs.get(tag)
+            if spec is None:
+                raise errors.SchemaError(
+                    f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> cannot have a "
+                    f"<{tag}> child" + _values.suggest(tag, specs)
+                )
+            if tag == "replicate" or tag == "attach":
+                self.generated_names = True
+            element = make(spec, parent, root)
+            if debugging.is_debug_mode():
+                object.__setattr__(
+                    element, "_source", debugging.xml_site(xml.base or filename, xml.sourceline)
+                )
+            attrib = xml.attrib
+            if attrib:
+                self._set_attributes(element, dict(attrib), xml)
+                if spec.references and not spec.references.isdisjoint(element._attrs):
+                    self.with_references.append(element)
+            if not spec.repeated and parent._single_child(tag) is not None:
+                raise errors.SchemaError(
+                    f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> may have only "
+                    f"one <{tag}>"
+                )
+            parent._children.append(element)
+            namespace = spec.namespace
+            if namespace is not None:
+                name = element.identifier
+                if name is not None:
+                    if element._implicit():
+                        scope.namespace(namespace).setdefault(name, element)
+                    else:
+                        try:
+                            scope.register(namespace, unescape(name), element)
+                        except errors.NameError as error:
+                            raise errors.NameError(f"{_where(filename, xml)}: {error}") from None
+                        if self.escape and "\\" in name:
+                            object.__setattr__(root, "_escaped_names", True)
+            if len(xml):
+                self._children(element, xml)
+
+    def check_references(self) -> None:
+        """Raise mjcf.ReferenceError for references to elements that do not exist."""
+        if self.generated_names:
+            return
+        scope = self.root.namescope
+        dangling = []
+        for element in self.with_references:
+            attrs = element._attrs
+            for name in element._spec.references.intersection(attrs):
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                if namespace is None:
+                    continue
+                targets = attrs[name].split() if attribute.is_list else [attrs[name]]
+                for target in targets:
+                    if namespace == "default" and target == "main":
+                        continue
+                    if scope.get(namespace, target) is None:
+                        dangling.append(
+                            f"{element.path}: {name}={target!r} (no {namespace} of that name)"
+                        )
+        if dangling:
+            shown = "; ".join(dangling[:5]) + (
+                f"; and {len(dangling) - 5} more" if len(dangling) > 5 else ""
+            )
+            raise errors.ReferenceError(
+                f"{self.filename or '<string>'}: dangling references: {shown}"
+            )

@@ -1,0 +1,166 @@
+"""`RootElement`: a whole MJCF model, the `<mujoco>` element.
+
+    model = mjcf.RootElement(model='arm')
+    model.worldbody.add('body', name='upper')      # every section exists, even empty
+    model.compiler.angle = 'radian'
+    model.default.geom.rgba = [1, 0, 0, 1]        # global defaults
+    model.find('body', 'upper')
+
+Every top-level MJCF section (`worldbody`, `asset`, `default`, `option`, `compiler`,
+`size`, `visual`, `statistic`, `actuator`, `sensor`, `tendon`, `equality`, `contact`,
+`keyframe`, `custom`, `extension`, `deformable`) is a property that always exists;
+empty sections are left out of the XML.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mjcf import errors, schema
+from mjcf.element import Element
+from mjcf.namescope import NameScope
+
+DEFAULT_MODEL_NAME = "unnamed_model"
+
+
+class RootElement(Element):
+    """A whole MJCF model. `model` is its name (the scope name of its elements when
+    it is attached to another model); `model_dir` is where its relative file names
+    are found; `assets` maps file names to contents for files that are not on disk."""
+
+    __slots__ = (
+        "_assets",
+        "_attachments",
+        "_escaped_names",
+        "_frame",
+        "_model_dir",
+        "_namescope",
+        "_referenced_unnamed",
+    )
+
+    _namescope: NameScope
+    _model_dir: str
+    _assets: dict[str, bytes]
+    _frame: Any
+    _attachments: list[Any]
+    _escaped_names: bool
+    _referenced_unnamed: set[Element]
+
+    def __init__(
+        self, model: str | None = None, model_dir: str = "", assets: dict[str, bytes] | None = None
+    ) -> None:
+        setter = object.__setattr__
+        setter(self, "_spec", schema.MUJOCO)
+        setter(self, "_parent", None)
+        setter(self, "_root", self)
+        setter(self, "_attrs", {})
+        setter(self, "_children", [])
+        setter(self, "_source", None)
+        setter(self, "_namescope", NameScope(self))
+        setter(self, "_model_dir", str(model_dir) if model_dir else "")
+        setter(self, "_assets", dict(assets) if assets else {})
+        setter(self, "_frame", None)
+        # Frames of the models attached to this one, in the order they were attached.
+        setter(self, "_attachments", [])
+        # True once a name with an escaped separator ('a\\/b') is in the model.
+        setter(self, "_escaped_names", False)
+        # Unnamed elements that references point at: they get generated names.
+        setter(self, "_referenced_unnamed", set())
+        if model is not None:  # an unnamed model is written without a name, as it was read
+            self._attrs["model"] = self._checked_model_name(model)
+        for section in schema.MUJOCO.children.values():
+            self._children.append(Element._make(section, self, self))
+        default = self._single_child("default")
+        default._register()
+
+    def _checked_model_name(self, name: object) -> str:
+        if not isinstance(name, str) or not name:
+            raise errors.NameError(f"a model name must be a non-empty string, got {name!r}")
+        if "/" in name:
+            raise errors.NameError(
+                f"model name {name!r} contains '/', which separates the names of attached models"
+            )
+        return name
+
+    @property
+    def model(self) -> str:
+        """The model's name ('unnamed_model' if it was not given)."""
+        return self._attrs.get("model", DEFAULT_MODEL_NAME)
+
+    @property
+    def namescope(self) -> NameScope:
+        """The names of this model's elements (see `mjcf.namescope`)."""
+        return self._namescope
+
+    @property
+    def model_dir(self) -> str:
+        """Directory that relative file names of this model are read from."""
+        return self._model_dir
+
+    @property
+    def assets(self) -> dict[str, bytes]:
+        """File contents given at construction, by file name."""
+        return self._assets
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name == "model":
+            new = self._checked_model_name(value)
+            scope = self._namescope
+            parent = scope.parent
+            if parent is not None and new != self.model:
+                if parent.child(new) is not None:
+                    raise errors.NameError(
+                        f"a model named {new!r} is already attached to model {parent.name!r}"
+                    )
+                parent.remove_child(scope)
+                self._attrs["model"] = new
+                parent.add_child(scope)
+            else:
+                self._attrs["model"] = new
+            return
+        super().__setattr__(name, value)
+
+    def __delattr__(self, name: str) -> None:
+        if name == "model":
+            raise errors.AttributeValueError("a model always has a name")
+        super().__delattr__(name)
+
+    @property
+    def parent_model(self) -> RootElement | None:
+        """The model this model is attached to, or None."""
+        return None if self._frame is None else self._frame.root
+
+    def attach(self, child: RootElement) -> Element:
+        """Attach `child` to this model's world body; see `Element.attach`."""
+        return self._section("worldbody").attach(child)
+
+    def detach(self) -> None:
+        """Detach this model from the model it is attached to, leaving that model as it
+        was before. Raises mjcf.AttachmentError if it is not attached."""
+        from mjcf import attachment
+
+        attachment.detach(self)
+
+    def get_assets(self) -> dict[str, bytes]:
+        """`{file name: contents}` of every file `to_xml_string()` refers to (meshes,
+        textures, ...), as `mujoco.MjModel.from_xml_string(xml, assets)` takes them.
+        Raises mjcf.AssetError if a file cannot be read."""
+        from mjcf import serializer
+
+        return serializer.serialize(self)[1]
+
+    def compile_model(self):
+        """Compile this model (with attached models) into a new `mjcf.Physics`."""
+        from mjcf.physics import Physics
+
+        return Physics.from_mjcf_model(self)
+
+    def _section(self, tag: str) -> Element:
+        """The top-level section `tag`; raises mjcf.SchemaError for unknown sections."""
+        section = self._single_child(tag)
+        if section is None:
+            self._child_spec(tag)  # raises with a suggestion
+        return section
+
+    def __repr__(self) -> str:
+        return f"MJCF RootElement: model {self.model!r}"

@@ -1,0 +1,406 @@
+"""Writing a model as MJCF text, with its attached models composed in.
+
+    xml = model.to_xml_string()                    # what a user saves or reads
+    xml, assets = serializer.serialize(model, for_compile=True)   # what MuJoCo compiles
+
+Attribute text read from a file is written back unchanged; values set from Python
+are written with `precision` significant digits (17: exactly). Attached models are
+written where they are attached (`<frame>`, or `<body>` when the attachment frame has
+joints), their names scoped ('arm/shoulder'), their default classes isolated under a
+class named after their scope ('arm/'), their other sections appended after the
+parent's, and their compiler settings reconciled (see `mjcf.composition`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from mjcf import assets as _assets
+from mjcf import attachment, composition, errors
+from mjcf.values import escape
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+    from mjcf.schema import AttributeSpec
+
+# Sections in the order they are written: settings first, then what they affect.
+_SECTION_ORDER = (
+    "compiler", "option", "size", "statistic", "visual", "extension", "custom",
+    "default", "asset", "worldbody", "deformable", "contact", "equality", "tendon",
+    "actuator", "sensor", "keyframe",
+)  # fmt: skip
+_SETTINGS = frozenset({"compiler", "option", "size", "statistic", "visual"})
+_INDENTS = tuple("  " * depth for depth in range(512))  # lxml refuses deeper documents
+_NO_INDENTS = ("",) * 512
+_FRAME_SPEC = attachment.FRAME_SPEC
+
+
+def serialize(
+    root: RootElement, flat_assets: bool = False, precision: int = 17, pretty_print: bool = True
+) -> tuple[str, dict[str, bytes]]:
+    """The XML of a whole model and the `{file name: contents}` its file attributes
+    name. `flat_assets` names every asset by a flat, unique file name (for export)
+    instead of a path that loads from disk."""
+    files = _assets.FileNamer(root, flat=flat_assets)
+    writer = _Writer(root, precision, pretty_print, files, for_compile=False)
+    writer.write_root()
+    return "".join(writer.parts), files.contents()
+
+
+def serialize_for_compile(
+    root: RootElement,
+) -> tuple[str, dict[str, bytes], composition.Composition, list[Element | None]]:
+    """What MuJoCo compiles: the XML with every element named and every asset under a
+    flat unique name (MuJoCo's asset dict keys files by base name), the assets, the
+    composition (how elements are named), and the element written on each line."""
+    files = _assets.FileNamer(root, flat=True)
+    writer = _Writer(root, 17, True, files, for_compile=True)
+    writer.write_root()
+    return "".join(writer.parts), files.contents(), writer.composed, writer.owners
+
+
+def to_xml_string(
+    element: Element,
+    prefix_root: RootElement | None,
+    self_only: bool,
+    pretty_print: bool,
+    precision: int,
+) -> str:
+    """XML text of `element` (see `Element.to_xml_string`)."""
+    output_root = prefix_root or element.root
+    files = _assets.FileNamer(output_root, flat=False)
+    writer = _Writer(output_root, precision, pretty_print, files, for_compile=False)
+    if element is output_root and not self_only:
+        writer.write_root()
+    else:
+        context = writer.context_of(element.root)
+        if self_only:
+            writer.parts.append(f"<{writer.tag_of(element)}{writer.attributes(element, context)}/>")
+        else:
+            writer.element(element, 0, context)
+    return "".join(writer.parts)
+
+
+def attribute_text(
+    element: Element, attribute: AttributeSpec, prefix_root: RootElement | None
+) -> str:
+    """One attribute as it is written to XML."""
+    output_root = prefix_root or element.root.namescope.root.model
+    writer = _Writer(output_root, 17, False, _assets.FileNamer(output_root, flat=False), False)
+    return writer.value_text(
+        element, attribute, element._attrs[attribute.name], writer.context_of(element.root)
+    )
+
+
+class _Writer:
+    """Accumulates XML fragments in `parts`."""
+
+    def __init__(
+        self,
+        root: RootElement,
+        precision: int,
+        pretty_print: bool,
+        files: _assets.FileNamer,
+        for_compile: bool,
+    ) -> None:
+        self.root = root
+        self.precision = precision
+        self.pretty = pretty_print
+        self.files = files
+        self.for_compile = for_compile
+        self.parts: list[str] = []
+        self.owners: list[Element | None] = []  # the element each fragment (line) writes
+        self.composed = composition.Composition(root, auto_name_all=for_compile)
+        self._indents = _INDENTS if pretty_print else _NO_INDENTS
+        self._newline_text = "\n" if pretty_print else ""
+
+    def context_of(self, model: RootElement) -> composition.ModelContext:
+        return self.composed.context(model)
+
+    def tag_of(self, element: Element) -> str:
+        if isinstance(element, attachment.AttachmentFrame):
+            return "body" if element.compiles_to_body() else "frame"
+        return element._spec.tag
+
+    # -- whole model ------------------------------------------------------------------
+
+    def write_root(self) -> None:
+        root = self.root
+        self.composed.check()
+        newline = "\n" if self.pretty else ""
+        name = root._attrs.get("model")
+        self._emit(f'<mujoco model="{escape(name)}">{newline}' if name else f"<mujoco>{newline}")
+        sections = {s._spec.tag: s for s in root._children}
+        for tag in _SECTION_ORDER:
+            section = sections.pop(tag, None)
+            if section is not None:
+                self.section(section)
+        for section in sections.values():  # sections of a newer MuJoCo, written last
+            self.section(section)
+        self._emit("</mujoco>" + newline)
+
+    def section(self, section: Element) -> None:
+        tag = section._spec.tag
+        root_context = self.context_of(self.root)
+        if tag == "compiler" or (tag in _SETTINGS and self.composed.has_attachments):
+            merged = self.composed.merged_settings(tag)
+            self._write_merged(section, merged, 1)
+        elif tag == "default":
+            mark = self._open(section, 1, root_context)
+            for context, default in self.composed.default_roots():
+                self._default_body(default, context)
+            self._close(section, 1, mark)
+        elif tag == "keyframe":
+            keys = self.composed.keyframes(for_compile=self.for_compile)
+            mark = self._open(section, 1, root_context)
+            for key_element, context, override in keys:
+                self.element(key_element, 2, context, override)
+            self._close(section, 1, mark)
+        else:
+            mark = self._open(section, 1, root_context)
+            self.children(section._children, 2, root_context)
+            if tag != "worldbody":
+                for context in self.composed.attached_contexts():
+                    self.children(context.model._section(tag)._children, 2, context)
+            self._close(section, 1, mark)
+
+    def _default_body(self, default: Element, context: composition.ModelContext) -> None:
+        """The contents of a model's main default class, inside a class named for its
+        scope when it must be kept apart from the other models' defaults."""
+        name = context.main_class_written
+        depth = 2
+        if name is not None:
+            self._emit(self._indent(depth) + f'<default class="{escape(name)}">' + self._newline())
+            depth = 3
+        self.children(default._children, depth, context)
+        if name is not None:
+            self._emit(self._indent(2) + "</default>" + self._newline())
+
+    def _write_merged(
+        self, section: Element, merged: composition.MergedSettings, depth: int
+    ) -> None:
+        text = "".join(f' {name}="{escape(value)}"' for name, value in merged.attributes.items())
+        children = merged.children
+        if not text and not children:
+            return
+        tag = section._spec.tag
+        if not children:
+            self._emit(f"{self._indent(depth)}<{tag}{text}/>{self._newline()}")
+            return
+        self._emit(f"{self._indent(depth)}<{tag}{text}>{self._newline()}")
+        for child_tag, child in children.items():
+            self._write_merged_child(child_tag, child, depth + 1)
+        self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
+
+    def _write_merged_child(self, tag: str, merged: composition.MergedSettings, depth: int) -> None:
+        text = "".join(f' {name}="{escape(value)}"' for name, value in merged.attributes.items())
+        if not text and not merged.children:
+            return
+        if not merged.children:
+            self._emit(f"{self._indent(depth)}<{tag}{text}/>{self._newline()}")
+            return
+        self._emit(f"{self._indent(depth)}<{tag}{text}>{self._newline()}")
+        for child_tag, child in merged.children.items():
+            self._write_merged_child(child_tag, child, depth + 1)
+        self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
+
+    # -- elements ------------------------------------------------------------------------
+
+    def _emit(self, fragment: str, owner: Element | None = None) -> None:
+        self.parts.append(fragment)
+        self.owners.append(owner)
+
+    def _unemit(self) -> None:
+        self.parts.pop()
+        self.owners.pop()
+
+    def _indent(self, depth: int) -> str:
+        return "  " * depth if self.pretty else ""
+
+    def _newline(self) -> str:
+        return "\n" if self.pretty else ""
+
+    def _open(self, element: Element, depth: int, context) -> int:
+        """Write an opening tag; returns the mark `_close` needs."""
+        self._emit(
+            f"{self._indent(depth)}<{element._spec.tag}{self.attributes(element, context)}>"
+            + self._newline(),
+            element,
+        )
+        return len(self.parts)
+
+    def _close(self, element: Element, depth: int, mark: int) -> None:
+        if len(self.parts) == mark and element._spec.on_demand and not element._attrs:
+            self._unemit()  # nothing inside: leave the section out
+            return
+        self._emit(f"{self._indent(depth)}</{element._spec.tag}>{self._newline()}")
+
+    def children(
+        self, children: list[Element], depth: int, context: composition.ModelContext
+    ) -> None:
+        """Write `children` of one model."""
+        write = self.element if context.rewrites else self.plain_element
+        for child in children:
+            write(child, depth, context)
+
+    def plain_element(
+        self, element: Element, depth: int, context: composition.ModelContext
+    ) -> None:
+        """`element` for a context that writes names and values as stored (a model
+        written on its own): the common case, kept short because it dominates."""
+        spec = element._spec
+        if spec is _FRAME_SPEC or spec.required:
+            self.element(element, depth, context)
+            return
+        attrs = element._attrs
+        if attrs:
+            special = spec.file_attributes
+            text = "".join([
+                f' {name}="{value}"' if type(value) is str and name not in special
+                else f' {name}="{self._escaped_value(element, name, value, context)}"'
+                for name, value in attrs.items()
+            ])  # fmt: skip
+            # Stored text needs escaping only if it holds markup characters: rare.
+            if "&" in text or "<" in text or ">" in text or text.count('"') != 2 * len(attrs):
+                text = self._escaped_attributes(element, context, None)
+        else:
+            text = ""
+        children = element._children
+        indent = self._indents[depth]
+        parts = self.parts
+        owners = self.owners
+        if not children:
+            if text or not spec.on_demand:
+                parts.append(f"{indent}<{spec.tag}{text}/>{self._newline_text}")
+                owners.append(element)
+            return
+        start = len(parts)
+        parts.append(f"{indent}<{spec.tag}{text}>{self._newline_text}")
+        owners.append(element)
+        depth += 1
+        for child in children:
+            self.plain_element(child, depth, context)
+        if len(parts) == start + 1:
+            self._unemit()
+            if text or not spec.on_demand:
+                parts.append(f"{indent}<{spec.tag}{text}/>{self._newline_text}")
+                owners.append(element)
+            return
+        parts.append(f"{indent}</{spec.tag}>{self._newline_text}")
+        owners.append(None)
+
+    def element(
+        self,
+        element: Element,
+        depth: int,
+        context: composition.ModelContext,
+        override: dict | None = None,
+    ) -> None:
+        """Write `element` and its subtree (empty once-only elements are left out)."""
+        spec = element._spec
+        if spec is attachment.FRAME_SPEC:
+            self._frame(element, depth, context)
+            return
+        if spec.required:
+            self._check_required(element)
+        if override is None and context.rewrites:
+            override = context.rewrite(element)
+        text = self.attributes(element, context, override) if element._attrs or override else ""
+        children = element._children
+        indent = self._indents[depth]
+        newline = self._newline_text
+        parts = self.parts
+        owners = self.owners
+        if not children:
+            if text or not spec.on_demand:
+                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
+                owners.append(element)
+            return
+        start = len(parts)
+        parts.append(f"{indent}<{spec.tag}{text}>{newline}")
+        owners.append(element)
+        self.children(children, depth + 1, context)
+        if len(parts) == start + 1:
+            self._unemit()
+            if text or not spec.on_demand:
+                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
+                owners.append(element)
+            return
+        parts.append(f"{indent}</{spec.tag}>{newline}")
+        owners.append(None)
+
+    def _frame(self, frame: attachment.AttachmentFrame, depth: int, context) -> None:
+        """An attachment frame: its own joints, then the attached model's world body."""
+        child_context = self.context_of(frame.attached_model)
+        tag = "body" if frame.compiles_to_body() else "frame"
+        override = composition.frame_attributes(frame, child_context)
+        text = self.attributes(frame, context, override)
+        indent = self._indent(depth)
+        newline = self._newline()
+        self._emit(f"{indent}<{tag}{text}>{newline}", frame)
+        for child in frame._children:
+            self.element(child, depth + 1, context, self.composed.frame_child_class(child, context))
+        self.children(frame.attached_model.worldbody._children, depth + 1, child_context)
+        self._emit(f"{indent}</{tag}>{newline}")
+
+    def _check_required(self, element: Element) -> None:
+        attrs = element._attrs
+        for name in element._spec.required:
+            if name not in attrs:
+                raise errors.AttributeValueError(
+                    f"{element.path}: <{element._spec.tag}> requires the attribute {name!r}"
+                )
+
+    # -- attributes -----------------------------------------------------------------------
+
+    def attributes(self, element: Element, context, override: dict | None = None) -> str:
+        """' name="value" ...' for the element's attributes as written in this output
+        (`override` replaces some; None values in it are left out)."""
+        return self._escaped_attributes(element, context, override)
+
+    def _escaped_attributes(self, element: Element, context, override: dict | None) -> str:
+        attrs = element._attrs
+        spec = element._spec
+        plain = context.plain
+        scoped = spec.scoped_attributes
+        special = spec.file_attributes
+        out = []
+        for name, value in attrs.items():
+            if override and name in override:
+                continue
+            if type(value) is str and (plain or name not in scoped) and name not in special:
+                out.append(f' {name}="{escape(value)}"')
+            else:
+                text = self.value_text(element, spec.attributes[name], value, context)
+                out.append(f' {name}="{escape(text)}"')
+        if override:
+            for name, value in override.items():
+                if value is not None:
+                    out.append(f' {name}="{escape(value)}"')
+        return "".join(out)
+
+    def _escaped_value(self, element: Element, name: str, value: object, context) -> str:
+        return escape(self.value_text(element, element._spec.attributes[name], value, context))
+
+    def value_text(self, element: Element, attribute: AttributeSpec, value: object, context) -> str:
+        """The text of one attribute value in this output."""
+        kind = attribute.kind
+        if kind == "reference":
+            return self._reference_text(element, attribute, value, context)
+        if kind == "identifier":
+            return context.identifier_text(element, value)
+        if kind == "file":
+            return self.files.name_for(element, attribute.name, value)
+        if type(value) is str:
+            return value
+        return attribute.converter.to_text(value, self.precision)
+
+    def _reference_text(self, element: Element, attribute: AttributeSpec, value, context) -> str:
+        if isinstance(value, list):
+            return " ".join(self._reference_text(element, attribute, v, context) for v in value)
+        if isinstance(value, str):
+            if attribute.is_list:
+                return " ".join(context.reference_text(attribute, v) for v in value.split())
+            return context.reference_text(attribute, value)
+        return self.composed.element_reference_text(element, attribute, value)

@@ -1,0 +1,112 @@
+"""Finding elements: by namespace and name (`find`), and all of a kind (`find_all`).
+
+Namespaces are MuJoCo's kinds of named things ('body', 'joint' — which includes
+`<freejoint>` —, 'geom', 'site', 'actuator' — every actuator tag —, 'sensor',
+'default', 'mesh', ...); `find_all` also accepts a plain tag ('motor'). Order is the
+order MuJoCo gives the compiled objects; attached models are searched too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+from mjcf import errors, schema
+from mjcf import values as _values
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+
+_TAGS = frozenset(spec.tag for spec in schema.all_specs())
+ATTACHMENT_FRAME = "attachment_frame"
+
+
+def find(element: Element, namespace: str, identifier: str) -> Element | None:
+    """The element of `namespace` named `identifier` (scoped names reach into attached
+    models) inside `element`, or None. Raises mjcf.NotFoundError for an unknown
+    namespace."""
+    from mjcf import attachment
+
+    if namespace == ATTACHMENT_FRAME:
+        found = attachment.find_frame(element.root, identifier)
+    else:
+        _check_namespace(namespace, allow_tags=False)
+        found = element.root.namescope.get(namespace, identifier)
+    if found is None or element is element.root or _is_inside(found, element):
+        return found
+    return None
+
+
+def find_all(
+    element: Element, namespace: str, immediate_children_only: bool, exclude_attachments: bool
+) -> list[Element]:
+    """Every element of `namespace` (or tag) inside `element`, in MuJoCo's order."""
+    from mjcf import attachment
+
+    if namespace == ATTACHMENT_FRAME:
+        return [
+            e
+            for e in walk(element, not exclude_attachments, immediate_children_only)
+            if isinstance(e, attachment.AttachmentFrame)
+        ]
+    by_tag = _check_namespace(namespace, allow_tags=True)
+    return [
+        e
+        for e in walk(element, not exclude_attachments, immediate_children_only)
+        if (e._spec.tag == namespace if by_tag else e._spec.namespace == namespace)
+    ]
+
+
+def walk(
+    element: Element, into_attachments: bool = True, immediate_children_only: bool = False
+) -> Iterator[Element]:
+    """The descendants of `element` in the order MuJoCo compiles them: an attached
+    model's world body contents where it is attached, and its other sections after
+    those of the model it is attached to."""
+    from mjcf import attachment
+
+    if immediate_children_only:
+        yield from element._children
+        return
+    stack = list(reversed(element._children))
+    while stack:
+        current = stack.pop()
+        yield current
+        children = current._children
+        if into_attachments and isinstance(current, attachment.AttachmentFrame):
+            children = children + current.attached_model.worldbody._children
+        stack.extend(reversed(children))
+    if into_attachments and element is element.root:
+        for child_model in attachment.attached_models(element):
+            for section in child_model._children:
+                if section._spec.tag != "worldbody":
+                    yield section
+                    yield from walk(section, into_attachments=False)
+
+
+def _is_inside(element: Element, ancestor: Element) -> bool:
+    from mjcf import attachment
+
+    current = element
+    while current is not None:
+        if current is ancestor:
+            return True
+        parent = current._parent
+        if parent is None and current is current.root:
+            parent = attachment.frame_of(current)
+        current = parent
+    return False
+
+
+def _check_namespace(namespace: str, allow_tags: bool) -> bool:
+    """Whether `namespace` is a tag rather than a namespace; raises for neither."""
+    if namespace in schema.NAMESPACES:
+        return False
+    if allow_tags and namespace in _TAGS:
+        return True
+    known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
+    raise errors.NotFoundError(
+        f"{namespace!r} is not a namespace"
+        + _values.suggest(namespace, known)
+        + f"; namespaces: {', '.join(known)}"
+    )
