@@ -32,13 +32,17 @@ import os
 import platform
 import weakref
 from collections.abc import Iterator, Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
 
 from mjcf import binding as binding_module
-from mjcf import errors, fields, named
+from mjcf import compiler, errors, fields, named, tree_binding
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
 
 # MuJoCo warnings that mean the state was invalid: non-finite or huge qpos/qvel, bad qacc
 # (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls;
@@ -58,10 +62,14 @@ _TRANSIENT = (
     "_data",
     "_warnings",
     "_bindings",
+    "_element_bindings",
     "_live_bindings",
     "_named",
     "_renderers",
 )
+# Attributes a copy shares with its original instead of copying: the model tree a
+# physics was compiled from (bind(element) needs the user's own element objects).
+_SHARED = ("_compiled",)
 
 
 class Physics:
@@ -90,6 +98,7 @@ class Physics:
         self._data = data
         self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
         self._bindings: dict[tuple, binding_module.Binding] = {}
+        self._element_bindings: dict[object, binding_module.Binding] = {}
         self._named: named.NamedAccess | None = None
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
 
@@ -118,6 +127,49 @@ class Physics:
     def from_binary_path(cls, path: str | os.PathLike[str]) -> Physics:
         """Load a compiled MJB file; raises CompileError."""
         return cls(_compile(mujoco.MjModel.from_binary_path, os.fspath(path), None))
+
+    @classmethod
+    def from_mjcf_model(cls, mjcf_model: RootElement) -> Physics:
+        """Compile an `mjcf.RootElement` (with its attached models); its elements can
+        then be bound with `bind`. Raises CompileError naming the offending element."""
+        compiled = compiler.compile_composition(mjcf_model)
+        physics = cls(compiled.model)
+        physics._compiled = compiled
+        return physics
+
+    def reload_from_mjcf_model(self, mjcf_model: RootElement) -> None:
+        """Recompile `mjcf_model` into this physics, keeping time and the state of the
+        joints, actuators and mocap bodies that still exist; bindings made before must
+        be made again. Raises CompileError (and then changes nothing)."""
+        compiled = compiler.compile_composition(mjcf_model)
+        data = mujoco.MjData(compiled.model)
+        tree_binding.transfer_state(self._model, self._data, compiled.model, data)
+        mujoco.mj_forward(compiled.model, data)
+        self.close()
+        self._attach(compiled.model, data)
+        self._compiled = compiled
+
+    def bind(self, elements: Element | Sequence[Element]) -> binding_module.Binding:
+        """Live access to the simulation fields of model elements: `bind(joint).qpos`,
+        `bind(bodies).xpos`, `bind(actuators).ctrl = u`. One element gives fields without
+        the leading element axis. The binding is made once and cached. Raises
+        BindingError for elements of another model, removed elements, an empty list or
+        mixed kinds."""
+        key = elements if not isinstance(elements, list | tuple) else tuple(elements)
+        found = self._element_bindings.get(key)
+        if found is not None:
+            return found
+        compiled = self.__dict__.get("_compiled")
+        if compiled is None:
+            raise errors.BindingError(
+                "this physics was not compiled from an mjcf model (use Physics.from_mjcf_model)"
+            )
+        single = not isinstance(elements, list | tuple)
+        items = [elements] if single else list(elements)
+        kind, ids = tree_binding.element_ids(compiled, self._model, items)
+        found = self._binding(kind, int(ids[0]) if single else ids)
+        self._element_bindings[key] = found
+        return found
 
     # -- state ---------------------------------------------------------------------------
 
@@ -255,6 +307,9 @@ class Physics:
         new = type(self).__new__(type(self))
         new._attach(model, data)
         memo = {id(self): new, id(self._model): model, id(self._data): data}
+        for name in _SHARED:
+            if name in self.__dict__:
+                memo[id(self.__dict__[name])] = self.__dict__[name]
         extras = {k: v for k, v in self.__dict__.items() if k not in _TRANSIENT}
         new.__dict__.update(copy_module.deepcopy(extras, memo))
         return new

@@ -1,0 +1,86 @@
+"""mjcf: a Python object model of MuJoCo's MJCF, with composition and simulation.
+
+    import mjcf
+    arm = mjcf.RootElement(model='arm')
+    upper = arm.worldbody.add('body', name='upper', pos=[0, 0, 1])
+    hinge = upper.add('joint', name='shoulder', type='hinge', axis=[0, 1, 0])
+    upper.add('geom', type='capsule', size=[0.05, 0.2])
+    arm.actuator.add('motor', joint=hinge, gear=[10])        # elements as references
+
+    scene = mjcf.from_path('scene.xml')                      # or from_xml_string
+    scene.worldbody.attach(arm)                              # names become 'arm/...'
+    physics = mjcf.Physics.from_mjcf_model(scene)            # MjModel + MjData
+    physics.bind(hinge).qpos = 0.3                           # live, per element
+    physics.named.data.qpos['arm/shoulder']                  # or by scoped name
+
+What it promises: every change is validated against the installed MuJoCo's schema
+when it is made, and a failed change leaves the model as it was; errors are
+`mjcf.Error` subclasses naming the element and attribute. A model written with
+`to_xml_string()` compiles in stock MuJoCo to the same model. Attached models keep
+their own trees; composition happens when a model is written or compiled.
+"""
+
+from mjcf.assets import Asset
+from mjcf.attachment import AttachmentFrame
+from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
+from mjcf.defaults import commit_defaults
+from mjcf.element import Element
+from mjcf.errors import (
+    AssetError,
+    AttachmentError,
+    AttributeError,
+    AttributeValueError,
+    BindingError,
+    CompileError,
+    Error,
+    NameError,
+    NotFoundError,
+    ParseError,
+    PhysicsError,
+    ReferenceError,
+    RenderError,
+    SchemaError,
+)
+from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
+from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
+from mjcf.namescope import PREFIX_SEPARATOR
+from mjcf.parser import from_file, from_path, from_xml_string
+from mjcf.physics import Physics
+from mjcf.root import RootElement
+
+__all__ = [
+    "PREFIX_SEPARATOR",
+    "Asset",
+    "AssetError",
+    "AttachmentError",
+    "AttachmentFrame",
+    "AttributeError",
+    "AttributeValueError",
+    "BindingError",
+    "CompileError",
+    "Element",
+    "Error",
+    "NameError",
+    "NotFoundError",
+    "ParseError",
+    "Physics",
+    "PhysicsError",
+    "ReferenceError",
+    "RenderError",
+    "RootElement",
+    "SchemaError",
+    "commit_defaults",
+    "disable_debug_mode",
+    "enable_debug_mode",
+    "export_with_assets",
+    "export_with_assets_as_zip",
+    "from_file",
+    "from_path",
+    "from_xml_string",
+    "from_zip",
+    "get_attachment_frame",
+    "get_frame_freejoint",
+    "get_frame_joints",
+    "get_freejoint",
+    "is_debug_mode",
+]

@@ -1,0 +1,126 @@
+"""From model elements to compiled objects: which kind and index an element has in a
+compiled model, and carrying simulation state over to a recompiled model.
+
+Used by `Physics.bind(element)` and `Physics.reload_from_mjcf_model(model)`; elements
+map to objects by the names they were compiled with (`compiler.Compiled.name_of`),
+once per element list, so a bound read afterwards costs one numpy index.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+
+from mjcf import attachment, errors, fields
+
+if TYPE_CHECKING:
+    from mjcf.compiler import Compiled
+    from mjcf.element import Element
+
+
+def kind_of(element: Element) -> mujoco.mjtObj:
+    """The MuJoCo object kind of `element`; raises mjcf.BindingError for elements that
+    compile to no object (defaults, frames, sections ...)."""
+    if element.tag == "worldbody":
+        return mujoco.mjtObj.mjOBJ_BODY
+    if isinstance(element, attachment.AttachmentFrame):
+        if element.compiles_to_body():
+            return mujoco.mjtObj.mjOBJ_BODY
+        raise errors.BindingError(
+            f"{element.path}: this attachment frame has no joints, so it compiles to a MuJoCo "
+            "<frame>, which leaves nothing in the compiled model to bind; bind the attached "
+            "model's bodies instead"
+        )
+    namespace = element.spec.namespace
+    kind = getattr(mujoco.mjtObj, f"mjOBJ_{(namespace or '').upper()}", None)
+    if kind is None or kind not in fields.KINDS:
+        raise errors.BindingError(
+            f"{element.path}: a <{element.tag}> is not an object of the compiled model, so it "
+            "cannot be bound"
+        )
+    return kind
+
+
+def element_ids(
+    compiled: Compiled, model: mujoco.MjModel, elements: list[Element]
+) -> tuple[mujoco.mjtObj, np.ndarray]:
+    """The kind and compiled ids of `elements` (all of one kind); raises
+    mjcf.BindingError for an empty list, mixed kinds, or elements not in the model."""
+    if not elements:
+        raise errors.BindingError("cannot bind an empty list of elements")
+    kinds = {kind_of(element) for element in elements}
+    if len(kinds) > 1:
+        names = sorted(fields.kind_name(k) for k in kinds)
+        raise errors.BindingError(f"cannot bind elements of different kinds together: {names}")
+    kind = kinds.pop()
+    ids = np.empty(len(elements), dtype=np.intp)
+    for i, element in enumerate(elements):
+        if element.tag == "worldbody":
+            if element.root is not compiled.composition.root:
+                compiled.name_of(element)  # raises for a model that is not compiled here
+            ids[i] = 0
+            continue
+        name = compiled.name_of(element)
+        index = mujoco.mj_name2id(model, kind, name)
+        if index < 0:
+            raise errors.BindingError(
+                f"{element.path}: not in the compiled model (was it added after compiling? "
+                "recompile with Physics.from_mjcf_model or physics.reload_from_mjcf_model)"
+            )
+        ids[i] = index
+    return kind, ids
+
+
+def transfer_state(
+    old_model: mujoco.MjModel,
+    old_data: mujoco.MjData,
+    new_model: mujoco.MjModel,
+    new_data: mujoco.MjData,
+) -> None:
+    """Copy time and the state of every joint, actuator and mocap body that exists in
+    both models (matched by name) from the old simulation to the new one."""
+    new_data.time = old_data.time
+    joint = mujoco.mjtObj.mjOBJ_JOINT
+    for new_id in range(new_model.njnt):
+        old_id = _same_name(old_model, new_model, joint, new_id)
+        if old_id < 0 or old_model.jnt_type[old_id] != new_model.jnt_type[new_id]:
+            continue
+        width_q, width_v = _widths(int(new_model.jnt_type[new_id]))
+        new_q, old_q = new_model.jnt_qposadr[new_id], old_model.jnt_qposadr[old_id]
+        new_data.qpos[new_q : new_q + width_q] = old_data.qpos[old_q : old_q + width_q]
+        new_v, old_v = new_model.jnt_dofadr[new_id], old_model.jnt_dofadr[old_id]
+        new_data.qvel[new_v : new_v + width_v] = old_data.qvel[old_v : old_v + width_v]
+    actuator = mujoco.mjtObj.mjOBJ_ACTUATOR
+    for new_id in range(new_model.nu):
+        old_id = _same_name(old_model, new_model, actuator, new_id)
+        if old_id < 0:
+            continue
+        new_data.ctrl[new_id] = old_data.ctrl[old_id]
+        count = new_model.actuator_actnum[new_id]
+        if count and count == old_model.actuator_actnum[old_id]:
+            new_a, old_a = new_model.actuator_actadr[new_id], old_model.actuator_actadr[old_id]
+            new_data.act[new_a : new_a + count] = old_data.act[old_a : old_a + count]
+    body = mujoco.mjtObj.mjOBJ_BODY
+    for new_id in np.flatnonzero(new_model.body_mocapid >= 0):
+        old_id = _same_name(old_model, new_model, body, int(new_id))
+        if old_id >= 0 and old_model.body_mocapid[old_id] >= 0:
+            new_m, old_m = new_model.body_mocapid[new_id], old_model.body_mocapid[old_id]
+            new_data.mocap_pos[new_m] = old_data.mocap_pos[old_m]
+            new_data.mocap_quat[new_m] = old_data.mocap_quat[old_m]
+
+
+def _same_name(
+    old_model: mujoco.MjModel, new_model: mujoco.MjModel, kind: mujoco.mjtObj, new_id: int
+) -> int:
+    name = mujoco.mj_id2name(new_model, kind, new_id)
+    return -1 if not name else mujoco.mj_name2id(old_model, kind, name)
+
+
+def _widths(joint_type: int) -> tuple[int, int]:
+    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
+        return 7, 6
+    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
+        return 4, 3
+    return 1, 1
