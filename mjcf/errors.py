@@ -28,7 +28,7 @@ class SchemaError(Error):
     second copy of an element that may appear only once."""
 
 
-class AttributeError(Error, builtins.AttributeError):  # noqa: A001 - mirrors the builtin on purpose
+class AttributeError(Error, builtins.AttributeError):
     """An attribute that the element's MJCF schema does not have."""
 
 
@@ -37,11 +37,11 @@ class AttributeValueError(Error, ValueError):
     required attribute."""
 
 
-class NameError(Error, ValueError):  # noqa: A001 - mirrors the builtin on purpose
+class NameError(Error, ValueError):
     """A name that is already taken in its namespace, or that is not a valid name."""
 
 
-class ReferenceError(Error, ValueError):  # noqa: A001 - mirrors the builtin on purpose
+class ReferenceError(Error, ValueError):
     """A reference attribute naming an element that does not exist, or an element of
     another model."""
 
