@@ -139,6 +139,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     body._children.append(frame)
     place.root._attachments.append(frame)
     object.__setattr__(child, "_frame", frame)
+    place._modified()
     return frame
 
 
@@ -155,6 +156,7 @@ def detach(child: RootElement) -> None:
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
+    frame._modified()
 
 
 def frame_of(model: RootElement) -> AttachmentFrame | None:

@@ -49,6 +49,7 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
             for element in clone.iter():
                 element._register()
     _relink_references(clones)
+    target._modified()
 
 
 def _contains(ancestor: Element, element: Element) -> bool:

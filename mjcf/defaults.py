@@ -119,6 +119,7 @@ def commit_defaults(root: RootElement) -> None:
             child._unregister_subtree()
         model.default._children.clear()
         model.default._attrs.clear()
+        model._modified()
 
 
 def _inside_default(element: Element) -> bool:

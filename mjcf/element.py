@@ -187,7 +187,7 @@ class Element:
             return value
         converter = attribute.converter
         if converter.lazy:
-            value = self._convert(attribute, value, from_text=True)
+            value = _values.track(self._convert(attribute, value, from_text=True), self)
             self._attrs[attribute.name] = value
         elif attribute.kind == "reference":
             target = self._resolve_reference(attribute, value)
@@ -228,9 +228,10 @@ class Element:
                 )
             if attribute.kind == "identifier":
                 self._rename(None)
-            self._attrs.pop(name, None)
+            if self._attrs.pop(name, None) is not None:
+                self._modified()
             return
-        stored = self._convert(attribute, value)
+        stored = _values.track(self._convert(attribute, value), self)
         if attribute.kind == "identifier":
             self._check_name(stored)
             self._rename(stored)
@@ -239,6 +240,7 @@ class Element:
         elif attribute.kind == "file" and self._spec.tag in _NAMED_AFTER_FILE:
             self._rename_after_file(stored)
         self._attrs[name] = stored
+        self._modified()
 
     def get_attributes(self) -> dict[str, Any]:
         """The attributes that are set, as Python values (`class` under 'dclass')."""
@@ -271,7 +273,7 @@ class Element:
             if value is None:
                 converted.append((attribute, None))
                 continue
-            stored = self._convert(attribute, value)
+            stored = _values.track(self._convert(attribute, value), self)
             if attribute.kind == "identifier":
                 self._check_name(stored)
                 self._check_free(stored)
@@ -433,10 +435,16 @@ class Element:
                 )
         self._children.insert(position, element)
         element._register()
+        self._modified()
         return element
 
     def _new_child(self, spec: ElementSpec) -> Element:
         return Element._make(spec, self, self._root)
+
+    def _modified(self) -> None:
+        """Count a change of this element's model (see `RootElement.version`)."""
+        root = self._root
+        object.__setattr__(root, "_version", root._version + 1)
 
     def _apply_unregistered(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         for attribute, stored in converted:
@@ -500,6 +508,7 @@ class Element:
         self._unregister_subtree()
         parent._children.remove(self)
         object.__setattr__(self, "_parent", None)
+        parent._modified()
 
     def attach(self, child: RootElement) -> Element:
         """Attach model `child` here (a site, body, frame or the world body) and return

@@ -36,6 +36,7 @@ class RootElement(Element):
         "_model_dir",
         "_namescope",
         "_referenced_unnamed",
+        "_version",
     )
 
     _namescope: NameScope
@@ -45,6 +46,7 @@ class RootElement(Element):
     _attachments: list[Any]
     _escaped_names: bool
     _referenced_unnamed: set[Element]
+    _version: int
 
     def __init__(
         self, model: str | None = None, model_dir: str = "", assets: dict[str, bytes] | None = None
@@ -66,6 +68,7 @@ class RootElement(Element):
         setter(self, "_escaped_names", False)
         # Unnamed elements that references point at: they get generated names.
         setter(self, "_referenced_unnamed", set())
+        setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = self._checked_model_name(model)
         for section in schema.MUJOCO.children.values():
@@ -115,8 +118,10 @@ class RootElement(Element):
                 parent.remove_child(scope)
                 self._attrs["model"] = new
                 parent.add_child(scope)
+                parent.model._modified()
             else:
                 self._attrs["model"] = new
+            self._modified()
             return
         super().__setattr__(name, value)
 
@@ -124,6 +129,16 @@ class RootElement(Element):
         if name == "model":
             raise errors.AttributeValueError("a model always has a name")
         super().__delattr__(name)
+
+    @property
+    def version(self) -> int:
+        """A number that grows with every change of this model or of a model attached to
+        it (attributes set, deleted or edited in place, elements added or removed, models
+        attached or detached): equal versions mean an unchanged model, so a compiled
+        model can be reused."""
+        from mjcf import attachment
+
+        return self._version + sum(m._version for m in attachment.attached_models(self))
 
     @property
     def parent_model(self) -> RootElement | None:

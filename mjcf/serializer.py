@@ -169,12 +169,17 @@ class _Writer:
         """The contents of a model's main default class, inside a class named for its
         scope when it must be kept apart from the other models' defaults."""
         name = context.main_class_written
-        depth = 2
-        if name is not None:
-            self._emit(self._indent(depth) + f'<default class="{escape(name)}">' + self._newline())
-            depth = 3
-        self.children(default._children, depth, context)
-        if name is not None:
+        if name is None:
+            self.children(default._children, 2, context)
+            return
+        opening = f'{self._indent(2)}<default class="{escape(name)}"'
+        self._emit(opening + ">" + self._newline())
+        start = len(self.parts)
+        self.children(default._children, 3, context)
+        if len(self.parts) == start:
+            self._unemit()
+            self._emit(opening + "/>" + self._newline())
+        else:
             self._emit(self._indent(2) + "</default>" + self._newline())
 
     def _write_merged(

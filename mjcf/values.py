@@ -25,6 +25,47 @@ class InvalidValue(ValueError):
     """A value that does not fit the attribute; the message says what was expected."""
 
 
+class TrackedArray(np.ndarray):
+    """The array an element returns for a numeric attribute: editing it in place edits
+    the model, and counts as a change of the model (see `RootElement.version`)."""
+
+    _owner: object = None
+
+    def __array_finalize__(self, obj: object) -> None:
+        # A view of the stored array edits the model too; other derived arrays do not.
+        self._owner = getattr(obj, "_owner", None) if self.base is obj else None
+
+    def __setitem__(self, key: object, value: object) -> None:
+        super().__setitem__(key, value)
+        owner = self._owner
+        if owner is not None:
+            owner._modified()
+
+    def __reduce__(self):
+        constructor, arguments, state = super().__reduce__()
+        return constructor, arguments, (state, self._owner)
+
+    def __setstate__(self, state: tuple) -> None:
+        array_state, owner = state
+        super().__setstate__(array_state)
+        self._owner = owner
+
+    def __deepcopy__(self, memo: dict) -> TrackedArray:
+        import copy
+
+        new = np.array(self).view(TrackedArray)
+        new._owner = copy.deepcopy(self._owner, memo)
+        return new
+
+
+def track(value: object, owner: object) -> object:
+    """`value`, as a `TrackedArray` owned by `owner` if it is an array."""
+    if isinstance(value, np.ndarray):
+        value = value.view(TrackedArray)
+        value._owner = owner
+    return value
+
+
 def format_number(value: float, precision: int = 17) -> str:
     """Shortest text that reads back as exactly `value` (precision 17), or `precision`
     significant digits; integral values without a trailing '.0'."""
@@ -169,14 +210,23 @@ class _Integers(_Numbers):
 
 class _Keyword(_Converter):
     def from_text(self, text: str) -> object:
+        if self.spec.is_list:
+            for word in text.split():
+                self._check_word(word)
+            return text
+        self._check_word(text)
+        return text
+
+    def _check_word(self, text: str) -> None:
         if text not in self.spec.values:
             raise InvalidValue(
                 f"takes one of {list(self.spec.values)}, got {text!r}"
                 + suggest(text, self.spec.values)
             )
-        return text
 
     def from_python(self, value: object) -> object:
+        if self.spec.is_list and isinstance(value, list | tuple):
+            value = " ".join(str(word) for word in value)
         if isinstance(value, bool | np.bool_) and "true" in self.spec.values:
             return "true" if value else "false"
         if not isinstance(value, str):
