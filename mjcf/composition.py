@@ -319,10 +319,20 @@ class Composition:
             return name
         if not self.auto_name_all and element not in element.root._referenced_unnamed:
             return None
-        count = self._auto_counts.get(spec.namespace, 0)
-        self._auto_counts[spec.namespace] = count + 1
-        # '//' cannot occur in a user's scoped name, so generated names never clash.
-        name = f"{context.prefix}//unnamed_{spec.namespace}_{count}"
+        if self.auto_name_all:
+            count = self._auto_counts.get(spec.namespace, 0)
+            self._auto_counts[spec.namespace] = count + 1
+            # '//' cannot occur in a user's scoped name, so these never clash.
+            name = f"{context.prefix}//unnamed_{spec.namespace}_{count}"
+        else:
+            # Text a user reads back: a plain name that the model does not use.
+            key = f"{context.prefix}:{spec.namespace}"
+            count = self._auto_counts.get(key, 0)
+            scope = element.root.namescope
+            while scope.get(spec.namespace, f"unnamed_{spec.namespace}_{count}") is not None:
+                count += 1
+            self._auto_counts[key] = count + 1
+            name = f"{context.prefix}unnamed_{spec.namespace}_{count}"
         self._auto_names[element] = name
         return name
 

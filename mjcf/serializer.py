@@ -145,7 +145,7 @@ class _Writer:
         root_context = self.context_of(self.root)
         if tag == "compiler" or (tag in _SETTINGS and self.composed.has_attachments):
             merged = self.composed.merged_settings(tag)
-            self._write_merged(section, merged, 1)
+            self._write_merged(tag, merged, 1)
         elif tag == "default":
             mark = self._open(section, 1, root_context)
             for context, default in self.composed.default_roots():
@@ -182,33 +182,20 @@ class _Writer:
         else:
             self._emit(self._indent(2) + "</default>" + self._newline())
 
-    def _write_merged(
-        self, section: Element, merged: composition.MergedSettings, depth: int
-    ) -> None:
+    def _write_merged(self, tag: str, merged: composition.MergedSettings, depth: int) -> None:
+        """A settings element merged over models, and its once-only children; left out
+        when nothing in it is set."""
         text = "".join(f' {name}="{escape(value)}"' for name, value in merged.attributes.items())
-        children = merged.children
-        if not text and not children:
-            return
-        tag = section._spec.tag
-        if not children:
-            self._emit(f"{self._indent(depth)}<{tag}{text}/>{self._newline()}")
-            return
         self._emit(f"{self._indent(depth)}<{tag}{text}>{self._newline()}")
-        for child_tag, child in children.items():
-            self._write_merged_child(child_tag, child, depth + 1)
-        self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
-
-    def _write_merged_child(self, tag: str, merged: composition.MergedSettings, depth: int) -> None:
-        text = "".join(f' {name}="{escape(value)}"' for name, value in merged.attributes.items())
-        if not text and not merged.children:
-            return
-        if not merged.children:
-            self._emit(f"{self._indent(depth)}<{tag}{text}/>{self._newline()}")
-            return
-        self._emit(f"{self._indent(depth)}<{tag}{text}>{self._newline()}")
+        start = len(self.parts)
         for child_tag, child in merged.children.items():
-            self._write_merged_child(child_tag, child, depth + 1)
-        self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
+            self._write_merged(child_tag, child, depth + 1)
+        if len(self.parts) > start:
+            self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
+            return
+        self._unemit()
+        if text:
+            self._emit(f"{self._indent(depth)}<{tag}{text}/>{self._newline()}")
 
     # -- elements ------------------------------------------------------------------------
 
@@ -255,10 +242,11 @@ class _Writer:
         """`element` for a context that writes names and values as stored (a model
         written on its own): the common case, kept short because it dominates."""
         spec = element._spec
-        if spec is _FRAME_SPEC or spec.required:
-            self.element(element, depth, context)
-            return
         attrs = element._attrs
+        if spec is _FRAME_SPEC or spec.required:
+            if attrs or element._children or not spec.on_demand:
+                self.element(element, depth, context)
+            return
         if attrs:
             special = spec.file_attributes
             text = "".join([
@@ -307,7 +295,7 @@ class _Writer:
         if spec is attachment.FRAME_SPEC:
             self._frame(element, depth, context)
             return
-        if spec.required:
+        if spec.required and (element._attrs or element._children or not spec.on_demand):
             self._check_required(element)
         if override is None and context.rewrites:
             override = context.rewrite(element)

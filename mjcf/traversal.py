@@ -50,10 +50,16 @@ def find_all(
             if isinstance(e, attachment.AttachmentFrame)
         ]
     by_tag = _check_namespace(namespace, allow_tags=True)
+    if by_tag:  # elements of that tag, but not the defaults of a class
+        return [
+            e
+            for e in walk(element, not exclude_attachments, immediate_children_only)
+            if e._spec.tag == namespace and not e._spec.key.startswith("default-")
+        ]
     return [
         e
         for e in walk(element, not exclude_attachments, immediate_children_only)
-        if (e._spec.tag == namespace if by_tag else e._spec.namespace == namespace)
+        if e._spec.namespace == namespace
     ]
 
 

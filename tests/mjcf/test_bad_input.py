@@ -1,0 +1,145 @@
+"""Bad input raises one specific mjcf error that says where and what was expected, and
+leaves the model as it was."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import mjcf
+
+
+@pytest.fixture
+def model() -> mjcf.RootElement:
+    root = mjcf.RootElement(model="robot")
+    body = root.worldbody.add("body", name="arm")
+    body.add("geom", name="tip", size=[0.1])
+    body.add("joint", name="hinge")
+    return root
+
+
+def _unchanged(model: mjcf.RootElement, action, error: type[mjcf.Error], match: str) -> None:
+    before = model.to_xml_string()
+    with pytest.raises(error, match=match):
+        action()
+    assert model.to_xml_string() == before
+
+
+def test_unknown_element_suggests(model: mjcf.RootElement) -> None:
+    body = model.find("body", "arm")
+    message = r"<body name=\"arm\">: <body> cannot have a <goem> child \(did you mean 'geom'\?\)"
+    _unchanged(model, lambda: body.add("goem"), mjcf.SchemaError, message)
+
+
+def test_unknown_attribute_suggests(model: mjcf.RootElement) -> None:
+    tip = model.find("geom", "tip")
+    message = r"<geom name=\"tip\">: <geom> has no attribute 'rgab' \(did you mean 'rgba'\?\)"
+    _unchanged(model, lambda: setattr(tip, "rgab", [1, 0, 0, 1]), mjcf.AttributeError, message)
+    _unchanged(model, lambda: model.worldbody.add("geom", sise=[1]), mjcf.AttributeError, "sise")
+    with pytest.raises(AttributeError):  # still the builtin meaning
+        tip.rgab  # noqa: B018
+    assert getattr(tip, "rgab", None) is None
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "match"),
+    [
+        ("size", [1, 2, 3, 4], r"'size' takes 1 to 3 numbers, got 4"),
+        ("quat", [1, 0, 0], r"'quat' takes 4 numbers, got 3"),
+        ("size", "a b", r"'size' takes numbers"),
+        ("condim", 1.5, r"'condim' takes integers"),
+        ("type", "boxx", r"'type' takes one of \[.*\], got 'boxx' \(did you mean 'box'\?\)"),
+        ("rgba", [[1, 2], [3, 4]], r"'rgba' takes a flat list"),
+        ("name", 3, r"'name' takes a string"),
+    ],
+)
+def test_wrong_values(model: mjcf.RootElement, name: str, value: object, match: str) -> None:
+    tip = model.find("geom", "tip")
+    where = r"model 'robot': <worldbody>/<body name=\"arm\">/<geom name=\"tip\">: "
+    _unchanged(model, lambda: setattr(tip, name, value), mjcf.AttributeValueError, where + match)
+
+
+def test_failed_add_adds_nothing(model: mjcf.RootElement) -> None:
+    body = model.find("body", "arm")
+    _unchanged(model, lambda: body.add("geom", name="new", size=[1, 2, 3, 4]),
+               mjcf.AttributeValueError, "size")  # fmt: skip
+    assert model.find("geom", "new") is None
+    _unchanged(model, lambda: body.add("geom", name="tip"), mjcf.NameError, "already used")
+
+
+def test_duplicate_names(model: mjcf.RootElement) -> None:
+    other = model.worldbody.add("geom", name="other", size=[1])
+    _unchanged(model, lambda: setattr(other, "name", "tip"), mjcf.NameError,
+               r"'tip' is already used by another geom")  # fmt: skip
+    model.worldbody.add("body", name="tip")  # another namespace: fine
+
+
+def test_wrong_reference_kind(model: mjcf.RootElement) -> None:
+    _unchanged(model, lambda: model.actuator.add("motor", joint=model.find("geom", "tip")),
+               mjcf.ReferenceError, "'joint' refers to a joint")  # fmt: skip
+
+
+def test_dangling_reference_in_file() -> None:
+    text = (
+        '<mujoco><worldbody><body><joint name="j"/><geom size="1"/></body></worldbody>'
+        '<actuator><motor joint="jj"/></actuator></mujoco>'
+    )
+    with pytest.raises(mjcf.ReferenceError, match=r"joint='jj' \(no joint of that name\)"):
+        mjcf.from_xml_string(text)
+    model = mjcf.from_xml_string(text, resolve_references=False)
+    assert model.actuator.motor[0].joint == "jj"
+
+
+def test_dangling_reference_set_in_python_fails_on_compile(model: mjcf.RootElement) -> None:
+    model.actuator.add("motor", joint="nonexistent")
+    with pytest.raises(mjcf.CompileError, match="nonexistent"):
+        mjcf.Physics.from_mjcf_model(model)
+
+
+def test_missing_required_attribute_on_write(model: mjcf.RootElement) -> None:
+    model.tendon.add("fixed").add("joint", coef=1)
+    with pytest.raises(mjcf.AttributeValueError, match="<joint> requires the attribute 'joint'"):
+        model.to_xml_string()
+
+
+def test_malformed_xml_names_file_and_line(tmp_path: Path) -> None:
+    path = tmp_path / "broken.xml"
+    path.write_text("<mujoco>\n  <worldbody>\n    <geom size='1'>\n  </worldbody>\n</mujoco>\n")
+    with pytest.raises(mjcf.ParseError, match=r"broken.xml:4: malformed XML"):
+        mjcf.from_path(path)
+
+
+def test_unknown_element_in_file_names_line(tmp_path: Path) -> None:
+    path = tmp_path / "model.xml"
+    path.write_text("<mujoco>\n<worldbody>\n<bdy/>\n</worldbody>\n</mujoco>\n")
+    with pytest.raises(mjcf.SchemaError, match=r"model.xml:3: .*<bdy>.*did you mean 'body'"):
+        mjcf.from_path(path)
+
+
+def test_include_cycle_and_missing_include(tmp_path: Path) -> None:
+    (tmp_path / "a.xml").write_text('<mujoco><include file="b.xml"/></mujoco>')
+    (tmp_path / "b.xml").write_text('<mujoco><include file="a.xml"/></mujoco>')
+    (tmp_path / "main.xml").write_text('<mujoco><include file="a.xml"/></mujoco>')
+    with pytest.raises(mjcf.ParseError, match="included more than once"):
+        mjcf.from_path(tmp_path / "main.xml")
+    (tmp_path / "lost.xml").write_text('<mujoco><include file="nowhere.xml"/></mujoco>')
+    with pytest.raises(mjcf.ParseError, match=r"'nowhere\.xml' not found"):
+        mjcf.from_path(tmp_path / "lost.xml")
+
+
+def test_root_must_be_mujoco_and_sections_known() -> None:
+    with pytest.raises(mjcf.ParseError, match="root element of an MJCF model is <mujoco>"):
+        mjcf.from_xml_string("<robot/>")
+    with pytest.raises(mjcf.SchemaError, match="did you mean 'worldbody'"):
+        mjcf.from_xml_string("<mujoco><wordlbody/></mujoco>")
+
+
+def test_once_only_elements_and_sections() -> None:
+    root = mjcf.RootElement()
+    body = root.worldbody.add("body")
+    body.add("inertial", pos=[0, 0, 0], mass=1)
+    with pytest.raises(mjcf.SchemaError, match="only one <inertial>"):
+        body.add("inertial", pos=[0, 0, 0], mass=2)
+    with pytest.raises(mjcf.SchemaError, match="always exists"):
+        root.worldbody.remove()

@@ -1,0 +1,204 @@
+"""Any model MuJoCo loads, mjcf loads, writes, and MuJoCo compiles to the same model."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+import mjcf
+from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
+from tests.mjcf.compare import model_differences, trajectories_match
+
+SHIPPED = sorted(GYM_ASSETS.glob("*.xml")) + sorted(MUJOCO_TESTDATA.glob("*.xml"))
+ROBOTS = sorted(MENAGERIE.glob("*/*.xml")) if MENAGERIE.exists() else []
+
+
+def _assert_round_trip(path: Path, root: mjcf.RootElement) -> None:
+    reference = mujoco.MjModel.from_xml_path(str(path))
+    ours = mujoco.MjModel.from_xml_string(root.to_xml_string(), root.get_assets())
+    assert model_differences(reference, ours) == []
+    assert trajectories_match(reference, ours, steps=100)
+
+
+@pytest.mark.parametrize("path", SHIPPED + ROBOTS, ids=lambda p: p.name)
+def test_shipped_models_round_trip(path: Path, tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes deprecation warnings to MUJOCO_LOG.TXT
+    _assert_round_trip(path, mjcf.from_path(path))
+
+
+@pytest.mark.parametrize("path", SHIPPED + ROBOTS, ids=lambda p: p.name)
+def test_round_trip_after_reading_every_attribute(path: Path, tmp_path, monkeypatch) -> None:
+    """Values converted to Python on reading are written back exactly."""
+    monkeypatch.chdir(tmp_path)
+    root = mjcf.from_path(path)
+    for element in root.iter():
+        element.get_attributes()
+    _assert_round_trip(path, root)
+
+
+def test_physics_from_parsed_model_equals_mujoco(tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    path = GYM_ASSETS / "humanoid.xml"
+    physics = mjcf.Physics.from_mjcf_model(mjcf.from_path(path))
+    reference = mujoco.MjModel.from_xml_path(str(path))
+    assert physics.model.nq == reference.nq
+    assert np.array_equal(physics.model.body_mass, reference.body_mass)
+
+
+def _write(folder: Path, name: str, text: str) -> Path:
+    path = folder / name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_includes_anywhere_with_relative_paths(tmp_path: Path) -> None:
+    """<include> in worldbody, default, asset and a body; nested includes found next to
+    the including file; meshes found through compiler meshdir."""
+    mesh = (MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes()
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "part.msh").write_bytes(mesh)
+    _write(
+        tmp_path,
+        "parts/defaults.xml",
+        """
+        <mujoco>
+          <geom rgba="0 1 0 1"/><default class="heavy"><geom density="5000"/></default>
+        </mujoco>
+    """,
+    )
+    _write(
+        tmp_path,
+        "parts/assets.xml",
+        """
+        <mujoco><mesh name="part" file="part.msh"/></mujoco>
+    """,
+    )
+    _write(
+        tmp_path,
+        "parts/arm.xml",
+        """
+        <mujoco>
+          <body name="arm" pos="0 0 1">
+            <joint name="shoulder" axis="0 1 0"/>
+            <geom type="capsule" size=".05" fromto="0 0 0 0 0 -.5" class="heavy"/>
+            <include file="hand.xml"/>
+          </body>
+        </mujoco>
+    """,
+    )
+    _write(
+        tmp_path,
+        "parts/hand.xml",
+        """
+        <mujoco><body name="hand" pos="0 0 -.5"><geom type="mesh" mesh="part"/></body></mujoco>
+    """,
+    )
+    main = _write(
+        tmp_path,
+        "model.xml",
+        """
+        <mujoco model="included">
+          <compiler meshdir="meshes"/>
+          <default><include file="parts/defaults.xml"/></default>
+          <asset><include file="parts/assets.xml"/></asset>
+          <worldbody>
+            <geom type="plane" size="1 1 .1"/>
+            <include file="parts/arm.xml"/>
+          </worldbody>
+        </mujoco>
+    """,
+    )
+    root = mjcf.from_path(main)
+    assert root.find("body", "hand").parent is root.find("body", "arm")
+    assert root.find("default", "heavy") is not None
+    _assert_round_trip(main, root)
+
+
+def test_meta_elements_frames_replicate_and_attach(tmp_path: Path) -> None:
+    child = _write(
+        tmp_path,
+        "child.xml",
+        """
+        <mujoco><worldbody><body name="link"><joint/><geom size=".1"/></body></worldbody></mujoco>
+    """,
+    )
+    main = _write(
+        tmp_path,
+        "model.xml",
+        f"""
+        <mujoco>
+          <asset><model name="child" file="{child.name}"/></asset>
+          <worldbody>
+            <frame name="f" pos="0 0 1" euler="0 0 30">
+              <body name="b"><freejoint/><geom size=".1"/></body>
+            </frame>
+            <replicate count="3" offset=".3 0 0">
+              <body name="r"><joint type="slide"/><geom size=".05"/></body>
+            </replicate>
+            <body name="base"><attach model="child" body="link" prefix="c-"/></body>
+          </worldbody>
+        </mujoco>
+    """,
+    )
+    root = mjcf.from_path(main)
+    assert root.find("frame", "f").euler.tolist() == [0, 0, 30]
+    _assert_round_trip(main, root)
+
+
+def test_explicit_main_default_class_round_trips(tmp_path: Path) -> None:
+    """dm_control re-emits <default class="main"> inside the top default, which MuJoCo
+    rejects; a top-level class="main" must stay the global defaults."""
+    main = _write(
+        tmp_path,
+        "model.xml",
+        """
+        <mujoco>
+          <default class="main">
+            <geom rgba="1 0 0 1"/>
+            <default class="big"><geom size=".3"/></default>
+          </default>
+          <worldbody><geom class="big" type="sphere"/><geom size=".1"/></worldbody>
+        </mujoco>
+    """,
+    )
+    _assert_round_trip(main, mjcf.from_path(main))
+
+
+def test_repeated_sections_merge(tmp_path: Path) -> None:
+    main = _write(
+        tmp_path,
+        "model.xml",
+        """
+        <mujoco>
+          <option timestep="0.005"/>
+          <worldbody><body name="a"><joint/><geom size=".1"/></body></worldbody>
+          <option gravity="0 0 -1"/>
+          <worldbody><body name="b"><joint name="b"/><geom size=".1"/></body></worldbody>
+          <actuator><motor joint="b"/></actuator>
+        </mujoco>
+    """,
+    )
+    root = mjcf.from_path(main)
+    assert root.option.timestep == 0.005
+    assert root.option.gravity.tolist() == [0, 0, -1]
+    assert [b.name for b in root.worldbody.body] == ["a", "b"]
+    _assert_round_trip(main, root)
+
+
+def test_precision_controls_written_digits() -> None:
+    root = mjcf.RootElement()
+    root.worldbody.add("geom", size=[1 / 3])
+    assert 'size="0.3333333333333333"' in root.to_xml_string()
+    assert 'size="0.333"' in root.to_xml_string(precision=3)
+
+
+def test_to_xml_is_lxml_element() -> None:
+    root = mjcf.from_path(GYM_ASSETS / "ant.xml")
+    xml = root.to_xml()
+    assert xml.tag == "mujoco"
+    assert xml.find("worldbody/body").get("name") == "torso"
