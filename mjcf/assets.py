@@ -19,6 +19,8 @@ exporting use flat names with the contents passed along.
 
 from __future__ import annotations
 
+import functools
+import itertools
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -132,6 +134,16 @@ def file_path(element: Element, text: str) -> str:
     return os.path.normpath(os.path.join(base, directory, text))
 
 
+@functools.lru_cache(maxsize=65536)
+def _relative_path(path: str, model_dir: str) -> str:
+    """`path` relative to `model_dir` if it is inside it, else `path`."""
+    if model_dir:
+        relative = os.path.relpath(path, model_dir)
+        if not relative.startswith(".."):
+            return Path(relative).as_posix()
+    return path
+
+
 class FileNamer:
     """Names the assets of one output document, and collects their contents."""
 
@@ -154,12 +166,7 @@ class FileNamer:
         return self._flat_name(element, asset)
 
     def _disk_name(self, path: str) -> str:
-        model_dir = self.root.model_dir
-        if model_dir:
-            relative = os.path.relpath(path, model_dir)
-            if not relative.startswith(".."):
-                return Path(relative).as_posix()
-        return path
+        return _relative_path(path, self.root.model_dir)
 
     def _claim(self, name: str, asset: Asset) -> bool:
         """Take `name` for `asset` unless its base name is taken by other contents."""
@@ -177,11 +184,9 @@ class FileNamer:
         base = asset.name or "asset"
         stem, extension = os.path.splitext(base)
         scope = element.root.namescope.prefix(self.root.namescope).replace("/", "-")
-        candidates = [base]
-        if scope:
-            candidates.append(f"{scope}{base}")
-        candidates.extend(f"{scope}{stem}-{n}{extension}" for n in range(2, 10_000))
-        for candidate in candidates:
+        first = [base, f"{scope}{base}"] if scope else [base]
+        numbered = (f"{scope}{stem}-{n}{extension}" for n in range(2, 100_000))
+        for candidate in itertools.chain(first, numbered):
             if self._claim(candidate, asset):
                 return candidate
         raise errors.AssetError(f"{element.path}: too many assets named {base!r}")

@@ -53,7 +53,9 @@ class ElementList(list):
 class Element:
     """An MJCF element. Create elements with `parent.add(tag, **attributes)`."""
 
-    __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec")
+    # _text: ((model version, precision), attribute text) of the last plain write, reused
+    # while the model is unchanged (see serializer).
+    __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec", "_text")
 
     _spec: ElementSpec
     _parent: Element | None
@@ -61,6 +63,7 @@ class Element:
     _attrs: dict[str, Any]
     _children: list[Element]
     _source: Any
+    _text: tuple[tuple[int, int], str] | None
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         raise TypeError("create elements with parent.add(tag, **attributes)")
@@ -75,6 +78,7 @@ class Element:
         setter(element, "_attrs", {})
         setter(element, "_children", [])
         setter(element, "_source", debugging.creation_site())
+        setter(element, "_text", None)
         return element
 
     # -- identity and place in the tree ---------------------------------------------------

@@ -58,6 +58,7 @@ class RootElement(Element):
         setter(self, "_attrs", {})
         setter(self, "_children", [])
         setter(self, "_source", None)
+        setter(self, "_text", None)
         setter(self, "_namescope", NameScope(self))
         setter(self, "_model_dir", str(model_dir) if model_dir else "")
         setter(self, "_assets", dict(assets) if assets else {})

@@ -114,6 +114,7 @@ class _Writer:
         self.composed = composition.Composition(root, auto_name_all=for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
+        self._plain_writers: dict[composition.ModelContext, object] = {}
 
     def context_of(self, model: RootElement) -> composition.ModelContext:
         return self.composed.context(model)
@@ -141,6 +142,8 @@ class _Writer:
         self._emit("</mujoco>" + newline)
 
     def section(self, section: Element) -> None:
+        if not (section._children or section._attrs or self.composed.has_attachments):
+            return  # an empty section of a model written on its own: nothing to write
         tag = section._spec.tag
         root_context = self.context_of(self.root)
         if tag == "compiler" or (tag in _SETTINGS and self.composed.has_attachments):
@@ -223,8 +226,11 @@ class _Writer:
         return len(self.parts)
 
     def _close(self, element: Element, depth: int, mark: int) -> None:
-        if len(self.parts) == mark and element._spec.on_demand and not element._attrs:
-            self._unemit()  # nothing inside: leave the section out
+        if len(self.parts) == mark and element._spec.on_demand:
+            opening = self.parts[-1]
+            self._unemit()  # nothing inside: leave the section out, or close it at once
+            if element._attrs:
+                self._emit(opening[: opening.rindex(">")] + "/>" + self._newline(), element)
             return
         self._emit(f"{self._indent(depth)}</{element._spec.tag}>{self._newline()}")
 
@@ -232,56 +238,81 @@ class _Writer:
         self, children: list[Element], depth: int, context: composition.ModelContext
     ) -> None:
         """Write `children` of one model."""
-        write = self.element if context.rewrites else self.plain_element
+        if context.rewrites:
+            for child in children:
+                self.element(child, depth, context)
+            return
+        write = self._plain_writers.get(context)
+        if write is None:
+            write = self._plain_writers[context] = self._plain_writer(context)
         for child in children:
-            write(child, depth, context)
+            write(child, depth)
 
-    def plain_element(
-        self, element: Element, depth: int, context: composition.ModelContext
-    ) -> None:
-        """`element` for a context that writes names and values as stored (a model
-        written on its own): the common case, kept short because it dominates."""
-        spec = element._spec
-        attrs = element._attrs
-        if spec is _FRAME_SPEC or spec.required:
-            if attrs or element._children or not spec.on_demand:
-                self.element(element, depth, context)
-            return
-        if attrs:
-            special = spec.file_attributes
-            text = "".join([
-                f' {name}="{value}"' if type(value) is str and name not in special
-                else f' {name}="{self._escaped_value(element, name, value, context)}"'
-                for name, value in attrs.items()
-            ])  # fmt: skip
-            # Stored text needs escaping only if it holds markup characters: rare.
-            if "&" in text or "<" in text or ">" in text or text.count('"') != 2 * len(attrs):
-                text = self._escaped_attributes(element, context, None)
-        else:
-            text = ""
-        children = element._children
-        indent = self._indents[depth]
-        parts = self.parts
-        owners = self.owners
-        if not children:
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{self._newline_text}")
-                owners.append(element)
-            return
-        start = len(parts)
-        parts.append(f"{indent}<{spec.tag}{text}>{self._newline_text}")
-        owners.append(element)
-        depth += 1
-        for child in children:
-            self.plain_element(child, depth, context)
-        if len(parts) == start + 1:
-            self._unemit()
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{self._newline_text}")
-                owners.append(element)
-            return
-        parts.append(f"{indent}</{spec.tag}>{self._newline_text}")
-        owners.append(None)
+    def _plain_writer(self, context: composition.ModelContext):
+        """A writer of elements for a context that writes names and values as stored (a
+        model written on its own): the common case, kept tight because it dominates."""
+        parts, owners = self.parts, self.owners
+        indents, newline = self._indents, self._newline_text
+        general, escaped_value = self.element, self._escaped_value
+        escaped_attributes = self._escaped_attributes
+        frame_spec = _FRAME_SPEC
+        # Cached text is valid for one model version and one number precision.
+        version = (context.model._version, self.precision)
+
+        def write(element: Element, depth: int) -> None:
+            spec = element._spec
+            attrs = element._attrs
+            if spec is frame_spec or spec.required:
+                if attrs or element._children or not spec.on_demand:
+                    general(element, depth, context)
+                return
+            if attrs:
+                cached = element._text
+                if cached is not None and cached[0] == version:
+                    text = cached[1]
+                else:
+                    special = spec.file_attributes
+                    text = "".join([
+                        f' {name}="{value}"' if type(value) is str and name not in special
+                        else f' {name}="{escaped_value(element, name, value, context)}"'
+                        for name, value in attrs.items()
+                    ])  # fmt: skip
+                    # Stored text needs escaping only if it holds markup characters: rare.
+                    if (
+                        "&" in text
+                        or "<" in text
+                        or ">" in text
+                        or text.count('"') != 2 * len(attrs)
+                    ):
+                        text = escaped_attributes(element, context, None)
+                    if not special:  # file names depend on the output; the rest does not
+                        element._text = (version, text)
+            else:
+                text = ""
+            children = element._children
+            indent = indents[depth]
+            if not children:
+                if text or not spec.on_demand:
+                    parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
+                    owners.append(element)
+                return
+            start = len(parts)
+            parts.append(f"{indent}<{spec.tag}{text}>{newline}")
+            owners.append(element)
+            depth += 1
+            for child in children:
+                write(child, depth)
+            if len(parts) == start + 1:
+                parts.pop()
+                owners.pop()
+                if text or not spec.on_demand:
+                    parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
+                    owners.append(element)
+                return
+            parts.append(f"{indent}</{spec.tag}>{newline}")
+            owners.append(None)
+
+        return write
 
     def element(
         self,
@@ -384,6 +415,8 @@ class _Writer:
         if kind == "identifier":
             return context.identifier_text(element, value)
         if kind == "file":
+            if type(value) is str:  # resolve once, as reading the attribute would
+                value = element._get_value(attribute)
             return self.files.name_for(element, attribute.name, value)
         if type(value) is str:
             return value

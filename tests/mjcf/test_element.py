@@ -177,3 +177,19 @@ def test_element_api_names_do_not_shadow_mjcf() -> None:
     for spec in schema.all_specs():
         clashes = api & (set(spec.attributes) | set(spec.children))
         assert not clashes, f"<{spec.tag}> {clashes}"
+
+
+def test_written_text_follows_every_change(arm: mjcf.RootElement) -> None:
+    """Writing twice reuses unchanged elements' text; every kind of change shows."""
+    body = arm.find("body", "upper")
+    geom = arm.find("geom", "upper")
+    assert 'pos="0 0 1"' in arm.to_xml_string()
+    body.pos[0] = 7
+    assert 'pos="7 0 1"' in arm.to_xml_string()
+    geom.rgba = [0, 1, 0, 1]
+    assert 'rgba="0 1 0 1"' in arm.to_xml_string()
+    del geom.rgba
+    assert "rgba" not in arm.to_xml_string()
+    body.pos = [1 / 3, 0, 0]
+    assert 'pos="0.33 0 0"' in arm.to_xml_string(precision=2)
+    assert 'pos="0.3333333333333333 0 0"' in arm.to_xml_string()
