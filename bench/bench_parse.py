@@ -48,49 +48,60 @@ def best_of(functions: list[Callable[[], object]], seconds: float = 1.0) -> list
 def models() -> dict[str, Path]:
     """The models measured: gymnasium's and, when present, the menagerie robots."""
     found = {"humanoid": GYM / "humanoid.xml", "ant": GYM / "ant.xml"}
-    for name, relative in (
-        ("ur5e", "universal_robots_ur5e/ur5e.xml"),
-        ("2f85", "robotiq_2f85/2f85.xml"),
-    ):
+    robots = {"ur5e": "universal_robots_ur5e/ur5e.xml", "2f85": "robotiq_2f85/2f85.xml"}
+    for name, relative in robots.items():
         if (MENAGERIE / relative).exists():
             found[name] = MENAGERIE / relative
     return found
+
+
+def measure(path: Path) -> dict[str, float]:
+    """Seconds per call of each operation on one model, ours and the references."""
+    text = str(path)
+    tree = etree.parse(text)
+    root = mjcf.from_path(path)
+    xml = root.to_xml_string()
+    assets = root.get_assets()
+    parse, spec, lxml_parse = best_of(
+        [lambda: mjcf.from_path(path), lambda: mujoco.MjSpec.from_file(text),
+         lambda: etree.parse(text)]
+    )  # fmt: skip
+    write, lxml_write = best_of([root.to_xml_string, lambda: etree.tostring(tree)])
+    compile_ours, compile_mujoco = best_of(
+        [lambda: compiler.compile_composition(root),
+         lambda: mujoco.MjModel.from_xml_string(xml, assets)],
+        seconds=2.0,
+    )  # fmt: skip
+    return {
+        "parse": parse, "mjspec_parse": spec, "lxml_parse": lxml_parse, "write": write,
+        "lxml_write": lxml_write, "write_compile": compile_ours, "mujoco_compile": compile_mujoco,
+    }  # fmt: skip
 
 
 def main() -> dict[str, dict[str, float]]:
     """Measure every model; print a table and return the ratios."""
     os.chdir(os.path.dirname(os.path.abspath(__file__)))
     results: dict[str, dict[str, float]] = {}
-    print(f"{'model':10} {'parse ms':>9} {'MjSpec':>8} {'ratio':>6} {'lxml':>7} | "
-          f"{'write ms':>9} {'lxml':>7} {'ratio':>6} | {'write+compile':>13} {'MuJoCo':>8} {'ratio':>6}")  # fmt: skip
+    print(
+        f"{'model':10} {'parse ms':>9} {'MjSpec':>8} {'ratio':>6} {'lxml':>7} | {'write ms':>9} "
+        f"{'lxml':>7} {'ratio':>6} | {'write+compile':>13} {'MuJoCo':>8} {'ratio':>6}"
+    )
     for name, path in models().items():
-        text = str(path)
-        tree = etree.parse(text)
-        root = mjcf.from_path(path)
-        xml = root.to_xml_string()
-        assets = root.get_assets()
-        ours, spec, lxml_parse = best_of(
-            [
-                lambda: mjcf.from_path(path),
-                lambda: mujoco.MjSpec.from_file(text),
-                lambda: etree.parse(text),
-            ]
-        )
-        write, lxml_write = best_of([root.to_xml_string, lambda: etree.tostring(tree)])
-        both, mujoco_compile = best_of(
-            [lambda: compiler.compile_composition(root),
-             lambda: mujoco.MjModel.from_xml_string(xml, assets)],
-            seconds=2.0,
-        )  # fmt: skip
+        t = measure(path)
         results[name] = {
-            "parse_vs_mjspec": ours / spec,
-            "parse_vs_lxml": ours / lxml_parse,
-            "write_vs_lxml": write / lxml_write,
-            "write_compile_vs_mujoco": both / mujoco_compile,
+            "parse_vs_mjspec": t["parse"] / t["mjspec_parse"],
+            "parse_vs_lxml": t["parse"] / t["lxml_parse"],
+            "write_vs_lxml": t["write"] / t["lxml_write"],
+            "write_compile_vs_mujoco": t["write_compile"] / t["mujoco_compile"],
         }
-        print(f"{name:10} {ours * 1e3:9.3f} {spec * 1e3:8.3f} {ours / spec:6.2f} {lxml_parse * 1e3:7.3f} | "
-              f"{write * 1e3:9.3f} {lxml_write * 1e3:7.3f} {write / lxml_write:6.2f} | "
-              f"{both * 1e3:13.3f} {mujoco_compile * 1e3:8.3f} {both / mujoco_compile:6.2f}")  # fmt: skip
+        r = results[name]
+        print(
+            f"{name:10} {t['parse'] * 1e3:9.3f} {t['mjspec_parse'] * 1e3:8.3f} "
+            f"{r['parse_vs_mjspec']:6.2f} {t['lxml_parse'] * 1e3:7.3f} | {t['write'] * 1e3:9.3f} "
+            f"{t['lxml_write'] * 1e3:7.3f} {r['write_vs_lxml']:6.2f} | "
+            f"{t['write_compile'] * 1e3:13.3f} {t['mujoco_compile'] * 1e3:8.3f} "
+            f"{r['write_compile_vs_mujoco']:6.2f}"
+        )
     return results
 
 
