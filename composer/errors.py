@@ -1,0 +1,51 @@
+"""The exceptions composer raises: one base, `composer.Error`, and a subclass per kind of
+mistake. Messages name the entity, observable or task involved and what was expected.
+
+    try:
+        env = composer.Environment(task)
+    except composer.Error as e:       # any composer mistake
+        ...
+
+MuJoCo divergence during a step is not raised: the step is truncated, `info['physics_error']`
+holds the message, and a `DivergenceWarning` is emitted.
+"""
+
+from __future__ import annotations
+
+
+class Error(Exception):
+    """Base class of every error composer raises."""
+
+
+class EntityError(Error):
+    """An entity was attached, detached or posed in a way its model does not allow."""
+
+
+class ObservableError(Error):
+    """An observable is misconfigured, or its value does not match its declared shape."""
+
+
+class ObservableNotFoundError(ObservableError, AttributeError):
+    """An entity has no observable of the name asked for."""
+
+
+class TaskError(Error):
+    """A task is misconfigured: timesteps that do not divide, a missing root entity, an
+    action or observation space that changed after a recompile."""
+
+
+class EpisodeError(Error):
+    """The environment was used out of order, e.g. `step()` before `reset()` or after the
+    episode ended, or with an action of the wrong shape."""
+
+
+class VariationError(Error):
+    """A variation or variator was given values it cannot use."""
+
+
+class PlacementError(Error):
+    """An initializer found no valid pose for a prop within its attempts."""
+
+
+class DivergenceWarning(RuntimeWarning):
+    """MuJoCo reported an invalid state during a step; the episode was truncated."""

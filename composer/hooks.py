@@ -1,0 +1,73 @@
+"""Episode hooks: their names, their fixed order, and dispatch to overriders only.
+
+    hooks = Hooks(task)                   # after any change of the entity tree
+    for hook in hooks.before_substep:     # bound methods; empty if nobody overrides it
+        hook(physics, random_state)
+
+Order (see `composer.environment` for when each hook runs): every hook runs first on the
+task, then on each entity of `task.root_entity.iter_entities()` (the root entity, then its
+attached entities depth first, in the order they were attached). A hook is dispatched to
+an object only if its class overrides the base class's no-op, so a hook nobody overrides
+costs nothing per step. The task's `before_step` and `before_substep` receive the action;
+entities' do not (as in dm_control).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any, TypeVar
+
+if TYPE_CHECKING:
+    from composer.task import Task
+
+HOOK_NAMES = (
+    "initialize_episode_mjcf",
+    "after_compile",
+    "initialize_episode",
+    "before_step",
+    "before_substep",
+    "after_substep",
+    "after_step",
+)
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def noop(function: F) -> F:
+    """Mark a base-class hook as a no-op, so that `overriders` skips objects keeping it."""
+    function._composer_noop = True  # type: ignore[attr-defined]
+    return function
+
+
+def overriders(objects: Iterable[object], name: str) -> tuple[Callable[..., Any], ...]:
+    """The bound `name` methods of `objects` whose class overrides the no-op, in order."""
+    found = []
+    for obj in objects:
+        method = getattr(obj, name)
+        if not getattr(method, "_composer_noop", False):
+            found.append(method)
+    return tuple(found)
+
+
+class Hooks:
+    """The hook methods of a task and its entities, resolved once per entity tree."""
+
+    def __init__(self, task: Task) -> None:
+        """Collect the overriding hooks of `task` and every entity of its root entity."""
+        entities = list(task.root_entity.iter_entities())
+        everyone = [task, *entities]
+        self.initialize_episode_mjcf = overriders(everyone, "initialize_episode_mjcf")
+        self.after_compile = overriders(everyone, "after_compile")
+        self.initialize_episode = overriders(everyone, "initialize_episode")
+        # The task's before_step/before_substep take the action: kept apart.
+        self.task_before_step = task.before_step
+        self.before_step = overriders(entities, "before_step")
+        self.task_before_substep = overriders([task], "before_substep")
+        self.before_substep = overriders(entities, "before_substep")
+        self.after_substep = overriders(everyone, "after_substep")
+        self.after_step = overriders(everyone, "after_step")
+
+    @property
+    def has_substep_hooks(self) -> bool:
+        """Whether any object overrides `before_substep` or `after_substep`."""
+        return bool(self.task_before_substep or self.before_substep or self.after_substep)

@@ -1,0 +1,270 @@
+"""The observation pipeline: observables sampled on schedule into preallocated arrays.
+
+    updater = Updater({'arm/qpos': qpos, ...}, physics, substeps=5, flatten=False)
+    updater.observation_space                      # spaces.Dict of Boxes (or one Box)
+    obs = updater.reset(random_state)              # samples at step 0
+    for steps, samples in updater.plan[phase]:     # one control step
+        mujoco.mj_step(model, data, steps)
+        for sample, offset in samples:
+            sample(first_step + offset)
+    obs = updater.observation(last_step)           # fresh arrays, safe to keep
+
+Everything per observable is resolved here, once per compile: its reader (bindings), its
+output array, its ring of samples, and the plan saying after which physics steps of a
+control step it is sampled. The plan only samples what some observation will show: with
+the default options an observable is read once per control step, after the last physics
+step. Observables whose value is empty (e.g. activations of a model with none) are left out.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+
+from composer import errors
+from composer.observation.observable import Observable
+
+Sample = Callable[[int], None]
+Plan = list[list[tuple[int, list[tuple[Sample, int]]]]]
+
+_REDUCERS = {"mean": np.mean, "max": np.max, "min": np.min, "sum": np.sum}
+
+
+class _Channel:
+    """One observable's reader, samples and output array."""
+
+    def __init__(self, name: str, observable: Observable, physics: Any) -> None:
+        observable.validate(name)
+        self.name = name
+        self.observable = observable
+        try:
+            self.read = observable.reader(physics)
+            value = np.asarray(self.read())
+        except errors.Error:
+            raise
+        except Exception as e:
+            raise errors.ObservableError(
+                f"observable {name!r} could not be read: {type(e).__name__}: {e}"
+            ) from e
+        dtype = value.dtype if value.dtype.kind in "fiu" else np.dtype(np.float64)
+        self.shape = value.shape
+        self.interval = int(observable.update_interval)
+        self.buffer_size = int(observable.buffer_size)
+        self.delay = int(observable.delay)
+        self.corruptor = observable.corruptor
+        aggregator = observable.aggregator
+        self.reduce = _REDUCERS.get(aggregator, aggregator) if aggregator is not None else None
+        if self.reduce is not None and not np.issubdtype(dtype, np.floating):
+            dtype = np.dtype(np.float64)  # a mean of integers is not an integer
+        self.dtype = dtype
+        self.low, self.high = self._bounds(observable, value)
+        # Observations with one sample, on time, unchanged are copied straight to the output.
+        self.direct = (
+            self.buffer_size == 1 and self.delay == 0 and self.corruptor is None
+            and self.reduce is None
+        )  # fmt: skip
+        self.output_shape = (
+            self.shape if self.buffer_size == 1 or self.reduce is not None
+            else (self.buffer_size, *self.shape)
+        )  # fmt: skip
+        self.size = self.ring_size = 0
+        self.random_state: Any = None
+
+    def _bounds(self, observable: Observable, value: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        given = observable.bounds if observable.bounds is not None else None
+        low, high = given if given is not None else observable.default_bounds(value)
+        try:
+            low = np.broadcast_to(np.asarray(low, dtype=np.float64), value.shape).copy()
+            high = np.broadcast_to(np.asarray(high, dtype=np.float64), value.shape).copy()
+        except ValueError as e:
+            raise errors.ObservableError(
+                f"observable {self.name!r}: bounds do not fit its shape {value.shape}: {e}"
+            ) from None
+        if np.any(low > high):
+            raise errors.ObservableError(
+                f"observable {self.name!r}: a low bound exceeds its high bound: {low}, {high}"
+            )
+        if self.corruptor is not None:
+            if hasattr(self.corruptor, "bounds"):
+                low, high = (np.asarray(b, np.float64) for b in self.corruptor.bounds(low, high))
+            else:
+                low, high = np.full_like(low, -np.inf), np.full_like(high, np.inf)
+        reduce = observable.aggregator
+        if reduce is None:
+            if self.buffer_size > 1:
+                low = np.broadcast_to(low, (self.buffer_size, *low.shape)).copy()
+                high = np.broadcast_to(high, (self.buffer_size, *high.shape)).copy()
+        elif reduce == "sum":
+            low, high = low * self.buffer_size, high * self.buffer_size
+        elif callable(reduce):
+            bounds = observable.aggregator_bounds or (-np.inf, np.inf)
+            low = np.broadcast_to(np.asarray(bounds[0], np.float64), value.shape).copy()
+            high = np.broadcast_to(np.asarray(bounds[1], np.float64), value.shape).copy()
+        return low, high
+
+    def allocate(self, out: np.ndarray) -> None:
+        """Take `out` (output_shape) as the output array; make the ring and the sampler."""
+        self.out = out
+        read = self.read
+        if self.direct:
+            copyto = np.copyto
+
+            def sample(step: int) -> None:
+                copyto(out, read())
+
+            self.sample = sample
+            return
+        # Samples in flight (taken, not yet visible) plus the visible ones shown.
+        self.ring_size = self.buffer_size + self.delay // self.interval + 1
+        self.ring = np.zeros((self.ring_size, *self.shape), dtype=self.dtype)
+        self.times = np.full(self.ring_size, -np.inf)
+        self.window = np.arange(self.buffer_size)
+        self.buffer = np.zeros((self.buffer_size, *self.shape), dtype=self.dtype)
+        self.sample = self._record
+
+    def _record(self, step: int) -> None:
+        value = self.read()
+        if self.corruptor is not None:
+            value = self.corruptor(np.asarray(value, dtype=self.dtype), self.random_state)
+        slot = self.size % self.ring_size
+        self.ring[slot] = value
+        self.times[slot] = step
+        self.size += 1
+
+    def reset(self, random_state: Any) -> None:
+        """Forget the last episode; sample the reset value at step 0."""
+        self.random_state = random_state
+        if self.direct:
+            self.sample(0)
+            return
+        self.size = 0
+        self._record(0)
+        self.ring[:] = self.ring[0]  # before the episode, the reset value held
+        self.times[:] = -np.inf
+        self.times[0] = 0
+
+    def finish(self, step: int) -> None:
+        """Write the observation visible after physics step `step` into the output array."""
+        limit = step - self.delay
+        end = self.size
+        times, ring_size = self.times, self.ring_size
+        while times[(end - 1) % ring_size] > limit:
+            end -= 1
+        buffer = self.buffer
+        np.take(self.ring, (end - self.buffer_size + self.window) % ring_size, axis=0, out=buffer)
+        if self.reduce is not None:
+            self.out[...] = self.reduce(buffer, axis=0)
+        elif self.buffer_size == 1:
+            self.out[...] = buffer[0]
+        else:
+            self.out[...] = buffer
+
+    def needed(self, step: int, substeps: int) -> bool:
+        """Whether a sample at physics step `step` will ever be shown (see `Updater`)."""
+        if step % self.interval:
+            return False
+        # The first control-step boundary at which it is visible, and the newest visible
+        # sample there: it is shown if it is among the buffer_size newest.
+        boundary = -(-(step + self.delay) // substeps) * substeps
+        newest = (boundary - self.delay) // self.interval * self.interval
+        return step >= newest - (self.buffer_size - 1) * self.interval
+
+
+class Updater:
+    """Samples enabled observables into preallocated arrays on their schedule."""
+
+    def __init__(
+        self,
+        observables: Mapping[str, Observable],
+        physics: Any,
+        substeps: int,
+        flatten: bool = False,
+    ) -> None:
+        """Resolve every observable in `physics` (sampled once to learn its shape and
+        type); raises ObservableError naming the observable that cannot be read."""
+        self.substeps = substeps
+        self.flatten = flatten
+        channels = [_Channel(name, observables[name], physics) for name in sorted(observables)]
+        self.channels = [c for c in channels if math.prod(c.output_shape) > 0]
+        self.names = [c.name for c in self.channels]
+        self._allocate()
+        self.delayed = [c for c in self.channels if not c.direct]
+        self.plan, self.substep_plan = self._make_plans()
+
+    def _allocate(self) -> None:
+        if self.flatten:
+            sizes = [math.prod(c.output_shape) for c in self.channels]
+            self.flat = np.zeros(sum(sizes), dtype=np.float64)
+            start = 0
+            for channel, size in zip(self.channels, sizes, strict=True):
+                channel.allocate(self.flat[start : start + size].reshape(channel.output_shape))
+                start += size
+            lows = [c.low.ravel() for c in self.channels]
+            highs = [c.high.ravel() for c in self.channels]
+            self.observation_space: spaces.Space = spaces.Box(
+                np.concatenate(lows) if lows else np.zeros(0),
+                np.concatenate(highs) if highs else np.zeros(0),
+                dtype=np.float64,
+            )
+            return
+        boxes = {}
+        for channel in self.channels:
+            channel.allocate(np.zeros(channel.output_shape, dtype=channel.dtype))
+            boxes[channel.name] = _box(channel.low, channel.high, channel.dtype)
+        self.observation_space = spaces.Dict(boxes)
+        self.outputs = [(c.name, c.out) for c in self.channels]
+
+    def _make_plans(self) -> tuple[Plan, list[list[list[tuple[Sample, int]]]]]:
+        """Per control-step phase: runs of physics steps, each followed by the samples due.
+
+        The schedule repeats every `period` control steps, the least common multiple of
+        each observable's interval with the substeps, counted in control steps.
+        """
+        substeps = self.substeps
+        period = 1
+        for channel in self.channels:
+            period = math.lcm(period, math.lcm(channel.interval, substeps) // substeps)
+        plan: Plan = []
+        substep_plan = []
+        for phase in range(period):
+            runs: list[tuple[int, list[tuple[Sample, int]]]] = []
+            per_substep = []
+            pending = 0
+            for offset in range(1, substeps + 1):
+                step = phase * substeps + offset
+                due = [(c.sample, offset) for c in self.channels if c.needed(step, substeps)]
+                per_substep.append(due)
+                pending += 1
+                if due:
+                    runs.append((pending, due))
+                    pending = 0
+            if pending:
+                runs.append((pending, []))
+            plan.append(runs)
+            substep_plan.append(per_substep)
+        return plan, substep_plan
+
+    def reset(self, random_state: Any) -> dict[str, np.ndarray] | np.ndarray:
+        """Start an episode: sample every observable at step 0; the first observation."""
+        for channel in self.channels:
+            channel.reset(random_state)
+        return self.observation(0)
+
+    def observation(self, step: int) -> dict[str, np.ndarray] | np.ndarray:
+        """The observation after physics step `step` (counted from reset), as new arrays."""
+        for channel in self.delayed:
+            channel.finish(step)
+        if self.flatten:
+            return self.flat.copy()
+        return {name: out.copy() for name, out in self.outputs}
+
+
+def _box(low: np.ndarray, high: np.ndarray, dtype: np.dtype) -> spaces.Box:
+    if np.issubdtype(dtype, np.integer):
+        info = np.iinfo(dtype)
+        low, high = np.clip(low, info.min, info.max), np.clip(high, info.min, info.max)
+    return spaces.Box(low.astype(dtype), high.astype(dtype), dtype=dtype)

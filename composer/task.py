@@ -1,0 +1,221 @@
+"""Tasks: what the agent should do in a scene of entities.
+
+    class Reach(composer.Task):
+        def __init__(self):
+            self._arena = composer.Arena()
+            self._arm = Arm()
+            self._arena.attach(self._arm)
+            self.set_timesteps(control_timestep=0.02, physics_timestep=0.005)  # 4 substeps
+
+        @property
+        def root_entity(self):
+            return self._arena
+
+        def get_reward(self, physics):
+            return -float(np.linalg.norm(physics.bind(self._arm.tip).xpos))
+
+A task names the scene's root entity, its timesteps, its reward, when an episode ends, and
+extra `task_observables`. By default the action is every actuator's control, in model
+order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
+to `physics.data.ctrl`. The hooks are those of entities (see `composer.hooks` for the order);
+the task's `before_step` and `before_substep` also get the action.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import mujoco
+import numpy as np
+from gymnasium import spaces
+
+import mjcf
+from composer import errors, hooks
+from composer.entity import Entity
+from composer.observation import Observable
+
+_DEFAULT_PHYSICS_TIMESTEP = float(mujoco.MjOption().timestep)
+_TOLERANCE = 1e-6
+
+
+class Task:
+    """The goal: root entity, timesteps, reward, termination, observables and hooks."""
+
+    _control_timestep: float | None = None
+
+    @property
+    def root_entity(self) -> Entity:
+        """The entity at the root of the scene (usually an Arena)."""
+        raise NotImplementedError(f"{type(self).__name__} must define root_entity")
+
+    # -- timesteps -----------------------------------------------------------------------
+
+    @property
+    def physics_timestep(self) -> float:
+        """The physics timestep: the root model's `option.timestep` (MuJoCo's default if
+        unset)."""
+        timestep = self.root_entity.mjcf_model.option.timestep
+        return _DEFAULT_PHYSICS_TIMESTEP if timestep is None else float(timestep)
+
+    @physics_timestep.setter
+    def physics_timestep(self, value: float) -> None:
+        self.set_timesteps(self._control_timestep or value, value)
+
+    @property
+    def control_timestep(self) -> float:
+        """The agent's timestep, a multiple of the physics timestep (default: equal)."""
+        if self._control_timestep is None:
+            return self.physics_timestep
+        return self._control_timestep
+
+    @control_timestep.setter
+    def control_timestep(self, value: float) -> None:
+        self.set_timesteps(value, self.physics_timestep)
+
+    def set_timesteps(self, control_timestep: float, physics_timestep: float) -> None:
+        """Set both timesteps (physics: in the root model's option). Raises TaskError if
+        either is not positive or the control timestep is not a multiple of the physics one."""
+        _substeps(self, control_timestep, physics_timestep)
+        self.root_entity.mjcf_model.option.timestep = physics_timestep
+        self._control_timestep = float(control_timestep)
+
+    @property
+    def physics_steps_per_control_step(self) -> int:
+        """Physics steps per control step; raises TaskError if the timesteps do not divide."""
+        return _substeps(self, self.control_timestep, self.physics_timestep)
+
+    # -- what the agent sees and does ----------------------------------------------------
+
+    @property
+    def task_observables(self) -> dict[str, Observable]:
+        """Observables of the task itself, by name (no entity prefix); none by default."""
+        return {}
+
+    @property
+    def observables(self) -> dict[str, Observable]:
+        """Every observable of the task and its entities, named as in observations:
+        'name' for the task's, 'arm/name' for an entity's (the root entity's model name,
+        or an attached entity's scope, 'arm/gripper/name'). Raises TaskError for a name
+        two observables share."""
+        found = dict(self.task_observables)
+        root = self.root_entity
+        for entity in root.iter_entities():
+            prefix = _scope(entity, root)
+            for name, item in entity.observables.items():
+                full = f"{prefix}/{name}"
+                if full in found:
+                    raise errors.TaskError(
+                        f"two observables are named {full!r}: rename one of them "
+                        f"(entity {entity.name!r})"
+                    )
+                found[full] = item
+        return found
+
+    def enabled_observables(self) -> dict[str, Observable]:
+        """The enabled ones of `observables`: what observations contain."""
+        return {name: item for name, item in self.observables.items() if item.enabled}
+
+    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
+        """A float32 Box (as Gymnasium's MuJoCo envs and stable-baselines3 expect) over every
+        actuator's control, bounded by its ctrlrange where it is control-limited,
+        unbounded otherwise. MuJoCo clamps controls to ctrlrange itself."""
+        model = physics.model
+        limited = model.actuator_ctrllimited.astype(bool)
+        low = np.where(limited, model.actuator_ctrlrange[:, 0], -np.inf)
+        high = np.where(limited, model.actuator_ctrlrange[:, 1], np.inf)
+        return spaces.Box(low.astype(np.float32), high.astype(np.float32), dtype=np.float32)
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        """The reward of the control step that just ended."""
+        raise NotImplementedError(f"{type(self).__name__} must implement get_reward(physics)")
+
+    def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
+        """Whether the episode ended in a terminal state (not a time limit); False here."""
+        return False
+
+    def get_discount(self, physics: mjcf.Physics) -> float:
+        """The discount of the step (dm_env style, in info['discount']); 1.0 here."""
+        return 1.0
+
+    # -- hooks (see composer.hooks for the order) ----------------------------------------
+
+    @hooks.noop
+    def initialize_episode_mjcf(self, random_state: np.random.RandomState) -> None:
+        """Before compiling, each episode: change the MJCF model (recompiled if changed)."""
+
+    @hooks.noop
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After each compile: resolve bindings, cache indices."""
+
+    @hooks.noop
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """After the physics is reset, each episode: set the initial state."""
+
+    def before_step(
+        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
+    ) -> None:
+        """Each control step, first: apply `action`; here, write it to every actuator's ctrl."""
+        physics.data.ctrl[:] = action
+
+    @hooks.noop
+    def before_substep(
+        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
+    ) -> None:
+        """Before each physics step."""
+
+    @hooks.noop
+    def after_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After each physics step."""
+
+    @hooks.noop
+    def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After the physics steps of a control step, before observations are read."""
+
+
+class NullTask(Task):
+    """A task around `root_entity` with zero reward and no termination: for looking at a
+    scene, benchmarks and tests."""
+
+    def __init__(self, root_entity: Entity) -> None:
+        """Serve `root_entity`'s scene."""
+        self._root_entity = root_entity
+
+    @property
+    def root_entity(self) -> Entity:
+        """The entity given at construction."""
+        return self._root_entity
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        """Always 0.0."""
+        return 0.0
+
+
+def _substeps(task: Task, control_timestep: Any, physics_timestep: Any) -> int:
+    for label, value in (("control", control_timestep), ("physics", physics_timestep)):
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise errors.TaskError(
+                f"{type(task).__name__}: the {label} timestep must be a positive number, "
+                f"got {value!r}"
+            )
+    ratio = control_timestep / physics_timestep
+    substeps = round(ratio)
+    if substeps < 1 or abs(ratio - substeps) > _TOLERANCE * max(1.0, ratio):
+        raise errors.TaskError(
+            f"{type(task).__name__}: the control timestep {control_timestep!r} must be a "
+            f"multiple of the physics timestep {physics_timestep!r} (ratio {ratio:.6g})"
+        )
+    return substeps
+
+
+def _scope(entity: Entity, root: Entity) -> str:
+    """'arm/gripper' for an entity attached (through 'arm') under the root; the root's name."""
+    if entity is root:
+        return entity.name
+    parts = []
+    while entity is not root and entity is not None:
+        parts.append(entity.name)
+        entity = entity.parent
+    return "/".join(reversed(parts))
