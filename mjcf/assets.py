@@ -123,15 +123,34 @@ def file_path(element: Element, text: str) -> str:
     if compiler._attrs.get("strippath") == "true":
         text = os.path.basename(text)
     if os.path.isabs(text):
-        return text
+        path = text
+        confine = element.root._confine_to
+        if confine is not None and not _inside(os.path.realpath(path), confine):
+            raise errors.AssetError(
+                f"{element.path}: file {text!r} is outside the model's folder {confine!r}, "
+                "which strict_paths forbids"
+            )
+        return path
     directory_setting = _DIRECTORY.get(element._spec.tag)
     directory = ""
     if directory_setting is not None:
         directory = compiler._attrs.get(directory_setting) or compiler._attrs.get("assetdir") or ""
     if directory and os.path.isabs(directory):
-        return os.path.join(directory, text)
-    base = element.root.model_dir or os.getcwd()
-    return os.path.normpath(os.path.join(base, directory, text))
+        path = os.path.join(directory, text)
+    else:
+        base = element.root.model_dir or os.getcwd()
+        path = os.path.normpath(os.path.join(base, directory, text))
+    confine = element.root._confine_to
+    if confine is not None and not _inside(os.path.realpath(path), confine):
+        raise errors.AssetError(
+            f"{element.path}: file {text!r} is outside the model's folder {confine!r}, which "
+            "strict_paths forbids"
+        )
+    return path
+
+
+def _inside(path: str, folder: str) -> bool:
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
 @functools.lru_cache(maxsize=65536)

@@ -47,13 +47,17 @@ def from_xml_string(
     model_dir: str = "",
     resolve_references: bool = True,
     assets: dict[str, bytes] | None = None,
+    strict_paths: bool = False,
 ) -> RootElement:
     """Parse MJCF text into a model. `model_dir` is where relative file names (meshes,
     includes) are found; `assets` supplies file contents by name; `escape_separators`
     accepts '/' in names (as '\\/'); `resolve_references` checks that every reference
-    names an existing element. Raises mjcf.ParseError for malformed XML and other
-    mjcf errors for schema violations."""
-    return _parse(xml_string, escape_separators, model_dir, resolve_references, assets, None)
+    names an existing element; `strict_paths` (for untrusted models) refuses included
+    and asset files outside `model_dir`. Raises mjcf.ParseError for malformed XML and
+    other mjcf errors for schema violations."""
+    return _parse(
+        xml_string, escape_separators, model_dir, resolve_references, assets, None, strict_paths
+    )
 
 
 def from_path(
@@ -61,6 +65,7 @@ def from_path(
     escape_separators: bool = False,
     resolve_references: bool = True,
     assets: dict[str, bytes] | None = None,
+    strict_paths: bool = False,
 ) -> RootElement:
     """Parse an MJCF file; its directory becomes the model's `model_dir`. Raises
     mjcf.ParseError if it cannot be read (see `from_xml_string` for the rest)."""
@@ -71,7 +76,9 @@ def from_path(
     except OSError as error:
         raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
     model_dir = os.path.dirname(os.path.abspath(path))
-    return _parse(data, escape_separators, model_dir, resolve_references, assets, path)
+    return _parse(
+        data, escape_separators, model_dir, resolve_references, assets, path, strict_paths
+    )
 
 
 def from_file(
@@ -80,15 +87,18 @@ def from_file(
     model_dir: str = "",
     resolve_references: bool = True,
     assets: dict[str, bytes] | None = None,
+    strict_paths: bool = False,
 ) -> RootElement:
     """Parse MJCF from an open file (text or binary); `model_dir` defaults to the
-    file's directory when it has a name."""
+    file's directory when it has a name (see `from_xml_string` for the rest)."""
     data = file_object.read()
     name = getattr(file_object, "name", None)
     if not model_dir and isinstance(name, str) and os.path.exists(name):
         model_dir = os.path.dirname(os.path.abspath(name))
-    return _parse(data, escape_separators, model_dir, resolve_references, assets,
-                  name if isinstance(name, str) else None)  # fmt: skip
+    filename = name if isinstance(name, str) else None
+    return _parse(
+        data, escape_separators, model_dir, resolve_references, assets, filename, strict_paths
+    )
 
 
 def _parse(
@@ -98,6 +108,7 @@ def _parse(
     resolve_references: bool,
     assets: dict[str, bytes] | None,
     filename: str | None,
+    strict_paths: bool,
 ) -> RootElement:
     xml_root = _read_xml(data, filename)
     if xml_root.tag != "mujoco":
@@ -109,7 +120,8 @@ def _parse(
     included: set[str] = set()
     if filename is not None:
         included.add(os.path.abspath(filename))
-    _expand_includes(xml_root, model_dir or os.getcwd(), filename, assets or {}, included)
+    confine = os.path.realpath(model_dir or os.getcwd()) if strict_paths else None
+    _expand_includes(xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine)
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
@@ -119,10 +131,13 @@ def _parse(
             )
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
+    object.__setattr__(root, "_confine_to", confine)
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
     if resolve_references:
         builder.check_references()
+    if strict_paths:
+        builder.check_files()
     return root
 
 
@@ -146,7 +161,12 @@ def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
 
 
 def _expand_includes(
-    element: etree._Element, model_dir: str, filename: str | None, assets: dict, included: set[str]
+    element: etree._Element,
+    model_dir: str,
+    filename: str | None,
+    assets: dict,
+    included: set[str],
+    confine: str | None,
 ) -> None:
     """Replace every <include file=...> below `element` by the children of the
     included file's root, recursively, as MuJoCo does."""
@@ -157,7 +177,7 @@ def _expand_includes(
         where = _where(filename, include)
         if not file_attr:
             raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
-        data, path = _include_source(file_attr, model_dir, filename, assets, where)
+        data, path = _include_source(file_attr, model_dir, filename, assets, where, confine)
         key = os.path.abspath(path) if path else "asset:" + file_attr
         if key in included:
             raise errors.ParseError(
@@ -168,7 +188,7 @@ def _expand_includes(
             raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
         included.add(key)
         included_root = _read_xml(data, path or file_attr)
-        _expand_includes(included_root, model_dir, path or file_attr, assets, included)
+        _expand_includes(included_root, model_dir, path or file_attr, assets, included, confine)
         children = [c for c in included_root if isinstance(c.tag, str)]
         if not children:
             raise errors.ParseError(f"{where}: included file {file_attr!r} has no elements")
@@ -180,13 +200,26 @@ def _expand_includes(
 
 
 def _include_source(
-    file_attr: str, model_dir: str, filename: str | None, assets: dict, where: str
+    file_attr: str,
+    model_dir: str,
+    filename: str | None,
+    assets: dict,
+    where: str,
+    confine: str | None,
 ) -> tuple[bytes, str | None]:
     """The contents and path of an included file: from `assets`, else relative to the
-    main model's directory, else to the including file's directory (MuJoCo's order)."""
+    main model's directory, else to the including file's directory (MuJoCo's order);
+    within `confine` (a real path) if given."""
     for key in (file_attr, os.path.basename(file_attr)):
         if key in assets:
             return assets[key], None
+    if confine is not None:
+        real = os.path.realpath(os.path.join(model_dir, file_attr))
+        if os.path.isabs(file_attr) or not is_inside(real, confine):
+            raise errors.ParseError(
+                f"{where}: included file {file_attr!r} is outside the model's folder "
+                f"{confine!r}, which strict_paths forbids"
+            )
     candidates = [file_attr] if os.path.isabs(file_attr) else [os.path.join(model_dir, file_attr)]
     if filename is not None and not os.path.isabs(file_attr):
         candidates.append(os.path.join(os.path.dirname(os.path.abspath(filename)), file_attr))
@@ -201,6 +234,11 @@ def _include_source(
                 ) from None
     looked = ", ".join(map(repr, candidates))
     raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
+
+
+def is_inside(path: str, folder: str) -> bool:
+    """Whether real path `path` is `folder` or inside it."""
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
 def _where(filename: str | None, element: etree._Element) -> str:
@@ -336,6 +374,17 @@ class _Builder:
                             object.__setattr__(root, "_escaped_names", True)
             if len(xml):
                 self._children(element, xml)
+
+    def check_files(self) -> None:
+        """Raise mjcf.AssetError for a file attribute naming a file outside the model's
+        folder (strict paths)."""
+        from mjcf import assets
+
+        for element in self.root.iter():
+            for name in element._spec.file_attributes.intersection(element._attrs):
+                value = element._attrs[name]
+                if value not in self.root.assets:
+                    assets.file_path(element, value)
 
     def check_references(self) -> None:
         """Raise mjcf.ReferenceError for references to elements that do not exist."""

@@ -31,6 +31,7 @@ class RootElement(Element):
     __slots__ = (
         "_assets",
         "_attachments",
+        "_confine_to",
         "_escaped_names",
         "_frame",
         "_model_dir",
@@ -44,6 +45,7 @@ class RootElement(Element):
     _assets: dict[str, bytes]
     _frame: Any
     _attachments: list[Any]
+    _confine_to: str | None
     _escaped_names: bool
     _referenced_unnamed: set[Element]
     _version: int
@@ -65,6 +67,8 @@ class RootElement(Element):
         setter(self, "_frame", None)
         # Frames of the models attached to this one, in the order they were attached.
         setter(self, "_attachments", [])
+        # With strict_paths, the real folder that every file of the model must be in.
+        setter(self, "_confine_to", None)
         # True once a name with an escaped separator ('a\\/b') is in the model.
         setter(self, "_escaped_names", False)
         # Unnamed elements that references point at: they get generated names.

@@ -1,0 +1,120 @@
+"""Untrusted MJCF: no entity expansion, no file or network access through XML, bounded
+work on hostile documents, and only mjcf errors out of the public API."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import mjcf
+from tests.conftest import GYM_ASSETS, MUJOCO_TESTDATA
+
+XXE = """<?xml version="1.0"?>
+<!DOCTYPE mujoco [<!ENTITY secret SYSTEM "file:///etc/passwd">]>
+<mujoco model="&secret;"><worldbody/></mujoco>"""
+
+LAUGHS = (
+    '<?xml version="1.0"?><!DOCTYPE lolz [<!ENTITY lol "lol">'
+    + "".join(
+        f'<!ENTITY lol{i} "{("&lol" + (str(i - 1) if i > 1 else "") + ";") * 10}">'
+        for i in range(1, 10)
+    )
+    + ']><mujoco model="&lol9;"/>'
+)
+
+
+def test_external_entities_are_refused_without_reading() -> None:
+    with pytest.raises(mjcf.ParseError, match="DTD|entity") as caught:
+        mjcf.from_xml_string(XXE)
+    assert "root:" not in str(caught.value)
+
+
+def test_entity_expansion_bomb_is_refused_quickly() -> None:
+    start = time.perf_counter()
+    with pytest.raises(mjcf.ParseError):
+        mjcf.from_xml_string(LAUGHS)
+    assert time.perf_counter() - start < 5  # a guard against hanging, not a benchmark
+
+
+def test_deep_nesting_is_refused() -> None:
+    depth = 100_000
+    text = "<mujoco><worldbody>" + "<body>" * depth + "</body>" * depth + "</worldbody></mujoco>"
+    with pytest.raises(mjcf.ParseError, match="malformed XML"):
+        mjcf.from_xml_string(text)
+
+
+def test_strict_paths_refuse_includes_outside_the_model_folder(tmp_path: Path) -> None:
+    outside = tmp_path / "outside.xml"
+    outside.write_text("<mujoco><worldbody><geom size='1'/></worldbody></mujoco>")
+    folder = tmp_path / "model"
+    folder.mkdir()
+    (folder / "up.xml").write_text('<mujoco><include file="../outside.xml"/></mujoco>')
+    (folder / "absolute.xml").write_text(f'<mujoco><include file="{outside}"/></mujoco>')
+    assert mjcf.from_path(folder / "up.xml").worldbody.geom  # trusted: as MuJoCo resolves it
+    for name in ("up.xml", "absolute.xml"):
+        with pytest.raises(mjcf.ParseError, match="outside the model's folder"):
+            mjcf.from_path(folder / name, strict_paths=True)
+
+
+def test_strict_paths_refuse_asset_files_outside_the_model_folder(tmp_path: Path) -> None:
+    mesh = tmp_path / "secret.msh"
+    mesh.write_bytes((MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes())
+    folder = tmp_path / "model"
+    folder.mkdir()
+    for file in ("../secret.msh", str(mesh)):
+        path = folder / "model.xml"
+        path.write_text(f'<mujoco><asset><mesh name="m" file="{file}"/></asset></mujoco>')
+        with pytest.raises(mjcf.AssetError, match="outside the model's folder"):
+            mjcf.from_path(path, strict_paths=True)
+        assert mjcf.from_path(path).get_assets()  # trusted: found as MuJoCo finds it
+    # A path that escapes only after an edit is refused when the file is used.
+    path.write_text('<mujoco><asset><mesh name="m" file="secret.msh"/></asset></mujoco>')
+    model = mjcf.from_path(path, strict_paths=True)
+    model.compiler.meshdir = ".."
+    with pytest.raises(mjcf.AssetError, match="outside the model's folder"):
+        mjcf.Physics.from_mjcf_model(model)
+
+
+def _corpus() -> list[str]:
+    files = [GYM_ASSETS / "ant.xml", GYM_ASSETS / "humanoid.xml", MUJOCO_TESTDATA / "model.xml"]
+    return [f.read_text() for f in files]
+
+
+@st.composite
+def _mutated(draw) -> str:
+    text = draw(st.sampled_from(_corpus()))
+    for _ in range(draw(st.integers(1, 4))):
+        position = draw(st.integers(0, len(text)))
+        kind = draw(st.sampled_from(["delete", "insert", "replace", "swap-quote"]))
+        if kind == "delete":
+            text = text[:position] + text[position + draw(st.integers(1, 20)) :]
+        elif kind == "insert":
+            snippet = draw(st.sampled_from(
+                ['<geom size="1"/>', "<body>", "</body>", 'name="torso"', ' class="x"',
+                 ' pos="1 2"', ' type="nope"', "&amp;", "<include file='x.xml'/>",
+                 ' joint="nothing"', "<frame>", "<replicate count='2'>", "\x00", "é"]
+            ))  # fmt: skip
+            text = text[:position] + snippet + text[position:]
+        elif kind == "replace":
+            text = text[:position] + draw(st.text(max_size=5)) + text[position + 5 :]
+        else:
+            text = text.replace('"', "'", 1)
+    return text
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_mutated())
+def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
+    """Whatever a mutated real model does, only mjcf.Error subclasses escape reading,
+    writing and compiling it."""
+    try:
+        model = mjcf.from_xml_string(text, model_dir=str(GYM_ASSETS))
+        xml = model.to_xml_string()
+        mjcf.from_xml_string(xml, model_dir=str(GYM_ASSETS), resolve_references=False)
+        mjcf.Physics.from_mjcf_model(model)
+    except mjcf.Error:
+        pass
