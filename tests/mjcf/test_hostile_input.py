@@ -28,7 +28,7 @@ LAUGHS = (
 
 
 def test_external_entities_are_refused_without_reading() -> None:
-    with pytest.raises(mjcf.ParseError, match="DTD|entity") as caught:
+    with pytest.raises(mjcf.ParseError, match=r"DTD|entity") as caught:
         mjcf.from_xml_string(XXE)
     assert "root:" not in str(caught.value)
 
