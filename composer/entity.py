@@ -27,7 +27,7 @@ An entity's observables are built on first access to `observables` by `_build_ob
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
 import mujoco
@@ -68,9 +68,10 @@ def _declared(cls: type) -> dict[str, observable]:
     return found
 
 
-class Observables:
-    """The named observables of one entity: `obs['name']`, `obs.name`, iteration over
-    names. Subclass it with `@observable` methods that use `self._entity`."""
+class Observables(Mapping[str, Observable]):
+    """The named observables of one entity, a read-only mapping: `obs['name']`,
+    `obs.name`, `obs.items()`. Subclass it with `@observable` methods that use
+    `self._entity`."""
 
     def __init__(self, entity: Entity) -> None:
         """Create every `@observable` of `entity`'s class and of this class."""
@@ -124,6 +125,10 @@ class Observables:
             raise AttributeError(name)
         return self[name]
 
+    def get(self, name: str, default: Any = None) -> Any:
+        """The observable `name`, or `default`."""
+        return self._items.get(name, default)
+
     def __contains__(self, name: object) -> bool:
         return name in self._items
 
@@ -132,14 +137,6 @@ class Observables:
 
     def __len__(self) -> int:
         return len(self._items)
-
-    def keys(self) -> list[str]:
-        """The observable names, in declaration order."""
-        return list(self._items)
-
-    def items(self) -> list[tuple[str, Observable]]:
-        """(name, observable) pairs, in declaration order."""
-        return list(self._items.items())
 
 
 class Entity:
