@@ -1,0 +1,98 @@
+"""Entities and arenas: the entity tree, attachment, free-body poses and velocities."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+import composer
+import mjcf
+from tests.composer.scenes import Block, Pendulum
+
+
+def test_attach_detach_and_iterate_the_entity_tree():
+    arena, arm, gripper = composer.Arena(), Pendulum("arm"), Pendulum("gripper")
+    frame = arena.attach(arm)
+    arm.attach(gripper, attach_site=arm.tip)
+    assert [e.name for e in arena.iter_entities()] == ["arena", "arm", "gripper"]
+    assert gripper.parent is arm and arm.attachment_frame is frame
+    assert arena.mjcf_model.find("joint", "arm/gripper/hinge") is gripper.hinge
+    with pytest.raises(composer.EntityError, match="'gripper' is already attached to 'arm'"):
+        arena.attach(gripper)
+    gripper.detach()
+    assert [e.name for e in arena.iter_entities()] == ["arena", "arm"]
+    assert arena.mjcf_model.find("joint", "arm/gripper/hinge") is None
+    with pytest.raises(composer.EntityError, match="'gripper' is not attached"):
+        gripper.detach()
+    with pytest.raises(composer.EntityError, match="cannot attach entity 'arm2'"):
+        arena.attach(Pendulum("arm2"), attach_site=arena.floor)
+
+
+def test_an_entity_must_build_a_model():
+    class Empty(composer.Entity):
+        def _build(self):
+            pass
+
+    with pytest.raises(composer.EntityError, match=r"Empty._build\(\) must set self._mjcf_root"):
+        _ = Empty().mjcf_model
+    with pytest.raises(composer.EntityError, match="RootElement"):
+        composer.Entity.from_mjcf_model("not a model")
+
+
+def test_actuators_are_the_entity_own():
+    arm, gripper = Pendulum("arm"), Pendulum("gripper")
+    arm.attach(gripper)
+    assert arm.actuators == [arm.motor] and gripper.actuators == [gripper.motor]
+
+
+def test_arena_has_floor_light_and_sky_and_compiles():
+    arena = composer.Arena(name="room", floor_size=(3, 4))
+    physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+    np.testing.assert_array_equal(physics.bind(arena.floor).size, [3, 4, 0.1])
+    assert physics.model.nlight == 1 and physics.model.ntex == 2
+    plain = composer.Arena(floor_rgba=[1, 0, 0, 1])
+    np.testing.assert_array_equal(plain.floor.rgba, [1, 0, 0, 1])
+
+
+def free_block_scene():
+    arena, block = composer.Arena(), Block()
+    arena.add_free_entity(block)
+    return arena, block, mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+
+
+def test_set_pose_and_get_pose_of_a_free_entity():
+    _, block, physics = free_block_scene()
+    quat = [np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)]  # 90 degrees about z
+    block.set_pose(physics, position=[1, 2, 3], quaternion=quat)
+    physics.forward()
+    np.testing.assert_allclose(physics.bind(block.body).xpos, [1, 2, 3])
+    position, quaternion = block.get_pose(physics)
+    np.testing.assert_allclose(position, [1, 2, 3])
+    np.testing.assert_allclose(quaternion, quat)
+    block.set_pose(physics, position=[0, 0, 1])  # keeps the orientation
+    np.testing.assert_allclose(block.get_pose(physics)[1], quat)
+
+
+def test_set_velocity_takes_world_frame_angular_velocity():
+    _, block, physics = free_block_scene()
+    block.set_pose(physics, quaternion=[np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)])
+    block.set_velocity(physics, velocity=[1, 0, 0], angular_velocity=[1, 0, 0])
+    physics.forward()
+    qvel = physics.bind(mjcf.get_frame_freejoint(block.mjcf_model)).qvel
+    np.testing.assert_allclose(qvel[:3], [1, 0, 0])
+    np.testing.assert_allclose(qvel[3:], [0, -1, 0], atol=1e-12)  # x in the rotated body frame
+    velocity = np.zeros(6)
+    mujoco.mj_objectVelocity(
+        physics.model, physics.data, mujoco.mjtObj.mjOBJ_BODY, physics.bind(block.body).ids,
+        velocity, 0,
+    )  # fmt: skip
+    np.testing.assert_allclose(velocity[:3], [1, 0, 0], atol=1e-12)  # world angular velocity
+
+
+def test_posing_a_fixed_entity_is_an_error_naming_it():
+    arena, arm = composer.Arena(), Pendulum("arm")
+    arena.attach(arm)
+    physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+    with pytest.raises(composer.EntityError, match="entity 'arm' has no free joint"):
+        arm.set_pose(physics, position=[0, 0, 1])
