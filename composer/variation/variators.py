@@ -87,23 +87,31 @@ class PhysicsVariator:
         """Vary field `<name>` of `element`'s binding by each variation."""
         for field, variation in variations.items():
             self._bound.append((element, field, variation))
-        self._model = None  # initial values are taken again at the next application
 
     def apply_variations(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Write a new value to every bound field. Raises VariationError naming the element
         and field when it cannot be bound or written."""
-        try:
-            if physics.model is not self._model:  # compiled anew: its values are the initial
-                self._initial = [
-                    _copy(np.array(getattr(physics.bind(element), field)))
-                    for element, field, _ in self._bound
-                ]
-                self._model = physics.model
-            for (element, field, variation), initial in zip(
-                self._bound, self._initial, strict=True
-            ):
-                binding = physics.bind(element)
-                current = getattr(binding, field)
-                setattr(binding, field, evaluate(variation, initial, current, random_state))
-        except mjcf.Error as e:
-            raise errors.VariationError(f"cannot vary a physics field: {e}") from e
+        if physics.model is not self._model:  # compiled anew: its values are the initial ones
+            self._initial = []
+            self._model = physics.model
+        for element, field, _ in self._bound[len(self._initial) :]:  # bound since
+            self._initial.append(_read(physics, element, field))
+        for (element, field, variation), initial in zip(self._bound, self._initial, strict=True):
+            current = _read(physics, element, field)
+            value = evaluate(variation, initial, current, random_state)
+            try:
+                setattr(physics.bind(element), field, value)
+            except mjcf.Error as e:
+                raise errors.VariationError(
+                    f"{element.path}: cannot set physics field {field!r} to {value!r}: {e}"
+                ) from e
+
+
+def _read(physics: mjcf.Physics, element: mjcf.Element, field: str) -> np.ndarray:
+    """A copy of `physics.bind(element).<field>`; raises VariationError naming both."""
+    try:
+        return np.array(getattr(physics.bind(element), field))
+    except mjcf.Error as e:
+        raise errors.VariationError(
+            f"{element.path}: cannot vary physics field {field!r}: {e}"
+        ) from e
