@@ -9,6 +9,7 @@ import composer
 import mjcf
 from composer import observation
 from tests.composer.scenes import Pendulum, SwingTask
+from tests.conftest import gym_model
 
 
 def test_substeps_follow_from_the_timesteps():
@@ -77,3 +78,15 @@ def test_a_recompile_that_changes_a_space_is_refused():
     env = composer.Environment(Growing())
     with pytest.raises(composer.TaskError, match="action space changed"):
         env.reset(seed=0)
+
+
+def test_an_entity_timestep_is_the_scene_timestep_and_set_timesteps_keeps_them_agreeing():
+    arena, humanoid = composer.Arena(), composer.Entity.from_path(gym_model("humanoid"))
+    arena.mjcf_model.compiler.inertiafromgeom = "true"  # as humanoid.xml sets it
+    arena.attach(humanoid)
+    task = composer.NullTask(arena)
+    assert task.physics_timestep == 0.003  # humanoid.xml's own
+    task.set_timesteps(control_timestep=0.01, physics_timestep=0.005)
+    assert humanoid.mjcf_model.option.timestep == arena.mjcf_model.option.timestep == 0.005
+    env = composer.Environment(task)
+    assert env.physics.timestep() == 0.005 and env.control_timestep == pytest.approx(0.01)
