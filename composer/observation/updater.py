@@ -45,8 +45,8 @@ class _Channel:
             self.read = observable.reader(physics)
             value = np.asarray(self.read())
         except errors.Error:
-            raise
-        except Exception as e:
+            raise  # composer's own, already explicit
+        except Exception as e:  # a user's function or a binding failed: say which observable
             raise errors.ObservableError(
                 f"observable {name!r} could not be read: {type(e).__name__}: {e}"
             ) from e
@@ -58,8 +58,9 @@ class _Channel:
         self.corruptor = observable.corruptor
         aggregator = observable.aggregator
         self.reduce = _REDUCERS.get(aggregator, aggregator) if aggregator is not None else None
-        if self.reduce is not None and not np.issubdtype(dtype, np.floating):
-            dtype = np.dtype(np.float64)  # a mean of integers is not an integer
+        floating = np.issubdtype(dtype, np.floating)
+        if (self.reduce is not None or self.corruptor is not None) and not floating:
+            dtype = np.dtype(np.float64)  # a mean of integers, or noise, is not an integer
         self.dtype = dtype
         self.low, self.high = self._bounds(observable, value)
         # Observations with one sample, on time, unchanged are copied straight to the output.
@@ -75,7 +76,7 @@ class _Channel:
         self.random_state: Any = None
 
     def _bounds(self, observable: Observable, value: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        given = observable.bounds if observable.bounds is not None else None
+        given = observable.bounds
         low, high = given if given is not None else observable.default_bounds(value)
         try:
             low = np.broadcast_to(np.asarray(low, dtype=np.float64), value.shape).copy()
@@ -164,7 +165,8 @@ class _Channel:
             self.out[...] = buffer
 
     def needed(self, step: int, substeps: int) -> bool:
-        """Whether a sample at physics step `step` will ever be shown (see `Updater`)."""
+        """Whether a sample at physics step `step` will ever be in an observation, given
+        control-step boundaries every `substeps` physics steps."""
         if step % self.interval:
             return False
         # The first control-step boundary at which it is visible, and the newest visible

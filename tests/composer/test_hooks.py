@@ -127,6 +127,16 @@ def test_hooks_run_in_the_documented_order_on_task_then_entities_depth_first():
     assert calls == each("before_step") + substep + substep + each("after_step")
 
 
+def test_the_documented_hook_names_are_the_order_hooks_first_run_in():
+    calls: list = []
+    env = composer.Environment(RecordingTask(calls, recolor_on_episode=1))
+    calls.clear()
+    env.reset(seed=0)  # recompiles: every episode hook runs
+    env.step(np.zeros(3))
+    first_seen = list(dict.fromkeys(hook for _, hook in calls))
+    assert tuple(first_seen) == composer.HOOK_NAMES
+
+
 def test_only_overridden_hooks_are_dispatched():
     calls: list = []
     task = RecordingTask(calls)
