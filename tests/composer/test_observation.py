@@ -44,8 +44,17 @@ class ClockTask(composer.Task):
         return 0.0
 
 
-def observe(steps: int = 4, seed: int = 0, **observables) -> dict[str, list[np.ndarray]]:
-    env = composer.Environment(ClockTask(**observables))
+class SubstepClockTask(ClockTask):
+    """The same, with a substep hook: physics steps then run one at a time."""
+
+    def after_substep(self, physics, random_state):
+        self.substeps_seen = getattr(self, "substeps_seen", 0) + 1
+
+
+def observe(
+    steps: int = 4, seed: int = 0, task_class: type = ClockTask, **observables
+) -> dict[str, list[np.ndarray]]:
+    env = composer.Environment(task_class(**observables))
     obs, _ = env.reset(seed=seed)
     seen = {name: [obs[name]] for name in observables}
     for _ in range(steps):
@@ -81,8 +90,9 @@ def buffered(**options) -> observation.Observable:
 BUFFERS = [[0, 0, 0], [0, 0, 2], [2, 4, 6], [8, 10, 12], [12, 14, 16]]
 
 
-def test_buffer_with_interval_and_delay_matches_the_schedule_by_hand():
-    seen = observe(clock=buffered())["clock"]
+@pytest.mark.parametrize("task_class", [ClockTask, SubstepClockTask])
+def test_buffer_with_interval_and_delay_matches_the_schedule_by_hand(task_class):
+    seen = observe(task_class=task_class, clock=buffered())["clock"]
     np.testing.assert_allclose(np.stack(seen)[..., 0], BUFFERS)
 
 
