@@ -189,6 +189,7 @@ def test_mjcf_features_and_cameras_read_bound_elements():
     assert obs in space
     assert obs["angle"].shape == (1,) and obs["tip"].shape == ()
     np.testing.assert_allclose(obs["tip"], 0.5)  # the tip hangs 0.5 below the 1 m pivot
+    np.testing.assert_array_equal(task.task_observables["angle"](env.physics), obs["angle"])
     assert obs["image"].std() > 0
 
 
