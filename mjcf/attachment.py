@@ -97,7 +97,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     already attached, that would contain itself, or whose settings conflict, and
     mjcf.NameError if a model of the same name is attached here already; the tree is
     unchanged then."""
-    from mjcf import composition
+    from mjcf import settings
     from mjcf.root import RootElement
 
     if not isinstance(child, RootElement):
@@ -122,9 +122,9 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
                 f"model {child.model!r} cannot be attached inside itself ({place.path})"
             )
         model = model.parent_model
-    composition.check_compatible(place.root.namescope.root.model, child)
+    settings.check_compatible(place.root.namescope.root.model, child)
     if place.root.namescope.root.model is not place.root:
-        composition.check_compatible(place.root, child)
+        settings.check_compatible(place.root, child)
     body = place._parent if place._spec.tag == "site" else place
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
     object.__setattr__(frame, "_attached", child)

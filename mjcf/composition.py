@@ -10,11 +10,19 @@ written:
   `class` on its elements outside the world body; if the output model itself has
   global defaults and attachments, they move to a class '/' the same way, so that no
   model's defaults leak into another's;
-- compiler settings that only change how a model's numbers are read are converted to
-  the output model's: `angle` (euler, axisangle, and the range/ref/springref of hinge
-  and ball joints) and `eulerseq` (euler becomes quat); the other compiler settings
-  must agree, and `option`/`size`/`visual`/`statistic` values merge attribute by
-  attribute, a conflict between two explicit values being an `AttachmentError`.
+- compiler settings are those of each model, as in MuJoCo's own attachment: `angle`
+  (euler, axisangle, and the range/ref/springref of hinge and ball joints) and
+  `eulerseq` (euler becomes quat) are converted to the output model's; `autolimits`
+  is written "true" when models differ (a model with "false" states every limit);
+  `inertiafromgeom` takes a value under which every body of every model gets its
+  inertia the same way as alone ("true" and "auto" agree for a model without
+  `<inertial>`), else it is an `AttachmentError`; an attached model's `settotalmass`
+  becomes densities, masses and inertias scaled as it would scale them alone.
+  Settings that do not change an attached model's compiled values (`usethread`,
+  `passthrough` ...) are the output model's; the others must agree.
+- `option`/`visual`/`statistic` values merge attribute by attribute, a conflict
+  between two explicit values being an `AttachmentError`; `size` values are
+  capacities and merge to the largest.
 """
 
 from __future__ import annotations
@@ -24,7 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mjcf import attachment, defaults, errors, schema
+from mjcf import attachment, defaults, errors, settings
 from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 
@@ -33,14 +41,10 @@ if TYPE_CHECKING:
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
 
-# Compiler settings that locate files: assets are resolved per model and written with
-# final names, so these never reach the output.
-FILE_SETTINGS = frozenset({"meshdir", "texturedir", "assetdir", "strippath"})
-# Compiler settings converted per model instead of required to agree.
-_CONVERTED_SETTINGS = frozenset({"angle", "eulerseq"})
 _ANGLE_JOINT_ATTRIBUTES = ("range", "ref", "springref")
 _ANGLE_JOINT_TYPES = frozenset({"hinge", "ball"})
 MAIN = "main"
+_DEFAULT_DENSITY = 1000.0
 
 
 class ModelContext:
@@ -54,6 +58,7 @@ class ModelContext:
         "is_output",
         "main_class_written",
         "main_reference",
+        "mass_scale",
         "model",
         "plain",
         "prefix",
@@ -70,6 +75,7 @@ class ModelContext:
         self.inject_class = False
         self.angle_scale: float | None = None
         self.euler_seq: str | None = None
+        self.mass_scale: float | None = None
         self.plain = True
         self.rewrites = True
 
@@ -83,6 +89,7 @@ class ModelContext:
             and not self.inject_class
             and self.angle_scale is None
             and self.euler_seq is None
+            and self.mass_scale is None
             and not self.composition.auto_named
         )
 
@@ -131,6 +138,11 @@ class ModelContext:
             if converted:
                 override = override or {}
                 override.update(converted)
+        if self.mass_scale is not None:
+            scaled = self._scale_mass(element)
+            if scaled:
+                override = override or {}
+                override.update(scaled)
         return override
 
     def _class_attribute(self, element: Element, section: str) -> str | None:
@@ -156,12 +168,22 @@ class ModelContext:
         attrs = element._attrs
         scale = self.angle_scale or 1.0
         if "euler" in attrs:
-            euler = _numbers(element, "euler") * scale
+            euler = _numbers(element, "euler")
             if self.euler_seq is not None:
+                if "quat" not in element._spec.attributes:
+                    raise errors.AttachmentError(
+                        f"{element.path}: its euler angles are in sequence {self.euler_seq!r}, "
+                        "unlike the model it is attached to, and a "
+                        f"<{element.tag}> has no quat to convert them to; set the same "
+                        "<compiler eulerseq> on both models"
+                    )
+                radians = (
+                    math.pi / 180 if settings.setting(self.model, "angle") == "degree" else 1.0
+                )
                 out["euler"] = None
-                out["quat"] = _text(euler_to_quat(euler, self.euler_seq))
+                out["quat"] = _text(euler_to_quat(euler * radians, self.euler_seq))
             else:
-                out["euler"] = _text(euler)
+                out["euler"] = _text(euler * scale)
         if self.angle_scale is None:
             return out
         if "axisangle" in attrs:
@@ -177,17 +199,24 @@ class ModelContext:
                         out[name] = _text(np.atleast_1d(np.asarray(value, dtype=float)) * scale)
         return out
 
-
-class MergedSettings:
-    """The attributes and once-only children of a settings section, merged over the
-    models of one output."""
-
-    __slots__ = ("attributes", "children", "sources")
-
-    def __init__(self) -> None:
-        self.attributes: dict[str, str] = {}
-        self.children: dict[str, MergedSettings] = {}
-        self.sources: dict[str, tuple[RootElement, object]] = {}
+    def _scale_mass(self, element: Element) -> dict[str, str | None]:
+        """Masses and inertias of `element` scaled as the model's settotalmass would."""
+        spec = element._spec
+        scale = self.mass_scale
+        out: dict[str, str | None] = {}
+        if spec.namespace == "geom" and _in_body(element):
+            mass = defaults.effective_value(element, "mass")
+            if mass is not None:
+                out["mass"] = _text(np.atleast_1d(mass) * scale)
+            else:
+                density = defaults.effective_value(element, "density")
+                density = _DEFAULT_DENSITY if density is None else density
+                out["density"] = _text(np.atleast_1d(density) * scale)
+        elif spec.tag == "inertial" and _in_body(element):
+            for name in ("mass", "diaginertia", "fullinertia"):
+                if name in element._attrs:
+                    out[name] = _text(_numbers(element, name) * scale)
+        return out
 
 
 class Composition:
@@ -204,8 +233,8 @@ class Composition:
         self.auto_named = auto_name_all or any(m._referenced_unnamed for m in self._models)
         self._contexts: dict[RootElement, ModelContext] = {}
         moved = len(self._models) > 1 and _has_global_defaults(root)
-        root_angle = _setting(root, "angle")
-        root_seq = _setting(root, "eulerseq")
+        root_angle = settings.setting(root, "angle")
+        root_seq = settings.setting(root, "eulerseq")
         for model in self._models:
             context = ModelContext(self, model, model.namescope.prefix(root.namescope))
             if model is root:
@@ -215,19 +244,36 @@ class Composition:
             else:
                 context.main_class_written = context.main_reference = context.prefix
                 context.inject_class = True
-                angle = _setting(model, "angle")
+                angle = settings.setting(model, "angle")
                 if angle != root_angle:
                     context.angle_scale = math.pi / 180 if angle == "degree" else 180 / math.pi
-                seq = _setting(model, "eulerseq")
+                seq = settings.setting(model, "eulerseq")
                 if seq != root_seq:
                     context.euler_seq = seq
-            context.finish()
             self._contexts[model] = context
+        if self.has_attachments:
+            self._scale_masses()
+        for context in self._contexts.values():
+            context.finish()
+
+    def _scale_masses(self) -> None:
+        """Give each attached model with a settotalmass (and the models attached inside
+        it, which it scales too) the scale it applies when compiled alone."""
+        for model in self._models[1:]:
+            total = settings.setting(model, "settotalmass")
+            if total is None or total <= 0:
+                continue
+            scale = float(total) / settings.unscaled_mass(model)
+            for scaled in (model, *attachment.attached_models(model)):
+                context = self._contexts[scaled]
+                context.mass_scale = (context.mass_scale or 1.0) * scale
 
     def check(self) -> None:
         """Raise mjcf.AttachmentError if an attached model's settings conflict."""
         for model in self._models[1:]:
-            check_compatible(self.root, model)
+            settings.check_compatible(self.root, model)
+        if self.has_attachments:
+            settings.inertia_setting(self._models)
 
     def context(self, model: RootElement) -> ModelContext:
         """The context of `model`; raises mjcf.ReferenceError for a model that is not
@@ -249,16 +295,10 @@ class Composition:
 
     # -- settings -------------------------------------------------------------------------
 
-    def merged_settings(self, tag: str) -> MergedSettings:
-        """One settings section merged over all models; raises mjcf.AttachmentError
-        when two models set one value differently."""
-        merged = MergedSettings()
-        for model in self._models:
-            skip = FILE_SETTINGS if tag == "compiler" else frozenset()
-            if tag == "compiler" and model is not self.root:
-                skip = skip | _CONVERTED_SETTINGS
-            _merge_into(merged, model._section(tag), model, skip)
-        return merged
+    def merged_settings(self, tag: str) -> settings.MergedSettings:
+        """One settings section merged over all models (see `mjcf.settings`); raises
+        mjcf.AttachmentError when two models set one value differently."""
+        return settings.merged(self._models, tag)
 
     def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""
@@ -358,76 +398,6 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
     }
 
 
-def check_compatible(parent: RootElement, child: RootElement) -> None:
-    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: a
-    compiler setting that is not converted differs, or a setting both models give
-    explicitly differs."""
-    for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
-        if name in FILE_SETTINGS or name in _CONVERTED_SETTINGS:
-            continue
-        mine, theirs = _setting(parent, name), _setting(child, name)
-        if not _same(attribute, mine, theirs):
-            raise errors.AttachmentError(
-                f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
-                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on both"
-            )
-    for tag in ("option", "size", "visual", "statistic"):
-        merged = MergedSettings()
-        _merge_into(merged, parent._section(tag), parent, frozenset())
-        _merge_into(merged, child._section(tag), child, frozenset())
-
-
-def _merge_into(
-    merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
-) -> None:
-    tag = section._spec.tag
-    for name in section._attrs:
-        if name in skip:
-            continue
-        attribute = section._spec.attributes[name]
-        value = section._attrs[name]
-        text = value if type(value) is str else attribute.converter.to_text(value)
-        previous = merged.sources.get(name)
-        if previous is None:
-            merged.attributes[name] = text
-            merged.sources[name] = (model, section._get_value(attribute))
-            continue
-        other_model, other_value = previous
-        if not _same(attribute, other_value, section._get_value(attribute)):
-            raise errors.AttachmentError(
-                f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
-                f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
-                "one value: set the same value on both, or on neither"
-            )
-    for child in section._children:
-        if child._spec.repeated:
-            continue
-        target = merged.children.get(child._spec.tag)
-        if target is None:
-            target = merged.children[child._spec.tag] = MergedSettings()
-        _merge_into(target, child, model, frozenset())
-
-
-def _same(attribute: AttributeSpec, a: object, b: object) -> bool:
-    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-        a_array, b_array = np.asarray(a), np.asarray(b)
-        return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
-    return a == b
-
-
-def _setting(model: RootElement, name: str) -> object:
-    """A compiler setting of `model`: its explicit value, or MuJoCo's default."""
-    compiler = model._section("compiler")
-    attribute = compiler._spec.attributes[name]
-    value = compiler._get_value(attribute)
-    if value is None and attribute.default is not None:
-        try:
-            value = attribute.converter.from_text(attribute.default)
-        except ValueError:
-            value = attribute.default
-    return value
-
-
 def _has_global_defaults(root: RootElement) -> bool:
     return any(
         child._spec.tag != "default" and (child._attrs or child._children)
@@ -470,3 +440,16 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
         w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
     ])  # fmt: skip
+
+
+def _in_body(element: Element) -> bool:
+    """Whether `element` is inside a body (not static in the world body)."""
+    parent = element._parent
+    while parent is not None:
+        tag = parent._spec.tag
+        if tag == "body":
+            return True
+        if tag == "worldbody" or isinstance(parent, attachment.AttachmentFrame):
+            return False
+        parent = parent._parent
+    return False

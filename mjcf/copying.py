@@ -15,8 +15,8 @@ import copy
 from typing import TYPE_CHECKING, Any
 
 from mjcf import attachment, errors
-from mjcf.composition import _same
 from mjcf.namescope import unescape
+from mjcf.settings import same as _same
 
 if TYPE_CHECKING:
     from mjcf.element import Element

@@ -1,0 +1,276 @@
+"""Settings sections of composed models: how the `<compiler>`, `<option>`, `<size>`,
+`<visual>` and `<statistic>` of several models become the one a composed document has.
+
+    settings.check_compatible(scene, arm)     # at attach: raises mjcf.AttachmentError
+    settings.merged([scene, arm], 'option')   # the merged section, when writing
+
+Compiler settings are each model's own, as in MuJoCo's own attachment, so a composed
+model compiles every model's elements as that model alone would:
+
+- `angle` and `eulerseq` are converted element by element (see `mjcf.composition`);
+- `autolimits` is written "true" when models differ (a model with "false" states
+  every limit, so "true" reads it the same);
+- `inertiafromgeom` takes a value under which every body of every model gets its
+  inertia the same way as alone ("true" and "auto" agree for a model without
+  `<inertial>`), else it is an `AttachmentError`;
+- an attached model's `settotalmass` becomes its densities, masses and inertias scaled
+  by what it would scale them by alone (`unscaled_mass` compiles it once to know);
+- settings that do not change an attached model's compiled values (`usethread`,
+  `passthrough` ...) are the output model's; files are resolved per model, so
+  `meshdir`, `texturedir`, `assetdir` and `strippath` are never written; every other
+  compiler setting must agree.
+
+`option`, `visual` and `statistic` values merge attribute by attribute, a conflict
+between two explicit values being an `AttachmentError`; `size` values are capacities
+and merge to the largest.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mjcf import attachment, errors, schema
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+    from mjcf.schema import AttributeSpec
+
+# Compiler settings that locate files: assets are resolved per model and written with
+# final names, so these never reach the output.
+FILE_SETTINGS = frozenset({"meshdir", "texturedir", "assetdir", "strippath"})
+# Compiler settings converted per model instead of required to agree.
+CONVERTED_SETTINGS = frozenset(
+    {"angle", "eulerseq", "autolimits", "inertiafromgeom", "settotalmass"}
+)
+# Compiler settings of the output model that apply to the models attached to it too,
+# and never change their compiled values (or do so as MuJoCo's own attachment does).
+OUTPUT_SETTINGS = frozenset(
+    {"usethread", "saveinertial", "savecompiled", "savecanonical", "conflict", "passthrough"}
+)
+_INERTIA_SETTINGS = ("true", "auto", "false")
+# Elements whose mass `settotalmass` scaling cannot be expressed by their attributes.
+_UNSCALABLE = frozenset({"flexcomp", "composite", "flex", "attach"})
+
+
+class MergedSettings:
+    """The attributes and once-only children of a settings section, merged over the
+    models of one output."""
+
+    __slots__ = ("attributes", "children", "sources")
+
+    def __init__(self) -> None:
+        self.attributes: dict[str, str] = {}
+        self.children: dict[str, MergedSettings] = {}
+        self.sources: dict[str, tuple[RootElement, object]] = {}
+
+
+def merged(models: list[RootElement], tag: str) -> MergedSettings:
+    """Section `tag` merged over `models` (the output model first); raises
+    mjcf.AttachmentError when two models set one value differently."""
+    root = models[0]
+    result = MergedSettings()
+    for model in models:
+        skip = FILE_SETTINGS if tag == "compiler" else frozenset()
+        if tag == "compiler" and model is not root:
+            skip = skip | CONVERTED_SETTINGS | OUTPUT_SETTINGS
+        _merge_into(result, model._section(tag), model, skip)
+    if tag == "compiler" and len(models) > 1:
+        limits = {setting(model, "autolimits") for model in models}
+        if len(limits) > 1:
+            result.attributes["autolimits"] = "true"
+        inertia = inertia_setting(models)
+        if inertia != setting(root, "inertiafromgeom"):
+            result.attributes["inertiafromgeom"] = inertia
+    return result
+
+
+def check_compatible(parent: RootElement, child: RootElement) -> None:
+    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: a
+    compiler setting that is not converted differs, or a setting both models give
+    explicitly differs."""
+    for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
+        if name in FILE_SETTINGS or name in CONVERTED_SETTINGS or name in OUTPUT_SETTINGS:
+            continue
+        mine, theirs = setting(parent, name), setting(child, name)
+        if not same(attribute, mine, theirs):
+            raise errors.AttachmentError(
+                f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
+                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on both"
+            )
+    total = setting(parent, "settotalmass")
+    if parent.parent_model is None and total is not None and total > 0:
+        raise errors.AttachmentError(
+            f"model {child.model!r} cannot be attached to model {parent.model!r}: its "
+            f"<compiler settotalmass={total!r}> would scale the masses of attached models "
+            "too; remove it (MuJoCo deprecates it), or scale the masses of its own bodies"
+        )
+    inertia_setting([parent, child])
+    for tag in ("option", "size", "visual", "statistic"):
+        merged = MergedSettings()
+        _merge_into(merged, parent._section(tag), parent, frozenset())
+        _merge_into(merged, child._section(tag), child, frozenset())
+
+
+def _merge_into(
+    merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
+) -> None:
+    tag = section._spec.tag
+    for name in section._attrs:
+        if name in skip:
+            continue
+        attribute = section._spec.attributes[name]
+        value = section._attrs[name]
+        text = value if type(value) is str else attribute.converter.to_text(value)
+        previous = merged.sources.get(name)
+        if previous is None:
+            merged.attributes[name] = text
+            merged.sources[name] = (model, section._get_value(attribute))
+            continue
+        other_model, other_value = previous
+        value = section._get_value(attribute)
+        if same(attribute, other_value, value):
+            continue
+        if tag == "size" and isinstance(value, int) and isinstance(other_value, int):
+            if value > other_value:  # capacities: the largest serves every model
+                merged.attributes[name] = text
+                merged.sources[name] = (model, value)
+            continue
+        raise errors.AttachmentError(
+            f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
+            f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
+            "one value: set the same value on both, or on neither"
+        )
+    for child in section._children:
+        if child._spec.repeated:
+            continue
+        target = merged.children.get(child._spec.tag)
+        if target is None:
+            target = merged.children[child._spec.tag] = MergedSettings()
+        _merge_into(target, child, model, frozenset())
+
+
+def same(attribute: AttributeSpec, a: object, b: object) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a_array, b_array = np.asarray(a), np.asarray(b)
+        return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
+    return a == b
+
+
+def setting(model: RootElement, name: str) -> object:
+    """A compiler setting of `model`: its explicit value, or MuJoCo's default."""
+    compiler = model._section("compiler")
+    attribute = compiler._spec.attributes[name]
+    value = compiler._get_value(attribute)
+    if value is None and attribute.default is not None:
+        try:
+            value = attribute.converter.from_text(attribute.default)
+        except ValueError:
+            value = attribute.default
+    return value
+
+
+def _inertia_sources(model: RootElement) -> list[tuple[bool, bool]]:
+    """(has an <inertial>, has geoms) of every body of `model` (its own bodies)."""
+    found = []
+    for element in model.worldbody.iter():
+        if element._spec.tag != "body":
+            continue
+        inertial = geoms = False
+        stack = list(element._children)
+        while stack:
+            child = stack.pop()
+            tag = child._spec.tag
+            if tag == "inertial":
+                inertial = True
+            elif tag == "geom":
+                geoms = True
+            elif tag in ("frame", "replicate") and not isinstance(
+                child, attachment.AttachmentFrame
+            ):
+                stack.extend(child._children)
+        found.append((inertial, geoms))
+    return found
+
+
+def _inertia_outcome(value: str, inertial: bool, geoms: bool) -> str:
+    """Where a body's inertia comes from under `<compiler inertiafromgeom=value>`."""
+    if value == "true" or (value == "auto" and not inertial):
+        return "geoms" if geoms else "none"
+    return "inertial" if inertial else "none"
+
+
+def inertia_setting(models: list[RootElement]) -> str:
+    """An `inertiafromgeom` under which every body of `models` gets its inertia as in
+    its own model (the first model's setting if it can be); raises
+    mjcf.AttachmentError if there is none."""
+    own_settings = [setting(model, "inertiafromgeom") for model in models]
+    if len(set(own_settings)) == 1:
+        return own_settings[0]
+    allowed = set(_INERTIA_SETTINGS)
+    for model, own in zip(models, own_settings, strict=True):
+        bodies = set(_inertia_sources(model))
+        allowed &= {
+            candidate
+            for candidate in _INERTIA_SETTINGS
+            if all(
+                _inertia_outcome(candidate, *body) == _inertia_outcome(own, *body)
+                for body in bodies
+            )
+        }
+    if not allowed:
+        described = ", ".join(
+            f"{model.model!r}: {value!r}" for model, value in zip(models, own_settings, strict=True)
+        )
+        raise errors.AttachmentError(
+            f"models with different <compiler inertiafromgeom> ({described}) cannot be "
+            "composed: some bodies have an <inertial> that one setting uses and another "
+            "ignores; set the same value on the models, or give their bodies the same kind "
+            "of inertia"
+        )
+    for preferred in (own_settings[0], "auto", "true", "false"):
+        if preferred in allowed:
+            return preferred
+    raise AssertionError("unreachable")
+
+
+_unscaled_masses: dict[str, float] = {}
+
+
+def unscaled_mass(model: RootElement) -> float:
+    """The total body mass of `model` (with the models attached to it) compiled alone
+    without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
+    element attributes."""
+    import mujoco
+
+    from mjcf import serializer
+
+    for element in model.iter():
+        if element._spec.tag in _UNSCALABLE:
+            raise errors.AttachmentError(
+                f"{element.path}: model {model.model!r} has <compiler settotalmass>, and "
+                f"the mass of a <{element.tag}> cannot be scaled to match it when the "
+                "model is attached; scale its masses instead of using settotalmass"
+            )
+    xml, assets, _, _ = serializer.serialize_for_compile(model)
+    total = _unscaled_masses.get(xml)
+    if total is None:
+        spec = mujoco.MjSpec.from_string(xml, assets=assets)
+        spec.compiler.settotalmass = -1
+        try:
+            compiled = spec.compile()
+        except ValueError as error:
+            raise errors.CompileError(
+                f"model {model.model!r} (compiled alone to apply its settotalmass): {error}"
+            ) from None
+        total = float(compiled.body_mass[1:].sum())
+        if len(_unscaled_masses) > 256:
+            _unscaled_masses.clear()
+        _unscaled_masses[xml] = total
+    if total <= 0:
+        raise errors.AttachmentError(
+            f"model {model.model!r} sets <compiler settotalmass> but has no mass to scale"
+        )
+    return total
