@@ -25,6 +25,9 @@ What it promises:
   draws from the same bit generator as `env.np_random`; `reset(seed=s)` reseeds both, so the
   same seed and actions give bit-identical episodes. `random_state` at construction (an
   int, a RandomState or a Generator) is used until a seeded reset.
+- Actions: a NaN or infinite action raises `EpisodeError` (it would silently corrupt the
+  simulation); finite actions outside the action space are clipped to its bounds (the
+  actuators' ctrlrange) before the task applies them.
 - Observations are new arrays every step (safe to keep); `info['discount']` is the task's.
 - Derived quantities (xpos, sensordata) are those MuJoCo computed in the last physics step,
   before its integration, as with `mujoco.mj_step` itself and Gymnasium's MuJoCo envs.
@@ -125,6 +128,8 @@ class Environment(gymnasium.Env):
         self._updater = Updater(task.enabled_observables(), physics, self._substeps, self._flatten)
         self._action_space = task.action_space(physics)
         self._action_shape = self._action_space.shape
+        self._action_low = self._action_space.low.astype(np.float64)
+        self._action_high = self._action_space.high.astype(np.float64)
         self._step_limit = (
             math.inf if math.isinf(self._time_limit)
             else math.ceil(self._time_limit / task.control_timestep - 1e-9)
@@ -193,6 +198,12 @@ class Environment(gymnasium.Env):
                 f"action has shape {action.shape}, expected {self._action_shape} "
                 f"(one value per actuator)"
             )
+        if not np.isfinite(action).all():
+            raise errors.EpisodeError(
+                f"action has non-finite values at indices {np.flatnonzero(~np.isfinite(action))}"
+                f": {action}; actions must be finite numbers"
+            )
+        action = np.clip(action, self._action_low, self._action_high)
         physics, random_state, task_hooks = self._physics, self._random_state, self._hooks
         task_hooks.task_before_step(physics, action, random_state)
         for hook in task_hooks.before_step:
