@@ -1,12 +1,19 @@
-"""`include_copy`: merge a copy of another model (or element) into this one, without a
-name scope, as MuJoCo's `<include>` would.
+"""Copies: `include_copy`, which merges a copy of another model (or element) into this
+one without a name scope, as MuJoCo's `<include>` would, and `copy.deepcopy` of models.
 
     scene.include_copy(mjcf.from_path('floor.xml'))     # its names join scene's
     body.include_copy(other_body)                         # same-tag elements too
+    twin = copy.deepcopy(arm); twin.model = 'right'       # a detached copy, to attach again
 
 Attributes are merged (a value both sides set differently is an error, unless
 `override_attributes`), children are copied, names must not collide. Everything is
 checked before anything changes.
+
+`copy.deepcopy(model)` copies the model with the models attached to it; the copy is
+not attached anywhere, even if the original is. References between elements point at
+the copies, and other objects copied in the same `deepcopy` call (an entity holding a
+model and some of its elements) keep pointing at the copied elements. Deep-copying an
+element copies its whole model and returns the element's copy.
 """
 
 from __future__ import annotations
@@ -14,12 +21,15 @@ from __future__ import annotations
 import copy
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from mjcf import attachment, errors
 from mjcf.namescope import unescape
 from mjcf.settings import same as _same
 
 if TYPE_CHECKING:
     from mjcf.element import Element
+    from mjcf.root import RootElement
 
 
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
@@ -149,3 +159,100 @@ def _relink_references(clones: dict[int, Element]) -> None:
 
 def _copy_value(value: Any) -> Any:
     return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value
+
+
+# -- copy.deepcopy ------------------------------------------------------------------------
+
+
+def deepcopy_element(element: Element, memo: dict[int, Any]) -> Element:
+    """`copy.deepcopy(element)` (see module docstring)."""
+    found = memo.get(id(element))
+    if found is not None:
+        return found
+    cloned: list[tuple[Element, Element]] = []
+    if element._is_registered() or element is element.root:
+        _copy_model(element.root, memo, cloned)
+    else:  # a removed element: a removed copy, in a copy of its model
+        root_copy = deepcopy_element(element.root, memo)
+        copy_ = type(element)._make(element._spec, None, root_copy)
+        _clone_into(element, copy_, memo, cloned, [])
+    _relink_copies(cloned, memo)
+    return memo[id(element)]
+
+
+def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootElement:
+    """A detached copy of `root` and the models attached to it, recorded in `memo`."""
+    found = memo.get(id(root))
+    if found is not None:
+        return found
+    new = type(root)(model_dir=root._model_dir, assets=root._assets)
+    memo[id(root)] = new
+    new._attrs.update(root._attrs)
+    object.__setattr__(new, "_source", root._source)
+    frames: list[tuple[Element, Element]] = []
+    sections = {section._spec.tag: section for section in new._children}
+    for section in root._children:
+        _clone_into(section, sections[section._spec.tag], memo, cloned, frames)
+    for element in new.iter():
+        if element._parent is not None:
+            element._register()
+    for original, frame in frames:
+        child = _copy_model(original._attached, memo, cloned)
+        object.__setattr__(frame, "_attached", child)
+        object.__setattr__(child, "_frame", frame)
+        new.namescope.add_child(child.namescope)
+    object.__setattr__(new, "_attachments", [memo[id(frame)] for frame in root._attachments])
+    object.__setattr__(new, "_escaped_names", root._escaped_names)
+    object.__setattr__(new, "_version", root._version)
+    object.__setattr__(
+        new,
+        "_referenced_unnamed",
+        {memo[id(e)] for e in root._referenced_unnamed if id(e) in memo},
+    )
+    return new
+
+
+def _clone_into(
+    source: Element, target: Element, memo: dict[int, Any], cloned: list, frames: list
+) -> None:
+    """Copy the attributes and subtree of `source` into the new element `target`."""
+    from mjcf import values as _values
+    from mjcf.assets import Asset
+
+    memo[id(source)] = target
+    object.__setattr__(target, "_source", source._source)
+    attrs = target._attrs
+    for name, value in source._attrs.items():
+        if type(value) is str:
+            attrs[name] = value
+        elif hasattr(value, "shape"):
+            attrs[name] = _values.track(np.array(value), target)
+        elif isinstance(value, Asset):
+            attrs[name] = copy.copy(value)
+        elif isinstance(value, list):
+            attrs[name] = list(value)
+        else:
+            attrs[name] = value
+    if source._attrs and any(type(v) is not str for v in source._attrs.values()):
+        cloned.append((source, target))
+    root = target._root
+    children = target._children
+    for child in source._children:
+        clone = type(child)._make(child._spec, target, root)
+        children.append(clone)
+        if isinstance(child, attachment.AttachmentFrame):
+            frames.append((child, clone))
+        _clone_into(child, clone, memo, cloned, frames)
+
+
+def _relink_copies(cloned: list[tuple[Element, Element]], memo: dict[int, Any]) -> None:
+    """References to copied elements point at their copies."""
+    from mjcf.element import Element
+
+    for _, clone in cloned:
+        attrs = clone._attrs
+        for name, value in attrs.items():
+            if isinstance(value, Element):
+                attrs[name] = memo.get(id(value), value)
+            elif isinstance(value, list):
+                attrs[name] = [memo.get(id(v), v) if isinstance(v, Element) else v for v in value]

@@ -591,6 +591,13 @@ class Element:
     def __copy__(self) -> Element:
         raise TypeError("copy a model with copy.deepcopy(root)")
 
+    def __deepcopy__(self, memo: dict[int, Any]) -> Element:
+        """A copy of the whole model (detached, with its attached models), sharing the
+        schema; returns this element's copy (see `mjcf.copying`)."""
+        from mjcf import copying
+
+        return copying.deepcopy_element(self, memo)
+
 
 def _name_from_file(value: object) -> str | None:
     if value is None:
