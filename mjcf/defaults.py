@@ -15,7 +15,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from mjcf import errors
+from mjcf import values as _values
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -108,7 +111,10 @@ def commit_defaults(root: RootElement) -> None:
     for element, values in plans:
         for name, value in values.items():
             if name not in element._attrs:
-                element._attrs[name] = value
+                element._attrs[name] = _values.track(value, element)
+            else:
+                own = element._get_value(element._spec.attributes[name])
+                element._attrs[name] = _values.track(_overlay(name, value, own), element)
     for model in models:
         for element in model.iter():
             if _inside_default(element):
@@ -144,9 +150,10 @@ def _defaults_for(element: Element, tag: str) -> dict[str, Any]:
                 _reset_shortcut(values, child_tag, tag)
             else:
                 continue
-            for name, value in source._attrs.items():
+            for name in source._attrs:
                 if name in attributes and name != "class":
-                    values[name] = _copy(value)
+                    value = source._get_value(source._spec.attributes[name])
+                    values[name] = _overlay(name, values.get(name), value)
                 elif child_tag != tag:
                     raise errors.AttributeValueError(
                         f"{element.path}: its default class sets <{child_tag} {name}>, which "
@@ -163,8 +170,21 @@ def _reset_shortcut(values: dict[str, Any], default_tag_: str, tag: str) -> None
             values.pop(name, None)
 
 
-def _copy(value: Any) -> Any:
-    return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value
+def _overlay(name: str, below: Any, value: Any) -> Any:
+    """A copy of `value` over the default `below`: MuJoCo reads fewer numbers than an
+    array holds over the default's, so the rest of the default stays."""
+    if isinstance(value, np.ndarray):
+        value = np.array(value)
+        if (
+            isinstance(below, np.ndarray)
+            and name != "user"
+            and value.ndim == below.ndim == 1
+            and value.size < below.size
+        ):
+            merged = np.array(below)
+            merged[: value.size] = value
+            return merged
+    return value
 
 
 _ACTUATOR_TAGS = frozenset({
