@@ -172,17 +172,26 @@ class FileNamer:
         self._names: dict[int, str] = {}
         self._by_base: dict[str, list[Asset]] = {}
         self._named: dict[str, Asset] = {}
+        self._users: dict[str, tuple[Element, str]] = {}  # who first named each file
 
     def name_for(self, element: Element, attribute: str, value: object) -> str:
-        """The file name written for one file attribute value."""
+        """The file name written for one file attribute value; raises mjcf.AssetError
+        naming the element if its file cannot be read."""
         asset = resolve(element, attribute, value)
         if element._spec.tag in _BY_PATH and asset.path is not None:
             return asset.path
-        if not self.flat and asset.path is not None:
-            preferred = self._disk_name(asset.path)
-            if self._claim(preferred, asset):
-                return preferred
-        return self._flat_name(element, asset)
+        try:
+            name = None
+            if not self.flat and asset.path is not None:
+                preferred = self._disk_name(asset.path)
+                if self._claim(preferred, asset):
+                    name = preferred
+            if name is None:
+                name = self._flat_name(element, asset)
+        except errors.AssetError as error:
+            raise errors.AssetError(f"{element.path}: {attribute!r}: {error}") from None
+        self._users.setdefault(name, (element, attribute))
+        return name
 
     def _disk_name(self, path: str) -> str:
         return _relative_path(path, self.root.model_dir)
@@ -211,5 +220,15 @@ class FileNamer:
         raise errors.AssetError(f"{element.path}: too many assets named {base!r}")
 
     def contents(self) -> dict[str, bytes]:
-        """`{file name: bytes}` of every asset named so far."""
-        return {name: asset.contents for name, asset in self._named.items()}
+        """`{file name: bytes}` of every asset named so far; raises mjcf.AssetError
+        naming the element whose file cannot be read."""
+        out = {}
+        for name, asset in self._named.items():
+            try:
+                out[name] = asset.contents
+            except errors.AssetError as error:
+                user = self._users.get(name)
+                if user is None:
+                    raise
+                raise errors.AssetError(f"{user[0].path}: {user[1]!r}: {error}") from None
+        return out
