@@ -86,11 +86,13 @@ def export_with_assets_as_zip(
 
 
 def from_zip(
-    zip_path: str | os.PathLike | io.IOBase, escape_separators: bool = False
+    zip_path: str | os.PathLike | io.IOBase, escape_separators: bool = True
 ) -> RootElement:
     """Read a model from a zip written by `export_with_assets_as_zip` (or any zip with
-    one MJCF file at its top, or in one top folder, and its assets). Raises
-    mjcf.ParseError for a zip that is not such an archive or that is unsafe."""
+    one MJCF file at its top, or in one top folder, and its assets). A composed model
+    comes back as one model whose names keep their scopes, escaped ('arm\\/base', see
+    `from_xml_string`); it compiles to the same model. Raises mjcf.ParseError for a
+    zip that is not such an archive or that is unsafe."""
     from mjcf.parser import from_xml_string
 
     try:
