@@ -142,7 +142,8 @@ def _ordered_joints(owner: RootElement, with_attached: bool) -> list[Element]:
 
 
 def _bodies_in_order(start: Element, with_attached: bool) -> list[Element]:
-    """Bodies (and attachment frames written as bodies) below `start`, depth first."""
+    """Bodies below `start`, depth first; with the attached models' (and the attachment
+    frames written as bodies, whose joints exist only once a model is attached)."""
     found = []
     stack = list(reversed(_kinematic_children(start, with_attached)))
     while stack:
@@ -158,7 +159,8 @@ def _bodies_in_order(start: Element, with_attached: bool) -> list[Element]:
 def _kinematic_children(element: Element, with_attached: bool) -> list[Element]:
     children = [
         c for c in element._children
-        if c._spec.tag in ("body", "frame") or isinstance(c, attachment.AttachmentFrame)
+        if (c._spec.tag in ("body", "frame") and not isinstance(c, attachment.AttachmentFrame))
+        or (with_attached and isinstance(c, attachment.AttachmentFrame))
     ]  # fmt: skip
     if with_attached and isinstance(element, attachment.AttachmentFrame):
         children += [
