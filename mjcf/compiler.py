@@ -3,10 +3,13 @@
     compiled = compiler.compile_composition(model)
     compiled.model                      # mujoco.MjModel
     compiled.name_of(element)           # the name `element` has in compiled.model
+    compiled.id_of(element, kind)       # its index there, named or not
 
-The tree is written once (every element named, so that any element can be bound),
-MuJoCo compiles the text with the assets passed in memory, and keyframes of attached
-models are filled in. A MuJoCo error becomes an `mjcf.CompileError` that names the
+The tree is written once, MuJoCo compiles the text with the assets passed in memory,
+and keyframes of attached models are filled in. The compiled model is the one stock
+MuJoCo compiles from `to_xml_string()` or an export, names included: unnamed elements
+are named in the text only to be found in the parsed `MjSpec`, and unnamed again
+before it compiles. A MuJoCo error becomes an `mjcf.CompileError` that names the
 element it points at and, in debug mode, the Python line that created it.
 """
 
@@ -35,6 +38,7 @@ class Compiled(NamedTuple):
     composition: Composition
     xml: str
     assets: dict[str, bytes]
+    ids: dict[Element, int]  # the compiled index of each element left unnamed
 
     def name_of(self, element: Element) -> str:
         """The name `element` has in the compiled model; raises mjcf.BindingError for
@@ -50,6 +54,8 @@ class Compiled(NamedTuple):
             return attachment.frame_output_name(element, composition.context(element.root))
         name = element.identifier
         if name is None:
+            if element in self.ids:
+                return ""
             name = composition.auto_names().get(element)
             if name is None:
                 raise errors.BindingError(f"{element.path}: was added after the model was compiled")
@@ -58,18 +64,53 @@ class Compiled(NamedTuple):
             return context.class_text(name)
         return context.prefix + unescape(name)
 
+    def id_of(self, element: Element, kind: mujoco.mjtObj) -> int:
+        """The index of `element` (an object of `kind`) in the compiled model, or -1;
+        raises mjcf.BindingError like `name_of`."""
+        name = self.name_of(element)
+        index = self.ids.get(element)
+        if index is not None:
+            return index
+        return mujoco.mj_name2id(self.model, kind, name)
+
 
 def compile_composition(root: RootElement) -> Compiled:
     """Write `root` (with attached models) and compile it; raises mjcf.CompileError
     naming the offending element when MuJoCo rejects it."""
     xml, assets, composition, lines = serializer.serialize_for_compile(root)
     try:
-        model = mujoco.MjModel.from_xml_string(xml, assets)
+        spec = mujoco.MjSpec.from_string(xml, assets=assets)
+        handles = _unname(spec, composition.binding_names())
+        model = spec.compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
-    compiled = Compiled(model, composition, xml, assets)
-    keyframes.fill(model, composition, compiled.name_of)
+    ids = {element: handle.id for element, handle in handles.items()}
+    compiled = Compiled(model, composition, xml, assets, ids)
+    keyframes.fill(model, composition, compiled.id_of)
     return compiled
+
+
+def _unname(spec: mujoco.MjSpec, names: dict[Element, str]) -> dict[Element, object]:
+    """Find the spec element of every element named only to be found, and take its
+    name away again; returns them by element."""
+    by_namespace: dict[str, dict[str, object]] = {}
+    handles = {}
+    for element, name in names.items():
+        namespace = element._spec.namespace
+        found = by_namespace.get(namespace)
+        if found is None:
+            found = by_namespace[namespace] = {
+                handle.name: handle
+                for handle in getattr(spec, _PLURALS.get(namespace, namespace + "s"))
+                if handle.name.startswith("//")
+            }
+        handle = found[name]
+        handle.name = ""
+        handles[element] = handle
+    return handles
+
+
+_PLURALS = {"body": "bodies", "mesh": "meshes", "flex": "flexes", "equality": "equalities"}
 
 
 def _explain(message: str, lines: list[Element | None]) -> str:

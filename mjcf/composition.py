@@ -41,6 +41,12 @@ if TYPE_CHECKING:
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
 
+# Namespaces of the objects of a compiled model (an `MjSpec` finds them by name).
+BINDABLE = frozenset({
+    "body", "joint", "geom", "site", "camera", "light", "flex", "mesh", "skin", "hfield",
+    "texture", "material", "pair", "exclude", "equality", "tendon", "actuator", "sensor",
+    "numeric", "text", "tuple", "key", "plugin",
+})  # fmt: skip
 _ANGLE_JOINT_ATTRIBUTES = ("range", "ref", "springref")
 _ANGLE_JOINT_TYPES = frozenset({"hinge", "ball"})
 MAIN = "main"
@@ -228,6 +234,7 @@ class Composition:
         self.auto_name_all = auto_name_all
         self._auto_names: dict[Element, str] = {}
         self._auto_counts: dict[str, int] = {}
+        self._binding_names: dict[Element, str] = {}
         self._models = [root, *attachment.attached_models(root)]
         self.has_attachments = len(self._models) > 1
         self.auto_named = auto_name_all or any(m._referenced_unnamed for m in self._models)
@@ -357,13 +364,14 @@ class Composition:
         name = self._auto_names.get(element)
         if name is not None:
             return name
-        if not self.auto_name_all and element not in element.root._referenced_unnamed:
-            return None
-        if self.auto_name_all:
-            count = self._auto_counts.get(spec.namespace, 0)
-            self._auto_counts[spec.namespace] = count + 1
-            # '//' cannot occur in a user's scoped name, so these never clash.
-            name = f"{context.prefix}//unnamed_{spec.namespace}_{count}"
+        if element not in element.root._referenced_unnamed:
+            if not self.auto_name_all or spec.namespace not in BINDABLE:
+                return None
+            # A name only to find the element in the compiled model, where it is unnamed
+            # again (see mjcf.compiler); '//' never occurs in a user's scoped name.
+            count = len(self._binding_names)
+            name = f"//{count}"
+            self._binding_names[element] = name
         else:
             # Text a user reads back: a plain name that the model does not use.
             key = f"{context.prefix}:{spec.namespace}"
@@ -379,6 +387,11 @@ class Composition:
     def auto_names(self) -> dict[Element, str]:
         """`{element: generated name}` of the elements named by this output."""
         return self._auto_names
+
+    def binding_names(self) -> dict[Element, str]:
+        """`{element: generated name}` of the unnamed elements that are named only so
+        that they can be found after compiling (nothing refers to them)."""
+        return self._binding_names
 
     def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
         """An attachment frame's own joints belong to the model that owns the frame, not

@@ -59,7 +59,7 @@ def keys_to_write(
     return out
 
 
-def fill(model: mujoco.MjModel, composition: Composition, compiled_name: Callable) -> None:
+def fill(model: mujoco.MjModel, composition: Composition, compiled_id: Callable) -> None:
     """Write the key vectors of a composed model into the compiled `model`, whose keys
     hold defaults; raises mjcf.AttributeValueError for a vector that fits neither its
     model's own layout nor its layout with attachments."""
@@ -70,8 +70,8 @@ def fill(model: mujoco.MjModel, composition: Composition, compiled_name: Callabl
         owner = context.model
         if id(owner) not in layouts:
             layouts[id(owner)] = (
-                _layout(model, owner, compiled_name, with_attached=False),
-                _layout(model, owner, compiled_name, with_attached=True),
+                _layout(model, owner, compiled_id, with_attached=False),
+                _layout(model, owner, compiled_id, with_attached=True),
             )
         _fill_key(model, key, index, owner, layouts[id(owner)])
 
@@ -102,21 +102,21 @@ def _fill_key(
 
 
 def _layout(
-    model: mujoco.MjModel, owner: RootElement, compiled_name: Callable, with_attached: bool
+    model: mujoco.MjModel, owner: RootElement, compiled_id: Callable, with_attached: bool
 ) -> dict[str, np.ndarray]:
     """Indices into the composed model's vectors of `owner`'s entries, in `owner`'s own
     order."""
     qpos: list[int] = []
     qvel: list[int] = []
     for joint in _ordered_joints(owner, with_attached):
-        index = _id(model, mujoco.mjtObj.mjOBJ_JOINT, compiled_name(joint))
+        index = _id(compiled_id, joint, mujoco.mjtObj.mjOBJ_JOINT)
         width_q, width_v = _joint_widths(int(model.jnt_type[index]))
         qpos.extend(range(model.jnt_qposadr[index], model.jnt_qposadr[index] + width_q))
         qvel.extend(range(model.jnt_dofadr[index], model.jnt_dofadr[index] + width_v))
     ctrl: list[int] = []
     act: list[int] = []
     for actuator in owner.find_all("actuator", exclude_attachments=not with_attached):
-        index = _id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, compiled_name(actuator))
+        index = _id(compiled_id, actuator, mujoco.mjtObj.mjOBJ_ACTUATOR)
         ctrl.append(index)
         start = model.actuator_actadr[index]
         if start >= 0:
@@ -124,7 +124,7 @@ def _layout(
     mpos: list[int] = []
     mquat: list[int] = []
     for body in owner.find_all("body", exclude_attachments=not with_attached):
-        mocap = model.body_mocapid[_id(model, mujoco.mjtObj.mjOBJ_BODY, compiled_name(body))]
+        mocap = model.body_mocapid[_id(compiled_id, body, mujoco.mjtObj.mjOBJ_BODY)]
         if mocap >= 0:
             mpos.extend(range(3 * mocap, 3 * mocap + 3))
             mquat.extend(range(4 * mocap, 4 * mocap + 4))
@@ -189,10 +189,10 @@ def _joint_widths(joint_type: int) -> tuple[int, int]:
     return 1, 1
 
 
-def _id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
-    index = mujoco.mj_name2id(model, kind, name)
+def _id(compiled_id: Callable, element: Element, kind: mujoco.mjtObj) -> int:
+    index = compiled_id(element, kind)
     if index < 0:
-        raise errors.ReferenceError(f"{name!r} is not in the compiled model")
+        raise errors.ReferenceError(f"{element.path} is not in the compiled model")
     return index
 
 

@@ -2,7 +2,7 @@
 compiled model, and carrying simulation state over to a recompiled model.
 
 Used by `Physics.bind(element)` and `Physics.reload_from_mjcf_model(model)`; elements
-map to objects by the names they were compiled with (`compiler.Compiled.name_of`),
+map to objects by their compiled index (`compiler.Compiled.id_of`),
 once per element list, so a bound read afterwards costs one numpy index.
 """
 
@@ -62,8 +62,7 @@ def element_ids(
                 compiled.name_of(element)  # raises for a model that is not compiled here
             ids[i] = 0
             continue
-        name = compiled.name_of(element)
-        index = mujoco.mj_name2id(model, kind, name)
+        index = compiled.id_of(element, kind)
         if index < 0:
             raise errors.BindingError(
                 f"{element.path}: not in the compiled model (was it added after compiling? "
