@@ -28,7 +28,8 @@ What it promises:
 - Actions: a NaN or infinite action raises `EpisodeError` (it would silently corrupt the
   simulation); finite actions outside the action space are clipped to its bounds (the
   actuators' ctrlrange) before the task applies them.
-- Observations are new arrays every step (safe to keep); `info['discount']` is the task's.
+- Observations are new arrays every step (safe to keep); a step's `info` holds the task's
+  `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
 - Derived quantities (xpos, sensordata) are those MuJoCo computed in the last physics step,
   before its integration, as with `mujoco.mj_step` itself and Gymnasium's MuJoCo envs.
 """
@@ -234,7 +235,9 @@ class Environment(gymnasium.Env):
         terminated = bool(task.should_terminate_episode(physics))
         truncated = self._steps >= self._step_limit
         self._episode_over = terminated or truncated
-        return observation, reward, terminated, truncated, {"discount": task.get_discount(physics)}
+        info = task.get_info(physics)
+        info["discount"] = task.get_discount(physics)
+        return observation, reward, terminated, truncated, info
 
     def _run_substeps(self, action: np.ndarray, first: int, plan: list[list[Any]]) -> None:
         physics, random_state, task_hooks = self._physics, self._random_state, self._hooks

@@ -147,6 +147,11 @@ class Task:
         """The discount of the step (dm_env style, in info['discount']); 1.0 here."""
         return 1.0
 
+    def get_info(self, physics: mjcf.Physics) -> dict[str, Any]:
+        """Extra entries for the step's `info`, a new dict (e.g. {'is_success': True}, as
+        stable-baselines3 reads it); none here."""
+        return {}
+
     # -- hooks (see composer.hooks for the order) ----------------------------------------
 
     @hooks.noop
