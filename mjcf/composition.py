@@ -66,6 +66,7 @@ class ModelContext:
         "main_reference",
         "mass_scale",
         "model",
+        "names_only",
         "plain",
         "prefix",
         "rewrites",
@@ -90,14 +91,15 @@ class ModelContext:
         self.plain = (
             not self.prefix and self.main_reference == MAIN and not self.model._escaped_names
         )
-        self.rewrites = not (
+        # Whether stored values are written as they are, only names being added.
+        self.names_only = (
             self.plain
             and not self.inject_class
             and self.angle_scale is None
             and self.euler_seq is None
             and self.mass_scale is None
-            and not self.composition.auto_named
         )
+        self.rewrites = not (self.names_only and not self.composition.auto_named)
 
     # -- names ---------------------------------------------------------------------------
 

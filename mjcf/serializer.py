@@ -238,7 +238,7 @@ class _Writer:
         self, children: list[Element], depth: int, context: composition.ModelContext
     ) -> None:
         """Write `children` of one model."""
-        if context.rewrites:
+        if not context.names_only:
             for child in children:
                 self.element(child, depth, context)
             return
@@ -256,6 +256,7 @@ class _Writer:
         general, escaped_value = self.element, self._escaped_value
         escaped_attributes = self._escaped_attributes
         frame_spec = _FRAME_SPEC
+        generated_name = self.composed.generated_name if context.rewrites else None
         # Cached text is valid for one model version and one number precision.
         version = (context.model._version, self.precision)
 
@@ -289,6 +290,11 @@ class _Writer:
                         element._text = (version, text)
             else:
                 text = ""
+            if generated_name is not None and spec.identifier is not None:
+                if spec.identifier not in attrs:
+                    name = generated_name(element, context)
+                    if name is not None:
+                        text += f' {spec.identifier}="{escape(name)}"'
             children = element._children
             indent = indents[depth]
             if not children:
