@@ -290,11 +290,11 @@ class _Writer:
                         element._text = (version, text)
             else:
                 text = ""
-            if generated_name is not None and spec.identifier is not None:
-                if spec.identifier not in attrs:
-                    name = generated_name(element, context)
-                    if name is not None:
-                        text += f' {spec.identifier}="{escape(name)}"'
+            identifier = spec.identifier
+            if generated_name is not None and identifier is not None and identifier not in attrs:
+                name = generated_name(element, context)
+                if name is not None:
+                    text += f' {identifier}="{escape(name)}"'
             children = element._children
             indent = indents[depth]
             if not children:
