@@ -17,6 +17,7 @@ A model without attachments writes its keys as they are.
 
 from __future__ import annotations
 
+import hashlib
 from typing import TYPE_CHECKING
 
 import mujoco
@@ -196,21 +197,39 @@ def _id(compiled_id: Callable, element: Element, kind: mujoco.mjtObj) -> int:
     return index
 
 
+_padded: dict[bytes, list[dict[str, str | None]]] = {}
+
+
 def _padded_vectors(composition: Composition) -> dict[int, dict[str, str | None]]:
     """Full-length key vectors of every key of a composed model, computed by compiling
-    it once."""
-    from mjcf import compiler
+    it, once for each composed model and key values (writing the same model again
+    does not compile it again)."""
+    from mjcf import compiler, serializer
     from mjcf.values import format_number
 
-    model = compiler.compile_composition(composition.root).model
-    sources = {
-        "qpos": model.key_qpos, "qvel": model.key_qvel, "act": model.key_act,
-        "ctrl": model.key_ctrl, "mpos": model.key_mpos, "mquat": model.key_mquat,
-    }  # fmt: skip
-    out: dict[int, dict[str, str | None]] = {}
-    for index, (key, _) in enumerate(_all_keys(composition)):
-        out[id(key)] = {
-            name: " ".join(format_number(v) for v in source[index].tolist()) or None
-            for name, source in sources.items()
-        }
-    return out
+    keys = _all_keys(composition)
+    digest = hashlib.sha1(serializer.serialize_for_compile(composition.root)[0].encode())
+    for key, _ in keys:
+        for name in _VECTORS:
+            if name in key._attrs:
+                text = key.get_attribute_xml_string(name)
+                digest.update(f"{name}={text};".encode())
+        digest.update(b"|")
+    rows = _padded.get(digest.digest())
+    if rows is None:
+        model = compiler.compile_composition(composition.root).model
+        sources = {
+            "qpos": model.key_qpos, "qvel": model.key_qvel, "act": model.key_act,
+            "ctrl": model.key_ctrl, "mpos": model.key_mpos, "mquat": model.key_mquat,
+        }  # fmt: skip
+        rows = [
+            {
+                name: " ".join(format_number(v) for v in source[index].tolist()) or None
+                for name, source in sources.items()
+            }
+            for index in range(len(keys))
+        ]
+        if len(_padded) >= 32:
+            _padded.clear()
+        _padded[digest.digest()] = rows
+    return {id(key): rows[index] for index, (key, _) in enumerate(keys)}
