@@ -1,0 +1,499 @@
+"""Composing models: attach, detach, scoped names, isolated defaults, converted compiler
+settings, helpers and bad input, on the real UR5e, Robotiq 2F-85 and gymnasium models."""
+
+from __future__ import annotations
+
+import copy
+
+import mujoco
+import numpy as np
+import pytest
+
+import mjcf
+from mjcf import fields
+from tests.conftest import ROBOTIQ, UR5E, gym_model
+
+Obj = mujoco.mjtObj
+_KINDS = (Obj.mjOBJ_BODY, Obj.mjOBJ_JOINT, Obj.mjOBJ_GEOM, Obj.mjOBJ_SITE, Obj.mjOBJ_ACTUATOR)
+# Where a model is put: its top-level bodies, and its world body's geoms and sites.
+_PLACEMENT = frozenset({"body_pos", "body_quat", "geom_pos", "geom_quat", "site_pos", "site_quat"})
+
+
+def arm_with_gripper(name: str) -> mjcf.RootElement:
+    arm = mjcf.from_path(UR5E)
+    arm.model = name
+    arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    return arm
+
+
+def two_arm_scene() -> tuple[mjcf.RootElement, list[mjcf.RootElement]]:
+    scene = mjcf.RootElement(model="scene")
+    scene.worldbody.add("geom", name="floor", type="plane", size=[2, 2, 0.1])
+    arms = [arm_with_gripper("left"), arm_with_gripper("right")]
+    for y, arm in zip((-0.5, 0.5), arms, strict=True):
+        scene.attach(arm).pos = [0, y, 0]
+    return scene, arms
+
+
+def element_values(model: mujoco.MjModel, kind: Obj, name: str) -> dict[str, np.ndarray]:
+    """The float MjModel rows of one named object."""
+    index = mujoco.mj_name2id(model, kind, name)
+    assert index >= 0, f"{name!r} is not in the model"
+    rows = {}
+    for field in set(fields.kind_fields(kind).values()):
+        if field.struct == "model" and field.address is None:
+            values = getattr(model, field.name)
+            if values.dtype.kind == "f":
+                rows[field.name] = values[index]
+    return rows
+
+
+def differences_from_alone(
+    alone: mujoco.MjModel, composed: mujoco.MjModel, prefix: str, placed: set[str] = frozenset()
+) -> list[str]:
+    """Every compiled value of a named body, joint, geom, site or actuator of `alone`
+    that differs in `composed`, where its names start with `prefix` (the placement of
+    the bodies in `placed` and of the world body's geoms and sites is left out)."""
+    found = []
+    static = {Obj.mjOBJ_GEOM: alone.geom_bodyid, Obj.mjOBJ_SITE: alone.site_bodyid}
+    for kind in _KINDS:
+        for index in range(fields.count(alone, kind)):
+            name = mujoco.mj_id2name(alone, kind, index)
+            if not name or name == "world":
+                continue
+            mine = element_values(alone, kind, name)
+            theirs = element_values(composed, kind, prefix + name)
+            is_placed = name in placed or (kind in static and static[kind][index] == 0)
+            for field, value in mine.items():
+                if is_placed and field in _PLACEMENT:
+                    continue
+                if not np.allclose(value, theirs[field], rtol=1e-9, atol=1e-12):
+                    found.append(f"{prefix}{name} {field}: {value} != {theirs[field]}")
+    return found
+
+
+# -- the UR5e with the 2F-85, twice ---------------------------------------------------------
+
+
+def test_two_arms_with_grippers_compile_and_move(menagerie) -> None:
+    scene, arms = two_arm_scene()
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    named = physics.named.data.ctrl
+    for side in ("left", "right"):
+        for actuator in ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2"):
+            assert mujoco.mj_name2id(physics.model, Obj.mjOBJ_ACTUATOR, f"{side}/{actuator}") >= 0
+        named[f"{side}/robotiq_2f85/fingers_actuator"] = 255.0
+    assert physics.model.nu == 2 * 7
+    left, right = arms
+    assert left.find("actuator", "robotiq_2f85/fingers_actuator").full_identifier == (
+        "left/robotiq_2f85/fingers_actuator"
+    )
+    physics.bind(left.find("actuator", "shoulder_lift")).ctrl = -1.0
+    physics.bind(right.find("actuator", "elbow")).ctrl = 1.0
+    joints = {
+        arm.model: [arm.find("joint", name) for name in ("shoulder_lift_joint", "elbow_joint")]
+        for arm in arms
+    }
+    drivers = [arm.find("joint", "robotiq_2f85/right_driver_joint") for arm in arms]
+    physics.step(200)
+    assert physics.bind(joints["left"][0]).qpos[0] < -0.2
+    assert physics.bind(joints["right"][1]).qpos[0] > 0.2
+    assert (
+        abs(physics.bind(joints["left"][1]).qpos[0] - physics.bind(joints["right"][1]).qpos[0])
+        > 0.1
+    )
+    assert np.all(physics.bind(drivers).qpos > 0.1)  # both grippers close
+    assert np.all(np.isfinite(physics.data.qpos))
+
+
+def test_names_are_scoped_and_found_from_the_parent(menagerie) -> None:
+    scene, (left, _) = two_arm_scene()
+    pad = scene.find("geom", "left/robotiq_2f85/right_pad1")
+    assert pad is not None and pad.root.model == "robotiq_2f85"
+    assert pad is left.find("geom", "robotiq_2f85/right_pad1")
+    assert pad.full_identifier == "left/robotiq_2f85/right_pad1"
+    assert pad.prefixed_identifier(left) == "robotiq_2f85/right_pad1"
+    assert scene.find("joint", "right/elbow_joint").full_identifier == "right/elbow_joint"
+    assert scene.find("attachment_frame", "left/robotiq_2f85") is mjcf.get_attachment_frame(
+        pad.root
+    )
+    assert len(scene.find_all("actuator")) == 14
+    assert len(scene.find_all("actuator", exclude_attachments=True)) == 0
+
+
+# -- gymnasium's models, many times ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("count", [1, 10, 50])
+@pytest.mark.parametrize("name", ["ant", "humanoid", "half_cheetah"])
+def test_gymnasium_models_attached_many_times(name: str, count: int) -> None:
+    alone = mujoco.MjModel.from_xml_path(str(gym_model(name)))
+    arena = mjcf.RootElement(model="arena")
+    arena.worldbody.add("geom", name="ground", type="plane", size=[100, 100, 0.1])
+    arena.worldbody.add("light", pos=[0, 0, 10])
+    original = mjcf.from_path(gym_model(name))
+    for i in range(count):
+        robot = copy.deepcopy(original) if i % 2 else mjcf.from_path(gym_model(name))
+        robot.model = f"{name}_{i}"
+        arena.attach(robot).pos = [3 * i, 0, 0]
+    physics = mjcf.Physics.from_mjcf_model(arena)
+    model = physics.model
+    assert model.nbody == 1 + count * (alone.nbody - 1)
+    assert model.njnt == count * alone.njnt
+    assert model.nu == count * alone.nu
+    assert model.ngeom == 1 + count * alone.ngeom
+    assert model.nq == count * alone.nq
+    free = [j for j in range(alone.njnt) if alone.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+    for i in range(count):
+        for j in free:
+            scoped = f"{name}_{i}/{mujoco.mj_id2name(alone, Obj.mjOBJ_JOINT, j)}"
+            index = mujoco.mj_name2id(model, Obj.mjOBJ_JOINT, scoped)
+            assert model.jnt_type[index] == mujoco.mjtJoint.mjJNT_FREE
+    last = f"{name}_{count - 1}/"
+    assert differences_from_alone(alone, model, last, placed=_top_bodies(alone)) == []
+    physics.step(5)
+    assert np.all(np.isfinite(physics.data.qpos))
+
+
+def _top_bodies(model: mujoco.MjModel) -> set[str]:
+    return {
+        mujoco.mj_id2name(model, Obj.mjOBJ_BODY, b)
+        for b in range(1, model.nbody)
+        if model.body_parentid[b] == 0
+    }
+
+
+# -- detach -----------------------------------------------------------------------------------
+
+
+def _detach_restores(parent: mjcf.RootElement, attach, detach_frame: bool) -> mjcf.Element:
+    before = parent.to_xml_string()
+    settings = parent.compiler.get_attributes()
+    frame = attach()
+    child = frame.attached_model
+    assert parent.to_xml_string() != before
+    if detach_frame:
+        frame.detach()
+    else:
+        child.detach()
+    assert parent.to_xml_string() == before
+    assert parent.compiler.get_attributes() == settings
+    assert mjcf.get_attachment_frame(child) is None and child.parent_model is None
+    return child
+
+
+@pytest.mark.parametrize("detach_frame", [True, False], ids=["frame.detach", "child.detach"])
+def test_detach_restores_the_parent_byte_for_byte(menagerie, detach_frame: bool) -> None:
+    arm = mjcf.from_path(UR5E)
+    gripper = mjcf.from_path(ROBOTIQ)
+    site = arm.find("site", "attachment_site")
+    wrist = arm.find("body", "wrist_3_link")
+    _detach_restores(arm, lambda: site.attach(gripper), detach_frame)
+    _detach_restores(arm, lambda: wrist.attach(gripper), detach_frame)
+    _detach_restores(arm, lambda: arm.attach(gripper), detach_frame)
+
+    def free() -> mjcf.Element:
+        frame = arm.attach(gripper)
+        frame.add("freejoint", name="float")
+        frame.add("inertial", pos=[0, 0, 0], mass=1, diaginertia=[0.1, 0.1, 0.1])
+        mjcf.Physics.from_mjcf_model(arm)  # keys of both layouts are filled in
+        return frame
+
+    _detach_restores(arm, free, detach_frame)
+    assert arm.find("joint", "float") is None
+    alone = mjcf.from_path(ROBOTIQ)
+    assert gripper.to_xml_string() == alone.to_xml_string()
+
+
+def test_detach_nested_attachments_and_keyframes(menagerie) -> None:
+    scene = mjcf.RootElement(model="scene")
+    scene.keyframe.add("key", name="start", time=1.0)
+    base = mjcf.RootElement(model="base")
+    chassis = base.worldbody.add("body", name="chassis", pos=[0, 0, 0.2])
+    chassis.add("joint", name="drive", type="slide", axis=[1, 0, 0])
+    chassis.add("geom", type="box", size=[0.3, 0.3, 0.1])
+    mount = chassis.add("site", name="mount", pos=[0, 0, 0.1])
+    arm = mjcf.from_path(UR5E)
+    arm.model = "arm"
+    gripper = mjcf.from_path(ROBOTIQ)
+    gripper.model = "gripper"
+    arm.find("site", "attachment_site").attach(gripper)
+    scene.attach(base)
+    scene_before = scene.to_xml_string()
+    base_before = base.to_xml_string()
+    mount.attach(arm)
+    pad = scene.find("geom", "base/arm/gripper/right_pad1")
+    assert pad is not None and pad.full_identifier == "base/arm/gripper/right_pad1"
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    names = [physics.model.key(i).name for i in range(physics.model.nkey)]
+    assert names == ["start", "base/arm/home"]
+    assert "base/arm/gripper/fingers_actuator" in physics.named.data.ctrl.axes.row.names
+    arm.detach()
+    assert base.to_xml_string() == base_before
+    assert scene.to_xml_string() == scene_before
+    assert scene.find("geom", "base/arm/gripper/right_pad1") is None
+
+
+def test_detach_leaves_no_compiler_setting_of_the_child() -> None:
+    parent = mjcf.RootElement(model="parent")
+    parent.worldbody.add("geom", type="plane", size=[1, 1, 1])
+    before = parent.to_xml_string()
+    ant = mjcf.from_path(gym_model("ant"))  # angle="degree" inertiafromgeom="true"
+    parent.attach(ant)
+    assert 'angle="degree"' not in parent.to_xml_string()
+    ant.detach()
+    assert parent.to_xml_string() == before
+    assert parent.compiler.get_attributes() == {}
+
+
+def test_remove_of_a_frame_detaches() -> None:
+    parent = mjcf.RootElement(model="parent")
+    child = mjcf.RootElement(model="child")
+    child.worldbody.add("geom", size=[0.1])
+    before = parent.to_xml_string()
+    parent.attach(child).remove()
+    assert parent.to_xml_string() == before and child.parent_model is None
+
+
+# -- default classes, angles and settings ----------------------------------------------------
+
+
+def _parent(angle: str) -> mjcf.RootElement:
+    degrees = angle == "degree"
+    parent = mjcf.RootElement(model="parent")
+    parent.compiler.angle = angle
+    parent.default.geom.rgba = [1, 0, 0, 1]
+    parent.default.joint.damping = 3
+    body = parent.worldbody.add("body", name="pb", euler=[0, 90 if degrees else np.pi / 2, 0])
+    body.add("joint", name="pj", type="hinge", range=[-45, 45] if degrees else [-0.7, 0.7])
+    body.add("geom", name="pg", size=[0.1])
+    parent.worldbody.add("site", name="mount", pos=[0.5, 0, 0])
+    return parent
+
+
+def _child(angle: str, eulerseq: str | None = None) -> mjcf.RootElement:
+    degrees = angle == "degree"
+    child = mjcf.RootElement(model="child")
+    child.compiler.angle = angle
+    if eulerseq is not None:
+        child.compiler.eulerseq = eulerseq
+    child.default.geom.set_attributes(rgba=[0, 1, 0, 1], friction=[0.5, 0.1, 0.1])
+    child.default.joint.armature = 0.2
+    child.default.add("default", dclass="thin").geom.size = [0.02]
+    body = child.worldbody.add(
+        "body", name="cb", pos=[1, 0, 0], euler=[30, 20, 10] if degrees else [0.5, 0.3, 0.2]
+    )
+    body.add("joint", name="hinge", type="hinge", range=[-30, 60] if degrees else [-0.5, 1],
+             ref=10 if degrees else 0.2)  # fmt: skip
+    body.add("joint", name="ball", type="ball", range=[0, 40] if degrees else [0, 0.7])
+    body.add("geom", name="cg", size=[0.1], dclass="thin",
+             axisangle=[0, 0, 1, 30] if degrees else [0, 0, 1, 0.5])  # fmt: skip
+    body.add("site", name="cs", euler=[10, 20, 30] if degrees else [0.1, 0.2, 0.3])
+    child.actuator.add("position", name="servo", joint="hinge", ctrlrange=[-1, 1], kp=10)
+    return child
+
+
+@pytest.mark.parametrize(
+    ("parent_angle", "child_angle", "eulerseq"),
+    [
+        ("radian", "degree", None),
+        ("degree", "radian", None),
+        ("radian", "radian", "zyx"),
+        ("degree", "degree", "XYZ"),
+        ("radian", "degree", "ZYX"),
+    ],
+)
+def test_defaults_angles_and_eulerseq_compile_as_alone(
+    parent_angle: str, child_angle: str, eulerseq: str | None
+) -> None:
+    parent, child = _parent(parent_angle), _child(child_angle, eulerseq)
+    parent_alone = mjcf.Physics.from_mjcf_model(parent).model
+    child_alone = mjcf.Physics.from_mjcf_model(child).model
+    parent.find("site", "mount").attach(child)
+    composed = mjcf.Physics.from_mjcf_model(parent).model
+    assert differences_from_alone(child_alone, composed, "child/", placed={"cb"}) == []
+    assert differences_from_alone(parent_alone, composed, "") == []
+    green = composed.geom_rgba[mujoco.mj_name2id(composed, Obj.mjOBJ_GEOM, "child/cg")]
+    assert np.array_equal(green, [0, 1, 0, 1])  # the child's defaults, not the parent's
+
+
+@pytest.mark.parametrize("name", ["humanoid", "ant", "half_cheetah", "hopper", "walker2d"])
+def test_gymnasium_settings_convert_into_a_radian_model(name: str) -> None:
+    """Degrees, inertiafromgeom="true" and settotalmass (half_cheetah) of gymnasium's
+    models, inside a radian model whose bodies have explicit inertias."""
+    alone = mujoco.MjModel.from_xml_path(str(gym_model(name)))
+    parent = _parent("radian")
+    parent.find("body", "pb").add("inertial", pos=[0, 0, 0], mass=2, diaginertia=[0.1, 0.2, 0.3])
+    parent_alone = mjcf.Physics.from_mjcf_model(parent).model
+    parent.find("site", "mount").attach(mjcf.from_path(gym_model(name)))
+    composed = mjcf.Physics.from_mjcf_model(parent).model
+    model_name = mjcf.from_path(gym_model(name)).model
+    placed = _top_bodies(alone)
+    assert differences_from_alone(alone, composed, f"{model_name}/", placed) == []
+    assert differences_from_alone(parent_alone, composed, "") == []
+
+
+def test_a_radian_robot_inside_a_degree_model(menagerie) -> None:
+    arm_alone = mjcf.Physics.from_mjcf_model(mjcf.from_path(UR5E)).model
+    parent = _parent("degree")
+    parent_alone = mjcf.Physics.from_mjcf_model(parent).model
+    parent.find("site", "mount").attach(mjcf.from_path(UR5E))
+    composed = mjcf.Physics.from_mjcf_model(parent).model
+    assert differences_from_alone(arm_alone, composed, "ur5e/", placed={"base"}) == []
+    assert differences_from_alone(parent_alone, composed, "") == []
+
+
+def test_conflicting_options_are_refused_and_change_nothing() -> None:
+    parent, child = _parent("radian"), _child("degree")
+    parent.option.timestep = 0.002
+    child.option.timestep = 0.005
+    before, child_before = parent.to_xml_string(), child.to_xml_string()
+    with pytest.raises(mjcf.AttachmentError, match=r"<option timestep> differently"):
+        parent.attach(child)
+    assert parent.to_xml_string() == before and child.to_xml_string() == child_before
+    assert child.parent_model is None
+    child.option.timestep = 0.002  # the same value on both is fine
+    parent.attach(child)
+    child.option.timestep = 0.005  # a conflict made later is caught when compiling
+    with pytest.raises(mjcf.AttachmentError, match="timestep"):
+        mjcf.Physics.from_mjcf_model(parent)
+
+
+def test_gymnasium_models_with_different_timesteps_conflict() -> None:
+    """Attach checks a model against the models it is attached into; two siblings that
+    disagree are reported when the scene is written or compiled."""
+    ant = mjcf.from_path(gym_model("ant"))  # timestep 0.01
+    before = ant.to_xml_string()
+    with pytest.raises(mjcf.AttachmentError, match="timestep"):
+        ant.attach(mjcf.from_path(gym_model("humanoid")))  # timestep 0.003
+    assert ant.to_xml_string() == before
+    arena = mjcf.RootElement(model="arena")
+    arena.attach(mjcf.from_path(gym_model("ant")))
+    arena.attach(mjcf.from_path(gym_model("humanoid")))
+    message = r"models 'ant' and 'humanoid' set <option timestep> differently"
+    with pytest.raises(mjcf.AttachmentError, match=message):
+        mjcf.Physics.from_mjcf_model(arena)
+    with pytest.raises(mjcf.AttachmentError, match=message):
+        arena.to_xml_string()
+
+
+def test_irreconcilable_inertia_settings_are_refused() -> None:
+    parent = mjcf.RootElement(model="parent")
+    parent.compiler.inertiafromgeom = "true"  # ignores the inertial below
+    body = parent.worldbody.add("body", name="b")
+    body.add("inertial", pos=[0, 0, 0], mass=5, diaginertia=[1, 1, 1])
+    body.add("geom", size=[0.1])
+    child = mjcf.RootElement(model="child")  # "auto": uses its inertial
+    child_body = child.worldbody.add("body", name="c")
+    child_body.add("inertial", pos=[0, 0, 0], mass=1, diaginertia=[1, 1, 1])
+    child_body.add("geom", size=[0.1])
+    before = parent.to_xml_string()
+    with pytest.raises(mjcf.AttachmentError, match="inertiafromgeom"):
+        parent.attach(child)
+    assert parent.to_xml_string() == before
+
+
+def test_settotalmass_of_the_output_model_with_attachments_is_refused() -> None:
+    cheetah = mjcf.from_path(gym_model("half_cheetah"))
+    with pytest.raises(mjcf.AttachmentError, match="settotalmass"):
+        cheetah.attach(mjcf.from_path(gym_model("hopper")))
+
+
+def test_sizes_merge_to_the_largest() -> None:
+    parent, child = _parent("radian"), _child("radian")
+    parent.size.nkey = 2
+    child.size.nkey = 4
+    parent.attach(child)
+    assert mjcf.Physics.from_mjcf_model(parent).model.nkey == 4
+
+
+# -- copies -----------------------------------------------------------------------------------
+
+
+def test_deepcopy_of_an_attached_model_is_detached_and_attachable(menagerie) -> None:
+    scene, (left, _) = two_arm_scene()
+    twin = copy.deepcopy(left)
+    assert twin.parent_model is None and left.parent_model is scene
+    assert twin.to_xml_string() == left.to_xml_string()
+    assert (
+        twin.find("body", "robotiq_2f85/base").root
+        is not left.find("body", "robotiq_2f85/base").root
+    )
+    twin.model = "third"
+    scene.attach(twin)
+    actuator = twin.find("actuator", "elbow")
+    assert actuator.joint is twin.find("joint", "elbow_joint")  # references follow the copy
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    assert physics.model.nu == 21
+    copied_scene = copy.deepcopy(scene)
+    assert copied_scene.to_xml_string() == scene.to_xml_string()
+    frames = copied_scene.find_all("attachment_frame")
+    assert [type(f) for f in frames] == [mjcf.AttachmentFrame] * 6
+
+
+def test_deepcopy_keeps_elements_copied_together(menagerie) -> None:
+    arm = mjcf.from_path(UR5E)
+    elbow = arm.find("joint", "elbow_joint")
+    copied_arm, copied_elbow = copy.deepcopy((arm, elbow))
+    assert copied_elbow is copied_arm.find("joint", "elbow_joint")
+    assert copy.deepcopy(elbow).root is not arm
+
+
+# -- helpers ----------------------------------------------------------------------------------
+
+
+def test_frame_helpers() -> None:
+    arena = mjcf.RootElement(model="arena")
+    ant = mjcf.from_path(gym_model("ant"))
+    frame = arena.attach(ant)
+    assert mjcf.get_attachment_frame(ant) is frame
+    assert mjcf.get_attachment_frame(arena) is None
+    assert mjcf.get_frame_freejoint(frame) is None and mjcf.get_frame_joints(frame) == []
+    torso_free = mjcf.get_freejoint(ant.find("body", "torso"))
+    assert torso_free is ant.find("joint", "root")  # <joint type="free">
+    assert mjcf.get_freejoint(ant.find("body", "front_left_leg")) is None
+    slide = frame.add("joint", name="lift", type="slide", axis=[0, 0, 1])
+    free = frame.add("freejoint", name="float")
+    assert mjcf.get_frame_freejoint(frame) is free
+    assert mjcf.get_frame_freejoint(ant) is free  # dm_control passes the model too
+    assert mjcf.get_frame_joints(frame) == [slide, free]
+    assert mjcf.get_freejoint(frame) is free
+    frame.name = "mount"
+    assert arena.find("joint", "lift") is slide
+    assert arena.find("attachment_frame", "ant") is frame
+
+
+# -- bad input --------------------------------------------------------------------------------
+
+
+def _refused(model: mjcf.RootElement, action, error: type[mjcf.Error], match: str) -> None:
+    before = model.to_xml_string()
+    with pytest.raises(error, match=match):
+        action()
+    assert model.to_xml_string() == before
+
+
+def test_bad_attachments_are_refused_and_change_nothing(menagerie) -> None:
+    arm = mjcf.from_path(UR5E)
+    gripper = mjcf.from_path(ROBOTIQ)
+    site = arm.find("site", "attachment_site")
+    _refused(arm, lambda: arm.attach(arm), mjcf.AttachmentError, "inside itself")
+    site.attach(gripper)
+    _refused(gripper, lambda: gripper.attach(arm), mjcf.AttachmentError, "inside itself")
+    _refused(arm, lambda: arm.attach(gripper), mjcf.AttachmentError, "already attached")
+    other = mjcf.RootElement(model="other")
+    _refused(other, lambda: other.attach(gripper), mjcf.AttachmentError, "already attached")
+    _refused(arm, lambda: arm.attach(mjcf.from_path(ROBOTIQ)), mjcf.NameError,
+             "a model named 'robotiq_2f85' is already attached")  # fmt: skip
+    _refused(arm, lambda: site.attach(arm.worldbody), mjcf.AttachmentError, "only a model")
+    _refused(arm, lambda: site.attach("2f85.xml"), mjcf.AttachmentError, "only a model")
+    geom = arm.find("body", "base").geom[0]
+    _refused(arm, lambda: geom.attach(mjcf.RootElement(model="x")), mjcf.AttachmentError,
+             "models attach to a site, body, frame or worldbody")  # fmt: skip
+    renamed = mjcf.from_path(ROBOTIQ)
+    renamed.model = "second"
+    arm.attach(renamed)
+    _refused(arm, lambda: setattr(renamed, "model", "robotiq_2f85"), mjcf.NameError,
+             "already attached")  # fmt: skip
+    with pytest.raises(mjcf.NameError, match="separates"):
+        mjcf.RootElement(model="a/b")
