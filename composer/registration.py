@@ -1,0 +1,173 @@
+"""Registration: composer tasks as Gymnasium ids.
+
+    from composer import registration
+    registration.register('Reach', 'tasks.reach:Reach', 'planar arm tip to a target',
+                          time_limit=2.0)            # -> 'composer/Reach-v0'
+
+    import gymnasium as gym
+    import tasks                                     # registers every shipped task
+    env = gym.make('composer/Reach-v0', flatten_observations=True, randomize=False)
+    env = gym.make('tasks:composer/Reach-v0')        # the same, importing `tasks` itself
+    vec = gym.make_vec('composer/Reach-v0', num_envs=8,
+                       vectorization_mode='vector_entry_point')
+    registration.registered()['composer/Reach-v0'].description
+
+Gymnasium 1.x loads no plugins, so an id exists only once the module registering it was
+imported: `import tasks` first, or use Gymnasium's module prefix `'tasks:composer/X-v0'`,
+which imports `tasks` inside `gym.make`.
+
+What it promises: a registered spec holds only strings and plain values (the task as an
+import path, `'tasks.reach:Reach'`), so it pickles into `AsyncVectorEnv` workers and
+stable-baselines3's `SubprocVecEnv`. Keyword arguments of `gym.make` go to the task's
+constructor, except `time_limit`, `flatten_observations` and `render_mode`, which go to
+`composer.Environment`; a keyword neither accepts raises `RegistrationError` naming the
+task and listing what it accepts. Registering an id again is a no-op.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import inspect
+import math
+from collections.abc import Callable
+from typing import Any
+
+import gymnasium
+
+from composer import errors
+from composer.environment import Environment
+from composer.task import Task
+
+NAMESPACE = "composer"
+ENTRY_POINT = "composer.registration:make_environment"
+VECTOR_ENTRY_POINT = "composer.vector:make_vector_environment"
+ENVIRONMENT_OPTIONS = ("time_limit", "flatten_observations", "render_mode")
+
+
+class RegistrationError(errors.TaskError):
+    """A task could not be registered, found, or built from the keywords given."""
+
+
+@dataclasses.dataclass(frozen=True)
+class TaskInfo:
+    """What `register` recorded about one Gymnasium id."""
+
+    name: str
+    env_id: str
+    task: str
+    description: str
+    default_kwargs: dict[str, Any]
+
+
+_REGISTERED: dict[str, TaskInfo] = {}
+
+
+def register(
+    name: str, task: str, description: str, *, version: int = 0, **default_kwargs: Any
+) -> str:
+    """Register `task` (an import path, 'package.module:TaskClass') as the Gymnasium id
+    `composer/{name}-v{version}` and return the id; `default_kwargs` are `gym.make`'s
+    defaults (task keywords and `time_limit`, `flatten_observations`, `render_mode`).
+    Registering an id that exists is a no-op. Raises RegistrationError when `task` is not
+    a 'module:attribute' string (a string keeps the spec picklable)."""
+    if not isinstance(task, str) or ":" not in task:
+        raise RegistrationError(
+            f"register({name!r}): task must be an import path 'package.module:TaskClass', "
+            f"got {task!r}"
+        )
+    env_id = f"{NAMESPACE}/{name}-v{version}"
+    if env_id not in gymnasium.registry:
+        gymnasium.register(
+            id=env_id,
+            entry_point=ENTRY_POINT,
+            vector_entry_point=VECTOR_ENTRY_POINT,
+            kwargs={"task": task, **default_kwargs},
+        )
+    _REGISTERED.setdefault(env_id, TaskInfo(name, env_id, task, description, dict(default_kwargs)))
+    return env_id
+
+
+def registered() -> dict[str, TaskInfo]:
+    """Every id registered through `register` in this process, by id (a copy)."""
+    return dict(_REGISTERED)
+
+
+def resolve_task(task: str | Callable[..., Task]) -> Callable[..., Task]:
+    """The task factory `task` names: a callable is returned as is; 'module:attribute'
+    (or 'module.attribute') is imported. Raises RegistrationError when the module or
+    attribute does not exist or is not callable."""
+    if callable(task):
+        return task
+    if not isinstance(task, str):
+        raise RegistrationError(
+            f"a task is an import path 'module:TaskClass' or a callable, got {task!r}"
+        )
+    module_name, _, attribute = task.partition(":") if ":" in task else task.rpartition(".")
+    if not module_name or not attribute:
+        raise RegistrationError(f"task {task!r} is not an import path 'module:TaskClass'")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as e:
+        raise RegistrationError(f"task {task!r}: cannot import {module_name!r}: {e}") from e
+    found = getattr(module, attribute, None)
+    if not callable(found):
+        raise RegistrationError(
+            f"task {task!r}: module {module_name!r} has no callable {attribute!r}"
+        )
+    return found
+
+
+def accepted_keywords(factory: Callable[..., Any]) -> list[str] | None:
+    """The keyword arguments `factory` accepts, in order, or None when it takes **kwargs."""
+    accepted = []
+    for parameter in inspect.signature(factory).parameters.values():
+        if parameter.kind is inspect.Parameter.VAR_KEYWORD:
+            return None
+        if parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY):
+            accepted.append(parameter.name)
+    return accepted
+
+
+def make_environment(
+    task: str | Callable[..., Task],
+    *,
+    time_limit: float | None = None,
+    flatten_observations: bool = False,
+    render_mode: str | None = None,
+    **task_kwargs: Any,
+) -> Environment:
+    """Build `task(**task_kwargs)` and serve it as a `composer.Environment` (Gymnasium's
+    entry point for every registered id). `time_limit` None means no limit. A task with a
+    `render_camera` attribute (a camera name) is rendered through that camera. Raises
+    RegistrationError for a keyword the task does not accept (listing those it does), and
+    what the task or Environment raise (composer.Error subclasses)."""
+    factory = resolve_task(task)
+    accepted = accepted_keywords(factory)
+    if accepted is not None:
+        unknown = sorted(set(task_kwargs) - set(accepted))
+        if unknown:
+            raise RegistrationError(
+                f"task {_label(task)} got unknown keyword argument(s) {unknown}; it accepts "
+                f"{accepted} and the environment options {list(ENVIRONMENT_OPTIONS)}"
+            )
+    built = factory(**task_kwargs)
+    if not isinstance(built, Task):
+        raise RegistrationError(
+            f"task {_label(task)} made a {type(built).__name__}, not a composer.Task"
+        )
+    return Environment(
+        built,
+        time_limit=math.inf if time_limit is None else time_limit,
+        flatten_observations=flatten_observations,
+        render_mode=render_mode,
+        render_camera=getattr(built, "render_camera", -1),
+    )
+
+
+def _label(task: str | Callable[..., Any]) -> str:
+    return repr(task) if isinstance(task, str) else getattr(task, "__qualname__", repr(task))
+
+
+# gym.make reads its entry point's render modes to offer 'human' and '*_list' wrappers.
+make_environment.metadata = Environment.metadata  # type: ignore[attr-defined]
