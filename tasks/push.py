@@ -1,0 +1,162 @@
+"""ArmPushBox: a UR5e with a Robotiq 2F-85 pushes a box into a target disc on a table.
+
+    env = gym.make('composer/ArmPushBox-v0', flatten_observations=True)
+    env = gym.make('composer/ArmPushBox-v0', menagerie_root='~/mujoco_menagerie')
+
+The robots come from MuJoCo Menagerie folders (`universal_robots_ur5e`, `robotiq_2f85`),
+found as `entities.robots.from_menagerie` says (`menagerie_root`, $MENAGERIE_ROOT, the
+repository's shared/models/menagerie, the mujoco_menagerie package cache); without them
+the task raises `entities.robots.RobotNotFoundError` naming every place it looked.
+
+Action (7 numbers in [-1, 1]): six joint-angle changes, each scaled by `max_joint_step`
+rad and added to the current angles as the arm's position targets, and the gripper
+command (-1 open, 1 closed). Observations: `robot/ur5e/joint_positions` (6),
+`robot/ur5e/joint_velocities` (6), `gripper_opening` (1), `tcp_position` (3),
+`box_position` (3), `tcp_to_box` (3), `box_to_target` (2): 24 numbers.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+from gymnasium import spaces
+
+import composer
+import mjcf
+from arenas import Table
+from composer import observation
+from entities import Box, robots
+
+HOME = (np.pi, -1.9, 2.0, -1.67, -np.pi / 2, 0.0)
+REGION = ((0.05, 0.25), (-0.2, 0.2))  # x and y ranges on the table for box and target
+
+
+class ArmPushBox(composer.Task):
+    """Push a box into the target disc with a real arm and gripper.
+
+    Reward per step, in [0, 1]: with d_reach the tool-centre-point-to-box distance and
+    d_push the box-to-target distance in the table plane (m),
+    `0.3 * (1 - tanh(5 d_reach)) + 0.7 * (1 - tanh(5 d_push))`.
+    `info['is_success']` is `d_push < target_radius`. Terminates when the box falls off
+    the table.
+    """
+
+    def __init__(
+        self,
+        control_timestep: float = 0.04,
+        physics_timestep: float = 0.004,
+        randomize: bool = True,
+        menagerie_root: str | os.PathLike[str] | None = None,
+        target_radius: float = 0.05,
+        box_half_size: float = 0.025,
+        max_joint_step: float = 0.05,
+        table_height: float = 0.4,
+    ) -> None:
+        """Build the scene. `randomize` draws the box and target positions each episode
+        (else box at (0.1, -0.1), target at (0.2, 0.1)). Raises RobotNotFoundError when
+        the robot files are absent and composer.TaskError for timesteps that do not
+        divide."""
+        self.robot = robots.ur5e_with_2f85(menagerie_root)
+        self.arena = Table(height=table_height)
+        self.arena.attach(self.robot, attach_site=self.arena.mount)
+        self.box = Box(half_sizes=[box_half_size] * 3, mass=0.1)
+        self.arena.attach(self.box)
+        root = self.arena.mjcf_model
+        root.statistic.center = [0, 0, table_height + 0.2]
+        root.statistic.extent = 1.2
+        self.target = root.worldbody.add(
+            "geom", name="target", type="cylinder", size=[target_radius, 0.001],
+            pos=[0.2, 0.1, table_height + 0.001], contype=0, conaffinity=0,
+            rgba=[0.2, 0.8, 0.3, 0.6],
+        )  # fmt: skip
+        self.arm_joints = self.robot.arm.mjcf_model.find_all("joint", exclude_attachments=True)
+        self.gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
+        self.robot.gripper.observables.disable_all()
+        self.randomize = randomize
+        self.target_radius = float(target_radius)
+        self.max_joint_step = float(max_joint_step)
+        self.table_height = float(table_height)
+        self._box_height = table_height + box_half_size
+        self._task_observables: dict[str, observation.Observable] = {
+            "gripper_opening": observation.MJCFFeature("qpos", [self.gripper_joint]),
+            "tcp_position": observation.MJCFFeature("xpos", self.robot.tcp),
+            "box_position": observation.MJCFFeature("xpos", self.box.body),
+            "tcp_to_box": observation.Generic(lambda physics: self._box.xpos - self._tcp.xpos),
+            "box_to_target": observation.Generic(
+                lambda physics: self._target.xpos[:2] - self._box.xpos[:2]
+            ),
+        }
+        for item in self._task_observables.values():
+            item.enabled = True
+        self.set_timesteps(control_timestep, physics_timestep)
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The table arena with the robot, the box and the target."""
+        return self.arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """Tool, box and target features (see the module docstring)."""
+        return self._task_observables
+
+    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
+        """Seven numbers in [-1, 1]: joint-angle changes, then the gripper command."""
+        return spaces.Box(-1.0, 1.0, (7,), dtype=np.float32)
+
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Resolve joints, actuators, sites and bodies once."""
+        self._arm = physics.bind(self.arm_joints)
+        arm_actuators = self.robot.arm.mjcf_model.find_all("actuator", exclude_attachments=True)
+        self._arm_ctrl = physics.bind(arm_actuators)
+        self._gripper_ctrl = physics.bind(self.robot.gripper.actuators)
+        self._ctrl_low, self._ctrl_high = self._arm_ctrl.ctrlrange.T.copy()
+        self._tcp = physics.bind(self.robot.tcp)
+        self._box = physics.bind(self.box.body)
+        self._target = physics.bind(self.target)
+
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """Arm at its home pose (tool pointing down above the table), gripper open, box and
+        target placed (drawn at least 0.12 m apart with `randomize`)."""
+        self._arm.qpos = HOME
+        self._arm_ctrl.ctrl = HOME
+        box, target = np.array([0.1, -0.1]), np.array([0.2, 0.1])
+        if self.randomize:
+            (x_low, x_high), (y_low, y_high) = REGION
+            while True:
+                box, target = random_state.uniform([x_low, y_low], [x_high, y_high], (2, 2))
+                if np.linalg.norm(box - target) >= 0.12:
+                    break
+        self.box.set_pose(physics, [*box, self._box_height], [1, 0, 0, 0])
+        physics.model.geom_pos[self._target.ids, :2] = target
+
+    def before_step(
+        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
+    ) -> None:
+        """Arm targets: current angles plus `max_joint_step * action[:6]`, within the
+        actuators' ranges; gripper: `action[6]` mapped from [-1, 1] to its control range."""
+        targets = self._arm.qpos + self.max_joint_step * action[:6]
+        self._arm_ctrl.ctrl = np.clip(targets, self._ctrl_low, self._ctrl_high)
+        low, high = self._gripper_ctrl.ctrlrange[0]
+        self._gripper_ctrl.ctrl = low + (action[6] + 1.0) / 2.0 * (high - low)
+
+    def _distances(self) -> tuple[float, float]:
+        reach = float(np.linalg.norm(self._box.xpos - self._tcp.xpos))
+        push = float(np.linalg.norm(self._target.xpos[:2] - self._box.xpos[:2]))
+        return reach, push
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        """See the class docstring."""
+        reach, push = self._distances()
+        return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
+
+    def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
+        """The box fell off the table."""
+        return bool(self._box.xpos[2] < self.table_height - 0.1)
+
+    def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
+        """{'is_success': the box's centre within `target_radius` of the target's}."""
+        return {"is_success": self._distances()[1] < self.target_radius}

@@ -1,0 +1,120 @@
+"""Reach: move a planar two-link arm's fingertip to a random target.
+
+    env = gym.make('composer/Reach-v0', flatten_observations=True)
+    obs, info = env.reset(seed=0)
+    obs, reward, terminated, truncated, info = env.step(action)
+    info['is_success']                           # fingertip within 2 cm of the target
+
+Observations (10 numbers): `arm/joint_angles` (cos, sin of both joints; 4),
+`arm/joint_velocities` (2), `target_position` (x, y; 2) and `to_target` (target minus
+fingertip, x, y; 2). Action: two joint torques in [-1, 1]. Episodes last `time_limit`
+(3 s: 75 steps of 0.04 s) and never terminate; success is judged at every step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+import composer
+import mjcf
+from arenas import Floor
+from composer import observation
+from entities import PlanarArm
+
+
+class Reach(composer.Task):
+    """Bring the fingertip to a target drawn uniformly in the arm's reachable disc.
+
+    Reward per step, in [0, 1]: with d the fingertip-target distance (m) and R the
+    arm's reach, `0.5 * (1 - d / (2 R)) + 0.5 * exp(-(d / success_distance)^2)
+    - control_cost * mean(u^2)`: the first term pulls from anywhere, the second rewards
+    precision within a few centimetres. `info['is_success']` is `d < success_distance`.
+    """
+
+    def __init__(
+        self,
+        control_timestep: float = 0.04,
+        physics_timestep: float = 0.005,
+        randomize: bool = True,
+        success_distance: float = 0.02,
+        control_cost: float = 0.0,
+        link_lengths: Sequence[float] = (0.12, 0.12),
+        floor_size: Sequence[float] = (0.5, 0.5),
+    ) -> None:
+        """Build the scene. `randomize` draws the target and the initial joint angles
+        each episode; without it the target is fixed at (0.1, 0.1) and the arm starts
+        straight along x. Raises composer.TaskError for timesteps that do not divide."""
+        self.arena = Floor(name="floor", size=floor_size, elevation=-60.0)
+        self.arm = PlanarArm(link_lengths=link_lengths)
+        self.arena.attach(self.arm)
+        root = self.arena.mjcf_model
+        root.statistic.center = [0, 0, 0]
+        root.statistic.extent = 0.5
+        target = root.worldbody.add("body", name="target", mocap=True, pos=[0.1, 0.1, 0.02])
+        target.add("geom", name="target", type="sphere", size=[0.015], contype=0,
+                   conaffinity=0, rgba=[0.9, 0.2, 0.2, 0.8])  # fmt: skip
+        self.target = target
+        for name in ("joint_angles", "joint_velocities"):
+            self.arm.observables[name].enabled = True
+        self.randomize = randomize
+        self.success_distance = float(success_distance)
+        self.control_cost = float(control_cost)
+        self._task_observables = {
+            "target_position": observation.MJCFFeature("mocap_pos", target, index=slice(0, 2)),
+            "to_target": observation.Generic(self._to_target),
+        }
+        for item in self._task_observables.values():
+            item.enabled = True
+        self.set_timesteps(control_timestep, physics_timestep)
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The floor arena with the arm and the target."""
+        return self.arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """`target_position` and `to_target`."""
+        return self._task_observables
+
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Resolve the fingertip and target once."""
+        self._tip = physics.bind(self.arm.fingertip)
+        self._goal = physics.bind(self.target)
+        self._joints = physics.bind(self.arm.joints)
+
+    def _to_target(self, physics: mjcf.Physics) -> np.ndarray:
+        return self._goal.mocap_pos[:2] - self._tip.xpos[:2]
+
+    def distance(self, physics: mjcf.Physics) -> float:
+        """The fingertip-target distance in the plane (m)."""
+        return float(np.hypot(*self._to_target(physics)))
+
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """With `randomize`: joint angles uniform (shoulder over a full turn, elbow within
+        its limits' middle half), target uniform over the disc of radius 0.9 R (by area),
+        at least 0.05 m from the base."""
+        if not self.randomize:
+            return
+        self._joints.qpos = [random_state.uniform(-np.pi, np.pi), random_state.uniform(-1.4, 1.4)]
+        reach = self.arm.reach * 0.9
+        radius = np.sqrt(random_state.uniform((0.05 / reach) ** 2, 1.0)) * reach
+        angle = random_state.uniform(-np.pi, np.pi)
+        self._goal.mocap_pos[:2] = radius * np.cos(angle), radius * np.sin(angle)
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        """See the class docstring."""
+        d = self.distance(physics)
+        reward = 0.5 * (1.0 - d / (2.0 * self.arm.reach))
+        reward += 0.5 * float(np.exp(-((d / self.success_distance) ** 2)))
+        if self.control_cost:
+            reward -= self.control_cost * float(np.mean(physics.data.ctrl**2))
+        return reward
+
+    def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
+        """{'is_success': fingertip within `success_distance` of the target}."""
+        return {"is_success": self.distance(physics) < self.success_distance}

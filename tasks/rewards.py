@@ -1,0 +1,85 @@
+"""Reward shaping: `tolerance`, a smooth 1-inside, falling-outside bump used by the tasks.
+
+    tolerance(0.3, bounds=(0, 0.5))                      # 1.0: inside the bounds
+    tolerance(x, margin=2.0)                             # 1 at 0, 0.1 at |x| = 2, gaussian
+    tolerance(u, margin=1.0, value_at_margin=0.0, sigmoid='quadratic')   # 0 at |u| >= 1
+
+Outside `bounds` the value falls with the distance to the nearest bound, measured in
+units of `margin`: at one margin it is `value_at_margin`. Works on floats and arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+import composer
+
+SIGMOIDS = ("gaussian", "quadratic", "linear")
+
+
+def tolerance(
+    x: Any,
+    bounds: tuple[float, float] = (0.0, 0.0),
+    margin: float = 0.0,
+    sigmoid: str = "gaussian",
+    value_at_margin: float = 0.1,
+) -> Any:
+    """1 where `bounds[0] <= x <= bounds[1]`; outside, `sigmoid` of the distance to the
+    bounds over `margin` (0 outside when margin is 0). Raises composer.TaskError for bounds
+    out of order, a negative margin, an unknown sigmoid or value_at_margin outside [0, 1)
+    ((0, 1) for 'gaussian')."""
+    lower, upper = bounds
+    if lower > upper or margin < 0 or sigmoid not in SIGMOIDS:
+        raise composer.TaskError(
+            f"tolerance needs lower <= upper, margin >= 0 and a sigmoid in {SIGMOIDS}; got "
+            f"bounds {bounds}, margin {margin}, sigmoid {sigmoid!r}"
+        )
+    low_ok = value_at_margin > 0 if sigmoid == "gaussian" else value_at_margin >= 0
+    if not (low_ok and value_at_margin < 1):
+        raise composer.TaskError(
+            f"tolerance: value_at_margin must be in {'(0' if sigmoid == 'gaussian' else '[0'}"
+            f", 1) for {sigmoid!r}, got {value_at_margin}"
+        )
+    if isinstance(x, float | int | np.floating | np.integer):
+        return _scalar(float(x), lower, upper, margin, sigmoid, value_at_margin)
+    x = np.asarray(x, dtype=np.float64)
+    inside = (lower <= x) & (x <= upper)
+    if margin == 0:
+        value = np.where(inside, 1.0, 0.0)
+    else:
+        distance = np.where(x < lower, lower - x, x - upper) / margin
+        value = np.where(inside, 1.0, _falloff(distance, sigmoid, value_at_margin))
+    return float(value) if value.ndim == 0 else value
+
+
+def _falloff(distance: np.ndarray, sigmoid: str, value_at_margin: float) -> np.ndarray:
+    """A function of distance >= 0 that is 1 at 0 and `value_at_margin` at 1."""
+    if sigmoid == "gaussian":
+        scale = np.sqrt(-2.0 * np.log(value_at_margin))
+        return np.exp(-0.5 * (distance * scale) ** 2)
+    if sigmoid == "quadratic":
+        scaled = distance * np.sqrt(1.0 - value_at_margin)
+        return np.where(scaled < 1.0, 1.0 - scaled**2, 0.0)
+    scaled = distance * (1.0 - value_at_margin)
+    return np.where(scaled < 1.0, 1.0 - scaled, 0.0)
+
+
+def _scalar(
+    x: float, lower: float, upper: float, margin: float, sigmoid: str, value_at_margin: float
+) -> float:
+    """`tolerance` of one number, without numpy's per-call cost (rewards run every step)."""
+    if lower <= x <= upper:
+        return 1.0
+    if margin == 0:
+        return 0.0
+    distance = (lower - x if x < lower else x - upper) / margin
+    if sigmoid == "gaussian":
+        return math.exp(distance**2 * math.log(value_at_margin))
+    if sigmoid == "quadratic":
+        scaled = distance * math.sqrt(1.0 - value_at_margin)
+        return 1.0 - scaled**2 if scaled < 1.0 else 0.0
+    scaled = distance * (1.0 - value_at_margin)
+    return 1.0 - scaled if scaled < 1.0 else 0.0
