@@ -1,0 +1,124 @@
+"""commit_defaults and include_copy on real models: the compiled model is unchanged by
+committing, and including copies elements without a name scope or fails cleanly."""
+
+from __future__ import annotations
+
+import mujoco
+import pytest
+
+import mjcf
+from tests.conftest import ROBOTIQ, UR5E, gym_model
+from tests.mjcf.compare import model_differences
+
+
+def _commit_keeps_the_compiled_model(model: mjcf.RootElement) -> None:
+    before = mjcf.Physics.from_mjcf_model(model).model
+    mjcf.commit_defaults(model)
+    for each in (model, *[f.attached_model for f in model.find_all("attachment_frame")]):
+        assert each.default.all_children() == []
+        assert not any("class" in e.get_attributes() or "childclass" in e.get_attributes()
+                       for e in each.iter())  # fmt: skip
+    after = mjcf.Physics.from_mjcf_model(model).model
+    assert model_differences(before, after) == []
+    stock = mujoco.MjModel.from_xml_string(model.to_xml_string(), model.get_assets())
+    assert model_differences(before, stock) == []
+
+
+def test_commit_defaults_ur5e(menagerie) -> None:
+    _commit_keeps_the_compiled_model(mjcf.from_path(UR5E))
+
+
+def test_commit_defaults_gripper_with_actuator_classes(menagerie) -> None:
+    gripper = mjcf.from_path(ROBOTIQ)
+    actuator = gripper.find("actuator", "fingers_actuator")
+    assert actuator.get_attribute_xml_string("class") == "2f85"
+    assert actuator.biastype is None  # affine, from its class
+    _commit_keeps_the_compiled_model(gripper)
+    assert actuator.biastype == "affine"
+
+
+@pytest.mark.parametrize("name", ["humanoid", "walker2d", "ant", "half_cheetah"])
+def test_commit_defaults_gymnasium(name: str) -> None:
+    """walker2d's feet set friction="0.9" over a default of three numbers: the other two
+    stay the default's."""
+    _commit_keeps_the_compiled_model(mjcf.from_path(gym_model(name)))
+
+
+def test_commit_defaults_of_a_composed_scene(menagerie) -> None:
+    scene = mjcf.RootElement(model="scene")
+    scene.default.geom.rgba = [1, 0, 0, 1]
+    scene.default.joint.damping = 2
+    scene.worldbody.add("geom", type="plane", size=[2, 2, 0.1])
+    arm = mjcf.from_path(UR5E)
+    arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    scene.attach(arm)
+    spare = mjcf.from_path(ROBOTIQ)
+    spare.model = "spare"
+    scene.attach(spare).pos = [1, 0, 0]
+    _commit_keeps_the_compiled_model(scene)
+
+
+# -- include_copy -------------------------------------------------------------------------------
+
+
+def _base() -> mjcf.RootElement:
+    base = mjcf.RootElement(model="base")
+    base.compiler.angle = "radian"
+    base.worldbody.add("body", name="b1").add("geom", name="g1", size=[0.1])
+    return base
+
+
+def _extra(angle: str = "radian") -> mjcf.RootElement:
+    extra = mjcf.RootElement(model="extra")
+    extra.compiler.angle = angle
+    body = extra.worldbody.add("body", name="b2", pos=[1, 0, 0])
+    hinge = body.add("joint", name="hinge")
+    body.add("geom", name="g2", size=[0.1])
+    extra.actuator.add("motor", name="m2", joint=hinge)
+    extra.default.geom.rgba = [0, 0, 1, 1]
+    return extra
+
+
+def test_include_copy_merges_without_a_scope() -> None:
+    base, extra = _base(), _extra()
+    extra_before = extra.to_xml_string()
+    base.include_copy(extra)
+    assert base.find("geom", "g2") is not None and base.find("geom", "extra/g2") is None
+    motor = base.find("actuator", "m2")
+    assert motor.joint is base.find("joint", "hinge")  # references point at the copies
+    assert extra.to_xml_string() == extra_before  # the source is untouched
+    physics = mjcf.Physics.from_mjcf_model(base)
+    assert physics.model.nbody == 3 and physics.model.nu == 1
+    parts = mjcf.RootElement(model="parts")
+    parts.worldbody.add("body", pos=[0, 0, 1]).add("site", name="tip")
+    base.find("body", "b1").include_copy(parts.worldbody.body[0])  # same tag: merged in
+    assert base.find("site", "tip").parent is base.find("body", "b1")
+    assert base.find("body", "b1").pos.tolist() == [0, 0, 1]
+
+
+def test_include_copy_conflicts_and_override() -> None:
+    base = _base()
+    before = base.to_xml_string()
+    with pytest.raises(mjcf.AttachmentError, match=r"'angle' is 'radian' here and 'degree'"):
+        base.include_copy(_extra("degree"))
+    assert base.to_xml_string() == before
+    base.include_copy(_extra("degree"), override_attributes=True)
+    assert base.compiler.angle == "degree" and base.find("body", "b2") is not None
+
+
+def test_include_copy_name_collisions_change_nothing() -> None:
+    base = _base()
+    base.include_copy(_extra())
+    before = base.to_xml_string()
+    with pytest.raises(mjcf.NameError, match=r"the name 'b2' is already used by another body"):
+        base.include_copy(_extra())
+    assert base.to_xml_string() == before
+    clash = mjcf.RootElement(model="clash")
+    clash.worldbody.add("body", name="fresh")
+    clash.actuator.add("motor", name="m2", joint="j")
+    clash.find("body", "fresh").add("joint", name="j")
+    with pytest.raises(mjcf.NameError, match=r"'m2' is already used by another actuator"):
+        base.include_copy(clash)
+    assert base.to_xml_string() == before
+    with pytest.raises(mjcf.SchemaError, match="same kind"):
+        base.include_copy(clash.worldbody)
