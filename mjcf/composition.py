@@ -237,6 +237,7 @@ class Composition:
         self._auto_names: dict[Element, str] = {}
         self._auto_counts: dict[str, int] = {}
         self._binding_names: dict[Element, str] = {}
+        self._inertia: str | None = None
         self._models = [root, *attachment.attached_models(root)]
         self.has_attachments = len(self._models) > 1
         self.auto_named = auto_name_all or any(m._referenced_unnamed for m in self._models)
@@ -280,9 +281,15 @@ class Composition:
     def check(self) -> None:
         """Raise mjcf.AttachmentError if an attached model's settings conflict."""
         for model in self._models[1:]:
-            settings.check_compatible(self.root, model)
+            settings.check_compatible(self.root, model, inertia=False)
         if self.has_attachments:
-            settings.inertia_setting(self._models)
+            self.inertia_setting()
+
+    def inertia_setting(self) -> str:
+        """The `inertiafromgeom` of the output (see `mjcf.settings.inertia_setting`)."""
+        if self._inertia is None:
+            self._inertia = settings.inertia_setting(self._models)
+        return self._inertia
 
     def context(self, model: RootElement) -> ModelContext:
         """The context of `model`; raises mjcf.ReferenceError for a model that is not
@@ -307,7 +314,8 @@ class Composition:
     def merged_settings(self, tag: str) -> settings.MergedSettings:
         """One settings section merged over all models (see `mjcf.settings`); raises
         mjcf.AttachmentError when two models set one value differently."""
-        return settings.merged(self._models, tag)
+        inertia = self.inertia_setting() if tag == "compiler" and self.has_attachments else None
+        return settings.merged(self._models, tag, inertia)
 
     def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""

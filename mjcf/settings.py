@@ -67,9 +67,10 @@ class MergedSettings:
         self.sources: dict[str, tuple[RootElement, object]] = {}
 
 
-def merged(models: list[RootElement], tag: str) -> MergedSettings:
-    """Section `tag` merged over `models` (the output model first); raises
-    mjcf.AttachmentError when two models set one value differently."""
+def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> MergedSettings:
+    """Section `tag` merged over `models` (the output model first; `inertia` is their
+    `inertia_setting` if known); raises mjcf.AttachmentError when two models set one
+    value differently."""
     root = models[0]
     result = MergedSettings()
     for model in models:
@@ -81,15 +82,17 @@ def merged(models: list[RootElement], tag: str) -> MergedSettings:
         limits = {setting(model, "autolimits") for model in models}
         if len(limits) > 1:
             result.attributes["autolimits"] = "true"
-        inertia = inertia_setting(models)
+        if inertia is None:
+            inertia = inertia_setting(models)
         if inertia != setting(root, "inertiafromgeom"):
             result.attributes["inertiafromgeom"] = inertia
     return result
 
 
-def check_compatible(parent: RootElement, child: RootElement) -> None:
+def check_compatible(parent: RootElement, child: RootElement, inertia: bool = True) -> None:
     """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: a
-    compiler setting that is not converted differs, or a setting both models give
+    compiler setting that is not converted differs, their inertia settings cannot be
+    reconciled (checked unless `inertia` is false), or a setting both models give
     explicitly differs."""
     for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
         if name in FILE_SETTINGS or name in CONVERTED_SETTINGS or name in OUTPUT_SETTINGS:
@@ -107,7 +110,8 @@ def check_compatible(parent: RootElement, child: RootElement) -> None:
             f"<compiler settotalmass={total!r}> would scale the masses of attached models "
             "too; remove it (MuJoCo deprecates it), or scale the masses of its own bodies"
         )
-    inertia_setting([parent, child])
+    if inertia:
+        inertia_setting([parent, child])
     for tag in ("option", "size", "visual", "statistic"):
         merged = MergedSettings()
         _merge_into(merged, parent._section(tag), parent, frozenset())
