@@ -1,0 +1,195 @@
+"""Attach-and-compile N copies of a robot with mjcf, next to MuJoCo's own MjSpec attach of
+the same copies, in the same run.
+
+    python bench/bench_attach.py                 # ant and UR5e+2F-85, N = 1, 10, 100
+    python bench/bench_attach.py 1 10            # other N
+    python bench/bench_attach.py --profile 100   # cProfile of our attach of 100 ants
+
+For each robot and N, both sides start from one loaded model (not timed) and time:
+  copy     N copies of it (`copy.deepcopy(model)` / `spec.copy()`)
+  attach   each copy attached to a frame of an arena (`arena.attach(copy)` with a pose
+           / `arena.attach(copy_spec, frame=..., prefix=...)`)
+  compile  the arena, ready to step (`mjcf.Physics.from_mjcf_model` / `spec.compile()`,
+           MjData and mj_forward)
+and prints ms per copy for each step, the total, and our total over MjSpec's. Targets:
+our per-copy times stay flat as N grows (linear totals), and our total is within 5x
+of MjSpec's. The two sides run in alternating rounds and each figure is the best round;
+one warm-up round fills MuJoCo's mesh cache for both. Compiled sizes are checked equal.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import cProfile
+import os
+import pstats
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import gymnasium
+import mujoco
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+
+import mjcf
+
+REPO = Path(__file__).resolve().parents[1]
+ANT = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "ant.xml"
+MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
+UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
+ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
+ROUNDS = {1: 7, 10: 5}  # rounds per N (2 for larger N)
+
+
+# -- the two sides ---------------------------------------------------------------------------
+
+
+def ours_load(robot: str) -> mjcf.RootElement:
+    if robot == "ant":
+        return mjcf.from_path(ANT)
+    arm = mjcf.from_path(UR5E)
+    arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    return arm
+
+
+def ours_run(model: mjcf.RootElement, count: int) -> tuple[dict[str, float], mujoco.MjModel]:
+    times = {}
+    start = time.perf_counter()
+    copies = [copy.deepcopy(model) for _ in range(count)]
+    times["copy"] = time.perf_counter() - start
+    arena = mjcf.RootElement(model="arena")
+    arena.worldbody.add("geom", type="plane", size=[100, 100, 0.1])
+    start = time.perf_counter()
+    for i, robot in enumerate(copies):
+        robot.model = f"r{i}"
+        arena.attach(robot).pos = [2.0 * i, 0, 0]
+    times["attach"] = time.perf_counter() - start
+    start = time.perf_counter()
+    compiled = mjcf.Physics.from_mjcf_model(arena).model
+    times["compile"] = time.perf_counter() - start
+    return times, compiled
+
+
+def spec_load(robot: str) -> mujoco.MjSpec:
+    if robot == "ant":
+        return mujoco.MjSpec.from_file(str(ANT))
+    arm = mujoco.MjSpec.from_file(str(UR5E))
+    arm.compiler.conflict = mujoco.mjtConflict.mjCONFLICT_MERGE  # adopt the gripper's options
+    gripper = mujoco.MjSpec.from_file(str(ROBOTIQ))
+    arm.attach(gripper, site=arm.site("attachment_site"), prefix="robotiq_2f85/")
+    return arm
+
+
+def spec_run(spec: mujoco.MjSpec, count: int) -> tuple[dict[str, float], mujoco.MjModel]:
+    times = {}
+    start = time.perf_counter()
+    copies = [spec.copy() for _ in range(count)]
+    times["copy"] = time.perf_counter() - start
+    arena = mujoco.MjSpec()
+    arena.modelname = "arena"
+    arena.compiler.conflict = mujoco.mjtConflict.mjCONFLICT_MERGE  # adopt the copies' options
+    arena.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[100, 100, 0.1])
+    start = time.perf_counter()
+    for i, robot in enumerate(copies):
+        frame = arena.worldbody.add_frame(pos=[2.0 * i, 0, 0])
+        arena.attach(robot, frame=frame, prefix=f"r{i}/")
+    times["attach"] = time.perf_counter() - start
+    start = time.perf_counter()
+    compiled = arena.compile()
+    mujoco.mj_forward(compiled, mujoco.MjData(compiled))  # as Physics does: ready to step
+    times["compile"] = time.perf_counter() - start
+    return times, compiled
+
+
+# -- measuring ---------------------------------------------------------------------------------
+
+
+def best(runs: list[dict[str, float]]) -> dict[str, float]:
+    out = {step: min(run[step] for run in runs) for step in runs[0]}
+    out["total"] = min(sum(run.values()) for run in runs)
+    return out
+
+
+@contextlib.contextmanager
+def quiet_stderr():
+    """MuJoCo prints a warning for every attach whose options it merges: keep them out."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with open(os.devnull, "w") as devnull:
+        os.dup2(devnull.fileno(), 2)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+
+
+def measure(robot: str, count: int) -> tuple[dict[str, float], dict[str, float]]:
+    model = ours_load(robot)
+    with quiet_stderr():
+        spec = spec_load(robot)
+    ours_runs, spec_runs = [], []
+    for _ in range(ROUNDS.get(count, 2)):
+        ours_times, ours_model = ours_run(model, count)
+        with quiet_stderr():
+            spec_times, spec_model = spec_run(spec, count)
+        ours_runs.append(ours_times)
+        spec_runs.append(spec_times)
+    for size in ("nbody", "njnt", "ngeom", "nu", "nq", "nmesh"):
+        assert getattr(ours_model, size) == getattr(spec_model, size), size
+    return best(ours_runs), best(spec_runs)
+
+
+def report(robot: str, counts: list[int]) -> None:
+    ours_run(ours_load(robot), 2)  # warm-up: imports, MuJoCo's mesh cache
+    with quiet_stderr():
+        spec_run(spec_load(robot), 2)
+    print(f"\n{robot}: ms per copy (best of rounds)")
+    header = f"{'N':>5}  {'side':<7}" + "".join(
+        f"{s:>10}" for s in ("copy", "attach", "compile", "total")
+    )
+    print(header + f"{'total/MjSpec':>14}")
+    for count in counts:
+        ours, spec = measure(robot, count)
+        for side, times in (("mjcf", ours), ("MjSpec", spec)):
+            cells = "".join(
+                f"{1e3 * times[s] / count:10.3f}" for s in ("copy", "attach", "compile", "total")
+            )
+            ratio = f"{ours['total'] / spec['total']:14.2f}" if side == "mjcf" else ""
+            print(f"{count:>5}  {side:<7}{cells}{ratio}")
+
+
+def profile(count: int) -> None:
+    model = ours_load("ant")
+    copies = [copy.deepcopy(model) for _ in range(count)]
+    for i, robot in enumerate(copies):
+        robot.model = f"r{i}"
+    arena = mjcf.RootElement(model="arena")
+    profiler = cProfile.Profile()
+    profiler.enable()
+    for i, robot in enumerate(copies):
+        arena.attach(robot).pos = [2.0 * i, 0, 0]
+    profiler.disable()
+    pstats.Stats(profiler).sort_stats("cumulative").print_stats(12)
+
+
+def main(argv: list[str]) -> None:
+    if argv[:1] == ["--profile"]:
+        profile(int(argv[1]) if len(argv) > 1 else 100)
+        return
+    counts = [int(a) for a in argv] or [1, 10, 100]
+    print(f"mujoco {mujoco.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} cpus")
+    report("ant", counts)
+    if UR5E.exists() and ROBOTIQ.exists():
+        report("ur5e+2f85", counts)
+    else:
+        print(f"\nur5e+2f85: skipped, menagerie robots not found at {MENAGERIE}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
