@@ -18,18 +18,17 @@ ctrlrange for real robots). Errors are `composer.EntityError` subclasses.
 
 from entities import robots
 from entities.cartpole import CartPole
-from entities.features import BodyHeight, BodyUpright, HingeAngles
+from entities.features import Clipped, HingeAngles
 from entities.planar_arm import PlanarArm
 from entities.props import Box, Capsule, Cylinder, MeshProp, Prop, PropError, Sphere
 from entities.quadruped import Quadruped
 from entities.walker import Walker
 
 __all__ = [
-    "BodyHeight",
-    "BodyUpright",
     "Box",
     "Capsule",
     "CartPole",
+    "Clipped",
     "Cylinder",
     "HingeAngles",
     "MeshProp",

@@ -17,7 +17,7 @@ import numpy as np
 import composer
 import mjcf
 from composer import observation
-from entities.features import HingeAngles
+from entities.features import Clipped, HingeAngles, velocities
 
 
 class CartPole(composer.Entity):
@@ -69,7 +69,8 @@ class CartPole(composer.Entity):
     @composer.observable
     def cart_position(self) -> observation.Observable:
         """The cart's position along the rail (m), shape (1,)."""
-        return observation.MJCFFeature("qpos", [self.slider])
+        limit = float(self.slider.range[1]) + 0.5
+        return Clipped("qpos", [self.slider], -limit, limit)
 
     @composer.observable
     def pole_angle(self) -> observation.Observable:
@@ -79,8 +80,8 @@ class CartPole(composer.Entity):
     @composer.observable
     def velocities(self) -> observation.Observable:
         """(cart velocity m/s, pole angular velocity rad/s)."""
-        return observation.MJCFFeature("qvel", [self.slider, self.hinge])
+        return velocities([self.slider, self.hinge])
 
     def pole_angle_cosine(self, physics: mjcf.Physics) -> float:
         """cos of the pole angle: 1 upright, -1 hanging."""
-        return float(np.cos(physics.bind(self.hinge).qpos))
+        return float(np.cos(physics.bind(self.hinge).qpos[0]))

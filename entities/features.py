@@ -1,10 +1,12 @@
-"""Observables the entities share: features derived from bound MJCF elements.
+"""Observables the entities share: bounded features of bound MJCF elements.
 
     arm.observables.add_observable('angles', HingeAngles([shoulder, elbow]))   # cos, sin
-    walker.observables.add_observable('height', BodyHeight(torso))
+    speed = Clipped('qvel', joints, -VELOCITY_LIMIT, VELOCITY_LIMIT)
+    height = Clipped('xpos', torso, -POSITION_LIMIT, POSITION_LIMIT, index=slice(2, 3))
 
-Each binds its elements once per compile (`reader`) and then reads the live simulation
-arrays, so sampling costs a few numpy operations per step.
+Every feature here has finite bounds, and its value is clipped to them, so observations
+always lie in the observation space (Gymnasium's checker rejects infinite bounds). Each
+binds its elements once per compile (`reader`) and then reads the live simulation.
 """
 
 from __future__ import annotations
@@ -16,6 +18,9 @@ import numpy as np
 
 import mjcf
 from composer import observation
+
+VELOCITY_LIMIT = 100.0  # m/s or rad/s: far beyond what the robots here reach
+POSITION_LIMIT = 100.0  # m from the world origin
 
 
 class HingeAngles(observation.Observable):
@@ -34,31 +39,41 @@ class HingeAngles(observation.Observable):
         return lambda: np.concatenate([np.cos(binding.qpos), np.sin(binding.qpos)])
 
 
-class BodyHeight(observation.Observable):
-    """The world height (z) of a body's frame, shape (1,)."""
+class Clipped(observation.Observable):
+    """`physics.bind(elements).<kind>[index]` clipped to [low, high], its bounds."""
 
-    def __init__(self, body: mjcf.Element, **options: Any) -> None:
-        """Read `body`'s xpos z; options as `composer.observation.Observable`."""
+    def __init__(
+        self, kind: str, elements: Any, low: Any, high: Any, index: Any = None, **options: Any
+    ) -> None:
+        """Read field `kind` ('qpos', 'xpos' ...) of `elements` (one or a list), part
+        `index` of it if given; options as `composer.observation.Observable`."""
+        options.setdefault("bounds", (low, high))
         super().__init__(**options)
-        self.body = body
+        self.kind = kind
+        self.elements = elements
+        self.low, self.high = low, high
+        self.index = index
 
     def reader(self, physics: mjcf.Physics) -> Callable[[], np.ndarray]:
-        """Bind the body once; each call returns its height."""
-        binding = physics.bind(self.body)
-        return lambda: binding.xpos[2:3]
+        """Bind the elements once; raises mjcf.BindingError now for an unknown field."""
+        binding = physics.bind(self.elements)
+        kind, index, low, high = self.kind, self.index, self.low, self.high
+        getattr(binding, kind)
+        if index is None:
+            return lambda: np.clip(getattr(binding, kind), low, high)
+        return lambda: np.clip(getattr(binding, kind)[index], low, high)
 
 
-class BodyUpright(observation.Observable):
-    """How upright a body is: the z component of its local z axis, 1 when upright, -1
-    upside down; shape (1,), bounded in [-1, 1]."""
+def velocities(joints: Sequence[mjcf.Element] | mjcf.Element) -> Clipped:
+    """The joints' qvel within +-VELOCITY_LIMIT."""
+    return Clipped("qvel", joints, -VELOCITY_LIMIT, VELOCITY_LIMIT)
 
-    def __init__(self, body: mjcf.Element, **options: Any) -> None:
-        """Read `body`'s xmat; options as `composer.observation.Observable`."""
-        options.setdefault("bounds", (-1.0, 1.0))
-        super().__init__(**options)
-        self.body = body
 
-    def reader(self, physics: mjcf.Physics) -> Callable[[], np.ndarray]:
-        """Bind the body once; each call returns xmat[2, 2]."""
-        binding = physics.bind(self.body)
-        return lambda: binding.xmat[8:9]
+def angles(joints: Sequence[mjcf.Element]) -> Clipped:
+    """Hinge joints' qpos within +-2 pi (limited joints stay well inside)."""
+    return Clipped("qpos", joints, -2 * np.pi, 2 * np.pi)
+
+
+def positions(element: mjcf.Element, index: Any = None) -> Clipped:
+    """An element's world position xpos (part `index`) within +-POSITION_LIMIT."""
+    return Clipped("xpos", element, -POSITION_LIMIT, POSITION_LIMIT, index=index)

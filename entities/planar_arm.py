@@ -17,12 +17,14 @@ from collections.abc import Sequence
 import composer
 import mjcf
 from composer import observation
-from entities.features import HingeAngles
+from entities.features import Clipped, HingeAngles, velocities
+
+ACTUATORS = ("motor", "position")
 
 
 class PlanarArm(composer.Entity):
-    """Joints `shoulder` and `elbow`, torque motors with control in [-1, 1] (torque
-    `gear * control` N m), and the site `fingertip` at the end of the second link."""
+    """Joints `shoulder` and `elbow`, an actuator on each (torque motors by default), and
+    the site `fingertip` at the end of the second link."""
 
     def _build(
         self,
@@ -32,9 +34,17 @@ class PlanarArm(composer.Entity):
         gear: float = 0.05,
         damping: float = 0.01,
         elbow_range: float = 2.8,
+        actuator: str = "motor",
+        kp: float = 1.0,
     ) -> None:
-        """Make the arm model named `name`: link lengths in m, motor `gear` (N m at full
-        control), joint `damping` (N m s/rad) and the elbow's limit in rad."""
+        """Make the arm model named `name`: link lengths in m, joint `damping` (N m s/rad),
+        the elbow's limit in rad, and `actuator` 'motor' (torque `gear * control` N m,
+        control in [-1, 1]) or 'position' (servos to a joint angle with stiffness `kp`
+        N m/rad and torque up to `gear`). Raises composer.EntityError for another actuator."""
+        if actuator not in ACTUATORS:
+            raise composer.EntityError(
+                f"PlanarArm actuator must be one of {ACTUATORS}, got {actuator!r}"
+            )
         upper_length, lower_length = (float(v) for v in link_lengths)
         root = self._mjcf_root = mjcf.RootElement(model=name)
         root.compiler.angle = "radian"
@@ -60,8 +70,12 @@ class PlanarArm(composer.Entity):
         self.joints = [self.shoulder, self.elbow]
         self.reach = upper_length + lower_length
         for joint in self.joints:
-            root.actuator.add("motor", name=joint.name, joint=joint, gear=[gear],
-                              ctrllimited=True, ctrlrange=[-1, 1])  # fmt: skip
+            if actuator == "motor":
+                root.actuator.add("motor", name=joint.name, joint=joint, gear=[gear],
+                                  ctrllimited=True, ctrlrange=[-1, 1])  # fmt: skip
+            else:
+                root.actuator.add("position", name=joint.name, joint=joint, kp=kp,
+                                  forcelimited=True, forcerange=[-gear, gear])  # fmt: skip
 
     @composer.observable
     def joint_angles(self) -> observation.Observable:
@@ -71,9 +85,9 @@ class PlanarArm(composer.Entity):
     @composer.observable
     def joint_velocities(self) -> observation.Observable:
         """Shoulder and elbow angular velocities (rad/s)."""
-        return observation.MJCFFeature("qvel", self.joints)
+        return velocities(self.joints)
 
     @composer.observable
     def fingertip_position(self) -> observation.Observable:
         """World (x, y) of the fingertip (m)."""
-        return observation.MJCFFeature("xpos", self.fingertip, index=slice(0, 2))
+        return Clipped("xpos", self.fingertip, -self.reach, self.reach, index=slice(0, 2))

@@ -21,7 +21,7 @@ from typing import Any
 
 import composer
 import mjcf
-from composer import observation
+from entities import features
 
 Color = Sequence[float]
 
@@ -54,16 +54,14 @@ class Prop(composer.Entity):
 
     def _build_observables(self) -> composer.Observables:
         observables = composer.Observables(self)
+        observables.add_observable("position", features.positions(self.body), enabled=False)
         observables.add_observable(
-            "position", observation.MJCFFeature("xpos", self.body), enabled=False
-        )
-        observables.add_observable(
-            "orientation", observation.MJCFFeature("xquat", self.body, bounds=(-1, 1)),
+            "orientation", features.Clipped("xquat", self.body, -1.0, 1.0),
             enabled=False,
         )  # fmt: skip
         if self.free_joint is not None:
             observables.add_observable(
-                "velocity", observation.MJCFFeature("qvel", self.free_joint), enabled=False
+                "velocity", features.velocities(self.free_joint), enabled=False
             )
         return observables
 

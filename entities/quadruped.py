@@ -16,7 +16,7 @@ import numpy as np
 import composer
 import mjcf
 from composer import observation
-from entities.features import BodyHeight, BodyUpright
+from entities.features import Clipped, angles, positions, velocities
 
 _LEGS = (("front_left", 45.0), ("front_right", -45.0), ("back_left", 135.0),
          ("back_right", -135.0))  # fmt: skip
@@ -83,29 +83,29 @@ class Quadruped(composer.Entity):
     @composer.observable
     def joint_positions(self) -> observation.Observable:
         """Leg joint angles (rad), hips then knees, shape (8,)."""
-        return observation.MJCFFeature("qpos", self.joints)
+        return angles(self.joints)
 
     @composer.observable
     def joint_velocities(self) -> observation.Observable:
         """Leg joint angular velocities (rad/s), shape (8,)."""
-        return observation.MJCFFeature("qvel", self.joints)
+        return velocities(self.joints)
 
     @composer.observable
     def torso_height(self) -> observation.Observable:
         """Torso height above the world origin (m), shape (1,)."""
-        return BodyHeight(self.torso)
+        return positions(self.torso, index=slice(2, 3))
 
     @composer.observable
     def torso_upright(self) -> observation.Observable:
         """1 when the torso is upright, -1 upside down, shape (1,)."""
-        return BodyUpright(self.torso)
+        return Clipped("xmat", self.torso, -1.0, 1.0, index=slice(8, 9))
 
     @composer.observable
     def torso_orientation(self) -> observation.Observable:
         """Torso quaternion (w, x, y, z), shape (4,)."""
-        return observation.MJCFFeature("xquat", self.torso, bounds=(-1, 1))
+        return Clipped("xquat", self.torso, -1.0, 1.0)
 
     @composer.observable
     def torso_velocity(self) -> observation.Observable:
         """Free-joint velocity: world linear (m/s) then local angular (rad/s), shape (6,)."""
-        return observation.MJCFFeature("qvel", self.root_joint)
+        return velocities(self.root_joint)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import composer
 import mjcf
 from composer import observation
-from entities.features import BodyHeight, HingeAngles
+from entities.features import HingeAngles, angles, positions, velocities
 
 
 class Walker(composer.Entity):
@@ -80,17 +80,17 @@ class Walker(composer.Entity):
     @composer.observable
     def joint_positions(self) -> observation.Observable:
         """Leg joint angles (rad): left hip, knee, ankle, then right; shape (6,)."""
-        return observation.MJCFFeature("qpos", self.leg_joints)
+        return angles(self.leg_joints)
 
     @composer.observable
     def joint_velocities(self) -> observation.Observable:
         """Velocities of every joint, root ones first (m/s, rad/s), shape (9,)."""
-        return observation.MJCFFeature("qvel", self.root_joints + self.leg_joints)
+        return velocities(self.root_joints + self.leg_joints)
 
     @composer.observable
     def torso_height(self) -> observation.Observable:
         """Torso height above the world origin (m), shape (1,)."""
-        return BodyHeight(self.torso)
+        return positions(self.torso, index=slice(2, 3))
 
     @composer.observable
     def torso_pitch(self) -> observation.Observable:

@@ -10,8 +10,8 @@ the task raises `entities.robots.RobotNotFoundError` naming every place it looke
 
 Action (7 numbers in [-1, 1]): six joint-angle changes, each scaled by `max_joint_step`
 rad and added to the current angles as the arm's position targets, and the gripper
-command (-1 open, 1 closed). Observations: `robot/ur5e/joint_positions` (6),
-`robot/ur5e/joint_velocities` (6), `gripper_opening` (1), `tcp_position` (3),
+command (-1 open, 1 closed). Observations: `arm_joint_positions` (6),
+`arm_joint_velocities` (6), `gripper_opening` (1), `tcp_position` (3),
 `box_position` (3), `tcp_to_box` (3), `box_to_target` (2): 24 numbers.
 """
 
@@ -26,7 +26,7 @@ import composer
 import mjcf
 from arenas import Table
 from composer import observation
-from entities import Box, robots
+from entities import Box, features, robots
 
 HOME = (np.pi, -1.9, 2.0, -1.67, -np.pi / 2, 0.0)
 REGION = ((0.05, 0.25), (-0.2, 0.2))  # x and y ranges on the table for box and target
@@ -72,19 +72,26 @@ class ArmPushBox(composer.Task):
         )  # fmt: skip
         self.arm_joints = self.robot.arm.mjcf_model.find_all("joint", exclude_attachments=True)
         self.gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
-        self.robot.gripper.observables.disable_all()
+        for entity in self.robot.iter_entities():
+            entity.observables.disable_all()
         self.randomize = randomize
         self.target_radius = float(target_radius)
         self.max_joint_step = float(max_joint_step)
         self.table_height = float(table_height)
         self._box_height = table_height + box_half_size
         self._task_observables: dict[str, observation.Observable] = {
-            "gripper_opening": observation.MJCFFeature("qpos", [self.gripper_joint]),
-            "tcp_position": observation.MJCFFeature("xpos", self.robot.tcp),
-            "box_position": observation.MJCFFeature("xpos", self.box.body),
-            "tcp_to_box": observation.Generic(lambda physics: self._box.xpos - self._tcp.xpos),
+            "arm_joint_positions": features.angles(self.arm_joints),
+            "arm_joint_velocities": features.velocities(self.arm_joints),
+            "gripper_opening": features.angles([self.gripper_joint]),
+            "tcp_position": features.positions(self.robot.tcp),
+            "box_position": features.positions(self.box.body),
+            "tcp_to_box": observation.Generic(
+                lambda physics: np.clip(self._box.xpos - self._tcp.xpos, -10, 10),
+                bounds=(-10, 10),
+            ),
             "box_to_target": observation.Generic(
-                lambda physics: self._target.xpos[:2] - self._box.xpos[:2]
+                lambda physics: np.clip(self._target.xpos[:2] - self._box.xpos[:2], -10, 10),
+                bounds=(-10, 10),
             ),
         }
         for item in self._task_observables.values():

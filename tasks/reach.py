@@ -7,8 +7,10 @@
 
 Observations (10 numbers): `arm/joint_angles` (cos, sin of both joints; 4),
 `arm/joint_velocities` (2), `target_position` (x, y; 2) and `to_target` (target minus
-fingertip, x, y; 2). Action: two joint torques in [-1, 1]. Episodes last `time_limit`
-(3 s: 75 steps of 0.04 s) and never terminate; success is judged at every step.
+fingertip, x, y; 2). Action: two joint-angle changes in [-1, 1], scaled by
+`max_joint_step` (0.2 rad) and added to the current angles as the joint servos' targets,
+so a zero action holds the arm still. Episodes last `time_limit` (3 s: 75 steps of 0.04 s)
+and never terminate; success is judged at every step.
 """
 
 from __future__ import annotations
@@ -16,12 +18,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from gymnasium import spaces
 
 import composer
 import mjcf
 from arenas import Floor
 from composer import observation
-from entities import PlanarArm
+from entities import Clipped, PlanarArm
 
 
 class Reach(composer.Task):
@@ -29,8 +32,8 @@ class Reach(composer.Task):
 
     Reward per step, in [0, 1]: with d the fingertip-target distance (m) and R the
     arm's reach, `0.5 * (1 - d / (2 R)) + 0.5 * exp(-(d / success_distance)^2)
-    - control_cost * mean(u^2)`: the first term pulls from anywhere, the second rewards
-    precision within a few centimetres. `info['is_success']` is `d < success_distance`.
+    - control_cost * mean(action^2)`: the first term pulls from anywhere, the second
+    rewards precision within a few centimetres. `info['is_success']` is `d < success_distance`.
     """
 
     def __init__(
@@ -40,6 +43,7 @@ class Reach(composer.Task):
         randomize: bool = True,
         success_distance: float = 0.02,
         control_cost: float = 0.0,
+        max_joint_step: float = 0.2,
         link_lengths: Sequence[float] = (0.12, 0.12),
         floor_size: Sequence[float] = (0.5, 0.5),
     ) -> None:
@@ -47,7 +51,9 @@ class Reach(composer.Task):
         each episode; without it the target is fixed at (0.1, 0.1) and the arm starts
         straight along x. Raises composer.TaskError for timesteps that do not divide."""
         self.arena = Floor(name="floor", size=floor_size, elevation=-60.0)
-        self.arm = PlanarArm(link_lengths=link_lengths)
+        self.arm = PlanarArm(
+            link_lengths=link_lengths, actuator="position", kp=1.0, damping=0.05, gear=0.2
+        )
         self.arena.attach(self.arm)
         root = self.arena.mjcf_model
         root.statistic.center = [0, 0, 0]
@@ -61,9 +67,15 @@ class Reach(composer.Task):
         self.randomize = randomize
         self.success_distance = float(success_distance)
         self.control_cost = float(control_cost)
+        self.max_joint_step = float(max_joint_step)
+        self._action = np.zeros(2)
+        reach = self.arm.reach
         self._task_observables = {
-            "target_position": observation.MJCFFeature("mocap_pos", target, index=slice(0, 2)),
-            "to_target": observation.Generic(self._to_target),
+            "target_position": Clipped("mocap_pos", target, -reach, reach, index=slice(0, 2)),
+            "to_target": observation.Generic(
+                lambda physics: np.clip(self._to_target(physics), -2 * reach, 2 * reach),
+                bounds=(-2 * reach, 2 * reach),
+            ),
         }
         for item in self._task_observables.values():
             item.enabled = True
@@ -79,11 +91,23 @@ class Reach(composer.Task):
         """`target_position` and `to_target`."""
         return self._task_observables
 
+    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
+        """Two joint-angle changes in [-1, 1] (see the module docstring)."""
+        return spaces.Box(-1.0, 1.0, (2,), dtype=np.float32)
+
+    def before_step(
+        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
+    ) -> None:
+        """Servo targets: the current joint angles plus `max_joint_step * action`."""
+        self._action = action
+        self._servos.ctrl = self._joints.qpos + self.max_joint_step * action
+
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Resolve the fingertip and target once."""
         self._tip = physics.bind(self.arm.fingertip)
         self._goal = physics.bind(self.target)
         self._joints = physics.bind(self.arm.joints)
+        self._servos = physics.bind(self.arm.actuators)
 
     def _to_target(self, physics: mjcf.Physics) -> np.ndarray:
         return self._goal.mocap_pos[:2] - self._tip.xpos[:2]
@@ -97,10 +121,16 @@ class Reach(composer.Task):
     ) -> None:
         """With `randomize`: joint angles uniform (shoulder over a full turn, elbow within
         its limits' middle half), target uniform over the disc of radius 0.9 R (by area),
-        at least 0.05 m from the base."""
+        at least 0.05 m from the base. The servos hold the initial angles."""
+        self._action = np.zeros(2)
+        if self.randomize:
+            self._joints.qpos = [
+                random_state.uniform(-np.pi, np.pi),
+                random_state.uniform(-1.4, 1.4),
+            ]
+        self._servos.ctrl = self._joints.qpos
         if not self.randomize:
             return
-        self._joints.qpos = [random_state.uniform(-np.pi, np.pi), random_state.uniform(-1.4, 1.4)]
         reach = self.arm.reach * 0.9
         radius = np.sqrt(random_state.uniform((0.05 / reach) ** 2, 1.0)) * reach
         angle = random_state.uniform(-np.pi, np.pi)
@@ -112,7 +142,7 @@ class Reach(composer.Task):
         reward = 0.5 * (1.0 - d / (2.0 * self.arm.reach))
         reward += 0.5 * float(np.exp(-((d / self.success_distance) ** 2)))
         if self.control_cost:
-            reward -= self.control_cost * float(np.mean(physics.data.ctrl**2))
+            reward -= self.control_cost * float(np.mean(np.square(self._action)))
         return reward
 
     def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
