@@ -48,9 +48,10 @@ class Table(Floor):
                 pos=[sx * (half_x - 0.05), sy * (half_y - 0.05), -thickness - leg_height / 2],
                 material="wood",
             )  # fmt: skip
+        invisible = {"size": [0.01], "rgba": [0, 0, 0, 0]}
         self.mount = table.add("site", name="mount", pos=[-half_x + mount_inset, 0, 0],
-                               size=[0.01])  # fmt: skip
-        self.top = table.add("site", name="top", size=[0.01])
+                               **invisible)  # fmt: skip
+        self.top = table.add("site", name="top", **invisible)
         self.top_height = float(height)
         self.top_size = (half_x, half_y)
         self.top_center = np.array([0.0, 0.0, height])

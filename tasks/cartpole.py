@@ -49,7 +49,7 @@ class CartpoleSwingup(composer.Task):
         self.arena.attach(self.cartpole)
         root = self.arena.mjcf_model
         root.statistic.center = [0, 0, 1.2]
-        root.statistic.extent = 3.0
+        root.statistic.extent = 2.5
         for observable in self.cartpole.observables.values():
             observable.enabled = True
         self.randomize = randomize

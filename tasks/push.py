@@ -63,8 +63,8 @@ class ArmPushBox(composer.Task):
         self.box = Box(half_sizes=[box_half_size] * 3, mass=0.1)
         self.arena.attach(self.box)
         root = self.arena.mjcf_model
-        root.statistic.center = [0, 0, table_height + 0.2]
-        root.statistic.extent = 1.2
+        root.statistic.center = [-0.1, 0, table_height + 0.15]
+        root.statistic.extent = 1.4
         self.target = root.worldbody.add(
             "geom", name="target", type="cylinder", size=[target_radius, 0.001],
             pos=[0.2, 0.1, table_height + 0.001], contype=0, conaffinity=0,

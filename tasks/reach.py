@@ -45,7 +45,7 @@ class Reach(composer.Task):
         control_cost: float = 0.0,
         max_joint_step: float = 0.2,
         link_lengths: Sequence[float] = (0.12, 0.12),
-        floor_size: Sequence[float] = (0.5, 0.5),
+        floor_size: Sequence[float] = (1.0, 1.0),
     ) -> None:
         """Build the scene. `randomize` draws the target and the initial joint angles
         each episode; without it the target is fixed at (0.1, 0.1) and the arm starts
