@@ -413,12 +413,16 @@ class Composition:
 
 
 def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, str | None]:
-    """Attributes an attachment frame writes besides its own: its output name and the
-    attached model's default class."""
-    return {
-        "name": attachment.frame_output_name(frame, child_context.composition.context(frame.root)),
-        "childclass": child_context.main_reference,
-    }
+    """Attributes an attachment frame writes besides its own: its output name, the
+    attached model's default class, and its orientation in the output's angle units
+    (the frame's pose is in those of the model it belongs to)."""
+    context = child_context.composition.context(frame.root)
+    out: dict[str, str | None] = {}
+    if context.angle_scale is not None or context.euler_seq is not None:
+        out.update(context._convert_angles(frame))
+    out["name"] = attachment.frame_output_name(frame, context)
+    out["childclass"] = child_context.main_reference
+    return out
 
 
 def _has_global_defaults(root: RootElement) -> bool:

@@ -343,6 +343,33 @@ def test_a_radian_robot_inside_a_degree_model(menagerie) -> None:
     assert differences_from_alone(parent_alone, composed, "") == []
 
 
+@pytest.mark.parametrize(("angle", "quarter"), [("degree", 90.0), ("radian", np.pi / 2)])
+def test_attachment_frames_inside_an_attached_model_keep_its_angle_units(
+    angle: str, quarter: float
+) -> None:
+    """A frame belongs to the model it is in: its pose (set, or taken from the site it
+    is attached at) is in that model's units, also when that model is attached."""
+    base = mjcf.RootElement(model="base")
+    base.compiler.angle = angle
+    body = base.worldbody.add("body", name="bb")
+    body.add("geom", size=[0.1])
+    site = body.add("site", name="mount", euler=[0, 0, quarter])
+    for name, place in (("at_site", site), ("at_body", body)):
+        child = mjcf.RootElement(model=name)
+        child.worldbody.add("body", name="cb").add("geom", size=[0.1])
+        frame = place.attach(child)
+        if place is body:
+            frame.euler = [quarter, 0, 0]
+    alone = mjcf.Physics.from_mjcf_model(base)
+    root = mjcf.RootElement(model="root")
+    root.compiler.angle = "radian" if angle == "degree" else "degree"
+    root.attach(base)
+    composed = mjcf.Physics.from_mjcf_model(root)
+    for name in ("at_site", "at_body"):
+        expected = alone.named.data.xquat[f"{name}/cb"]
+        assert np.allclose(composed.named.data.xquat[f"base/{name}/cb"], expected)
+
+
 def test_conflicting_options_are_refused_and_change_nothing() -> None:
     parent, child = _parent("radian"), _child("degree")
     parent.option.timestep = 0.002
