@@ -7,10 +7,11 @@
 
 Observations (10 numbers): `arm/joint_angles` (cos, sin of both joints; 4),
 `arm/joint_velocities` (2), `target_position` (x, y; 2) and `to_target` (target minus
-fingertip, x, y; 2). Action: two joint-angle changes in [-1, 1], scaled by
-`max_joint_step` (0.2 rad) and added to the current angles as the joint servos' targets,
-so a zero action holds the arm still. Episodes last `time_limit` (3 s: 75 steps of 0.04 s)
-and never terminate; success is judged at every step.
+fingertip, x, y; 2), the last two in units of the arm's reach R (0.24 m), so that the
+centimetres that matter are not lost in small inputs. Action: two joint-angle changes
+in [-1, 1], scaled by `max_joint_step` (0.2 rad) and added to the current angles as the
+joint servos' targets, so a zero action holds the arm still. Episodes last `time_limit`
+(3 s: 75 steps of 0.04 s) and never terminate; success is judged at every step.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import composer
 import mjcf
 from arenas import Floor
 from composer import observation
-from entities import Clipped, PlanarArm
+from entities import PlanarArm
 
 
 class Reach(composer.Task):
@@ -71,10 +72,11 @@ class Reach(composer.Task):
         self._action = np.zeros(2)
         reach = self.arm.reach
         self._task_observables = {
-            "target_position": Clipped("mocap_pos", target, -reach, reach, index=slice(0, 2)),
+            "target_position": observation.Generic(
+                lambda physics: np.clip(self._goal.mocap_pos[:2] / reach, -1, 1), bounds=(-1, 1)
+            ),
             "to_target": observation.Generic(
-                lambda physics: np.clip(self._to_target(physics), -2 * reach, 2 * reach),
-                bounds=(-2 * reach, 2 * reach),
+                lambda physics: np.clip(self._to_target(physics) / reach, -2, 2), bounds=(-2, 2)
             ),
         }
         for item in self._task_observables.values():
