@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import mujoco
 
 from mjcf import attachment, errors, keyframes, serializer
+from mjcf.composition import replicated
 from mjcf.namescope import unescape
 
 if TYPE_CHECKING:
@@ -58,6 +59,11 @@ class Compiled(NamedTuple):
                 return ""
             name = composition.auto_names().get(element)
             if name is None:
+                if replicated(element):
+                    raise errors.BindingError(
+                        f"{element.path}: is inside a <replicate>, so it compiles to several "
+                        "objects; name it and bind them by their numbered names"
+                    )
                 raise errors.BindingError(f"{element.path}: was added after the model was compiled")
             return name
         if element._spec.namespace == "default":
@@ -104,9 +110,10 @@ def _unname(spec: mujoco.MjSpec, names: dict[Element, str]) -> dict[Element, obj
                 for handle in getattr(spec, _PLURALS.get(namespace, namespace + "s"))
                 if handle.name.startswith("//")
             }
-        handle = found[name]
-        handle.name = ""
-        handles[element] = handle
+        handle = found.get(name)
+        if handle is not None:  # else MuJoCo made it something else: it cannot be bound
+            handle.name = ""
+            handles[element] = handle
     return handles
 
 

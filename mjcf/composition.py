@@ -345,11 +345,12 @@ class Composition:
             return WORLD
         name = target.identifier
         if name is None:
-            name = self.auto_name(target, context)
-        if name is None:
-            raise errors.ReferenceError(
-                f"{element.path}: {attribute.name!r} refers to an unnamed {target.path}"
-            )
+            generated = self.auto_name(target, context)  # already scoped
+            if generated is None:
+                raise errors.ReferenceError(
+                    f"{element.path}: {attribute.name!r} refers to an unnamed {target.path}"
+                )
+            return generated
         if target._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
@@ -375,7 +376,7 @@ class Composition:
         if name is not None:
             return name
         if element not in element.root._referenced_unnamed:
-            if not self.auto_name_all or spec.namespace not in BINDABLE:
+            if not self.auto_name_all or spec.namespace not in BINDABLE or replicated(element):
                 return None
             # A name only to find the element in the compiled model, where it is unnamed
             # again (see mjcf.compiler); '//' never occurs in a user's scoped name.
@@ -423,6 +424,17 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
     out["name"] = attachment.frame_output_name(frame, context)
     out["childclass"] = child_context.main_reference
     return out
+
+
+def replicated(element: Element) -> bool:
+    """Whether `element` is inside a `<replicate>`, so that it compiles to several
+    objects (MuJoCo numbers their names) rather than one to bind."""
+    parent = element._parent
+    while parent is not None:
+        if parent._spec.tag == "replicate":
+            return True
+        parent = parent._parent
+    return False
 
 
 def _has_global_defaults(root: RootElement) -> bool:

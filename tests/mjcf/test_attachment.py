@@ -434,6 +434,41 @@ def test_sizes_merge_to_the_largest() -> None:
     assert mjcf.Physics.from_mjcf_model(parent).model.nkey == 4
 
 
+# -- compiled names -----------------------------------------------------------------------------
+
+
+def test_compiled_names_are_those_stock_mujoco_reads_from_the_written_model() -> None:
+    """Unnamed elements stay unnamed in the compiled model, yet bind; one a reference
+    points at gets the name the written XML gives it; replicated ones are MuJoCo's."""
+    child = mjcf.RootElement(model="child")
+    body = child.worldbody.add("body", pos=[0, 0, 1])
+    hinge = body.add("joint", axis=[0, 1, 0])
+    geom = body.add("geom", size=[0.1])
+    child.actuator.add("motor", joint=hinge)  # an unnamed joint, referenced
+    row = child.worldbody.add("replicate", count=3, offset=[0.5, 0, 0])
+    row.add("body").add("geom", size=[0.05])
+    row.find_all("body")[0].add("site", name="tip")
+    scene = mjcf.RootElement(model="scene")
+    scene.attach(child)
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    stock = mujoco.MjModel.from_xml_string(scene.to_xml_string())
+    assert physics.model.names == stock.names
+    assert physics.model.joint(0).name == "child/unnamed_joint_0"
+    assert physics.model.geom(0).name == ""
+    assert [physics.model.site(i).name for i in range(3)] == [
+        "child/tip0",
+        "child/tip1",
+        "child/tip2",
+    ]
+    physics.bind(geom).rgba = [1, 0, 0, 1]
+    assert physics.model.geom_rgba[0].tolist() == [1, 0, 0, 1]
+    physics.bind(child.actuator.motor[0]).ctrl = 1.0
+    physics.step(20)
+    assert physics.bind(hinge).qpos[0] != 0
+    with pytest.raises(mjcf.BindingError, match="inside a <replicate>"):
+        physics.bind(row.find_all("geom")[0])
+
+
 # -- copies -----------------------------------------------------------------------------------
 
 
