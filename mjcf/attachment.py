@@ -94,9 +94,11 @@ class AttachmentFrame(Element):
 def attach(place: Element, child: RootElement) -> AttachmentFrame:
     """Attach model `child` at `place` (a site, body, frame or the world body) and
     return its attachment frame. Raises mjcf.AttachmentError for a model that is
-    already attached, that would contain itself, or whose settings conflict, and
-    mjcf.NameError if a model of the same name is attached here already; the tree is
-    unchanged then."""
+    already attached, that would contain itself, or whose settings conflict with those
+    of the models it goes into (a conflict with a model attached beside it is raised
+    when the scene is written or compiled), and mjcf.NameError if a model of the same
+    name is attached here already; the tree is unchanged then. Checks cost the same
+    whatever is attached already."""
     from mjcf import settings
     from mjcf.root import RootElement
 

@@ -10,19 +10,15 @@ written:
   `class` on its elements outside the world body; if the output model itself has
   global defaults and attachments, they move to a class '/' the same way, so that no
   model's defaults leak into another's;
-- compiler settings are those of each model, as in MuJoCo's own attachment: `angle`
-  (euler, axisangle, and the range/ref/springref of hinge and ball joints) and
-  `eulerseq` (euler becomes quat) are converted to the output model's; `autolimits`
-  is written "true" when models differ (a model with "false" states every limit);
-  `inertiafromgeom` takes a value under which every body of every model gets its
-  inertia the same way as alone ("true" and "auto" agree for a model without
-  `<inertial>`), else it is an `AttachmentError`; an attached model's `settotalmass`
-  becomes densities, masses and inertias scaled as it would scale them alone.
-  Settings that do not change an attached model's compiled values (`usethread`,
-  `passthrough` ...) are the output model's; the others must agree.
-- `option`/`visual`/`statistic` values merge attribute by attribute, a conflict
-  between two explicit values being an `AttachmentError`; `size` values are
-  capacities and merge to the largest.
+- compiler settings are those of each model, as in MuJoCo's own attachment (see
+  `mjcf.settings`): `angle` (euler, axisangle, and the range/ref/springref of hinge
+  and ball joints, attachment frames included) and `eulerseq` (euler becomes quat) are
+  converted element by element to the output model's, and an attached model's
+  `settotalmass` becomes its densities, masses and inertias scaled;
+- unnamed elements are named only where the output needs it: those a reference
+  points at get a plain generated name, and when compiling every other one gets a
+  '//' name that `mjcf.compiler` takes away again before MuJoCo compiles, so the
+  compiled names are the written ones.
 """
 
 from __future__ import annotations
