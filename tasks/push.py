@@ -8,11 +8,12 @@ found as `entities.robots.from_menagerie` says (`menagerie_root`, $MENAGERIE_ROO
 repository's shared/models/menagerie, the mujoco_menagerie package cache); without them
 the task raises `entities.robots.RobotNotFoundError` naming every place it looked.
 
-Action (7 numbers in [-1, 1]): six joint-angle changes, each scaled by `max_joint_step`
-rad and added to the current angles as the arm's position targets, and the gripper
-command (-1 open, 1 closed). Observations: `arm_joint_positions` (6),
-`arm_joint_velocities` (6), `gripper_opening` (1), `tcp_position` (3),
-`box_position` (3), `tcp_to_box` (3), `box_to_target` (2): 24 numbers.
+Action (7 numbers in [-1, 1]): six changes of the arm's joint targets, each scaled by
+`max_joint_step` rad (targets stay within `TARGET_WINDOW` rad of the joint angles, so they
+cannot wind up; a zero action holds them), and the gripper command (-1 open, 1 closed).
+Observations: `arm_joint_positions` (6), `arm_joint_velocities` (6), `gripper_opening`
+(1), `tcp_position` (3), `box_position` (3), `tcp_to_box` (3), `box_to_target` (2): 24
+numbers.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from composer import observation
 from entities import Box, features, robots
 
 HOME = (np.pi, -1.9, 2.0, -1.67, -np.pi / 2, 0.0)
+TARGET_WINDOW = 0.3  # rad: how far an arm joint's target may lead its angle
 REGION = ((0.05, 0.25), (-0.2, 0.2))  # x and y ranges on the table for box and target
 
 
@@ -109,7 +111,7 @@ class ArmPushBox(composer.Task):
         return self._task_observables
 
     def action_space(self, physics: mjcf.Physics) -> spaces.Box:
-        """Seven numbers in [-1, 1]: joint-angle changes, then the gripper command."""
+        """Seven numbers in [-1, 1]: joint-target changes, then the gripper command."""
         return spaces.Box(-1.0, 1.0, (7,), dtype=np.float32)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
@@ -129,6 +131,7 @@ class ArmPushBox(composer.Task):
         """Arm at its home pose (tool pointing down above the table), gripper open, box and
         target placed (drawn at least 0.12 m apart with `randomize`)."""
         self._arm.qpos = HOME
+        self._targets = np.array(HOME)
         self._arm_ctrl.ctrl = HOME
         box, target = np.array([0.1, -0.1]), np.array([0.2, 0.1])
         if self.randomize:
@@ -143,10 +146,14 @@ class ArmPushBox(composer.Task):
     def before_step(
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
     ) -> None:
-        """Arm targets: current angles plus `max_joint_step * action[:6]`, within the
-        actuators' ranges; gripper: `action[6]` mapped from [-1, 1] to its control range."""
-        targets = self._arm.qpos + self.max_joint_step * action[:6]
-        self._arm_ctrl.ctrl = np.clip(targets, self._ctrl_low, self._ctrl_high)
+        """Arm targets: the last ones plus `max_joint_step * action[:6]`, within
+        `TARGET_WINDOW` of the angles and the actuators' ranges; gripper: `action[6]` mapped
+        from [-1, 1] to its control range."""
+        angles = self._arm.qpos
+        targets = self._targets + self.max_joint_step * action[:6]
+        targets = np.clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
+        self._targets = np.clip(targets, self._ctrl_low, self._ctrl_high)
+        self._arm_ctrl.ctrl = self._targets
         low, high = self._gripper_ctrl.ctrlrange[0]
         self._gripper_ctrl.ctrl = low + (action[6] + 1.0) / 2.0 * (high - low)
 
