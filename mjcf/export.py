@@ -70,14 +70,24 @@ def export_with_assets_as_zip(
     precision: int = 17,
 ) -> str:
     """Write `model` and its assets into a zip (model file at the top, 'model.xml' by
-    default, which MuJoCo's MJZ loader finds); returns the zip's path. As in dm_control,
-    `zip_path` may be a folder: the zip is then `<folder>/<model name>.zip`."""
+    default, which MuJoCo's MJZ loader finds); returns the zip's path. Raises
+    mjcf.AssetError if an asset cannot be read (nothing is written then).
+
+    As in dm_control, `zip_path` may be a folder: the zip is then `<folder>/<model
+    name>.zip`; and a `model_filename` without '.xml' is dm_control's `model_name`,
+    which names both the zip in that folder and the model file ('<model_name>.xml')."""
     zip_path = os.fspath(zip_path)
+    stem = model.model
+    if model_filename is not None and not model_filename.endswith(".xml"):
+        stem = model_filename
+        model_filename = model_filename + ".xml"
     if os.path.isdir(zip_path) or zip_path.endswith(("/", os.sep)):
         os.makedirs(zip_path, exist_ok=True)
-        zip_path = os.path.join(zip_path, _safe_name(model.model) + ".zip")
+        zip_path = os.path.join(zip_path, _safe_name(stem) + ".zip")
     xml, assets = _contents(model, precision)
     model_filename = _safe_name(model_filename or "model.xml")
+    if model_filename in assets:
+        raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
     with zipfile.ZipFile(zip_path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
         archive.writestr(model_filename, xml)
         for name, data in assets.items():

@@ -75,6 +75,12 @@ def test_zip_export_into_a_folder_as_dm_control_calls_it(scene_and_model, tmp_pa
     zip_path = mjcf.export_with_assets_as_zip(scene, folder)
     assert Path(zip_path) == folder / "scene.zip"
     _identical(compiled, mujoco.MjSpec.from_zip(str(zip_path)).compile())
+    named = mjcf.export_with_assets_as_zip(scene, folder, "two_arms")  # dm_control's model_name
+    assert Path(named) == folder / "two_arms.zip"
+    with zipfile.ZipFile(named) as archive:
+        assert archive.namelist()[0] == "two_arms.xml"
+    _identical(compiled, mujoco.MjSpec.from_zip(str(named)).compile())
+    _identical(compiled, mjcf.Physics.from_mjcf_model(mjcf.from_zip(named)).model)
 
 
 def test_written_model_compiles_in_stock_mujoco_to_ours(scene_and_model) -> None:
