@@ -127,10 +127,10 @@ def test_arm_push_box_composes_the_real_ur5e_and_2f85(push_task):
     assert tcp[2] > push_task.table_height + 0.1  # the tool starts above the table
     before = env.physics.bind(push_task.arm_joints).qpos.copy()
     env.step(np.array([1, 0, 0, 0, 0, 0, 1], np.float32))  # turn the base's target, close
-    for _ in range(10):  # zero actions hold the targets: the base gets there and stays
+    for _ in range(25):  # zero actions hold the targets: the base gets there and stays
         env.step(np.zeros(7, np.float32))
     turned = env.physics.bind(push_task.arm_joints).qpos - before
-    assert turned[0] == pytest.approx(push_task.max_joint_step, abs=0.005)
+    assert turned[0] == pytest.approx(push_task.max_joint_step, abs=0.003)
     assert np.abs(turned[1:]).max() < 0.02
 
 
