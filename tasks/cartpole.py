@@ -29,7 +29,8 @@ class CartpoleSwingup(composer.Task):
     `centered = (1 + tolerance(cart_x, margin=2)) / 2` (1 at the rail's centre, gaussian);
     `small_control = (4 + tolerance(u, margin=1, value_at_margin=0, 'quadratic')) / 5`;
     `small_velocity = (1 + tolerance(pole_angular_velocity, margin=5)) / 2`.
-    A random policy earns about 0.03 per step; balancing upright earns close to 1.
+    A random policy returns about 23 over the 200 steps; balancing upright earns close to 1
+    per step.
     """
 
     def __init__(
