@@ -115,6 +115,12 @@ class Environment(gymnasium.Env):
         """Seconds of simulation per `step()`."""
         return self._substeps * self._physics.timestep()
 
+    @property
+    def updater(self) -> Updater:
+        """The observation pipeline of the current compile (rebuilt by a recompile); a
+        VectorEnvironment reads each environment's reset state from it."""
+        return self._updater
+
     # -- compiling -----------------------------------------------------------------------
 
     def _after_compile(self) -> None:
