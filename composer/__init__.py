@@ -12,10 +12,12 @@ Entities own MJCF models (`composer.entity`), an Arena is the root of a scene
 (`composer.arena`), a Task says what to do (`composer.task`), and the Environment compiles
 the scene once and steps it (`composer.environment`, which states the hook order and what is
 promised). Observables, variations and initializers live in `composer.observation`,
-`composer.variation` and `composer.initializers`. Every error is a `composer.Error`.
+`composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
+environments of a task on MuJoCo's batch (`composer.vector`). Every error is a
+`composer.Error`.
 """
 
-from composer import observation, variation
+from composer import observation, variation, vector
 from composer.arena import Arena
 from composer.entity import Entity, ModelEntity, Observables, observable
 from composer.environment import Environment
@@ -33,6 +35,7 @@ from composer.errors import (
 from composer.hooks import HOOK_NAMES
 from composer.initializers import Initializer, PropPlacer
 from composer.task import NullTask, Task
+from composer.vector import VectorEnvironment
 
 __all__ = [
     "HOOK_NAMES",
@@ -54,7 +57,9 @@ __all__ = [
     "Task",
     "TaskError",
     "VariationError",
+    "VectorEnvironment",
     "observable",
     "observation",
     "variation",
+    "vector",
 ]

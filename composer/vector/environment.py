@@ -1,0 +1,569 @@
+"""VectorEnvironment: num_envs copies of a composer Task, stepped by MuJoCo's batch.
+
+    venv = composer.VectorEnvironment(Swing, num_envs=64, time_limit=10.0)
+    obs, info = venv.reset(seed=0)            # environment i is seeded 0 + i
+    obs, reward, terminated, truncated, info = venv.step(venv.action_space.sample())
+    obs['pendulum/orientation'].shape         # (64, 2): a leading environment axis
+    frame = venv.render()                     # environment 0, with render_mode='rgb_array'
+
+What it promises:
+- Each environment is a `composer.Environment` of its own task (`task_factory()` is called
+  num_envs times): it compiles, resets and runs its episode hooks exactly as that single
+  environment would, so the same seeds and actions give the same trajectories, bit for
+  bit, as num_envs single environments reset with seeds seed + i (and, after an episode
+  ends, reset without a seed). Their models must share MuJoCo's data layout; each
+  simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
+- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads). Actions,
+  observations, rewards, terminations and discounts are numpy arrays over every
+  environment, computed at once where the task declares batched methods and its
+  observables are batchable (`composer.vector.protocol`, `.observations`); the rest runs
+  per environment on a materialized MjData.
+- Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
+  (default: the step after an episode ends resets that environment, ignores its action
+  and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
+  info['final_obs'] and info['final_info']) or DISABLED (reset with
+  `reset(options={'reset_mask': mask})`).
+- Divergence truncates that environment only, with its reward 0 and the message in
+  info['physics_error'], and a `DivergenceWarning`; MuJoCo errors in a simulation (e.g.
+  arena overflow) are reported the same way instead of raising.
+- info holds the task's `get_info` entries and 'discount', as (num_envs,) arrays each with
+  a boolean mask '_<key>' of the environments that have it (gymnasium's convention).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import gymnasium
+import mujoco
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+from mujoco import batch as mujoco_batch
+
+import mjcf
+from composer import errors, hooks
+from composer.environment import RENDER_MODES, Environment
+from composer.task import Task
+from composer.vector import info_layout, protocol
+from composer.vector.observations import BatchObservations
+from composer.vector.physics import BatchPhysics
+
+_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+# The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state.
+_INVALID = np.array(
+    [
+        int(mujoco.mjtWarning.mjWARN_BADQPOS),
+        int(mujoco.mjtWarning.mjWARN_BADQVEL),
+        int(mujoco.mjtWarning.mjWARN_BADQACC),
+        int(mujoco.mjtWarning.mjWARN_BADCTRL),
+    ]
+)
+_SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | int(mujoco.mjtEnableBit.mjENBL_IPC)
+_STALE, _SYNCED, _DERIVED = 0, 1, 2
+_OUTCOME = ("get_reward", "should_terminate_episode", "get_discount", "get_info")
+
+
+class VectorEnvironment(gymnasium.vector.VectorEnv):
+    """num_envs environments of one task, stepped together (see the module docstring).
+    `per_environment` lists what runs once per environment each step, on a materialized
+    MjData ([] when the task and its observables are fully batched)."""
+
+    metadata = {"render_modes": list(RENDER_MODES), "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(
+        self,
+        task_factory: Callable[[], Task],
+        num_envs: int,
+        *,
+        time_limit: float | None = None,
+        flatten_observations: bool = False,
+        seed: int | None = None,
+        nthread: int | None = None,
+        max_episode_steps: int | None = None,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        render_mode: str | None = None,
+    ) -> None:
+        """Build num_envs environments of `task_factory()` and one batch of their
+        simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
+        `seed` seeds environment i's random state with seed + i until a seeded reset;
+        `nthread` defaults to the CPUs this process may use. Raises TaskError for a bad
+        count, a factory that does not make new Tasks, or environments whose spaces or
+        MuJoCo data layouts differ; what `composer.Environment` raises otherwise."""
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
+            raise errors.TaskError(f"num_envs must be a positive int, got {num_envs!r}")
+        self.num_envs = num_envs
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.render_mode = render_mode
+        self._envs = self._make_envs(task_factory, time_limit, flatten_observations, seed)
+        first = self._envs[0]
+        self.single_observation_space = first.observation_space
+        self.single_action_space = first.action_space
+        self.observation_space = batch_space(first.observation_space, num_envs)
+        self.action_space = batch_space(first.action_space, num_envs)
+        self.metadata = {
+            **self.metadata,
+            "render_fps": first.metadata["render_fps"],
+            "autoreset_mode": self.autoreset_mode,
+        }
+        task = first.task
+        self._substeps = task.physics_steps_per_control_step
+        limit = math.inf if time_limit is None else time_limit
+        steps = math.inf if math.isinf(limit) else math.ceil(limit / task.control_timestep - 1e-9)
+        self._step_limit = min(steps, math.inf if max_episode_steps is None else max_episode_steps)
+        self._action_low = first.action_space.low.astype(np.float64)
+        self._action_high = first.action_space.high.astype(np.float64)
+        self._modes = {name: protocol.batched(task, name) for name in protocol.BATCHABLE}
+        self._hooks = [hooks.Hooks(env.task) for env in self._envs]
+        self._after_hooks = [self._entity_after_step(i) for i in range(num_envs)]
+        if nthread is None:
+            nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
+        self._build_batch(min(nthread, num_envs), persistent=True)
+        self.per_environment = self._per_env_parts()
+        if not self.per_environment and not first.physics.model.opt.enableflags & _SLEEP:
+            # Nothing reads a materialized MjData per step: one MjData per thread suffices.
+            self._build_batch(self._batch.nthread, persistent=False)
+        self._state = self._batch.state
+        self._warning = self._batch.warning
+        self._ctrl = self._batch.bind("ctrl")
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._over = np.zeros(num_envs, dtype=bool)
+        # What each environment's own MjData holds of its simulation: _STALE (nothing
+        # since its last physics step), _SYNCED (all of it), or _DERIVED (its derived
+        # fields, but a batched write changed the state since).
+        self._held = np.full(num_envs, _STALE, dtype=np.int8)
+        self._started = False
+
+    def _build_batch(self, nthread: int, persistent: bool) -> None:
+        """The batch of every environment's simulation, and the pipeline reading it."""
+        first = self._envs[0]
+        self._batch = mujoco_batch.Batch(
+            first.physics.model, self.num_envs, nthread=nthread, persistent=persistent
+        )
+        self._set_models()
+        self._physics = BatchPhysics(self._batch, self._envs)
+        self._observations = BatchObservations(
+            first.updater, self._physics, self._read_env, lambda i: self._envs[i].random_state
+        )
+
+    def _make_envs(
+        self,
+        task_factory: Callable[[], Task],
+        time_limit: float | None,
+        flatten: bool,
+        seed: int | None,
+    ) -> list[Environment]:
+        envs: list[Environment] = []
+        for i in range(self.num_envs):
+            task = task_factory()
+            if not isinstance(task, Task):
+                raise errors.TaskError(
+                    f"task_factory made a {type(task).__name__}, not a composer.Task"
+                )
+            if any(env.task is task for env in envs):
+                raise errors.TaskError(
+                    "task_factory returned the same task twice: it must make a new task (with "
+                    "its own entities) each call"
+                )
+            env = Environment(
+                task,
+                time_limit=math.inf if time_limit is None else time_limit,
+                random_state=None if seed is None else seed + i,
+                flatten_observations=flatten,
+                render_mode=self.render_mode,
+                render_camera=getattr(task, "render_camera", -1),
+            )
+            if envs:
+                for label in ("observation_space", "action_space"):
+                    if getattr(env, label) != getattr(envs[0], label):
+                        raise errors.TaskError(
+                            f"environment {i}'s {label} {getattr(env, label)} differs from "
+                            f"environment 0's {getattr(envs[0], label)}: a vector environment "
+                            "needs one space for all"
+                        )
+            envs.append(env)
+        return envs
+
+    def _set_models(self) -> None:
+        """Run simulation i on environment i's own MjModel; TaskError if layouts differ."""
+        try:
+            self._batch.set_models([env.physics.model for env in self._envs])
+        except mujoco.FatalError as e:
+            raise errors.TaskError(
+                f"the environments' models do not share MuJoCo's data layout ({e}); a "
+                "vector environment needs models that differ only in values"
+            ) from e
+
+    def _per_env_parts(self) -> list[str]:
+        """What runs once per environment on a materialized MjData each step."""
+        parts = [f"task.{name}" for name, mode in self._modes.items() if mode is None]
+        task_hooks = self._hooks[0]
+        if task_hooks.before_step:
+            parts.append("entity before_step hooks")
+        if self._after_hooks[0]:
+            parts.append("entity after_step hooks")
+        if task_hooks.has_substep_hooks:
+            parts.append("substep hooks")
+        parts += [f"observable {name}" for name in self._observations.per_environment]
+        return parts
+
+    def _entity_after_step(self, i: int) -> list[Callable[..., None]]:
+        """Environment i's after_step hooks but its task's (run batched or per env)."""
+        task = self._envs[i].task
+        return [h for h in self._hooks[i].after_step if h.__self__ is not task]
+
+    # -- properties ----------------------------------------------------------------------
+
+    @property
+    def environments(self) -> tuple[Environment, ...]:
+        """The per-environment `composer.Environment`s, for inspection (their `physics`
+        holds the simulation only after `render()` or a per-environment method); stepping
+        them directly would leave the batch behind."""
+        return tuple(self._envs)
+
+    @property
+    def batch_physics(self) -> BatchPhysics:
+        """The BatchPhysics batched methods get, over every environment between steps."""
+        self._physics._select(None)
+        return self._physics
+
+    @property
+    def control_timestep(self) -> float:
+        """Seconds of simulation per `step()`."""
+        return self._envs[0].control_timestep
+
+    # -- gymnasium API -------------------------------------------------------------------
+
+    def reset(
+        self,
+        *,
+        seed: int | Sequence[int | None] | None = None,
+        options: dict[str, Any] | None = None,
+    ) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
+        """Reset every environment, or those of `options['reset_mask']` (a (num_envs,)
+        bool array). `seed`: an int seeds environment i with seed + i, a list one seed
+        each. Returns (observations, info). Raises EpisodeError for a bad mask or seeds."""
+        options = dict(options or {})
+        mask = options.pop("reset_mask", None)
+        if isinstance(seed, int | np.integer):
+            super().reset(seed=int(seed))
+            seeds: list[int | None] = [int(seed) + i for i in range(self.num_envs)]
+        elif seed is None:
+            seeds = [None] * self.num_envs
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise errors.EpisodeError(
+                    f"seed must be an int or {self.num_envs} seeds, got {len(seeds)}"
+                )
+        if mask is None:
+            ids = np.arange(self.num_envs)
+        else:
+            mask = np.asarray(mask)
+            if mask.dtype != np.bool_ or mask.shape != (self.num_envs,) or not mask.any():
+                raise errors.EpisodeError(
+                    f"options['reset_mask'] must be a ({self.num_envs},) bool array with a "
+                    f"True, got {mask!r}"
+                )
+            ids = np.flatnonzero(mask)
+        self._reset_envs(ids, [seeds[i] for i in ids], options or None)
+        self._started = True
+        return self._observations.observation(), {}
+
+    def _reset_envs(
+        self, ids: np.ndarray, seeds: Sequence[int | None], options: dict[str, Any] | None
+    ) -> None:
+        for i, seed in zip(ids, seeds, strict=True):
+            env = self._envs[i]
+            model = env.physics.model
+            env.reset(seed=seed, options=options)
+            if env.physics.model is not model:  # recompiled: its hooks may have changed
+                self._hooks[i] = hooks.Hooks(env.task)
+                self._after_hooks[i] = self._entity_after_step(i)
+            self._save(i)
+            self._observations.load(i, env.updater.channels)
+            self._held[i] = _SYNCED
+        self._steps[ids] = 0
+        self._over[ids] = False
+        self._set_models()
+
+    def step(
+        self, actions: Any
+    ) -> tuple[dict[str, np.ndarray] | np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict]:
+        """Advance every environment one control step with its row of `actions` (see the
+        module docstring for autoreset). Returns (observations, rewards, terminations,
+        truncations, info). Raises EpisodeError before reset(), for actions of the wrong
+        shape or not finite, and (autoreset DISABLED) for an environment whose episode
+        ended."""
+        if not self._started:
+            raise errors.EpisodeError("step() called before reset(); call reset()")
+        actions = np.asarray(actions, dtype=np.float64)
+        expected = (self.num_envs, *self.single_action_space.shape)
+        if actions.shape != expected:
+            raise errors.EpisodeError(
+                f"actions have shape {actions.shape}, expected {expected} (a row per environment)"
+            )
+        resetting = np.zeros(self.num_envs, dtype=bool)
+        if self.autoreset_mode is AutoresetMode.NEXT_STEP:
+            resetting = self._over.copy()
+            if resetting.any():
+                self._reset_envs(np.flatnonzero(resetting), [None] * resetting.sum(), None)
+        elif self._over.any():
+            raise errors.EpisodeError(
+                f"the episodes of environments {np.flatnonzero(self._over).tolist()} ended; "
+                "reset them with reset(options={'reset_mask': mask})"
+            )
+        rewards = np.zeros(self.num_envs)
+        terminated = np.zeros(self.num_envs, dtype=bool)
+        truncated = np.zeros(self.num_envs, dtype=bool)
+        info: dict[str, Any] = {}
+        ids = np.flatnonzero(~resetting)
+        if ids.size:
+            self._step_envs(ids, actions[ids], rewards, terminated, truncated, info)
+        self._over = terminated | truncated
+        if self.autoreset_mode is AutoresetMode.SAME_STEP and self._over.any():
+            info = self._final(np.flatnonzero(self._over), info)
+        return self._observations.observation(), rewards, terminated, truncated, info
+
+    def _final(self, ended: np.ndarray, info: dict[str, Any]) -> dict[str, Any]:
+        """SAME_STEP: move ended environments' observations and info to final_obs and
+        final_info, then reset them."""
+        mask = np.zeros(self.num_envs, dtype=bool)
+        mask[ended] = True
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        for i in ended:
+            final_obs[i] = self._observations.row(i)
+        kept, moved = info_layout.split(info, mask)
+        self._reset_envs(ended, [None] * len(ended), None)
+        return {**kept, "final_obs": final_obs, "_final_obs": mask, "final_info": moved,
+                "_final_info": mask.copy()}  # fmt: skip
+
+    # -- one control step ----------------------------------------------------------------
+
+    def _step_envs(
+        self,
+        ids: np.ndarray,
+        actions: np.ndarray,
+        rewards: np.ndarray,
+        terminated: np.ndarray,
+        truncated: np.ndarray,
+        info: dict[str, Any],
+    ) -> None:
+        bad = ~np.isfinite(actions)
+        if bad.any():
+            rows = sorted({int(ids[r]) for r in np.nonzero(bad)[0]})
+            raise errors.EpisodeError(
+                f"actions of environments {rows} have non-finite values; actions must be "
+                "finite numbers"
+            )
+        actions = np.clip(actions, self._action_low, self._action_high)
+        self._before_step(ids, actions)
+        failures = self._advance(ids, actions)
+        self._after_step(ids)
+        self._steps[ids] += 1
+        self._observations.finish(ids, self._steps[ids] * self._substeps)
+        errors_found = self._invalid(ids, failures)
+        for i, message in errors_found.items():
+            info = self._add_info(info, {"physics_error": message}, i)
+            warnings.warn(
+                f"environment {i}: episode truncated: {message}",
+                errors.DivergenceWarning,
+                stacklevel=3,
+            )
+            truncated[i] = True
+        ok = ids[~np.isin(ids, list(errors_found))] if errors_found else ids
+        if ok.size:
+            self._outcome(ok, rewards, terminated, info)
+            truncated[ok] = self._steps[ok] >= self._step_limit
+
+    def _before_step(self, ids: np.ndarray, actions: np.ndarray) -> None:
+        mode = self._modes["before_step"]
+        if mode == "default":
+            if len(ids) == self.num_envs:
+                self._ctrl[:] = actions
+            else:
+                self._ctrl[ids] = actions
+            self._wrote(ids)
+        elif mode is not None:
+            self._select(ids)
+            mode(self._physics, actions)
+            self._wrote(ids)
+        if mode is None or self._hooks[0].before_step:
+            for k, i in enumerate(ids):
+                env, physics = self._envs[i], self._materialize(i)
+                if mode is None:
+                    env.task.before_step(physics, actions[k], env.random_state)
+                for hook in self._hooks[i].before_step:
+                    hook(physics, env.random_state)
+                self._save(i)
+
+    def _advance(self, ids: np.ndarray, actions: np.ndarray) -> dict[int, str]:
+        """Run the control step's physics steps, sampling observables when due. Returns
+        the MuJoCo error message of each simulation that raised one."""
+        failures: dict[int, str] = {}
+        first = self._steps[ids] * self._substeps
+        phases = self._steps[ids] % self._observations.period
+        sample = self._observations.sample
+        if self._hooks[0].has_substep_hooks:
+            for offset in range(1, self._substeps + 1):
+                self._substep_hooks(ids, actions, before=True)
+                self._run(ids, 1, failures)
+                self._substep_hooks(ids, actions, before=False)
+                sample(ids, phases, offset, first)
+            return failures
+        done = 0
+        for offset in self._observations.offsets(phases):
+            self._run(ids, offset - done, failures)
+            sample(ids, phases, offset, first)
+            done = offset
+        if done < self._substeps:
+            self._run(ids, self._substeps - done, failures)
+        return failures
+
+    def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
+        for k, i in enumerate(ids):
+            env, task_hooks = self._envs[i], self._hooks[i]
+            physics, random_state = self._materialize(i), env.random_state
+            if before:
+                for hook in task_hooks.task_before_substep:
+                    hook(physics, actions[k], random_state)
+                for hook in task_hooks.before_substep:
+                    hook(physics, random_state)
+            else:
+                for hook in task_hooks.after_substep:
+                    hook(physics, random_state)
+            self._save(i)
+
+    def _run(self, ids: np.ndarray, nstep: int, failures: dict[int, str]) -> None:
+        """Step simulations `ids` (but those that failed) by nstep physics steps."""
+        if failures:
+            ids = ids[~np.isin(ids, list(failures))]
+        try:
+            self._batch.step(None if len(ids) == self.num_envs else ids, nstep)
+        except mujoco_batch.SimulationError as e:
+            for i in e.ids:
+                failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
+        self._held[ids] = _STALE
+
+    def _after_step(self, ids: np.ndarray) -> None:
+        mode = self._modes["after_step"]
+        if callable(mode):
+            self._select(ids)
+            mode(self._physics)
+            self._wrote(ids)
+        if mode is None or self._after_hooks[0]:
+            for i in ids:
+                env, physics = self._envs[i], self._materialize(i)
+                if mode is None:
+                    env.task.after_step(physics, env.random_state)
+                for hook in self._after_hooks[i]:
+                    hook(physics, env.random_state)
+                self._save(i)
+
+    def _invalid(self, ids: np.ndarray, failures: dict[int, str]) -> dict[int, str]:
+        """{environment: message} of the stepped environments whose state is invalid."""
+        found = dict(failures)
+        counts = self._warning[ids][:, _INVALID, 1]
+        for i in ids[counts.any(axis=1)]:
+            if int(i) in found:
+                continue
+            try:
+                self._materialize(i).check_invalid_state()
+            except mjcf.PhysicsError as e:
+                found[int(i)] = str(e)
+        return found
+
+    def _outcome(
+        self, ids: np.ndarray, rewards: np.ndarray, terminated: np.ndarray, info: dict[str, Any]
+    ) -> None:
+        """Reward, termination, info entries and discount of environments `ids`."""
+        modes, n = self._modes, len(ids)
+        self._select(ids)
+        physics = self._physics
+        mode = modes["get_reward"]
+        if mode is not None:
+            rewards[ids] = protocol.check_rows("get_reward_batch", mode(physics), n, np.float64)
+        mode = modes["should_terminate_episode"]
+        if callable(mode):
+            terminated[ids] = protocol.check_rows(
+                "should_terminate_episode_batch", mode(physics), n, bool
+            )
+        discount = None
+        mode = modes["get_discount"]
+        if mode == "default":
+            discount = np.ones(n)
+        elif mode is not None:
+            discount = protocol.check_rows("get_discount_batch", mode(physics), n, np.float64)
+        mode = modes["get_info"]
+        if callable(mode):
+            for key, values in mode(physics).items():
+                info_layout.put(info, key, ids, np.asarray(values), self.num_envs)
+        if discount is not None:
+            info_layout.put(info, "discount", ids, discount, self.num_envs)
+        if any(modes[name] is None for name in _OUTCOME):
+            self._outcome_per_env(ids, rewards, terminated, info)
+
+    def _outcome_per_env(
+        self, ids: np.ndarray, rewards: np.ndarray, terminated: np.ndarray, info: dict[str, Any]
+    ) -> None:
+        modes = self._modes
+        for i in ids:
+            task, physics = self._envs[i].task, self._materialize(i)
+            if modes["get_reward"] is None:
+                rewards[i] = float(task.get_reward(physics))
+            if modes["should_terminate_episode"] is None:
+                terminated[i] = bool(task.should_terminate_episode(physics))
+            entries = task.get_info(physics) if modes["get_info"] is None else {}
+            if modes["get_discount"] is None:
+                entries["discount"] = task.get_discount(physics)
+            info = self._add_info(info, entries, i)
+
+    # -- per-environment access ----------------------------------------------------------
+
+    def _select(self, ids: np.ndarray) -> None:
+        self._physics._select(None if len(ids) == self.num_envs else ids)
+
+    def _materialize(self, i: int) -> mjcf.Physics:
+        """Environment i's physics, holding its simulation (state and derived fields)."""
+        physics = self._envs[i].physics
+        held = self._held[i]
+        if held == _STALE:
+            self._batch.get_data(int(i), physics.data)
+        elif held == _DERIVED:
+            mujoco.mj_setState(physics.model, physics.data, self._state[i], _STATE)
+        self._held[i] = _SYNCED
+        return physics
+
+    def _wrote(self, ids: np.ndarray) -> None:
+        """A batched method may have written the state rows of environments `ids`."""
+        held = self._held[ids]
+        self._held[ids] = np.where(held == _SYNCED, _DERIVED, held)
+
+    def _save(self, i: int) -> None:
+        """Write environment i's physics state (and warning counters) into its row."""
+        physics = self._envs[i].physics
+        mujoco.mj_getState(physics.model, physics.data, self._state[i], _STATE)
+        self._warning[i, :, 0] = physics.data.warning.lastinfo
+        self._warning[i, :, 1] = physics.data.warning.number
+
+    def _read_env(self, i: int, channel: int) -> np.ndarray:
+        """Observable `channel` of environment i, read from its own physics."""
+        self._materialize(i)
+        return self._envs[i].updater.channels[channel].read()
+
+    def render(self) -> np.ndarray | None:
+        """Environment 0's frame for `render_mode`, or None without one (see
+        `composer.Environment.render`)."""
+        if self.render_mode is None:
+            return None
+        self._materialize(0)
+        return self._envs[0].render()
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Free every environment's rendering resources."""
+        for env in self._envs:
+            env.close()

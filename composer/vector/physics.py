@@ -1,0 +1,195 @@
+"""BatchPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays.
+
+    def get_reward_batch(self, physics):                 # a Task's batched twin
+        hinge = physics.bind(self.pendulum.hinge)        # bound once, cached
+        return -np.abs(hinge.qpos[:, 0])                 # (n,): one row per environment
+    physics.bind(self.arm.actuators).ctrl = u            # writes state fields, (n, nu)
+    physics.field('time')                                # a whole MjData field, (n,)
+    physics.ids, physics.tasks, physics.random_states    # who the n rows are
+
+A BatchPhysics covers the environments of one call (`ids`, ascending). `bind(elements)`
+takes elements of the first environment's model, as `mjcf.Physics.bind` does, and gives
+their fields with a leading environment axis: `bind(joint).qpos` is (n, 1) for a hinge.
+Reads are copies. MjData fields come from MuJoCo's batch (`mujoco.batch.Batch.bind`):
+state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied ...) are the simulations'
+state and can be assigned; derived fields (xpos, sensordata ...) are read-only and, as
+with `mujoco.mj_step`, describe the state before the last physics step. MjModel fields
+(mass, geom_size ...) are read from each environment's own model, one at a time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+from mujoco import batch as mujoco_batch
+
+import mjcf
+from composer.vector.protocol import BatchError
+from mjcf import fields
+
+if TYPE_CHECKING:
+    from composer.environment import Environment
+    from composer.task import Task
+
+
+class _Field:
+    """One bound field: where its rows are in the batch, and the per-environment shape."""
+
+    __slots__ = ("model_name", "rows", "shape", "source", "writable")
+
+    def __init__(
+        self, source: np.ndarray | None, model_name: str, rows: np.ndarray, shape: tuple
+    ) -> None:
+        self.source = source  # (num_envs, ...) batch array; None for an MjModel field
+        self.model_name = model_name
+        self.rows = rows
+        self.shape = shape
+        self.writable = source is not None and source.flags.writeable
+
+
+class BatchBinding:
+    """Fields of bound elements in the environments of the current call, (n, ...) each.
+    Raises mjcf.BindingError for a field the elements' kind does not have."""
+
+    __slots__ = ("_elements", "_fields", "_physics")
+
+    def __init__(self, physics: BatchPhysics, elements: Any) -> None:
+        """Bind `elements` (of the first environment's model); resolved field by field."""
+        object.__setattr__(self, "_physics", physics)
+        object.__setattr__(self, "_elements", elements)
+        object.__setattr__(self, "_fields", {})
+
+    def _field(self, name: str) -> _Field:
+        found = self._fields.get(name)
+        if found is None:
+            found = self._fields[name] = self._physics._resolve(self._elements, name)
+        return found
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return self._physics._read(self._field(name))
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        self._physics._write(self._field(name), name, value)
+
+    def __repr__(self) -> str:
+        return f"<BatchBinding of {self._elements!r}>"
+
+
+class BatchPhysics:
+    """Numpy access to the simulations of the environments of one call (see the module)."""
+
+    def __init__(self, batch: mujoco_batch.Batch, envs: Sequence[Environment]) -> None:
+        """Serve `batch`, whose simulation i is `envs[i]`; the first environment's physics
+        resolves elements."""
+        self._batch = batch
+        self._envs = envs
+        self._template = envs[0].physics
+        self._ids: np.ndarray | None = None  # None: every environment
+        self._bindings: dict[Any, BatchBinding] = {}
+
+    # -- who the rows are ----------------------------------------------------------------
+
+    @property
+    def ids(self) -> np.ndarray:
+        """The environments of this call, ascending: row k is environment ids[k]."""
+        if self._ids is None:
+            return np.arange(self._batch.nsim)
+        return self._ids.copy()
+
+    @property
+    def num_envs(self) -> int:
+        """n, the number of rows."""
+        return self._batch.nsim if self._ids is None else len(self._ids)
+
+    @property
+    def tasks(self) -> list[Task]:
+        """Each row's task (per-episode state a task keeps on itself is read here)."""
+        return [self._envs[i].task for i in self.ids]
+
+    @property
+    def random_states(self) -> list[np.random.RandomState]:
+        """Each row's RandomState: draw from these to stay reproducible per environment."""
+        return [self._envs[i].random_state for i in self.ids]
+
+    @property
+    def batch(self) -> mujoco_batch.Batch:
+        """The underlying `mujoco.batch.Batch`, every environment (not only this call's)."""
+        return self._batch
+
+    def _select(self, ids: np.ndarray | None) -> None:
+        """Cover environments `ids` (ascending), or every one with None."""
+        self._ids = ids
+
+    # -- access --------------------------------------------------------------------------
+
+    def bind(self, elements: Any) -> BatchBinding:
+        """The fields of `elements` (one element or a list of one kind, of the first
+        environment's model), cached. Raises mjcf.BindingError as `mjcf.Physics.bind`."""
+        key = tuple(elements) if isinstance(elements, list | tuple) else elements
+        found = self._bindings.get(key)
+        if found is None:
+            self._template.bind(elements)  # raises BindingError for foreign elements
+            found = self._bindings[key] = BatchBinding(self, elements)
+        return found
+
+    def field(self, name: str) -> np.ndarray:
+        """MjData field `name` of every row, (n, ...), a copy. Raises BatchError for a
+        field MuJoCo's batch does not bind (arena arrays such as efc_*)."""
+        source = self._source(name)
+        return source.copy() if self._ids is None else source[self._ids]
+
+    def _source(self, name: str) -> np.ndarray:
+        if name not in mujoco_batch.DATA_FIELDS:
+            raise BatchError(
+                f"MjData field {name!r} is not available from MuJoCo's batch (it binds "
+                f"{len(mujoco_batch.DATA_FIELDS)} fields; arena arrays such as efc_* vary in "
+                "size); compute it in the per-environment method instead"
+            )
+        return self._batch.bind(name)
+
+    def _resolve(self, elements: Any, name: str) -> _Field:
+        template = self._template.bind(elements)
+        value = getattr(template, name)  # raises mjcf.BindingError for an unknown field
+        spec = fields.kind_fields(template.kind)[name]
+        ids = np.atleast_1d(np.asarray(template.ids))
+        rows, _ = fields.row_index(self._template.model, spec.address, ids)
+        source = self._source(spec.name) if spec.struct == "data" else None
+        return _Field(source, spec.name, rows, np.shape(value))
+
+    def _read(self, found: _Field) -> np.ndarray:
+        ids, source = self._ids, found.source
+        if source is None:
+            envs = self._envs if ids is None else [self._envs[i] for i in ids]
+            rows = [getattr(env.physics.model, found.model_name)[found.rows] for env in envs]
+            return np.stack(rows).reshape(len(rows), *found.shape)
+        if ids is None:
+            values = np.take(source, found.rows, axis=1)
+        else:
+            values = source[ids[:, None], found.rows]
+        return values.reshape(len(values), *found.shape)
+
+    def _write(self, found: _Field, name: str, value: Any) -> None:
+        if not found.writable:
+            what = "an MjModel field" if found.source is None else "derived by MuJoCo"
+            raise BatchError(
+                f"cannot assign {name!r}: it is {what}; batched methods write state fields "
+                "(qpos, qvel, act, ctrl, mocap_pos, qfrc_applied, xfrc_applied ...)"
+            )
+        n = self.num_envs
+        try:
+            rows = np.broadcast_to(np.asarray(value, dtype=mujoco.MJTNUM_DTYPE), (n, *found.shape))
+        except ValueError as e:
+            raise mjcf.BindingError(
+                f"cannot write {np.shape(value)}-shaped values to {name!r} of {n} environments: "
+                f"the bound rows have shape {(n, *found.shape)}"
+            ) from e
+        rows = rows.reshape(n, len(found.rows), *found.source.shape[2:])
+        if self._ids is None:
+            found.source[:, found.rows] = rows
+        else:
+            found.source[self._ids[:, None], found.rows] = rows

@@ -1,0 +1,128 @@
+"""Tasks the vector environment tests share: the swinging pendulum of `scenes`, batched."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import composer
+import mjcf
+from composer import observation
+from composer.vector import BatchGeneric, BatchPhysics
+from tests.composer.scenes import Pendulum, SwingTask
+
+
+class BatchedSwing(SwingTask):
+    """SwingTask with batched twins and batchable observables only: the fast path.
+    `schedule=True` adds an update interval that does not divide the substeps, a delay, a
+    buffer, an aggregator and a corruptor."""
+
+    def __init__(
+        self,
+        schedule: bool = False,
+        gear: float = 1.0,
+        substeps: int = 4,
+        terminate_above: float = np.inf,
+    ) -> None:
+        super().__init__(gear=gear, substeps=substeps, terminate_above=terminate_above)
+        pendulum = self.pendulum
+        pendulum.orientation.enabled = False
+        pendulum.angular_velocity.enabled = False
+        pendulum.joint_positions.enabled = True
+        pendulum.joint_velocities.enabled = True
+        if schedule:
+            pendulum.joint_positions.configure(
+                update_interval=3, buffer_size=3, delay=2, aggregator="mean"
+            )
+            pendulum.joint_velocities.configure(
+                update_interval=2, buffer_size=2, corruptor=observation.GaussianNoise(0.1)
+            )
+        hinge = pendulum.hinge
+        self._tip_height = BatchGeneric(
+            lambda physics: physics.bind(pendulum.tip).xpos[2:],
+            batch_function=lambda physics: physics.bind(pendulum.tip).xpos[:, 2:],
+            enabled=True,
+        )
+        self._angle_cos = BatchGeneric(
+            lambda physics: np.cos(physics.bind(hinge).qpos),
+            batch_function=lambda physics: np.cos(physics.bind(hinge).qpos),
+            bounds=(-1, 1),
+            enabled=True,
+        )
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        return {"tip_height": self._tip_height, "angle_cos": self._angle_cos}
+
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        return -np.abs(physics.bind(self.pendulum.hinge).qpos[:, 0])
+
+    def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
+        return np.abs(physics.bind(self.pendulum.hinge).qpos[:, 0]) > self._terminate_above
+
+    def get_info(self, physics: mjcf.Physics) -> dict:
+        return {"low": bool(physics.bind(self.pendulum.hinge).qpos[0] < 0)}
+
+    def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
+        return {"low": physics.bind(self.pendulum.hinge).qpos[:, 0] < 0}
+
+
+class Tower(composer.Entity):
+    """Boxes stacked in the air, with too little arena memory for the pile they make:
+    MuJoCo raises (mj_stackAlloc) a few hundred physics steps after a reset."""
+
+    def _build(self) -> None:
+        root = self._mjcf_root = mjcf.RootElement(model="tower")
+        root.size.memory = "40K"
+        root.worldbody.add("geom", type="plane", size=[5, 5, 0.1])
+        for i in range(12):
+            body = root.worldbody.add("body", pos=[0, 0, 0.3 + 0.25 * i])
+            body.add("freejoint")
+            body.add("geom", type="box", size=[0.1, 0.1, 0.1])
+
+
+class TowerTask(composer.NullTask):
+    """The falling tower, ten physics steps per control step."""
+
+    def __init__(self) -> None:
+        super().__init__(Tower())
+        self.set_timesteps(control_timestep=0.02, physics_timestep=0.002)
+
+
+class HookedPendulum(Pendulum):
+    """A pendulum whose hooks act on the simulation: per-environment work every step."""
+
+    def before_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Push along with the motor's control, plus noise."""
+        push = 0.5 * physics.bind(self.motor).ctrl + random_state.normal(0.0, 0.01)
+        physics.bind(self.hinge).qfrc_applied = push
+
+    def after_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Damp a little more after every physics step."""
+        physics.bind(self.hinge).qvel = 0.99 * physics.bind(self.hinge).qvel
+
+
+class HookedSwing(composer.Task):
+    """The pendulum with entity hooks; the reward reads what its before_step wrote."""
+
+    def __init__(self) -> None:
+        self._arena = composer.Arena(floor_size=(2, 2))
+        self.pendulum = HookedPendulum()
+        self._arena.attach(self.pendulum)
+        self.pendulum.joint_positions.enabled = True
+        self.set_timesteps(control_timestep=0.02, physics_timestep=0.005)
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        return self._arena
+
+    def initialize_episode(self, physics: mjcf.Physics, random_state: np.random.RandomState):
+        physics.bind(self.pendulum.hinge).qpos = random_state.uniform(-1, 1)
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        return float(physics.bind(self.pendulum.hinge).qfrc_applied[0])
+
+    def get_discount(self, physics: mjcf.Physics) -> float:
+        return 0.5 if physics.bind(self.pendulum.hinge).qpos[0] < 0 else 1.0
+
+    def get_info(self, physics: mjcf.Physics) -> dict:
+        return {"angle": physics.bind(self.pendulum.hinge).qpos.copy()}
