@@ -145,7 +145,8 @@ def measure(robot: str, count: int) -> tuple[dict[str, float], dict[str, float]]
     return best(ours_runs), best(spec_runs)
 
 
-def report(robot: str, counts: list[int]) -> None:
+def report(robot: str, counts: list[int]) -> dict[str, dict[str, float]]:
+    """Measure and print each N; returns seconds and our total over MjSpec's, by N."""
     ours_run(ours_load(robot), 2)  # warm-up: imports, MuJoCo's mesh cache
     with quiet_stderr():
         spec_run(spec_load(robot), 2)
@@ -154,14 +155,21 @@ def report(robot: str, counts: list[int]) -> None:
         f"{s:>10}" for s in ("copy", "attach", "compile", "total")
     )
     print(header + f"{'total/MjSpec':>14}")
+    results = {}
     for count in counts:
         ours, spec = measure(robot, count)
+        results[f"N={count}"] = {
+            **{f"mjcf_{step}_s": value for step, value in ours.items()},
+            **{f"mjspec_{step}_s": value for step, value in spec.items()},
+            "total_vs_mjspec": ours["total"] / spec["total"],
+        }
         for side, times in (("mjcf", ours), ("MjSpec", spec)):
             cells = "".join(
                 f"{1e3 * times[s] / count:10.3f}" for s in ("copy", "attach", "compile", "total")
             )
             ratio = f"{ours['total'] / spec['total']:14.2f}" if side == "mjcf" else ""
             print(f"{count:>5}  {side:<7}{cells}{ratio}")
+    return results
 
 
 def profile(count: int) -> None:
@@ -178,17 +186,21 @@ def profile(count: int) -> None:
     pstats.Stats(profiler).sort_stats("cumulative").print_stats(12)
 
 
-def main(argv: list[str]) -> None:
+def main(argv: list[str] | None = None, quick: bool = False) -> dict[str, dict]:
+    """Run as the command line says (N values, or --profile N); returns the figures by
+    robot and N. `quick`: N = 1 only."""
+    argv = argv or []
     if argv[:1] == ["--profile"]:
         profile(int(argv[1]) if len(argv) > 1 else 100)
-        return
-    counts = [int(a) for a in argv] or [1, 10, 100]
+        return {}
+    counts = [int(a) for a in argv] or ([1] if quick else [1, 10, 100])
     print(f"mujoco {mujoco.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} cpus")
-    report("ant", counts)
+    results = {"ant": report("ant", counts)}
     if UR5E.exists() and ROBOTIQ.exists():
-        report("ur5e+2f85", counts)
+        results["ur5e+2f85"] = report("ur5e+2f85", counts)
     else:
         print(f"\nur5e+2f85: skipped, menagerie robots not found at {MENAGERIE}")
+    return results
 
 
 if __name__ == "__main__":

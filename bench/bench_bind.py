@@ -28,16 +28,18 @@ ROUNDS = 40
 NUMBER = 20_000
 
 
-def best_ns(bound, raw) -> tuple[float, float]:
+def best_ns(bound, raw, rounds: int = ROUNDS, number: int = NUMBER) -> tuple[float, float]:
     """Best per-call times (ns) of `bound` and `raw`, timed in alternating rounds."""
     best_bound = best_raw = float("inf")
-    for _ in range(ROUNDS):
-        best_bound = min(best_bound, timeit.timeit(bound, number=NUMBER))
-        best_raw = min(best_raw, timeit.timeit(raw, number=NUMBER))
-    return best_bound / NUMBER * 1e9, best_raw / NUMBER * 1e9
+    for _ in range(rounds):
+        best_bound = min(best_bound, timeit.timeit(bound, number=number))
+        best_raw = min(best_raw, timeit.timeit(raw, number=number))
+    return best_bound / number * 1e9, best_raw / number * 1e9
 
 
-def main() -> None:
+def main(quick: bool = False) -> dict[str, dict[str, float]]:
+    """Measure and print; returns ns per call and the ratio for each case. `quick`: a
+    tiny budget (for checking the plumbing, not the numbers)."""
     path = os.path.join(os.path.dirname(gymnasium.__file__), "envs/mujoco/assets/humanoid.xml")
     physics = Physics.from_xml_path(path)
     model, data = physics.model, physics.data
@@ -78,9 +80,12 @@ def main() -> None:
     ]
     print(f"humanoid: nq={model.nq}; {idx.size} scattered joints, {run.size} contiguous joints")
     print(f"{'case':<24}{'bind ns':>10}{'raw ns':>10}{'ratio':>8}")
+    results = {}
     for name, bound, raw in rows:
-        b, r = best_ns(bound, raw)
+        b, r = best_ns(bound, raw, *((2, 100) if quick else (ROUNDS, NUMBER)))
         print(f"{name:<24}{b:>10.0f}{r:>10.0f}{b / r:>8.2f}")
+        results[name] = {"bind_ns": b, "raw_ns": r, "bind_vs_raw": b / r}
+    return results
 
 
 if __name__ == "__main__":

@@ -55,8 +55,9 @@ def models() -> dict[str, Path]:
     return found
 
 
-def measure(path: Path) -> dict[str, float]:
-    """Seconds per call of each operation on one model, ours and the references."""
+def measure(path: Path, seconds: float = 1.0) -> dict[str, float]:
+    """Seconds per call of each operation on one model, ours and the references, each
+    timed for about `seconds` (compiling for twice that)."""
     text = str(path)
     tree = etree.parse(text)
     root = mjcf.from_path(path)
@@ -64,13 +65,14 @@ def measure(path: Path) -> dict[str, float]:
     assets = root.get_assets()
     parse, spec, lxml_parse = best_of(
         [lambda: mjcf.from_path(path), lambda: mujoco.MjSpec.from_file(text),
-         lambda: etree.parse(text)]
+         lambda: etree.parse(text)],
+        seconds,
     )  # fmt: skip
-    write, lxml_write = best_of([root.to_xml_string, lambda: etree.tostring(tree)])
+    write, lxml_write = best_of([root.to_xml_string, lambda: etree.tostring(tree)], seconds)
     compile_ours, compile_mujoco = best_of(
         [lambda: compiler.compile_composition(root),
          lambda: mujoco.MjModel.from_xml_string(xml, assets)],
-        seconds=2.0,
+        seconds=2 * seconds,
     )  # fmt: skip
     return {
         "parse": parse, "mjspec_parse": spec, "lxml_parse": lxml_parse, "write": write,
@@ -78,8 +80,8 @@ def measure(path: Path) -> dict[str, float]:
     }  # fmt: skip
 
 
-def main() -> dict[str, dict[str, float]]:
-    """Measure every model; print a table and return the ratios."""
+def main(quick: bool = False) -> dict[str, dict[str, float]]:
+    """Measure every model; print a table and return the ratios. `quick`: a tiny budget."""
     os.chdir(os.path.dirname(os.path.abspath(__file__)))
     results: dict[str, dict[str, float]] = {}
     print(
@@ -87,7 +89,7 @@ def main() -> dict[str, dict[str, float]]:
         f"{'lxml':>7} {'ratio':>6} | {'write+compile':>13} {'MuJoCo':>8} {'ratio':>6}"
     )
     for name, path in models().items():
-        t = measure(path)
+        t = measure(path, 0.02 if quick else 1.0)
         results[name] = {
             "parse_vs_mjspec": t["parse"] / t["mjspec_parse"],
             "parse_vs_lxml": t["parse"] / t["lxml_parse"],
