@@ -1,0 +1,168 @@
+"""Whole scenes: memory of the Python tree against the compiled MjModel, and writing +
+compiling against MuJoCo's own compile of the same text, same run.
+
+    python bench/bench_scene.py              # 100 synthetic robots, gymnasium's models, UR5e
+
+Memory: a synthetic robot (a free torso, four two-joint legs, eight motors, eight joint
+sensors, no assets) is built 100 times with mjcf and attached to an arena; tracemalloc
+counts the Python memory the tree holds, before and after compiling it (mjcf keeps its
+compile caches), against `mujoco.mj_sizeModel` of the compiled model. Target: < 10x.
+
+Compile, per scene (humanoid, ant, UR5e + 2F-85, the 100-robot arena):
+  write+compile  `to_xml_string()` then `mujoco.MjModel.from_xml_string` of that text
+  physics        `mjcf.Physics.from_mjcf_model` (what composer.Environment calls)
+  mujoco         `mujoco.MjModel.from_xml_string` of the same text (the floor)
+each the best of alternating rounds with the tree unchanged (mjcf's writer then reuses its
+attribute text); `write cold` is `to_xml_string()` once on a freshly built tree. Target:
+write+compile within 1.3x of mujoco.
+"""
+
+from __future__ import annotations
+
+import gc
+import sys
+import time
+import tracemalloc
+from collections.abc import Callable
+from pathlib import Path
+
+import gymnasium
+import mujoco
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
+
+import mjcf
+
+REPO = Path(__file__).resolve().parents[1]
+GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
+MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
+UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
+ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
+
+
+def robot(name: str) -> mjcf.RootElement:
+    """A synthetic quadruped: torso, four legs of two hinges, motors and joint sensors."""
+    root = mjcf.RootElement(model=name)
+    torso = root.worldbody.add("body", name="torso")
+    torso.add("geom", name="torso", type="sphere", size=[0.25])
+    for k, (x, y) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
+        hip = torso.add("body", name=f"hip_{k}", pos=[0.2 * x, 0.2 * y, 0])
+        hip.add("joint", name=f"hip_{k}", type="hinge", axis=[0, 0, 1], range=[-30, 30])
+        hip.add("geom", type="capsule", fromto=[0, 0, 0, 0.2 * x, 0.2 * y, 0], size=[0.08])
+        foot = hip.add("body", name=f"ankle_{k}", pos=[0.2 * x, 0.2 * y, 0])
+        foot.add("joint", name=f"ankle_{k}", type="hinge", axis=[-y, x, 0], range=[30, 70])
+        foot.add("geom", type="capsule", fromto=[0, 0, 0, 0.4 * x, 0.4 * y, 0], size=[0.08])
+        for joint in (f"hip_{k}", f"ankle_{k}"):
+            root.actuator.add("motor", name=joint, joint=joint, gear=[150], ctrlrange=[-1, 1])
+            root.sensor.add("jointpos", name=joint, joint=joint)
+    return root
+
+
+def arena(count: int) -> mjcf.RootElement:
+    """`count` synthetic robots on a 10-wide grid, each on a free joint."""
+    root = mjcf.RootElement(model="arena")
+    root.compiler.angle = "degree"
+    root.worldbody.add("geom", name="floor", type="plane", size=[50, 50, 0.1])
+    for i in range(count):
+        frame = root.worldbody.attach(robot(f"robot{i}"))
+        frame.pos = [2.0 * (i % 10), 2.0 * (i // 10), 0.75]
+        frame.add("freejoint")
+    return root
+
+
+def memory(count: int) -> dict[str, float]:
+    """Python bytes of the tree (and with its compile caches) against the MjModel's."""
+    arena(2)  # imports and schema tables, not the tree's
+    gc.collect()
+    tracemalloc.start()
+    root = arena(count)
+    gc.collect()
+    tree = tracemalloc.get_traced_memory()[0]
+    model = mjcf.Physics.from_mjcf_model(root).model
+    gc.collect()
+    compiled = tracemalloc.get_traced_memory()[0]
+    tracemalloc.stop()
+    size = mujoco.mj_sizeModel(model)
+    return {
+        "robots": count, "tree_mb": tree / 1e6, "tree_after_compile_mb": compiled / 1e6,
+        "mjmodel_mb": size / 1e6, "tree_vs_mjmodel": tree / size,
+        "tree_after_compile_vs_mjmodel": compiled / size,
+    }  # fmt: skip
+
+
+def scenes(count: int) -> dict[str, Callable[[], mjcf.RootElement]]:
+    """Builders of the scenes measured."""
+    found = {
+        "humanoid": lambda: mjcf.from_path(GYM / "humanoid.xml"),
+        "ant": lambda: mjcf.from_path(GYM / "ant.xml"),
+        f"{count} robots": lambda: arena(count),
+    }
+    if UR5E.exists() and ROBOTIQ.exists():
+
+        def arm() -> mjcf.RootElement:
+            root = mjcf.from_path(UR5E)
+            root.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+            return root
+
+        found["ur5e+2f85"] = arm
+    return found
+
+
+def compile_times(build: Callable[[], mjcf.RootElement], rounds: int) -> dict[str, float]:
+    """Best seconds of each way to compile the scene `build` makes."""
+    start = time.perf_counter()
+    root = build().root
+    built = time.perf_counter() - start
+    start = time.perf_counter()
+    xml = root.to_xml_string()
+    cold = time.perf_counter() - start
+    assets = root.get_assets()
+    best = {"write_cold": cold, "write": cold, "write_compile": float("inf"),
+            "physics": float("inf"), "mujoco": float("inf")}  # fmt: skip
+    for _ in range(rounds):
+        start = time.perf_counter()
+        text = root.to_xml_string()
+        written = time.perf_counter()
+        mujoco.MjModel.from_xml_string(text, assets)
+        done = time.perf_counter()
+        best["write"] = min(best["write"], written - start)
+        best["write_compile"] = min(best["write_compile"], done - start)
+        start = time.perf_counter()
+        mjcf.Physics.from_mjcf_model(root)
+        best["physics"] = min(best["physics"], time.perf_counter() - start)
+        start = time.perf_counter()
+        mujoco.MjModel.from_xml_string(xml, assets)
+        best["mujoco"] = min(best["mujoco"], time.perf_counter() - start)
+    best["build"] = built
+    return best
+
+
+def main(count: int = 100, quick: bool = False) -> dict[str, dict[str, float]]:
+    """Measure and print; returns the figures and ratios by scene. `quick`: 5 robots,
+    that scene only."""
+    if quick:
+        count = 5
+    results: dict[str, dict[str, float]] = {"memory": memory(count)}
+    m = results["memory"]
+    print(f"{count} synthetic robots: Python tree {m['tree_mb']:.2f} MB "
+          f"({m['tree_after_compile_mb']:.2f} MB with compile caches), MjModel "
+          f"{m['mjmodel_mb']:.2f} MB: {m['tree_vs_mjmodel']:.2f}x "
+          f"({m['tree_after_compile_vs_mjmodel']:.2f}x) (target < 10x)")  # fmt: skip
+    print(f"{'scene':12} {'write ms':>9} {'cold':>8} {'MuJoCo ms':>10} {'write+compile':>14} "
+          f"{'ratio':>6} {'physics':>8} {'ratio':>6}")  # fmt: skip
+    for name, build in scenes(count).items():
+        if quick and "robots" not in name:
+            continue
+        t = compile_times(build, 1 if quick else (3 if "robots" in name else 8))
+        t["write_compile_vs_mujoco"] = t["write_compile"] / t["mujoco"]
+        t["physics_vs_mujoco"] = t["physics"] / t["mujoco"]
+        results[name] = t
+        print(f"{name:12} {t['write'] * 1e3:9.2f} {t['write_cold'] * 1e3:8.2f} "
+              f"{t['mujoco'] * 1e3:10.2f} {t['write_compile'] * 1e3:14.2f} "
+              f"{t['write_compile_vs_mujoco']:6.2f} {t['physics'] * 1e3:8.2f} "
+              f"{t['physics_vs_mujoco']:6.2f}")  # fmt: skip
+    return results
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 100)
