@@ -96,6 +96,25 @@ def compile_composition(root: RootElement) -> Compiled:
     return compiled
 
 
+def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], int]:
+    """{(kind, index in `new`): index in `old`} of the unnamed joints, actuators and
+    bodies compiled in both, so that state can follow them from one to the other."""
+    if old is None:
+        return {}
+    kinds = {
+        "joint": int(mujoco.mjtObj.mjOBJ_JOINT),
+        "actuator": int(mujoco.mjtObj.mjOBJ_ACTUATOR),
+        "body": int(mujoco.mjtObj.mjOBJ_BODY),
+    }
+    pairs = {}
+    for element, index in new.ids.items():
+        kind = kinds.get(element._spec.namespace)
+        previous = old.ids.get(element)
+        if kind is not None and previous is not None:
+            pairs[(kind, index)] = previous
+    return pairs
+
+
 def _unname(spec: mujoco.MjSpec, names: dict[Element, str]) -> dict[Element, object]:
     """Find the spec element of every element named only to be found, and take its
     name away again; returns them by element."""

@@ -143,7 +143,8 @@ class Physics:
         be made again. Raises CompileError (and then changes nothing)."""
         compiled = compiler.compile_composition(mjcf_model)
         data = mujoco.MjData(compiled.model)
-        tree_binding.transfer_state(self._model, self._data, compiled.model, data)
+        unnamed = compiler.unnamed_pairs(self.__dict__.get("_compiled"), compiled)
+        tree_binding.transfer_state(self._model, self._data, compiled.model, data, unnamed)
         mujoco.mj_forward(compiled.model, data)
         self.close()
         self._attach(compiled.model, data)

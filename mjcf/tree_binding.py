@@ -77,13 +77,16 @@ def transfer_state(
     old_data: mujoco.MjData,
     new_model: mujoco.MjModel,
     new_data: mujoco.MjData,
+    unnamed: dict[tuple[int, int], int] | None = None,
 ) -> None:
     """Copy time and the state of every joint, actuator and mocap body that exists in
-    both models (matched by name) from the old simulation to the new one."""
+    both models (matched by name, or for unnamed ones by `unnamed`: {(kind, new id):
+    old id}, see `compiler.unnamed_pairs`) from the old simulation to the new one."""
     new_data.time = old_data.time
+    pairs = unnamed or {}
     joint = mujoco.mjtObj.mjOBJ_JOINT
     for new_id in range(new_model.njnt):
-        old_id = _same_name(old_model, new_model, joint, new_id)
+        old_id = _same_name(old_model, new_model, joint, new_id, pairs)
         if old_id < 0 or old_model.jnt_type[old_id] != new_model.jnt_type[new_id]:
             continue
         width_q, width_v = _widths(int(new_model.jnt_type[new_id]))
@@ -93,7 +96,7 @@ def transfer_state(
         new_data.qvel[new_v : new_v + width_v] = old_data.qvel[old_v : old_v + width_v]
     actuator = mujoco.mjtObj.mjOBJ_ACTUATOR
     for new_id in range(new_model.nu):
-        old_id = _same_name(old_model, new_model, actuator, new_id)
+        old_id = _same_name(old_model, new_model, actuator, new_id, pairs)
         if old_id < 0:
             continue
         new_data.ctrl[new_id] = old_data.ctrl[old_id]
@@ -103,7 +106,7 @@ def transfer_state(
             new_data.act[new_a : new_a + count] = old_data.act[old_a : old_a + count]
     body = mujoco.mjtObj.mjOBJ_BODY
     for new_id in np.flatnonzero(new_model.body_mocapid >= 0):
-        old_id = _same_name(old_model, new_model, body, int(new_id))
+        old_id = _same_name(old_model, new_model, body, int(new_id), pairs)
         if old_id >= 0 and old_model.body_mocapid[old_id] >= 0:
             new_m, old_m = new_model.body_mocapid[new_id], old_model.body_mocapid[old_id]
             new_data.mocap_pos[new_m] = old_data.mocap_pos[old_m]
@@ -111,10 +114,16 @@ def transfer_state(
 
 
 def _same_name(
-    old_model: mujoco.MjModel, new_model: mujoco.MjModel, kind: mujoco.mjtObj, new_id: int
+    old_model: mujoco.MjModel,
+    new_model: mujoco.MjModel,
+    kind: mujoco.mjtObj,
+    new_id: int,
+    unnamed: dict[tuple[int, int], int],
 ) -> int:
     name = mujoco.mj_id2name(new_model, kind, new_id)
-    return -1 if not name else mujoco.mj_name2id(old_model, kind, name)
+    if not name:
+        return unnamed.get((int(kind), new_id), -1)
+    return mujoco.mj_name2id(old_model, kind, name)
 
 
 def _widths(joint_type: int) -> tuple[int, int]:
