@@ -402,10 +402,12 @@ class Composition:
 
     def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
         """An attachment frame's own joints belong to the model that owns the frame, not
-        to the attached model whose class the frame sets as childclass."""
+        to the attached model whose class the frame sets as childclass: they take the
+        class that applies where the frame is (a body's childclass, or main)."""
         override = context.rewrite(child) or {}
         if "class" in child._spec.attributes and "class" not in child._attrs:
-            override["class"] = context.main_reference
+            default = defaults.class_of(child)
+            override["class"] = context.class_text(default.identifier or MAIN)
         return override or None
 
 

@@ -255,6 +255,24 @@ def test_remove_of_a_frame_detaches() -> None:
     assert parent.to_xml_string() == before and child.parent_model is None
 
 
+def test_joints_of_an_attachment_frame_use_the_classes_where_the_frame_is() -> None:
+    parent = mjcf.RootElement(model="parent")
+    parent.default.joint.damping = 2
+    parent.default.add("default", dclass="heavy").joint.damping = 7
+    carrier = parent.worldbody.add("body", name="carrier", childclass="heavy")
+    carrier.add("geom", size=[0.1])
+    child = mjcf.RootElement(model="child")
+    child.default.joint.damping = 100  # the child's, for the child's joints only
+    child.worldbody.add("body", name="cb").add("geom", size=[0.1])
+    slide = carrier.attach(child).add("joint", name="slide", type="slide")
+    other = mjcf.RootElement(model="other")
+    other.worldbody.add("geom", size=[0.1])
+    free = parent.attach(other).add("joint", name="lift", type="slide")
+    physics = mjcf.Physics.from_mjcf_model(parent)
+    assert physics.bind(slide).damping == 7  # the carrier's childclass
+    assert physics.bind(free).damping == 2  # the parent's main class
+
+
 # -- default classes, angles and settings ----------------------------------------------------
 
 
