@@ -164,11 +164,17 @@ def _relative_path(path: str, model_dir: str) -> str:
 
 
 class FileNamer:
-    """Names the assets of one output document, and collects their contents."""
+    """Names the assets of one output document, and collects their contents.
 
-    def __init__(self, root: RootElement, flat: bool) -> None:
+    `flat`: every asset gets a flat unique name and its contents are collected (export);
+    else files on disk are written as paths relative to the model's directory.
+    `by_path`: files on disk are written as absolute paths that MuJoCo reads itself (and
+    caches: compiling), and only the other assets are named and collected."""
+
+    def __init__(self, root: RootElement, flat: bool, by_path: bool = False) -> None:
         self.root = root
         self.flat = flat
+        self.by_path = by_path
         self._names: dict[int, str] = {}
         self._by_base: dict[str, list[Asset]] = {}
         self._named: dict[str, Asset] = {}
@@ -178,7 +184,11 @@ class FileNamer:
         """The file name written for one file attribute value; raises mjcf.AssetError
         naming the element if its file cannot be read."""
         asset = resolve(element, attribute, value)
-        if element._spec.tag in _BY_PATH and asset.path is not None:
+        if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
+            if self.by_path and not os.access(asset.path, os.R_OK):
+                raise errors.AssetError(
+                    f"{element.path}: {attribute!r}: cannot read asset file {asset.path!r}"
+                )
             return asset.path
         try:
             name = None

@@ -51,10 +51,11 @@ def serialize(
 def serialize_for_compile(
     root: RootElement,
 ) -> tuple[str, dict[str, bytes], composition.Composition, list[Element | None]]:
-    """What MuJoCo compiles: the XML with every element named and every asset under a
-    flat unique name (MuJoCo's asset dict keys files by base name), the assets, the
-    composition (how elements are named), and the element written on each line."""
-    files = _assets.FileNamer(root, flat=True)
+    """What MuJoCo compiles: the XML with every element named, files on disk by their
+    absolute path (MuJoCo reads them and caches their meshes) and other assets under a
+    flat unique name, those assets, the composition (how elements are named), and the
+    element written on each line."""
+    files = _assets.FileNamer(root, flat=True, by_path=True)
     writer = _Writer(root, 17, True, files, for_compile=True)
     writer.write_root()
     return "".join(writer.parts), files.contents(), writer.composed, writer.owners
