@@ -27,6 +27,9 @@ and merge to the largest.
 
 from __future__ import annotations
 
+import hashlib
+import os
+import re
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -240,7 +243,7 @@ def inertia_setting(models: list[RootElement]) -> str:
     raise AssertionError("unreachable")
 
 
-_unscaled_masses: dict[str, float] = {}
+_unscaled_masses: dict[bytes, float] = {}
 
 
 def unscaled_mass(model: RootElement) -> float:
@@ -259,7 +262,8 @@ def unscaled_mass(model: RootElement) -> float:
                 "model is attached; scale its masses instead of using settotalmass"
             )
     xml, assets, _, _ = serializer.serialize_for_compile(model)
-    total = _unscaled_masses.get(xml)
+    key = _compile_key(xml, assets)
+    total = _unscaled_masses.get(key)
     if total is None:
         spec = mujoco.MjSpec.from_string(xml, assets=assets)
         spec.compiler.settotalmass = -1
@@ -272,9 +276,24 @@ def unscaled_mass(model: RootElement) -> float:
         total = float(compiled.body_mass[1:].sum())
         if len(_unscaled_masses) > 256:
             _unscaled_masses.clear()
-        _unscaled_masses[xml] = total
+        _unscaled_masses[key] = total
     if total <= 0:
         raise errors.AttachmentError(
             f"model {model.model!r} sets <compiler settotalmass> but has no mass to scale"
         )
     return total
+
+
+def _compile_key(xml: str, assets: dict[str, bytes]) -> bytes:
+    """A digest of what compiling `xml` with `assets` reads: the text, the assets, and
+    the size and time of the files on disk it names."""
+    digest = hashlib.sha1(xml.encode())
+    for name in sorted(assets):
+        digest.update(name.encode() + hashlib.sha1(assets[name]).digest())
+    for path in sorted(set(re.findall(r' file\w*="([^"]+)"', xml))):
+        try:
+            stat = os.stat(path)
+        except OSError:
+            continue
+        digest.update(f"{path}:{stat.st_mtime_ns}:{stat.st_size}".encode())
+    return digest.digest()
