@@ -118,25 +118,44 @@ def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], 
 def _unname(spec: mujoco.MjSpec, names: dict[Element, str]) -> dict[Element, object]:
     """Find the spec element of every element named only to be found, and take its
     name away again; returns them by element."""
-    by_namespace: dict[str, dict[str, object]] = {}
-    handles = {}
+    wanted = {element._spec.namespace for element in names}
+    found: dict[str, dict[str, object]] = {namespace: {} for namespace in wanted}
+    tree = wanted & _TREE
+    if tree:
+        # MjSpec's whole-model lists of tree elements cost O(n) each item; the bodies'
+        # own lists do not.
+        stack = [spec.worldbody]
+        while stack:
+            body = stack.pop()
+            children = body.bodies
+            stack.extend(children)
+            for namespace in tree:
+                handles = children if namespace == "body" else getattr(body, _PLURALS[namespace])
+                _collect(handles, found[namespace])
+    for namespace in wanted - _TREE:
+        _collect(getattr(spec, _PLURALS.get(namespace, namespace + "s")), found[namespace])
+    out = {}
     for element, name in names.items():
-        namespace = element._spec.namespace
-        found = by_namespace.get(namespace)
-        if found is None:
-            found = by_namespace[namespace] = {
-                handle.name: handle
-                for handle in getattr(spec, _PLURALS.get(namespace, namespace + "s"))
-                if handle.name.startswith("//")
-            }
-        handle = found.get(name)
+        handle = found[element._spec.namespace].get(name)
         if handle is not None:  # else MuJoCo made it something else: it cannot be bound
             handle.name = ""
-            handles[element] = handle
-    return handles
+            out[element] = handle
+    return out
 
 
-_PLURALS = {"body": "bodies", "mesh": "meshes", "flex": "flexes", "equality": "equalities"}
+def _collect(handles: list, into: dict[str, object]) -> None:
+    for handle in handles:
+        name = handle.name
+        if name.startswith("//"):
+            into[name] = handle
+
+
+_PLURALS = {
+    "body": "bodies", "mesh": "meshes", "flex": "flexes", "equality": "equalities",
+    "joint": "joints", "geom": "geoms", "site": "sites", "camera": "cameras",
+    "light": "lights",
+}  # fmt: skip
+_TREE = frozenset({"body", "joint", "geom", "site", "camera", "light"})
 
 
 def _explain(message: str, lines: list[Element | None]) -> str:
