@@ -1,0 +1,106 @@
+"""The tasks the command line knows: every id registered through `composer.registration`.
+
+    infos = catalog.tasks()                  # {'Reach': TaskInfo(...), ...}, after `import tasks`
+    info = catalog.find('reach')             # by name, any case, or by id 'composer/Reach-v0'
+    env = catalog.make(info, render_mode='rgb_array')   # observations flattened by default
+
+`find` raises UnknownTaskError with a did-you-mean and the known names. Extra modules that
+register tasks (a user's own) are imported with `catalog.import_modules(['mypkg.tasks'])`.
+"""
+
+from __future__ import annotations
+
+import difflib
+import importlib
+from collections.abc import Iterable
+from typing import Any
+
+from composer import registration
+from composer.cli.errors import CliError, UnknownTaskError
+from composer.environment import Environment
+
+SHIPPED = "tasks"
+# Shadow map size for CLI frames: MuJoCo's default 4096 costs about 5x per frame on software
+# OpenGL (Mesa llvmpipe, the usual headless EGL) and looks the same at 320x240.
+SHADOW_SIZE = 1024
+
+
+def import_modules(modules: Iterable[str]) -> None:
+    """Import each module (registering the tasks it defines); raises CliError for one that
+    does not exist."""
+    for module in modules:
+        try:
+            importlib.import_module(module)
+        except ModuleNotFoundError as e:
+            raise CliError(f"cannot import {module!r} (given with --import): {e}") from e
+
+
+def tasks() -> dict[str, registration.TaskInfo]:
+    """Every registered task by name (the shipped `tasks` package imported first), sorted;
+    of several versions of a name, the newest."""
+    try:
+        importlib.import_module(SHIPPED)
+    except ModuleNotFoundError as e:
+        if e.name != SHIPPED:
+            raise
+    found: dict[str, registration.TaskInfo] = {}
+    for info in registration.registered().values():
+        known = found.get(info.name)
+        if known is None or _version(info.env_id) > _version(known.env_id):
+            found[info.name] = info
+    return dict(sorted(found.items()))
+
+
+def find(name: str) -> registration.TaskInfo:
+    """The task called `name` (any case) or registered as the id `name`; raises
+    UnknownTaskError listing the known tasks, with the closest names first."""
+    known = tasks()
+    for info in known.values():
+        env_id = info.env_id.lower()
+        if name.lower() in (info.name.lower(), env_id, env_id.partition("/")[2]):
+            return info
+    if not known:
+        raise UnknownTaskError(
+            f"unknown task {name!r}: no tasks are registered (is the 'tasks' package installed?)"
+        )
+    lowered = {n.lower(): n for n in known}
+    close = [lowered[n] for n in difflib.get_close_matches(name.lower(), lowered, n=3, cutoff=0.5)]
+    hint = f"; did you mean {' or '.join(repr(n) for n in close)}?" if close else "."
+    raise UnknownTaskError(f"unknown task {name!r}{hint} Known tasks: {', '.join(known)}")
+
+
+def make(
+    info: registration.TaskInfo,
+    *,
+    flatten: bool = True,
+    render_mode: str | None = None,
+    **overrides: Any,
+) -> Environment:
+    """Build `info`'s environment with its registered defaults, observations flattened into
+    one vector unless `flatten` is False (what stable-baselines3's MlpPolicy takes); with a
+    render mode, its shadow map is at most SHADOW_SIZE pixels."""
+    kwargs = environment_kwargs(info, flatten, render_mode, overrides)
+    env = registration.make_environment(info.task, **kwargs)
+    if render_mode is not None:
+        quality = env.physics.model.vis.quality
+        quality.shadowsize = min(int(quality.shadowsize), SHADOW_SIZE)
+    return env
+
+
+def environment_kwargs(
+    info: registration.TaskInfo,
+    flatten: bool = True,
+    render_mode: str | None = None,
+    overrides: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The keywords `make` passes to `registration.make_environment` (after the task)."""
+    return {
+        **info.default_kwargs,
+        "flatten_observations": flatten,
+        "render_mode": render_mode,
+        **(overrides or {}),
+    }
+
+
+def _version(env_id: str) -> int:
+    return int(env_id.rpartition("-v")[2] or 0)

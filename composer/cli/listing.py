@@ -1,0 +1,46 @@
+"""`composer list`: every registered task with its observation and action sizes.
+
+    $ composer list
+    task             id                          obs  act  description
+    Reach            composer/Reach-v0            10    2  planar arm tip to a random target
+
+Each task is built once to read its sizes; a task that cannot be built (say, a robot whose
+model files are not installed) is listed with the reason instead of sizes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import mjcf
+from composer import errors
+from composer.cli import catalog
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the table of tasks; returns the exit status."""
+    rows = []
+    for name, info in catalog.tasks().items():
+        description = info.description
+        try:
+            env = catalog.make(info)
+        except (errors.Error, mjcf.Error, OSError) as e:
+            obs = act = "-"
+            description = f"{description} (unavailable: {' '.join(str(e).split())})"
+        else:
+            obs = str(math.prod(env.observation_space.shape))
+            act = str(math.prod(env.action_space.shape))
+            env.close()
+        rows.append((name, info.env_id, obs, act, description))
+    if not rows:
+        print("no tasks are registered")
+        return 0
+    header = ("task", "id", "obs", "act", "description")
+    widths = [max(len(row[i]) for row in [header, *rows]) for i in range(4)]
+    for row in [header, *rows]:
+        print(
+            f"{row[0]:<{widths[0]}}  {row[1]:<{widths[1]}}  "
+            f"{row[2]:>{widths[2]}}  {row[3]:>{widths[3]}}  {row[4]}"
+        )
+    return 0

@@ -1,0 +1,69 @@
+"""The learning-curve PNG of a training run, drawn with matplotlib's Agg canvas (no display,
+no pyplot global state).
+
+    plot.learning_curve(metrics, 'runs/Reach-sac/learning_curve.png')
+
+`metrics` is what `composer train` writes to metrics.json: evaluation returns (mean ± std)
+and success rate against timesteps, training-episode returns (smoothed), and the random
+policy's return as a dashed line.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+
+from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError
+
+try:
+    from matplotlib.figure import Figure
+except ImportError as e:
+    raise MissingExtraError(
+        f"plotting needs matplotlib, in the [train] extra: {TRAIN_INSTALL}"
+    ) from e
+
+
+def learning_curve(metrics: dict[str, Any], path: str | os.PathLike[str]) -> None:
+    """Draw `metrics` into the PNG `path`; raises OutputError if it cannot be written."""
+    figure = Figure(figsize=(8, 4.5), dpi=100, layout="constrained")
+    axes = figure.add_subplot()
+    episodes = np.array([row[:2] for row in metrics["train_episodes"]], dtype=float)
+    if len(episodes):
+        window = max(1, len(episodes) // 50)
+        smooth = np.convolve(episodes[:, 1], np.ones(window) / window, mode="valid")
+        axes.plot(episodes[:, 0], episodes[:, 1], ".", color="tab:blue", alpha=0.15, ms=3)
+        axes.plot(episodes[window - 1 :, 0], smooth, color="tab:blue", lw=1,
+                  label="training episodes")  # fmt: skip
+    evaluations = metrics["evaluations"]
+    if evaluations:
+        steps = np.array([e["timesteps"] for e in evaluations], dtype=float)
+        mean = np.array([e["mean_return"] for e in evaluations])
+        std = np.array([e["std_return"] for e in evaluations])
+        axes.plot(steps, mean, "o-", color="tab:orange", lw=2, label="evaluation (mean ± std)")
+        axes.fill_between(steps, mean - std, mean + std, color="tab:orange", alpha=0.2)
+    random = metrics.get("random_policy")
+    if random:
+        axes.axhline(random["mean_return"], color="gray", ls="--", label="random policy")
+    axes.set_xlabel("timesteps")
+    axes.set_ylabel("episode return")
+    axes.grid(alpha=0.3)
+    successes = [(e["timesteps"], e["success_rate"]) for e in evaluations
+                 if e.get("success_rate") is not None]  # fmt: skip
+    if successes:
+        right = axes.twinx()
+        right.plot(*zip(*successes, strict=True), "s:", color="tab:green", label="success rate")
+        right.set_ylim(-0.02, 1.02)
+        right.set_ylabel("success rate")
+        right.legend(loc="lower right")
+    axes.legend(loc="upper left")
+    minutes = metrics["wall_time"] / 60
+    axes.set_title(
+        f"{metrics['task']} · {metrics['algo'].upper()} · {metrics['timesteps']:,} steps "
+        f"in {minutes:.1f} min"
+    )
+    try:
+        figure.savefig(path)
+    except OSError as e:
+        raise OutputError(f"cannot write {path}: {e.strerror or e}") from e

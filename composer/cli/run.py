@@ -1,0 +1,46 @@
+"""`composer run TASK`: roll out a policy, print the returns, optionally record a video.
+
+    $ composer run Reach --episodes 2 --video reach.mp4
+    episode 1: return -41.20 over 250 steps, no success
+    episode 2: return -38.75 over 250 steps, no success
+    Reach, random policy: return -39.98 ± 1.23 over 2 episodes, success rate 0.00
+    video: reach.mp4 (5.0 s)
+
+`--policy random` (the default) needs no training extras; `--policy PATH` loads a policy
+trained by `composer train` (its output folder, its policy.zip, or a checkpoint folder).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from composer.cli import catalog, output, rollout, video
+
+
+def run(args: argparse.Namespace) -> int:
+    """Roll out the policy; returns the exit status."""
+    info = catalog.find(args.task)
+    path = output.file(args.video) if args.video else None
+    env = catalog.make(info, render_mode="rgb_array" if path else None)
+    try:
+        if args.policy == "random":
+            policy, label = rollout.random_policy(env, args.seed), "random policy"
+        else:
+            from composer.cli import training  # needs the [train] extra
+
+            policy = rollout.model_policy(training.load_policy(args.policy, env))
+            label = f"policy {args.policy}"
+        frames = [] if path else None
+        episodes = rollout.run_episodes(
+            env, policy, args.episodes, args.seed, frames,
+            on_episode=lambda i, e: print(f"episode {i + 1}: {rollout.describe(e)}"),
+        )  # fmt: skip
+        fps = rollout.video_fps(env)
+    finally:
+        env.close()
+    print(f"{info.name}, {label}: {rollout.describe_summary(rollout.summary(episodes))}")
+    if path is not None and frames:
+        written = video.write_video(frames, path, fps)
+        note = "" if written == path else " (ffmpeg not found: GIF instead of MP4)"
+        print(f"video: {written} ({len(frames) / fps:.1f} s){note}")
+    return 0

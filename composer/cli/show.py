@@ -1,0 +1,142 @@
+"""`composer show TASK`: the task's scene, observations and actions, and a rendered frame.
+
+    $ composer show Reach --out reach.png
+    Reach (composer/Reach-v0): planar arm tip to a random target
+    timesteps: physics 0.005 s, control 0.02 s (4 substeps); time limit 5 s (250 steps)
+    entities
+      arena (Arena)
+        bodies     world
+      arm (TwoLinkArm)
+        bodies     arm/upper, arm/lower
+        joints     arm/shoulder hinge, arm/elbow hinge
+        actuators  arm/shoulder_motor -> arm/shoulder, ctrl [-1, 1]
+    observations (10 values)
+      arm/joint_positions  (2,)  float64
+    actions (2 values): Box(-1.0, 1.0, (2,), float32)
+    frame: reach.png (320x240)
+
+Bodies, joints and actuators are read from the compiled model and grouped under the entity
+whose name scope they carry ('arm/...'); the root entity owns the unscoped ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import textwrap
+from collections.abc import Iterator
+
+import mujoco
+import numpy as np
+
+from composer.cli import catalog, output, video
+from composer.entity import Entity
+from composer.environment import Environment
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the scene and write the frame; returns the exit status."""
+    info = catalog.find(args.task)
+    path = output.file(args.out or f"{info.name}.png")
+    env = catalog.make(info, flatten=False, render_mode="rgb_array")
+    try:
+        env.reset(seed=args.seed)
+        print(f"{info.name} ({info.env_id}): {info.description}")
+        print(f"timesteps: {_timesteps(env, info.default_kwargs.get('time_limit'))}")
+        print("entities")
+        for line in scene_lines(env):
+            print(f"  {line}")
+        sizes = {name: space.shape for name, space in env.observation_space.items()}
+        print(f"observations ({_values(sum(math.prod(s) for s in sizes.values()))})")
+        width = max(map(len, sizes), default=0)
+        for name, space in env.observation_space.items():
+            print(f"  {name:<{width}}  {space.shape}  {space.dtype}")
+        print(f"actions ({_values(math.prod(env.action_space.shape))}): {env.action_space}")
+        frame = env.render()
+    finally:
+        env.close()
+    video.write_png(frame, path)
+    print(f"frame: {path} ({frame.shape[1]}x{frame.shape[0]})")
+    return 0
+
+
+def _values(count: int) -> str:
+    return f"{count} value{'s' if count != 1 else ''}"
+
+
+def _timesteps(env: Environment, time_limit: float | None) -> str:
+    task = env.task
+    text = (
+        f"physics {task.physics_timestep:g} s, control {task.control_timestep:g} s "
+        f"({task.physics_steps_per_control_step} substeps)"
+    )
+    if time_limit is None:
+        return f"{text}; no time limit"
+    steps = math.ceil(time_limit / task.control_timestep - 1e-9)
+    return f"{text}; time limit {time_limit:g} s ({steps} steps)"
+
+
+def scene_lines(env: Environment) -> Iterator[str]:
+    """Lines describing each entity and the bodies, joints and actuators it owns."""
+    root = env.task.root_entity
+    scopes = {entity: _scope(entity, root) for entity in root.iter_entities()}
+    owned: dict[Entity, dict[str, list[str]]] = {e: {} for e in scopes}
+    for kind, label in _elements(env.physics.model):
+        owner = _owner(label.partition(" ")[0], scopes)
+        owned[owner].setdefault(kind, []).append(label)
+    for entity, scope in scopes.items():
+        depth = scope.count("/") + (scope != "")
+        indent = "  " * depth
+        yield f"{indent}{entity.name} ({type(entity).__name__})"
+        for kind in ("bodies", "joints", "actuators"):
+            if kind in owned[entity]:
+                yield from textwrap.wrap(
+                    ", ".join(owned[entity][kind]), width=96, break_on_hyphens=False,
+                    initial_indent=f"{indent}  {kind:<10} ", subsequent_indent=indent + " " * 13,
+                )  # fmt: skip
+
+
+def _scope(entity: Entity, root: Entity) -> str:
+    """'' for the root, 'arm' for an entity attached to it, 'arm/gripper' below that."""
+    parts = []
+    while entity is not root and entity is not None:
+        parts.append(entity.name)
+        entity = entity.parent
+    return "/".join(reversed(parts))
+
+
+def _owner(name: str, scopes: dict[Entity, str]) -> Entity:
+    """The entity with the longest scope `name` starts with (the root for unscoped names)."""
+    best, best_length = next(iter(scopes)), -1
+    for entity, scope in scopes.items():
+        if (scope == "" or name.startswith(scope + "/")) and len(scope) > best_length:
+            best, best_length = entity, len(scope)
+    return best
+
+
+def _elements(model: mujoco.MjModel) -> Iterator[tuple[str, str]]:
+    """('bodies' | 'joints' | 'actuators', label) for every named or numbered element."""
+    obj = mujoco.mjtObj
+    for i in range(model.nbody):
+        yield "bodies", _name(model, obj.mjOBJ_BODY, i, "body")
+    for i in range(model.njnt):
+        kind = mujoco.mjtJoint(model.jnt_type[i]).name.removeprefix("mjJNT_").lower()
+        label = f"{_name(model, obj.mjOBJ_JOINT, i, 'joint')} {kind}"
+        if model.jnt_limited[i]:
+            label += f" {_range(model.jnt_range[i])}"
+        yield "joints", label
+    for i in range(model.nu):
+        label = _name(model, obj.mjOBJ_ACTUATOR, i, "actuator")
+        if model.actuator_trntype[i] == mujoco.mjtTrn.mjTRN_JOINT:
+            label += f" -> {_name(model, obj.mjOBJ_JOINT, model.actuator_trnid[i, 0], 'joint')}"
+        if model.actuator_ctrllimited[i]:
+            label += f" ctrl {_range(model.actuator_ctrlrange[i])}"
+        yield "actuators", label
+
+
+def _name(model: mujoco.MjModel, kind: mujoco.mjtObj, index: int, noun: str) -> str:
+    return mujoco.mj_id2name(model, kind, int(index)) or f"<{noun} {index}>"
+
+
+def _range(values: np.ndarray) -> str:
+    return f"[{values[0]:g}, {values[1]:g}]"

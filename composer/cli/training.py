@@ -1,0 +1,384 @@
+"""Training on stable-baselines3: parallel environments, models, checkpoints, and a session
+that evaluates, records progress and stops cleanly on Ctrl-C.
+
+    venv = training.vec_env(info, recipe, seed=0)          # K environments, VecMonitor'd
+    model = training.new_model(recipe, venv, seed=0)
+    session = training.Session(progress, checkpoint, eval_env, eval_every=10_000)
+    with training.StopOnInterrupt() as stop:
+        model.learn(recipe.timesteps, callback=session.callback(model, stop))
+    checkpoint.save(model, session.progress)
+    model = training.load_policy('runs/Reach-sac', env)    # for `run` and `eval`
+
+This module imports stable-baselines3 and torch, so the commands import it only when they
+need it; without them importing it raises MissingExtraError with the install command.
+
+A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms, and
+`state.json` (the `Progress`), each replaced atomically, `state.json` last, so a folder with
+a `state.json` holds a complete checkpoint even when training was killed while saving.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import signal
+import sys
+import time
+import zipfile
+from collections.abc import Callable
+from pathlib import Path
+from types import FrameType
+from typing import Any
+
+import gymnasium
+
+from composer.cli import catalog, recipes, rollout
+from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError, PolicyError
+from composer.registration import TaskInfo, make_environment
+
+try:
+    import stable_baselines3
+    import torch
+    from stable_baselines3.common.base_class import BaseAlgorithm
+    from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+    from stable_baselines3.common.vec_env import (
+        DummyVecEnv,
+        SubprocVecEnv,
+        VecEnv,
+        VecMonitor,
+        VecNormalize,
+    )
+except ImportError as e:
+    raise MissingExtraError(
+        f"this command needs the [train] extra ({e.name or 'stable-baselines3'} is missing): "
+        f"{TRAIN_INSTALL}"
+    ) from e
+
+ALGORITHMS: dict[str, type[BaseAlgorithm]] = {
+    "ppo": stable_baselines3.PPO,
+    "sac": stable_baselines3.SAC,
+}
+# Evaluation episodes start from these seeds, apart from those training draws.
+EVAL_SEED = 1_000_000
+# Small networks gain nothing from intra-op threads, and on a busy CPU torch's spinning
+# threads made each update 7 to 30 times slower (measured on 2 cores): use one.
+TORCH_THREADS = 1
+torch.set_num_threads(TORCH_THREADS)
+
+
+# -- environments and models -------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class EnvFactory:
+    """A picklable maker of one training environment (for SubprocVecEnv workers too)."""
+
+    task: str
+    kwargs: dict[str, Any]
+    worker: bool = False
+
+    def __call__(self) -> gymnasium.Env:
+        """Build the environment; a worker process leaves Ctrl-C to the main process."""
+        if self.worker:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        return make_environment(self.task, **self.kwargs)
+
+
+def vec_env(
+    info: TaskInfo, recipe: recipes.Recipe, seed: int, normalization: Path | None = None
+) -> VecEnv:
+    """`recipe.n_envs` environments of `info`'s task, stepped as `recipe.vec` says, with
+    episode statistics (VecMonitor) and seeds seed, seed + 1, ...; normalized when the
+    recipe says so, with the statistics saved at `normalization` if given."""
+    kwargs = catalog.environment_kwargs(info)
+    subprocesses = recipe.vec == "subproc" and recipe.n_envs > 1
+    factories = [EnvFactory(info.task, kwargs, subprocesses)] * recipe.n_envs
+    venv: VecEnv = SubprocVecEnv(factories) if subprocesses else DummyVecEnv(factories)
+    venv.seed(seed)
+    venv = VecMonitor(venv)
+    if not recipe.normalize:
+        return venv
+    if normalization is not None:
+        return VecNormalize.load(str(normalization), venv)
+    return VecNormalize(venv, gamma=recipe.gamma)
+
+
+def keep_normalization(model: BaseAlgorithm) -> None:
+    """Copy the training environments' observation statistics into the model (as
+    `observation_normalization`, saved in its .zip) for `rollout.model_policy`."""
+    normalize = model.get_vec_normalize_env()
+    if normalize is not None:
+        model.observation_normalization = {
+            "mean": normalize.obs_rms.mean.tolist(),
+            "var": normalize.obs_rms.var.tolist(),
+            "epsilon": float(normalize.epsilon),
+            "clip": float(normalize.clip_obs),
+        }
+
+
+def new_model(recipe: recipes.Recipe, venv: VecEnv, seed: int) -> BaseAlgorithm:
+    """A fresh model of `recipe`'s algorithm on `venv`, on the CPU."""
+    kwargs = recipe.algo_kwargs()
+    if recipe.algo == "sac":  # a replay buffer larger than the run only costs memory
+        kwargs["buffer_size"] = min(kwargs["buffer_size"], recipe.timesteps)
+    return ALGORITHMS[recipe.algo]("MlpPolicy", venv, seed=seed, device="cpu", **kwargs)
+
+
+def policy_file(path: str | os.PathLike[str]) -> Path:
+    """The policy .zip `path` names: itself, or in a folder written by `composer train`
+    its policy.zip, else its checkpoint. Raises PolicyError when there is none."""
+    path = Path(path)
+    candidates = [path] if path.suffix == ".zip" else [
+        path / "policy.zip", path / "checkpoint" / "model.zip", path / "model.zip"
+    ]  # fmt: skip
+    for candidate in candidates:
+        if candidate.is_file():
+            return candidate
+    raise PolicyError(f"no policy at {path}: give a .zip or a folder written by `composer train`")
+
+
+def algo_of(path: Path) -> str:
+    """The algorithm ('ppo', 'sac') a stable-baselines3 .zip was saved by, from the module
+    of its policy class: `stable_baselines3.sac.policies` for SAC, the shared actor-critic
+    policies of `stable_baselines3.common.policies` for PPO."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            module = json.loads(archive.read("data"))["policy_class"]["__module__"]
+    except (OSError, zipfile.BadZipFile, KeyError, TypeError, ValueError) as e:
+        raise PolicyError(f"{path} is not a stable-baselines3 policy file: {e}") from e
+    if module == "stable_baselines3.common.policies":
+        algo = "ppo"
+    else:
+        algo = module.removeprefix("stable_baselines3.").partition(".")[0]
+    if algo not in ALGORITHMS:
+        raise PolicyError(f"{path} holds a {module!r} policy, not one of {list(ALGORITHMS)}")
+    return algo
+
+
+def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm:
+    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces."""
+    file = policy_file(path)
+    model = ALGORITHMS[algo_of(file)].load(file, device="cpu")
+    for label, theirs, ours in (
+        ("observations", model.observation_space, env.observation_space),
+        ("actions", model.action_space, env.action_space),
+    ):
+        if theirs.shape != ours.shape:
+            raise PolicyError(
+                f"{file} was trained with {label} of shape {theirs.shape}, but this task "
+                f"has {ours.shape}: was it trained on another task?"
+            )
+    return model
+
+
+# -- progress and checkpoints --------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class Progress:
+    """What a training run has done: kept in checkpoints, written out as metrics.json."""
+
+    task: str
+    env_id: str
+    algo: str
+    seed: int
+    recipe: dict[str, Any]
+    timesteps: int = 0
+    wall_time: float = 0.0
+    completed: bool = False
+    evaluations: list[dict[str, Any]] = dataclasses.field(default_factory=list)
+    # [timesteps at its end, return, success (None if the task does not say)] per episode.
+    train_episodes: list[list[Any]] = dataclasses.field(default_factory=list)
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dict of every field."""
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> Progress:
+        """The progress `to_json` wrote."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in data.items() if k in names})
+
+
+class Checkpoint:
+    """A training checkpoint in a folder (see the module docstring)."""
+
+    def __init__(self, folder: str | os.PathLike[str]) -> None:
+        """A checkpoint at `folder` (which need not exist yet)."""
+        self.folder = Path(folder)
+        self.model_path = self.folder / "model.zip"
+        self.buffer_path = self.folder / "replay_buffer.pkl"
+        self.normalization_path = self.folder / "vecnormalize.pkl"
+        self.state_path = self.folder / "state.json"
+
+    def exists(self) -> bool:
+        """Whether a complete checkpoint is there."""
+        return self.state_path.is_file() and self.model_path.is_file()
+
+    def progress(self) -> Progress:
+        """The progress saved with the checkpoint; raises PolicyError if unreadable."""
+        try:
+            return Progress.from_json(json.loads(self.state_path.read_text()))
+        except (OSError, ValueError, TypeError) as e:
+            raise PolicyError(f"cannot read checkpoint {self.state_path}: {e}") from e
+
+    def save(self, model: BaseAlgorithm, progress: Progress) -> None:
+        """Save the model (and replay buffer), then the progress; raises OutputError."""
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            keep_normalization(model)
+            _replace(self.model_path, model.save)
+            if isinstance(model, OffPolicyAlgorithm):
+                _replace(self.buffer_path, model.save_replay_buffer)
+            normalize = model.get_vec_normalize_env()
+            if normalize is not None:
+                _replace(self.normalization_path, normalize.save)
+            _replace(self.state_path, lambda p: p.write_text(json.dumps(progress.to_json())))
+        except OSError as e:
+            raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
+
+    def load(self, algo: str, venv: VecEnv) -> BaseAlgorithm:
+        """The checkpointed model of `algo`, training on `venv`, with its replay buffer."""
+        model = ALGORITHMS[algo].load(self.model_path, env=venv, device="cpu")
+        if isinstance(model, OffPolicyAlgorithm) and self.buffer_path.is_file():
+            model.load_replay_buffer(self.buffer_path)
+        return model
+
+
+def _replace(path: Path, write: Callable[[Path], Any]) -> None:
+    partial = path.with_name(f".{path.stem}.partial{path.suffix}")
+    write(partial)
+    os.replace(partial, path)
+
+
+# -- a training session ------------------------------------------------------------------
+
+
+class StopOnInterrupt:
+    """Within `with`: the first Ctrl-C asks training to stop after the current step (the
+    session then saves a checkpoint); a second one interrupts at once."""
+
+    requested = False
+
+    def __enter__(self) -> StopOnInterrupt:
+        self._previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        signal.signal(signal.SIGINT, self._previous)
+
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
+        self.requested = True
+        signal.signal(signal.SIGINT, self._previous)
+        print("\nstopping: saving a checkpoint (Ctrl-C again to quit now)", file=sys.stderr)
+
+
+class Session:
+    """Book-keeping of one `learn` call: evaluates every `eval_every` timesteps, saves a
+    checkpoint after each evaluation, records finished training episodes."""
+
+    def __init__(
+        self,
+        progress: Progress,
+        checkpoint: Checkpoint,
+        eval_env: gymnasium.Env,
+        eval_every: int,
+        eval_episodes: int,
+    ) -> None:
+        """Continue `progress`; evaluate on `eval_env` (flattened observations)."""
+        self.progress = progress
+        self.checkpoint = checkpoint
+        self.eval_env = eval_env
+        self.eval_every = eval_every
+        self.eval_episodes = eval_episodes
+        self._wall_time_before = progress.wall_time
+        self._started = time.monotonic()
+        last = progress.evaluations[-1]["timesteps"] if progress.evaluations else 0
+        self._next_eval = last + eval_every
+
+    def elapsed(self) -> float:
+        """Wall-clock seconds of training so far, over every session of the run."""
+        return self._wall_time_before + time.monotonic() - self._started
+
+    def evaluate(self, model: BaseAlgorithm) -> dict[str, Any]:
+        """Evaluate `model` now, record the result in the progress and return it. A result
+        at the timesteps of the last one replaces it: PPO evaluates during its last rollout
+        and updates the policy after, so the model after training is evaluated again."""
+        keep_normalization(model)
+        episodes = rollout.run_episodes(
+            self.eval_env, rollout.model_policy(model), self.eval_episodes, EVAL_SEED
+        )
+        result = {
+            "timesteps": int(model.num_timesteps),
+            "wall_time": round(self.elapsed(), 2),
+            **rollout.summary(episodes),
+        }
+        evaluations = self.progress.evaluations
+        if evaluations and evaluations[-1]["timesteps"] == result["timesteps"]:
+            evaluations.pop()
+        evaluations.append(result)
+        return result
+
+    def save(self, model: BaseAlgorithm) -> None:
+        """Save a checkpoint of `model` with the progress so far."""
+        self.progress.timesteps = int(model.num_timesteps)
+        self.progress.wall_time = round(self.elapsed(), 2)
+        self.checkpoint.save(model, self.progress)
+
+    def callback(self, stop: StopOnInterrupt, progress_bar: bool) -> BaseCallback:
+        """The stable-baselines3 callback running this session (with SB3's progress bar)."""
+        ours = _SessionCallback(self, stop)
+        return CallbackList([ProgressBarCallback(), ours]) if progress_bar else ours
+
+    def due(self, timesteps: int) -> bool:
+        """Whether an evaluation is due at `timesteps`; schedules the next one."""
+        if timesteps < self._next_eval:
+            return False
+        while self._next_eval <= timesteps:
+            self._next_eval += self.eval_every
+        return True
+
+
+class _SessionCallback(BaseCallback):
+    def __init__(self, session: Session, stop: StopOnInterrupt) -> None:
+        super().__init__()
+        self.session = session
+        self.stop = stop
+
+    def _on_step(self) -> bool:
+        session = self.session
+        timesteps = self.num_timesteps
+        for info in self.locals.get("infos", ()):
+            episode = info.get("episode")
+            if episode is not None:
+                success = info.get("is_success")
+                session.progress.train_episodes.append(
+                    [timesteps, round(float(episode["r"]), 4),
+                     None if success is None else bool(success)]
+                )  # fmt: skip
+        if not self.stop.requested and session.due(timesteps):
+            result = session.evaluate(self.model)
+            print(report(result), flush=True)
+            session.save(self.model)
+        return not self.stop.requested
+
+
+def report(result: dict[str, Any]) -> str:
+    """One line for an evaluation: '   20,480 steps   1m05s  return ... success ...'."""
+    return (
+        f"{result['timesteps']:>10,} steps {duration(result['wall_time']):>8}  "
+        f"{rollout.describe_summary(result)}"
+    )
+
+
+def duration(seconds: float) -> str:
+    """'42s', '3m05s', '1h02m'."""
+    seconds = round(seconds)
+    if seconds < 60:
+        return f"{seconds}s"
+    if seconds < 3600:
+        return f"{seconds // 60}m{seconds % 60:02d}s"
+    return f"{seconds // 3600}h{seconds % 3600 // 60:02d}m"

@@ -1,0 +1,90 @@
+"""Frames to files: PNG images (standard library only) and videos (imageio).
+
+    video.write_png(env.render(), 'frame.png')
+    written = video.write_video(frames, 'out.mp4', fps=30)   # 'out.gif' when no ffmpeg
+
+MP4 needs ffmpeg, which `imageio-ffmpeg` ships; when it cannot be found the video is
+written as a GIF next to the requested path and the returned path says so. Videos need
+`imageio` (in the `[train]` extra); PNG images need nothing beyond numpy.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+import zlib
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from composer.cli.errors import MissingExtraError, OutputError
+
+VIDEO_INSTALL = "pip install imageio imageio-ffmpeg"
+
+
+def write_png(frame: np.ndarray, path: str | os.PathLike[str]) -> Path:
+    """Write an (h, w, 3) uint8 RGB frame as a PNG; raises OutputError if it cannot."""
+    frame = np.ascontiguousarray(frame, dtype=np.uint8)
+    height, width, _ = frame.shape
+    rows = np.concatenate([np.zeros((height, 1), np.uint8), frame.reshape(height, -1)], axis=1)
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)  # 8-bit RGB
+    data = b"".join([
+        b"\x89PNG\r\n\x1a\n",
+        chunk(b"IHDR", header),
+        chunk(b"IDAT", zlib.compress(rows.tobytes(), 6)),
+        chunk(b"IEND", b""),
+    ])  # fmt: skip
+    path = Path(path)
+    try:
+        path.write_bytes(data)
+    except OSError as e:
+        raise OutputError(f"cannot write {path}: {e.strerror or e}") from e
+    return path
+
+
+def ffmpeg_available() -> bool:
+    """Whether imageio can find an ffmpeg executable for MP4."""
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return False
+    try:
+        exe = imageio_ffmpeg.get_ffmpeg_exe()
+    except RuntimeError:
+        return False
+    return os.path.isfile(exe) and os.access(exe, os.X_OK)
+
+
+def write_video(frames: Sequence[np.ndarray], path: str | os.PathLike[str], fps: float) -> Path:
+    """Write `frames` at `fps` frames a second to `path` (.mp4, or .gif); an MP4 becomes a
+    GIF beside it when ffmpeg is missing. Returns the path written. Raises MissingExtraError
+    without imageio, OutputError when the file cannot be written."""
+    try:
+        import imageio.v3 as iio
+    except ImportError as e:
+        raise MissingExtraError(f"writing a video needs imageio: {VIDEO_INSTALL}") from e
+    path = Path(path)
+    stack = np.stack(frames)
+    try:
+        if path.suffix.lower() != ".gif" and ffmpeg_available():
+            iio.imwrite(path, stack, plugin="FFMPEG", fps=fps)
+            return path
+        path = path.with_suffix(".gif")
+        iio.imwrite(path, stack, plugin="pillow", duration=round(1000 / fps), loop=0)
+    except OSError as e:
+        raise OutputError(f"cannot write {path}: {e.strerror or e}") from e
+    return path
+
+
+def require() -> None:
+    """Raise MissingExtraError now, before long work, if videos cannot be written."""
+    try:
+        import imageio.v3  # noqa: F401
+    except ImportError as e:
+        raise MissingExtraError(f"writing a video needs imageio: {VIDEO_INSTALL}") from e
