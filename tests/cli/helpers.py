@@ -1,0 +1,57 @@
+"""Run the `composer` command line in a subprocess, as a user would."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def environment(**extra: str) -> dict[str, str]:
+    """The subprocess environment: this checkout first on the path, headless rendering."""
+    path = os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))
+    return {**os.environ, "PYTHONPATH": path, "MUJOCO_GL": "egl", **extra}
+
+
+def composer(
+    *args: str, cwd: Path, env: dict[str, str] | None = None, timeout: float = 120
+) -> subprocess.CompletedProcess[str]:
+    """`python -m composer ARGS` in `cwd`; its exit status and output."""
+    return subprocess.run(
+        [sys.executable, "-m", "composer", *args], cwd=cwd, env=env or environment(),
+        capture_output=True, text=True, timeout=timeout, check=False,
+    )  # fmt: skip
+
+
+def composer_without(
+    blocked: tuple[str, ...], *args: str, cwd: Path, timeout: float = 120
+) -> subprocess.CompletedProcess[str]:
+    """The command line with the modules `blocked` uninstallable (as if not installed); it
+    then prints the stable-baselines3 and torch modules that were imported anyway."""
+    code = (
+        "import sys\n"
+        f"for name in {blocked!r}: sys.modules[name] = None\n"
+        "from composer.cli import main\n"
+        f"status = main({list(args)!r})\n"
+        "print('imported:', sorted(m for m in sys.modules if sys.modules[m] is not None\n"
+        "      and m.split('.')[0] in ('torch', 'stable_baselines3')))\n"
+        "sys.exit(status)\n"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", code], cwd=cwd, env=environment(),
+        capture_output=True, text=True, timeout=timeout, check=False,
+    )  # fmt: skip
+
+
+def assert_one_line_error(result: subprocess.CompletedProcess[str], *fragments: str) -> str:
+    """Exit status 2, one line on stderr holding every fragment, no traceback."""
+    assert result.returncode == 2, (result.returncode, result.stdout, result.stderr)
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+    return lines[0]

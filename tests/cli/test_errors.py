@@ -1,0 +1,58 @@
+"""Mistakes a user makes: one line on stderr, exit status 2, no traceback; and the commands
+that need no training extras work without them."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.cli.helpers import assert_one_line_error, composer, composer_without
+
+INSTALL = "pip install torch==2.13.0 && pip install -e '.[train]'"
+
+
+@pytest.mark.parametrize("command", [["show", "Reech"], ["run", "reech"], ["eval", "Reech", "x"]])
+def test_an_unknown_task_names_the_closest_and_the_known_ones(tmp_path, command):
+    line = assert_one_line_error(composer(*command, cwd=tmp_path), "did you mean 'Reach'?")
+    assert line.startswith("composer: error: unknown task")
+    for name in ("AntRun", "CartpoleSwingup", "Reach", "WalkerRun"):
+        assert name in line.partition("Known tasks:")[2]
+
+
+@pytest.mark.parametrize("command", [["train", "Reach", "--out", "run"], ["eval", "Reach", "run"]])
+def test_training_without_the_extra_prints_the_install_command(tmp_path, command):
+    result = composer_without(("stable_baselines3",), *command, cwd=tmp_path)
+    line = assert_one_line_error(result, "[train] extra")
+    assert line.endswith(INSTALL)
+
+
+@pytest.mark.parametrize(
+    "command",
+    [["list"], ["show", "Reach", "--out", "f.png"], ["run", "Reach", "--video", "v.mp4"]],
+)
+def test_list_show_and_run_need_neither_torch_nor_stable_baselines3(tmp_path, command):
+    result = composer_without(("torch", "stable_baselines3"), *command, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.rstrip().endswith("imported: []")
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["train", "Reach", "--out", "file/run"],
+        ["show", "Reach", "--out", "file/f.png"],
+        ["run", "Reach", "--video", "file/v.mp4"],
+    ],
+)
+def test_an_unwritable_output_fails_before_any_work(tmp_path, command):
+    (tmp_path / "file").write_text("not a folder")
+    assert_one_line_error(composer(*command, cwd=tmp_path), "cannot write", "file")
+
+
+def test_missing_policies_and_checkpoints_are_named(tmp_path):
+    assert_one_line_error(
+        composer("eval", "Reach", "nothing", cwd=tmp_path), "no policy at nothing"
+    )
+    (tmp_path / "empty").mkdir()
+    assert_one_line_error(
+        composer("train", "Reach", "--resume", "empty", cwd=tmp_path), "no checkpoint to resume"
+    )

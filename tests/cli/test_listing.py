@@ -1,0 +1,23 @@
+"""`composer list`: every registered task, its sizes and description."""
+
+from __future__ import annotations
+
+import re
+
+import tasks
+from composer import registration
+from tests.cli.helpers import composer
+
+
+def test_list_shows_every_registered_task_with_its_sizes(tmp_path):
+    result = composer("list", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].split() == ["task", "id", "obs", "act", "description"]
+    rows = {line.split()[0]: line for line in lines[1:]}
+    assert set(rows) == {info.name for info in registration.registered().values()
+                         if info.env_id in tasks.IDS}  # fmt: skip
+    assert re.search(
+        r"^Reach\s+composer/Reach-v0\s+10\s+2\s+Move a planar 2-link arm", rows["Reach"]
+    )
+    assert re.search(r"composer/CartpoleSwingup-v0\s+5\s+1\s+Swing", rows["CartpoleSwingup"])

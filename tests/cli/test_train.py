@@ -1,0 +1,95 @@
+"""`composer train` and `composer eval` on a tiny budget: the files, resuming, and Ctrl-C."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+
+import imageio.v3 as iio
+
+from tests.cli.helpers import assert_one_line_error, composer, environment
+
+TINY = ("--algo", "ppo", "--n-envs", "2", "--eval-every", "1024", "--eval-episodes", "2")
+
+
+def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
+    result = composer("train", "Reach", "--timesteps", "2048", "--out", "run", *TINY,
+                      cwd=tmp_path)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert "training Reach with PPO to 2,048 steps on 2 environments -> run" in result.stdout
+    assert re.search(r"^ +2,048 steps .* over 2 episodes, success rate [\d.]+$",
+                     result.stdout, re.M)  # fmt: skip
+    out = tmp_path / "run"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("Reach", "ppo", 2048)
+    assert metrics["completed"] and metrics["wall_time"] > 0
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
+    assert metrics["final"] == metrics["evaluations"][-1]
+    assert metrics["final"]["success_rate"] is not None  # Reach reports is_success
+    assert metrics["random_policy"]["episodes"] == 2
+    assert len(metrics["train_episodes"]) == 2 * (1024 // 75)
+    assert metrics["recipe"]["n_envs"] == 2 and "n_steps" in metrics["recipe"]
+    assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
+    assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape == (152, 240, 320, 3)
+    checkpoint = {p.name for p in (out / "checkpoint").iterdir()}
+    assert checkpoint == {"model.zip", "state.json", "vecnormalize.pkl"}  # PPO normalizes
+
+    # policy.zip carries the observation statistics: eval repeats training's final evaluation.
+    evaluated = composer("eval", "Reach", "run", "--episodes", "2", "--seed", "1000000",
+                         cwd=tmp_path)  # fmt: skip
+    assert evaluated.returncode == 0, evaluated.stderr
+    final = metrics["final"]
+    assert evaluated.stdout == (
+        f"Reach, policy run: return {final['mean_return']:.2f} ± {final['std_return']:.2f} "
+        f"over 2 episodes, success rate {final['success_rate']:.2f}\n"
+    )
+    ran = composer("run", "Reach", "--policy", "run/policy.zip", cwd=tmp_path)
+    assert ran.returncode == 0, ran.stderr
+    assert "Reach, policy run/policy.zip: return" in ran.stdout
+    elsewhere = composer("eval", "CartpoleSwingup", "run", cwd=tmp_path)
+    assert_one_line_error(elsewhere, "observations of shape (10,)", "this task has (5,)")
+
+    resumed = composer("train", "Reach", "--timesteps", "3072", "--out", "run", "--no-video",
+                       *TINY, cwd=tmp_path)  # fmt: skip
+    assert resumed.returncode == 0, resumed.stderr
+    assert "resuming at 2,048 steps: Reach with PPO to 3,072 steps" in resumed.stdout
+    assert "wrote policy.zip, learning_curve.png, metrics.json in run" in resumed.stdout
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["timesteps"] == 3072
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048, 3072]
+
+
+def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):
+    """SIGINT to the whole process group, as a terminal's Ctrl-C, with worker processes."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "composer", "train", "Reach", "--algo", "sac", "--n-envs", "2",
+         "--vec", "subproc", "--timesteps", "100000", "--out", "run"],
+        cwd=tmp_path, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, start_new_session=True,
+    )  # fmt: skip
+    try:
+        for line in process.stdout:
+            if line.startswith("Ctrl-C saves a checkpoint"):
+                break
+        os.killpg(process.pid, signal.SIGINT)
+        stdout, stderr = process.communicate(timeout=120)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+    assert process.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    assert re.search(r"stopped at [\d,]+ steps .*checkpoint saved in run/checkpoint", stdout)
+    checkpoint = tmp_path / "run" / "checkpoint"
+    assert {p.name for p in checkpoint.iterdir()} == {
+        "model.zip",
+        "replay_buffer.pkl",
+        "state.json",
+    }
+    state = json.loads((checkpoint / "state.json").read_text())
+    assert state["algo"] == "sac" and not state["completed"] and state["timesteps"] > 0
+    evaluated = composer("eval", "Reach", "run/checkpoint", "--episodes", "1", cwd=tmp_path)
+    assert evaluated.returncode == 0, evaluated.stderr
