@@ -80,6 +80,16 @@ def test_flattened_observations_and_same_step_autoreset_equal_single_environment
     assert assert_same_runs(vector, reference) > 4
 
 
+def test_a_seed_at_construction_seeds_environment_i_with_seed_plus_i():
+    vector = VectorEnvironment(TASKS["batched"], 3, seed=10)
+    singles = [composer.Environment(TASKS["batched"](), random_state=10 + i) for i in range(3)]
+    obs, _ = vector.reset()
+    expected = [env.reset()[0] for env in singles]
+    for key, rows in obs.items():
+        np.testing.assert_array_equal(rows, np.stack([e[key] for e in expected]))
+    assert len(np.unique(obs["pendulum/joint_positions"])) == 3
+
+
 def test_fast_path_needs_no_per_environment_work_and_fallback_says_what_it_loops_over():
     fast = VectorEnvironment(TASKS["batched, scheduled observables"], 2)
     assert fast.per_environment == []
