@@ -139,7 +139,7 @@ class Observables(Mapping[str, Observable]):
         return len(self._items)
 
 
-class Entity:
+class Entity(hooks.EpisodeHooks):
     """A part of a scene that owns an MJCF model. Subclasses build it in `_build`."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
@@ -277,21 +277,7 @@ class Entity:
             mujoco.mju_rotVecQuat(local, np.asarray(angular_velocity, np.float64), inverse)
             qvel[3:] = local
 
-    # -- hooks (see composer.hooks for the order) ----------------------------------------
-
-    @hooks.noop
-    def initialize_episode_mjcf(self, random_state: np.random.RandomState) -> None:
-        """Before compiling, each episode: change the MJCF model (recompiled if changed)."""
-
-    @hooks.noop
-    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After each compile: resolve bindings, cache indices."""
-
-    @hooks.noop
-    def initialize_episode(
-        self, physics: mjcf.Physics, random_state: np.random.RandomState
-    ) -> None:
-        """After the physics is reset, each episode: set the initial state."""
+    # -- hooks (see composer.hooks for the order; the others are in hooks.EpisodeHooks) --
 
     @hooks.noop
     def before_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
@@ -300,14 +286,6 @@ class Entity:
     @hooks.noop
     def before_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Before each physics step."""
-
-    @hooks.noop
-    def after_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After each physics step."""
-
-    @hooks.noop
-    def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After the physics steps of a control step, before observations are read."""
 
     # -- generic entities ----------------------------------------------------------------
 

@@ -18,6 +18,9 @@ from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 if TYPE_CHECKING:
+    import numpy as np
+
+    import mjcf
     from composer.task import Task
 
 HOOK_NAMES = (
@@ -47,6 +50,33 @@ def overriders(objects: Iterable[object], name: str) -> tuple[Callable[..., Any]
         if not getattr(method, "_composer_noop", False):
             found.append(method)
     return tuple(found)
+
+
+class EpisodeHooks:
+    """The hooks that tasks and entities share, as no-ops to override. (`before_step`
+    and `before_substep` differ: the task's receive the action.)"""
+
+    @noop
+    def initialize_episode_mjcf(self, random_state: np.random.RandomState) -> None:
+        """Before compiling, each episode: change the MJCF model (recompiled if changed)."""
+
+    @noop
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After each compile: resolve bindings, cache indices."""
+
+    @noop
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """After the physics is reset, each episode: set the initial state."""
+
+    @noop
+    def after_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After each physics step."""
+
+    @noop
+    def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After the physics steps of a control step, before observations are read."""
 
 
 class Hooks:

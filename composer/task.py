@@ -39,7 +39,7 @@ _DEFAULT_PHYSICS_TIMESTEP = float(mujoco.MjOption().timestep)
 _TOLERANCE = 1e-6
 
 
-class Task:
+class Task(hooks.EpisodeHooks):
     """The goal: root entity, timesteps, reward, termination, observables and hooks."""
 
     _control_timestep: float | None = None
@@ -152,21 +152,7 @@ class Task:
         stable-baselines3 reads it); none here."""
         return {}
 
-    # -- hooks (see composer.hooks for the order) ----------------------------------------
-
-    @hooks.noop
-    def initialize_episode_mjcf(self, random_state: np.random.RandomState) -> None:
-        """Before compiling, each episode: change the MJCF model (recompiled if changed)."""
-
-    @hooks.noop
-    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After each compile: resolve bindings, cache indices."""
-
-    @hooks.noop
-    def initialize_episode(
-        self, physics: mjcf.Physics, random_state: np.random.RandomState
-    ) -> None:
-        """After the physics is reset, each episode: set the initial state."""
+    # -- hooks (see composer.hooks for the order; the others are in hooks.EpisodeHooks) --
 
     def before_step(
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
@@ -179,14 +165,6 @@ class Task:
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
     ) -> None:
         """Before each physics step."""
-
-    @hooks.noop
-    def after_substep(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After each physics step."""
-
-    @hooks.noop
-    def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """After the physics steps of a control step, before observations are read."""
 
 
 class NullTask(Task):

@@ -122,26 +122,19 @@ def file_path(element: Element, text: str) -> str:
     compiler = element.root._section("compiler")
     if compiler._attrs.get("strippath") == "true":
         text = os.path.basename(text)
-    if os.path.isabs(text):
-        path = text
-        confine = element.root._confine_to
-        if confine is not None and not _inside(os.path.realpath(path), confine):
-            raise errors.AssetError(
-                f"{element.path}: file {text!r} is outside the model's folder {confine!r}, "
-                "which strict_paths forbids"
-            )
-        return path
     directory_setting = _DIRECTORY.get(element._spec.tag)
     directory = ""
     if directory_setting is not None:
         directory = compiler._attrs.get(directory_setting) or compiler._attrs.get("assetdir") or ""
-    if directory and os.path.isabs(directory):
+    if os.path.isabs(text):
+        path = text
+    elif directory and os.path.isabs(directory):
         path = os.path.join(directory, text)
     else:
         base = element.root.model_dir or os.getcwd()
         path = os.path.normpath(os.path.join(base, directory, text))
     confine = element.root._confine_to
-    if confine is not None and not _inside(os.path.realpath(path), confine):
+    if confine is not None and not is_inside(os.path.realpath(path), confine):
         raise errors.AssetError(
             f"{element.path}: file {text!r} is outside the model's folder {confine!r}, which "
             "strict_paths forbids"
@@ -149,7 +142,8 @@ def file_path(element: Element, text: str) -> str:
     return path
 
 
-def _inside(path: str, folder: str) -> bool:
+def is_inside(path: str, folder: str) -> bool:
+    """Whether real path `path` is `folder` or inside it."""
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mjcf import attachment, defaults, errors, settings
+from mjcf import attachment, defaults, errors, settings, traversal
 from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 
@@ -427,12 +427,7 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
 def replicated(element: Element) -> bool:
     """Whether `element` is inside a `<replicate>`, so that it compiles to several
     objects (MuJoCo numbers their names) rather than one to bind."""
-    parent = element._parent
-    while parent is not None:
-        if parent._spec.tag == "replicate":
-            return True
-        parent = parent._parent
-    return False
+    return traversal.has_ancestor(element, "replicate")
 
 
 def _has_global_defaults(root: RootElement) -> bool:

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjcf import errors
+from mjcf import errors, traversal
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -103,7 +103,7 @@ def commit_defaults(root: RootElement) -> None:
     for model in models:
         for element in model.iter():
             tag = default_tag(element)
-            if tag is None or element._parent is None or _inside_default(element):
+            if tag is None or element._parent is None or traversal.has_ancestor(element, "default"):
                 continue
             values = _defaults_for(element, tag)
             if values:
@@ -117,7 +117,7 @@ def commit_defaults(root: RootElement) -> None:
                 element._attrs[name] = _values.track(_overlay(name, value, own), element)
     for model in models:
         for element in model.iter():
-            if _inside_default(element):
+            if traversal.has_ancestor(element, "default"):
                 continue
             element._attrs.pop("class", None)
             element._attrs.pop("childclass", None)
@@ -126,15 +126,6 @@ def commit_defaults(root: RootElement) -> None:
         model.default._children.clear()
         model.default._attrs.clear()
         model._modified()
-
-
-def _inside_default(element: Element) -> bool:
-    parent = element._parent
-    while parent is not None:
-        if parent._spec.tag == "default":
-            return True
-        parent = parent._parent
-    return False
 
 
 def _defaults_for(element: Element, tag: str) -> dict[str, Any]:

@@ -24,6 +24,7 @@ import mujoco
 import numpy as np
 
 from mjcf import attachment, errors
+from mjcf.tree_binding import joint_widths
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -111,7 +112,7 @@ def _layout(
     qvel: list[int] = []
     for joint in _ordered_joints(owner, with_attached):
         index = _id(compiled_id, joint, mujoco.mjtObj.mjOBJ_JOINT)
-        width_q, width_v = _joint_widths(int(model.jnt_type[index]))
+        width_q, width_v = joint_widths(int(model.jnt_type[index]))
         qpos.extend(range(model.jnt_qposadr[index], model.jnt_qposadr[index] + width_q))
         qvel.extend(range(model.jnt_dofadr[index], model.jnt_dofadr[index] + width_v))
     ctrl: list[int] = []
@@ -180,14 +181,6 @@ def _own_joints(body: Element) -> list[Element]:
         elif child._spec.tag == "frame" and not isinstance(child, attachment.AttachmentFrame):
             joints.extend(_own_joints(child))
     return joints
-
-
-def _joint_widths(joint_type: int) -> tuple[int, int]:
-    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
-        return 7, 6
-    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
-        return 4, 3
-    return 1, 1
 
 
 def _id(compiled_id: Callable, element: Element, kind: mujoco.mjtObj) -> int:

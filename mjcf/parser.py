@@ -20,6 +20,7 @@ from typing import IO
 
 from lxml import etree
 
+from mjcf import assets as _assets
 from mjcf import debugging, errors
 from mjcf import values as _values
 from mjcf.element import Element
@@ -215,7 +216,7 @@ def _include_source(
             return assets[key], None
     if confine is not None:
         real = os.path.realpath(os.path.join(model_dir, file_attr))
-        if os.path.isabs(file_attr) or not is_inside(real, confine):
+        if os.path.isabs(file_attr) or not _assets.is_inside(real, confine):
             raise errors.ParseError(
                 f"{where}: included file {file_attr!r} is outside the model's folder "
                 f"{confine!r}, which strict_paths forbids"
@@ -234,11 +235,6 @@ def _include_source(
                 ) from None
     looked = ", ".join(map(repr, candidates))
     raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
-
-
-def is_inside(path: str, folder: str) -> bool:
-    """Whether real path `path` is `folder` or inside it."""
-    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
 def _where(filename: str | None, element: etree._Element) -> str:
@@ -378,13 +374,11 @@ class _Builder:
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's
         folder (strict paths)."""
-        from mjcf import assets
-
         for element in self.root.iter():
             for name in element._spec.file_attributes.intersection(element._attrs):
                 value = element._attrs[name]
                 if value not in self.root.assets:
-                    assets.file_path(element, value)
+                    _assets.file_path(element, value)
 
     def check_references(self) -> None:
         """Raise mjcf.ReferenceError for references to elements that do not exist."""

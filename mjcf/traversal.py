@@ -90,6 +90,16 @@ def walk(
                     yield from walk(section, into_attachments=False)
 
 
+def has_ancestor(element: Element, tag: str) -> bool:
+    """Whether an ancestor of `element` (within its own model) has tag `tag`."""
+    parent = element._parent
+    while parent is not None:
+        if parent._spec.tag == tag:
+            return True
+        parent = parent._parent
+    return False
+
+
 def _is_inside(element: Element, ancestor: Element) -> bool:
     from mjcf import attachment
 

@@ -89,7 +89,7 @@ def transfer_state(
         old_id = _same_name(old_model, new_model, joint, new_id, pairs)
         if old_id < 0 or old_model.jnt_type[old_id] != new_model.jnt_type[new_id]:
             continue
-        width_q, width_v = _widths(int(new_model.jnt_type[new_id]))
+        width_q, width_v = joint_widths(int(new_model.jnt_type[new_id]))
         new_q, old_q = new_model.jnt_qposadr[new_id], old_model.jnt_qposadr[old_id]
         new_data.qpos[new_q : new_q + width_q] = old_data.qpos[old_q : old_q + width_q]
         new_v, old_v = new_model.jnt_dofadr[new_id], old_model.jnt_dofadr[old_id]
@@ -126,7 +126,8 @@ def _same_name(
     return mujoco.mj_name2id(old_model, kind, name)
 
 
-def _widths(joint_type: int) -> tuple[int, int]:
+def joint_widths(joint_type: int) -> tuple[int, int]:
+    """(qpos, qvel) entries of a joint of MuJoCo type `joint_type`."""
     if joint_type == mujoco.mjtJoint.mjJNT_FREE:
         return 7, 6
     if joint_type == mujoco.mjtJoint.mjJNT_BALL:

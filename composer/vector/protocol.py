@@ -93,7 +93,7 @@ def batched(task: Task, name: str) -> Any:
     twin = _owner(cls, f"{name}_batch")
     if twin is not None and (single is None or issubclass(twin, single)):
         return getattr(task, f"{name}_batch")
-    if (single is Task or single is None) and name in _DEFAULTS:
+    if (single is None or single in Task.__mro__) and name in _DEFAULTS:
         return "default"
     return None
 
