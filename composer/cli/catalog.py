@@ -70,17 +70,12 @@ def find(name: str) -> registration.TaskInfo:
 
 
 def make(
-    info: registration.TaskInfo,
-    *,
-    flatten: bool = True,
-    render_mode: str | None = None,
-    **overrides: Any,
+    info: registration.TaskInfo, *, flatten: bool = True, render_mode: str | None = None
 ) -> Environment:
     """Build `info`'s environment with its registered defaults, observations flattened into
     one vector unless `flatten` is False (what stable-baselines3's MlpPolicy takes); with a
     render mode, its shadow map is at most SHADOW_SIZE pixels."""
-    kwargs = environment_kwargs(info, flatten, render_mode, overrides)
-    env = registration.make_environment(info.task, **kwargs)
+    env = registration.make_environment(info.task, **environment_kwargs(info, flatten, render_mode))
     if render_mode is not None:
         quality = env.physics.model.vis.quality
         quality.shadowsize = min(int(quality.shadowsize), SHADOW_SIZE)
@@ -88,18 +83,10 @@ def make(
 
 
 def environment_kwargs(
-    info: registration.TaskInfo,
-    flatten: bool = True,
-    render_mode: str | None = None,
-    overrides: dict[str, Any] | None = None,
+    info: registration.TaskInfo, flatten: bool = True, render_mode: str | None = None
 ) -> dict[str, Any]:
     """The keywords `make` passes to `registration.make_environment` (after the task)."""
-    return {
-        **info.default_kwargs,
-        "flatten_observations": flatten,
-        "render_mode": render_mode,
-        **(overrides or {}),
-    }
+    return {**info.default_kwargs, "flatten_observations": flatten, "render_mode": render_mode}
 
 
 def _version(env_id: str) -> int:

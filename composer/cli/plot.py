@@ -4,7 +4,7 @@ no pyplot global state).
     plot.learning_curve(metrics, 'runs/Reach-sac/learning_curve.png')
 
 `metrics` is what `composer train` writes to metrics.json: evaluation returns (mean ± std)
-and success rate against timesteps, training-episode returns (smoothed), and the random
+and success rate against timesteps, the mean return of training episodes, and the random
 policy's return as a dashed line.
 """
 
@@ -29,13 +29,9 @@ def learning_curve(metrics: dict[str, Any], path: str | os.PathLike[str]) -> Non
     """Draw `metrics` into the PNG `path`; raises OutputError if it cannot be written."""
     figure = Figure(figsize=(8, 4.5), dpi=100, layout="constrained")
     axes = figure.add_subplot()
-    episodes = np.array([row[:2] for row in metrics["train_episodes"]], dtype=float)
-    if len(episodes):
-        window = max(1, len(episodes) // 50)
-        smooth = np.convolve(episodes[:, 1], np.ones(window) / window, mode="valid")
-        axes.plot(episodes[:, 0], episodes[:, 1], ".", color="tab:blue", alpha=0.15, ms=3)
-        axes.plot(episodes[window - 1 :, 0], smooth, color="tab:blue", lw=1,
-                  label="training episodes")  # fmt: skip
+    curve = np.array([row[:2] for row in metrics["train_curve"]], dtype=float)
+    if len(curve):
+        axes.plot(curve[:, 0], curve[:, 1], color="tab:blue", lw=1, label="training episodes")
     evaluations = metrics["evaluations"]
     if evaluations:
         steps = np.array([e["timesteps"] for e in evaluations], dtype=float)

@@ -7,7 +7,10 @@
 
 A task without a row trains with the generic recipe of the algorithm. `VEC` picks how the
 K environments run: 'dummy' steps them in this process (fastest for cheap tasks: no
-inter-process traffic), 'subproc' gives each its own process (for costly physics).
+inter-process traffic), 'subproc' gives each its own process (for costly physics),
+'batched' steps them all on MuJoCo's thread pool (`composer.vector` through `composer.sb3`;
+it pays off when the task declares batched rewards and observations: without them Reach
+ran at 4,000 steps/s batched against 5,700 in-process with 8 environments on 2 cores).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ _ONLY = {
     "ppo": ("n_steps", "n_epochs", "ent_coef"),
     "sac": ("buffer_size", "learning_starts", "train_freq", "gradient_steps"),
 }
-VEC = ("dummy", "subproc")
+VEC = ("dummy", "subproc", "batched")
 DEFAULT_TASK = "Reach"
 
 
@@ -86,7 +89,7 @@ GENERIC = {
 
 # One row per (task, algorithm), measured on a 2-core CPU; a task's first row is its default.
 RECIPES: dict[tuple[str, str], Recipe] = {
-    ("Reach", "ppo"): Recipe("ppo", 500_000, 8, (64, 64), 3e-4, 256, gamma=0.95, normalize=True),
+    ("Reach", "ppo"): Recipe("ppo", 800_000, 8, (64, 64), 3e-4, 256, gamma=0.95, normalize=True),
     ("CartpoleSwingup", "ppo"): Recipe("ppo", 300_000, 8, (64, 64), 3e-4, 256, normalize=True),
 }
 

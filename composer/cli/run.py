@@ -1,10 +1,10 @@
 """`composer run TASK`: roll out a policy, print the returns, optionally record a video.
 
     $ composer run Reach --episodes 2 --video reach.mp4
-    episode 1: return -41.20 over 250 steps, no success
-    episode 2: return -38.75 over 250 steps, no success
-    Reach, random policy: return -39.98 ± 1.23 over 2 episodes, success rate 0.00
-    video: reach.mp4 (5.0 s)
+    episode 1: return 16.15 over 75 steps, no success
+    episode 2: return 21.36 over 75 steps, no success
+    Reach, random policy: return 18.76 ± 2.61 over 2 episodes, success rate 0.00
+    video: reach.mp4 (6.1 s)
 
 `--policy random` (the default) needs no training extras; `--policy PATH` loads a policy
 trained by `composer train` (its output folder, its policy.zip, or a checkpoint folder).

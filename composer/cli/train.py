@@ -36,28 +36,13 @@ def run(args: argparse.Namespace) -> int:
     info = catalog.find(args.task)
     if not args.no_video:
         video.require()
-    if args.resume and args.out and Path(args.resume) != Path(args.out):
-        raise CliError(f"--resume {args.resume} and --out {args.out} differ; give one of them")
-    algo = args.algo or recipes.default_algo(info.name)
-    out = output.directory(args.resume or args.out or Path("runs") / f"{info.name}-{algo}")
-    checkpoint = training.Checkpoint(out / "checkpoint")
-    if args.resume and not checkpoint.exists():
-        raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
+    out, checkpoint = _output(info, args)
     resumed = checkpoint.exists()
-    if resumed:
-        progress = checkpoint.progress()
-        recipe = _resumed_recipe(progress, info.name, out, args)
-    else:
-        recipe = recipes.for_task(info.name, algo).replace(
-            timesteps=args.timesteps, n_envs=args.n_envs, vec=args.vec
-        )
-        progress = training.Progress(info.name, info.env_id, algo, args.seed or 0, {})
-    progress.recipe = recipe.table()
-    progress.completed = False
-
+    progress, recipe = _start(info, checkpoint, out, args)
     saved = checkpoint.normalization_path
-    saved_normalization = saved if resumed and saved.is_file() else None
-    venv = training.vec_env(info, recipe, progress.seed, saved_normalization)
+    venv = training.vec_env(
+        info, recipe, progress.seed, saved if resumed and saved.is_file() else None
+    )
     eval_env = catalog.make(info)
     try:
         if resumed:
@@ -92,6 +77,36 @@ def run(args: argparse.Namespace) -> int:
         venv.close()
         eval_env.close()
     return 0
+
+
+def _output(info: TaskInfo, args: argparse.Namespace) -> tuple[Path, training.Checkpoint]:
+    """The output folder (checked writable) and its checkpoint, which --resume requires."""
+    if args.resume and args.out and Path(args.resume) != Path(args.out):
+        raise CliError(f"--resume {args.resume} and --out {args.out} differ; give one of them")
+    algo = args.algo or recipes.default_algo(info.name)
+    out = output.directory(args.resume or args.out or Path("runs") / f"{info.name}-{algo}")
+    checkpoint = training.Checkpoint(out / "checkpoint")
+    if args.resume and not checkpoint.exists():
+        raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
+    return out, checkpoint
+
+
+def _start(
+    info: TaskInfo, checkpoint: training.Checkpoint, out: Path, args: argparse.Namespace
+) -> tuple[training.Progress, recipes.Recipe]:
+    """The progress and recipe to train with: the checkpoint's, or fresh ones."""
+    if checkpoint.exists():
+        progress = checkpoint.progress()
+        recipe = _resumed_recipe(progress, info.name, out, args)
+    else:
+        algo = args.algo or recipes.default_algo(info.name)
+        recipe = recipes.for_task(info.name, algo).replace(
+            timesteps=args.timesteps, n_envs=args.n_envs, vec=args.vec
+        )
+        progress = training.Progress(info.name, info.env_id, algo, args.seed or 0, {})
+    progress.recipe = recipe.table()
+    progress.completed = False
+    return progress, recipe
 
 
 def _announce(info: TaskInfo, recipe: recipes.Recipe, out: Path, resumed_at: int | None) -> None:
@@ -146,7 +161,8 @@ def _finish(
         "random_policy": random,
         "machine": {"cpus": os.cpu_count(), "python": platform.python_version()},
     }
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=1) + "\n")
+    lines = [f" {json.dumps(key)}: {json.dumps(value)}" for key, value in metrics.items()]
+    (out / "metrics.json").write_text("{\n" + ",\n".join(lines) + "\n}\n")
     plot.learning_curve(metrics, out / "learning_curve.png")
     written = ["policy.zip", "learning_curve.png", "metrics.json"]
     if record:

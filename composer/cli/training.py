@@ -50,6 +50,8 @@ try:
         VecMonitor,
         VecNormalize,
     )
+
+    from composer import sb3
 except ImportError as e:
     raise MissingExtraError(
         f"this command needs the [train] extra ({e.name or 'stable-baselines3'} is missing): "
@@ -65,6 +67,8 @@ EVAL_SEED = 1_000_000
 # Small networks gain nothing from intra-op threads, and on a busy CPU torch's spinning
 # threads made each update 7 to 30 times slower (measured on 2 cores): use one.
 TORCH_THREADS = 1
+# Points of the training curve kept in metrics.json (and the checkpoint).
+CURVE_POINTS = 200
 torch.set_num_threads(TORCH_THREADS)
 
 
@@ -93,9 +97,12 @@ def vec_env(
     episode statistics (VecMonitor) and seeds seed, seed + 1, ...; normalized when the
     recipe says so, with the statistics saved at `normalization` if given."""
     kwargs = catalog.environment_kwargs(info)
-    subprocesses = recipe.vec == "subproc" and recipe.n_envs > 1
-    factories = [EnvFactory(info.task, kwargs, subprocesses)] * recipe.n_envs
-    venv: VecEnv = SubprocVecEnv(factories) if subprocesses else DummyVecEnv(factories)
+    if recipe.vec == "batched":
+        venv: VecEnv = sb3.make_vec_env(info.task, recipe.n_envs, **kwargs)
+    else:
+        subprocesses = recipe.vec == "subproc" and recipe.n_envs > 1
+        factories = [EnvFactory(info.task, kwargs, subprocesses)] * recipe.n_envs
+        venv = SubprocVecEnv(factories) if subprocesses else DummyVecEnv(factories)
     venv.seed(seed)
     venv = VecMonitor(venv)
     if not recipe.normalize:
@@ -189,8 +196,22 @@ class Progress:
     wall_time: float = 0.0
     completed: bool = False
     evaluations: list[dict[str, Any]] = dataclasses.field(default_factory=list)
-    # [timesteps at its end, return, success (None if the task does not say)] per episode.
-    train_episodes: list[list[Any]] = dataclasses.field(default_factory=list)
+    # Training episodes by stretches of CURVE_POINTS-th of the run: [timesteps at the last
+    # episode's end, mean return, episodes, success rate (None if the task does not say)].
+    train_curve: list[list[Any]] = dataclasses.field(default_factory=list)
+
+    def record_episode(self, timesteps: int, episode_return: float, success: Any) -> None:
+        """Add a finished training episode to `train_curve`."""
+        width = max(1, int(self.recipe["timesteps"]) // CURVE_POINTS)
+        rows = self.train_curve
+        if not rows or rows[-1][0] // width != timesteps // width:
+            rows.append([timesteps, 0.0, 0, None])
+        row = rows[-1]
+        row[0], row[2] = timesteps, row[2] + 1
+        row[1] = round(row[1] + (episode_return - row[1]) / row[2], 4)
+        if success is not None:
+            rate = row[3] or 0.0
+            row[3] = round(rate + (float(success) - rate) / row[2], 4)
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-ready dict of every field."""
@@ -354,11 +375,9 @@ class _SessionCallback(BaseCallback):
         for info in self.locals.get("infos", ()):
             episode = info.get("episode")
             if episode is not None:
-                success = info.get("is_success")
-                session.progress.train_episodes.append(
-                    [timesteps, round(float(episode["r"]), 4),
-                     None if success is None else bool(success)]
-                )  # fmt: skip
+                session.progress.record_episode(
+                    timesteps, float(episode["r"]), info.get("is_success")
+                )
         if not self.stop.requested and session.due(timesteps):
             result = session.evaluate(self.model)
             print(report(result), flush=True)
@@ -367,11 +386,15 @@ class _SessionCallback(BaseCallback):
 
 
 def report(result: dict[str, Any]) -> str:
-    """One line for an evaluation: '   20,480 steps   1m05s  return ... success ...'."""
-    return (
-        f"{result['timesteps']:>10,} steps {duration(result['wall_time']):>8}  "
-        f"{rollout.describe_summary(result)}"
+    """One line for an evaluation, short enough for an 80-column terminal under the
+    progress bar: '   200,000 steps  1m32s  return 44.38 ± 14.73  success 0.50'."""
+    text = (
+        f"{result['timesteps']:>10,} steps {duration(result['wall_time']):>6}  "
+        f"return {result['mean_return']:.2f} ± {result['std_return']:.2f}"
     )
+    if result["success_rate"] is not None:
+        text += f"  success {result['success_rate']:.2f}"
+    return text
 
 
 def duration(seconds: float) -> str:
