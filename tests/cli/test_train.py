@@ -21,7 +21,7 @@ def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
                       cwd=tmp_path)  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert "training Reach with PPO to 2,048 steps on 2 environments -> run" in result.stdout
-    assert re.search(r"^ +2,048 steps .* over 2 episodes, success rate [\d.]+$",
+    assert re.search(r"^ +2,048 steps +\d+s  return [\d.]+ ± [\d.]+  success [\d.]+$",
                      result.stdout, re.M)  # fmt: skip
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
@@ -31,7 +31,9 @@ def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
     assert metrics["final"] == metrics["evaluations"][-1]
     assert metrics["final"]["success_rate"] is not None  # Reach reports is_success
     assert metrics["random_policy"]["episodes"] == 2
-    assert len(metrics["train_episodes"]) == 2 * (1024 // 75)
+    curve = metrics["train_curve"]  # [timesteps, mean return, episodes, success rate]
+    assert sum(row[2] for row in curve) == 2 * (1024 // 75)  # 75-step episodes, 2 envs
+    assert all(0 <= row[3] <= 1 for row in curve)
     assert metrics["recipe"]["n_envs"] == 2 and "n_steps" in metrics["recipe"]
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
     assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape == (152, 240, 320, 3)
