@@ -6,7 +6,9 @@
 
 Every feature here has finite bounds, and its value is clipped to them, so observations
 always lie in the observation space (Gymnasium's checker rejects infinite bounds). Each
-binds its elements once per compile (`reader`) and then reads the live simulation.
+binds its elements once per compile (`reader`) and then reads the live simulation; each
+also reads every environment of a `composer.VectorEnvironment` at once (`batch_reader`,
+the same values row by row), so tasks built on them need no per-environment observables.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 
 import mjcf
 from composer import observation
+from composer.vector import BatchError, BatchPhysics
 
 VELOCITY_LIMIT = 100.0  # m/s or rad/s: far beyond what the robots here reach
 POSITION_LIMIT = 100.0  # m from the world origin
@@ -37,6 +40,16 @@ class HingeAngles(observation.Observable):
         """Bind the joints once; each call computes cos and sin of their qpos."""
         binding = physics.bind(self.joints)
         return lambda: np.concatenate([np.cos(binding.qpos), np.sin(binding.qpos)])
+
+    def batch_reader(self, physics: BatchPhysics) -> Callable[[], np.ndarray]:
+        """Every environment's (cos, sin) at once: rows of shape (2 * joints,)."""
+        binding = physics.bind(self.joints)
+
+        def read() -> np.ndarray:
+            qpos = binding.qpos
+            return np.concatenate([np.cos(qpos), np.sin(qpos)], axis=1)
+
+        return read
 
 
 class Clipped(observation.Observable):
@@ -62,6 +75,21 @@ class Clipped(observation.Observable):
         if index is None:
             return lambda: np.clip(getattr(binding, kind), low, high)
         return lambda: np.clip(getattr(binding, kind)[index], low, high)
+
+    def batch_reader(self, physics: BatchPhysics) -> Callable[[], np.ndarray] | None:
+        """Every environment's clipped value at once, (n, *shape); None (read per
+        environment) for a field MuJoCo's batch does not bind."""
+        binding = physics.bind(self.elements)
+        kind, low, high = self.kind, self.low, self.high
+        try:
+            getattr(binding, kind)
+        except BatchError:
+            return None
+        if self.index is None:
+            return lambda: np.clip(getattr(binding, kind), low, high)
+        index = self.index if isinstance(self.index, tuple) else (self.index,)
+        rows = (slice(None), *index)
+        return lambda: np.clip(getattr(binding, kind)[rows], low, high)
 
 
 def velocities(joints: Sequence[mjcf.Element] | mjcf.Element) -> Clipped:
