@@ -20,7 +20,9 @@ import numpy as np
 import composer
 import mjcf
 from arenas import Corridor, RoughTerrain
+from composer.vector import BatchPhysics
 from entities import Quadruped, Walker
+from tasks.rewards import squared_norms
 
 ARENAS = ("corridor", "terrain")
 
@@ -60,11 +62,21 @@ class _Run(composer.Task):
         """The torso's velocity along +x (m/s)."""
         raise NotImplementedError
 
+    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`forward_velocity` of every environment at once, shape (n,)."""
+        raise NotImplementedError
+
     def get_reward(self, physics: mjcf.Physics) -> float:
         """`forward velocity - control_cost * sum(u^2) + alive_bonus` (see the task)."""
         control = physics.data.ctrl
         cost = self.control_cost * float(np.dot(control, control))
         return self.forward_velocity(physics) - cost + self.alive_bonus
+
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`get_reward` of every environment at once, shape (n,), equal to the last bit
+        (`squared_norms` sums each row's u^2 as `np.dot` does)."""
+        cost = self.control_cost * squared_norms(physics.field("ctrl"))
+        return self.forward_velocity_batch(physics) - cost + self.alive_bonus
 
     def _perturb(
         self,
@@ -131,9 +143,18 @@ class AntRun(_Run):
         """The torso's world x velocity (m/s)."""
         return float(self._root.qvel[0])
 
+    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`forward_velocity` of every environment at once, shape (n,)."""
+        return physics.bind(self.robot.root_joint).qvel[:, 0]
+
     def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
         """Turned over, or fallen below `min_height`."""
         return bool(self._torso.xmat[8] < 0.0 or self._torso.xpos[2] < self.min_height)
+
+    def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        torso = physics.bind(self.robot.torso)
+        return (torso.xmat[:, 8] < 0.0) | (torso.xpos[:, 2] < self.min_height)
 
 
 class WalkerRun(_Run):
@@ -177,6 +198,16 @@ class WalkerRun(_Run):
         """The torso's x velocity (m/s)."""
         return float(self._root_x.qvel[0])
 
+    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`forward_velocity` of every environment at once, shape (n,)."""
+        return physics.bind(self.robot.root_x).qvel[:, 0]
+
     def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
         """Fallen: torso below `min_height` m or pitched more than 1 rad."""
         return bool(self._torso.xpos[2] < self.min_height or abs(self._pitch.qpos[0]) > 1.0)
+
+    def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        height = physics.bind(self.robot.torso).xpos[:, 2]
+        pitch = physics.bind(self.robot.root_y).qpos[:, 0]
+        return (height < self.min_height) | (np.abs(pitch) > 1.0)

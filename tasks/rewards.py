@@ -1,8 +1,10 @@
-"""Reward shaping: `tolerance`, a smooth 1-inside, falling-outside bump used by the tasks.
+"""Reward shaping: `tolerance`, a smooth 1-inside, falling-outside bump used by the tasks,
+and `squared_norms`, sums of squares a batched reward takes as a single one does.
 
     tolerance(0.3, bounds=(0, 0.5))                      # 1.0: inside the bounds
     tolerance(x, margin=2.0)                             # 1 at 0, 0.1 at |x| = 2, gaussian
     tolerance(u, margin=1.0, value_at_margin=0.0, sigmoid='quadratic')   # 0 at |u| >= 1
+    squared_norms(controls)                              # (n,): np.dot(u, u) of each row
 
 Outside `bounds` the value falls with the distance to the nearest bound, measured in
 units of `margin`: at one margin it is `value_at_margin`. Works on floats and arrays.
@@ -83,3 +85,12 @@ def _scalar(
         return 1.0 - scaled**2 if scaled < 1.0 else 0.0
     scaled = distance * (1.0 - value_at_margin)
     return 1.0 - scaled if scaled < 1.0 else 0.0
+
+
+def squared_norms(vectors: np.ndarray) -> Any:
+    """The sum of squares of a vector, or of each one along the last axis (shape
+    `vectors.shape[:-1]`), to the last bit as `np.dot(v, v)` gives it for each: numpy's
+    matmul of two vectors runs the same dot routine, row by row. So a batched reward using
+    it equals a single environment's using `np.dot`."""
+    vectors = np.asarray(vectors, dtype=np.float64)
+    return np.matmul(vectors[..., None, :], vectors[..., :, None])[..., 0, 0]
