@@ -17,6 +17,7 @@ joint servos' targets, so a zero action holds the arm still. Episodes last `time
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from gymnasium import spaces
@@ -25,6 +26,7 @@ import composer
 import mjcf
 from arenas import Floor
 from composer import observation
+from composer.vector import BatchGeneric, BatchPhysics
 from entities import PlanarArm
 
 
@@ -70,13 +72,23 @@ class Reach(composer.Task):
         self.control_cost = float(control_cost)
         self.max_joint_step = float(max_joint_step)
         self._action = np.zeros(2)
+        # The environments of the last before_step_batch and their actions (control cost).
+        self._batch_actions = (np.zeros(0, dtype=np.int64), np.zeros((0, 2)))
         reach = self.arm.reach
         self._task_observables = {
-            "target_position": observation.Generic(
-                lambda physics: np.clip(self._goal.mocap_pos[:2] / reach, -1, 1), bounds=(-1, 1)
+            "target_position": BatchGeneric(
+                lambda physics: np.clip(self._goal.mocap_pos[:2] / reach, -1, 1),
+                batch_function=lambda physics: np.clip(
+                    physics.bind(target).mocap_pos[:, :2] / reach, -1, 1
+                ),
+                bounds=(-1, 1),
             ),
-            "to_target": observation.Generic(
-                lambda physics: np.clip(self._to_target(physics) / reach, -2, 2), bounds=(-2, 2)
+            "to_target": BatchGeneric(
+                lambda physics: np.clip(_to_target(self._goal, self._tip) / reach, -2, 2),
+                batch_function=lambda physics: np.clip(
+                    self._batch_to_target(physics) / reach, -2, 2
+                ),
+                bounds=(-2, 2),
             ),
         }
         for item in self._task_observables.values():
@@ -104,6 +116,13 @@ class Reach(composer.Task):
         self._action = action
         self._servos.ctrl = self._joints.qpos + self.max_joint_step * action
 
+    def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
+        """`before_step` of every environment at once: servo targets `qpos +
+        max_joint_step * actions`, rows (n, 2); the actions are kept for the control cost."""
+        joints = physics.bind(self.arm.joints)
+        physics.bind(self.arm.actuators).ctrl = joints.qpos + self.max_joint_step * actions
+        self._batch_actions = (physics.ids, actions)
+
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Resolve the fingertip and target once."""
         self._tip = physics.bind(self.arm.fingertip)
@@ -111,12 +130,17 @@ class Reach(composer.Task):
         self._joints = physics.bind(self.arm.joints)
         self._servos = physics.bind(self.arm.actuators)
 
-    def _to_target(self, physics: mjcf.Physics) -> np.ndarray:
-        return self._goal.mocap_pos[:2] - self._tip.xpos[:2]
+    def _batch_to_target(self, physics: BatchPhysics) -> np.ndarray:
+        return _to_target(physics.bind(self.target), physics.bind(self.arm.fingertip))
 
     def distance(self, physics: mjcf.Physics) -> float:
         """The fingertip-target distance in the plane (m)."""
-        return float(np.hypot(*self._to_target(physics)))
+        return float(np.hypot(*_to_target(self._goal, self._tip)))
+
+    def distance_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`distance` of every environment at once, shape (n,)."""
+        to_target = self._batch_to_target(physics)
+        return np.hypot(to_target[:, 0], to_target[:, 1])
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -138,15 +162,40 @@ class Reach(composer.Task):
         angle = random_state.uniform(-np.pi, np.pi)
         self._goal.mocap_pos[:2] = radius * np.cos(angle), radius * np.sin(angle)
 
+    def _shaping(self, distance: Any) -> Any:
+        """The distance terms of the reward, for a float or an array of distances (the
+        same operations either way, so both round alike)."""
+        ratio = distance / self.success_distance
+        pull = 0.5 * (1.0 - distance / (2.0 * self.arm.reach))
+        return pull + 0.5 * np.exp(-(ratio * ratio))
+
     def get_reward(self, physics: mjcf.Physics) -> float:
         """See the class docstring."""
-        d = self.distance(physics)
-        reward = 0.5 * (1.0 - d / (2.0 * self.arm.reach))
-        reward += 0.5 * float(np.exp(-((d / self.success_distance) ** 2)))
+        reward = float(self._shaping(self.distance(physics)))
         if self.control_cost:
             reward -= self.control_cost * float(np.mean(np.square(self._action)))
+        return reward
+
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`get_reward` of every environment at once, shape (n,); the control cost takes
+        each one's actions from the last `before_step_batch`."""
+        reward = self._shaping(self.distance_batch(physics))
+        if self.control_cost:
+            stepped, actions = self._batch_actions
+            mine = actions[np.searchsorted(stepped, physics.ids)]
+            reward = reward - self.control_cost * np.mean(np.square(mine), axis=1)
         return reward
 
     def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
         """{'is_success': fingertip within `success_distance` of the target}."""
         return {"is_success": self.distance(physics) < self.success_distance}
+
+    def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
+        """`get_info` of every environment at once: 'is_success', shape (n,) bool."""
+        return {"is_success": self.distance_batch(physics) < self.success_distance}
+
+
+def _to_target(goal: Any, tip: Any) -> np.ndarray:
+    """Target minus fingertip in the plane (m), from bindings of the target body and the
+    fingertip site: (2,) for one environment, (n, 2) for a BatchPhysics's."""
+    return goal.mocap_pos[..., :2] - tip.xpos[..., :2]
