@@ -19,6 +19,7 @@ numbers.
 from __future__ import annotations
 
 import os
+from typing import Any
 
 import numpy as np
 from gymnasium import spaces
@@ -27,7 +28,9 @@ import composer
 import mjcf
 from arenas import Table
 from composer import observation
+from composer.vector import BatchGeneric, BatchPhysics
 from entities import Box, features, robots
+from tasks.rewards import squared_norms
 
 HOME = (np.pi, -1.9, 2.0, -1.67, -np.pi / 2, 0.0)
 TARGET_WINDOW = 0.3  # rad: how far an arm joint's target may lead its angle
@@ -73,6 +76,9 @@ class ArmPushBox(composer.Task):
             rgba=[0.2, 0.8, 0.3, 0.6],
         )  # fmt: skip
         self.arm_joints = self.robot.arm.mjcf_model.find_all("joint", exclude_attachments=True)
+        self.arm_actuators = self.robot.arm.mjcf_model.find_all(
+            "actuator", exclude_attachments=True
+        )
         self.gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
         for entity in self.robot.iter_entities():
             entity.observables.disable_all()
@@ -81,18 +87,25 @@ class ArmPushBox(composer.Task):
         self.max_joint_step = float(max_joint_step)
         self.table_height = float(table_height)
         self._box_height = table_height + box_half_size
+        box, tcp, target = self.box.body, self.robot.tcp, self.target
         self._task_observables: dict[str, observation.Observable] = {
             "arm_joint_positions": features.angles(self.arm_joints),
             "arm_joint_velocities": features.velocities(self.arm_joints),
             "gripper_opening": features.angles([self.gripper_joint]),
             "tcp_position": features.positions(self.robot.tcp),
             "box_position": features.positions(self.box.body),
-            "tcp_to_box": observation.Generic(
-                lambda physics: np.clip(self._box.xpos - self._tcp.xpos, -10, 10),
+            "tcp_to_box": BatchGeneric(
+                lambda physics: np.clip(_tcp_to_box(self._box, self._tcp), -10, 10),
+                batch_function=lambda physics: np.clip(
+                    _tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10
+                ),
                 bounds=(-10, 10),
             ),
-            "box_to_target": observation.Generic(
-                lambda physics: np.clip(self._target.xpos[:2] - self._box.xpos[:2], -10, 10),
+            "box_to_target": BatchGeneric(
+                lambda physics: np.clip(_box_to_target(self._box, self._target), -10, 10),
+                batch_function=lambda physics: np.clip(
+                    _box_to_target(physics.bind(box), physics.bind(target)), -10, 10
+                ),
                 bounds=(-10, 10),
             ),
         }
@@ -117,10 +130,10 @@ class ArmPushBox(composer.Task):
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Resolve joints, actuators, sites and bodies once."""
         self._arm = physics.bind(self.arm_joints)
-        arm_actuators = self.robot.arm.mjcf_model.find_all("actuator", exclude_attachments=True)
-        self._arm_ctrl = physics.bind(arm_actuators)
+        self._arm_ctrl = physics.bind(self.arm_actuators)
         self._gripper_ctrl = physics.bind(self.robot.gripper.actuators)
         self._ctrl_low, self._ctrl_high = self._arm_ctrl.ctrlrange.T.copy()
+        self._gripper_low, self._gripper_high = self._gripper_ctrl.ctrlrange[0].copy()
         self._tcp = physics.bind(self.robot.tcp)
         self._box = physics.bind(self.box.body)
         self._target = physics.bind(self.target)
@@ -129,9 +142,9 @@ class ArmPushBox(composer.Task):
         self, physics: mjcf.Physics, random_state: np.random.RandomState
     ) -> None:
         """Arm at its home pose (tool pointing down above the table), gripper open, box and
-        target placed (drawn at least 0.12 m apart with `randomize`)."""
+        target placed (drawn at least 0.12 m apart with `randomize`); the arm's targets
+        (its actuators' controls) at the home pose."""
         self._arm.qpos = HOME
-        self._targets = np.array(HOME)
         self._arm_ctrl.ctrl = HOME
         box, target = np.array([0.1, -0.1]), np.array([0.2, 0.1])
         if self.randomize:
@@ -146,31 +159,89 @@ class ArmPushBox(composer.Task):
     def before_step(
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
     ) -> None:
-        """Arm targets: the last ones plus `max_joint_step * action[:6]`, within
-        `TARGET_WINDOW` of the angles and the actuators' ranges; gripper: `action[6]` mapped
-        from [-1, 1] to its control range."""
-        angles = self._arm.qpos
-        targets = self._targets + self.max_joint_step * action[:6]
+        """Arm targets: the last ones (the arm actuators' controls) plus `max_joint_step *
+        action[:6]`, within `TARGET_WINDOW` of the angles and the actuators' ranges;
+        gripper: `action[6]` mapped from [-1, 1] to its control range."""
+        self._arm_ctrl.ctrl = self._next_targets(self._arm_ctrl.ctrl, self._arm.qpos, action[:6])
+        self._gripper_ctrl.ctrl = self._gripper_command(action[6])
+
+    def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
+        """`before_step` of every environment at once, actions (n, 7): each one's last
+        targets are its arm actuators' controls, so no state is kept outside the
+        simulations; the control ranges are the first environment's (all share them)."""
+        arm_ctrl = physics.bind(self.arm_actuators)
+        angles = physics.bind(self.arm_joints).qpos
+        arm_ctrl.ctrl = self._next_targets(arm_ctrl.ctrl, angles, actions[:, :6])
+        physics.bind(self.robot.gripper.actuators).ctrl = self._gripper_command(actions[:, 6:])
+
+    def _next_targets(
+        self, targets: np.ndarray, angles: np.ndarray, steps: np.ndarray
+    ) -> np.ndarray:
+        """The arm's new joint targets, for one environment's (6,) or n environments' (n, 6)."""
+        targets = targets + self.max_joint_step * steps
         targets = np.clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
-        self._targets = np.clip(targets, self._ctrl_low, self._ctrl_high)
-        self._arm_ctrl.ctrl = self._targets
-        low, high = self._gripper_ctrl.ctrlrange[0]
-        self._gripper_ctrl.ctrl = low + (action[6] + 1.0) / 2.0 * (high - low)
+        return np.clip(targets, self._ctrl_low, self._ctrl_high)
+
+    def _gripper_command(self, command: Any) -> Any:
+        """The gripper's control for `command` in [-1, 1] (a number or an array)."""
+        low, high = self._gripper_low, self._gripper_high
+        return low + (command + 1.0) / 2.0 * (high - low)
 
     def _distances(self) -> tuple[float, float]:
-        reach = float(np.linalg.norm(self._box.xpos - self._tcp.xpos))
-        push = float(np.linalg.norm(self._target.xpos[:2] - self._box.xpos[:2]))
+        reach = float(_length(_tcp_to_box(self._box, self._tcp)))
+        push = float(_length(_box_to_target(self._box, self._target)))
+        return reach, push
+
+    def _batch_distances(self, physics: BatchPhysics) -> tuple[np.ndarray, np.ndarray]:
+        box = physics.bind(self.box.body)
+        reach = _length(_tcp_to_box(box, physics.bind(self.robot.tcp)))
+        push = _length(_box_to_target(box, physics.bind(self.target)))
         return reach, push
 
     def get_reward(self, physics: mjcf.Physics) -> float:
         """See the class docstring."""
-        reach, push = self._distances()
-        return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
+        return _reward(*self._distances())
+
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`get_reward` of every environment at once, shape (n,)."""
+        return _reward(*self._batch_distances(physics))
 
     def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
         """The box fell off the table."""
         return bool(self._box.xpos[2] < self.table_height - 0.1)
 
+    def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        return physics.bind(self.box.body).xpos[:, 2] < self.table_height - 0.1
+
     def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
         """{'is_success': the box's centre within `target_radius` of the target's}."""
         return {"is_success": self._distances()[1] < self.target_radius}
+
+    def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
+        """`get_info` of every environment at once: 'is_success', shape (n,) bool."""
+        return {"is_success": self._batch_distances(physics)[1] < self.target_radius}
+
+
+# The helpers below serve one environment (mjcf.Physics bindings, numbers) and n
+# (BatchPhysics bindings, arrays) alike, computing the same way so both round alike.
+
+
+def _tcp_to_box(box: Any, tcp: Any) -> np.ndarray:
+    """The box's centre minus the tool centre point (m), (3,) or (n, 3)."""
+    return box.xpos - tcp.xpos
+
+
+def _box_to_target(box: Any, target: Any) -> np.ndarray:
+    """The target's centre minus the box's in the table plane (m), (2,) or (n, 2)."""
+    return target.xpos[..., :2] - box.xpos[..., :2]
+
+
+def _length(vectors: np.ndarray) -> Any:
+    """The Euclidean length of a vector, or of each row (as `np.linalg.norm` of one)."""
+    return np.sqrt(squared_norms(vectors))
+
+
+def _reward(reach: Any, push: Any) -> Any:
+    """The reward for tool-to-box and box-to-target distances (numbers or arrays)."""
+    return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
