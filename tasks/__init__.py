@@ -17,7 +17,10 @@
 Every id takes the task's constructor keywords (see each class: control_timestep,
 randomize, arena options ...) and the environment's `time_limit`, `flatten_observations`
 and `render_mode` through `gym.make(id, **kwargs)`. Rewards are documented on each class;
-tasks with a goal report `info['is_success']`.
+tasks with a goal report `info['is_success']`. Every task also computes its per-step
+methods and observables for many environments at once (`*_batch` twins, batchable
+observables), so `gym.make_vec(id, num_envs=64, vectorization_mode='vector_entry_point')`
+steps them with no per-environment work (its `per_environment` is []).
 """
 
 from composer.registration import register
