@@ -4,7 +4,7 @@
     $ composer show Reach                      # the scene, and Reach.png
     $ composer run Reach --video reach.mp4     # a random policy, recorded
     $ composer train                           # Reach, about ten minutes on a laptop CPU
-    $ composer eval Reach runs/Reach-sac
+    $ composer eval Reach runs/Reach-ppo
 
 From Python: `composer.cli.main(['list'])` returns the exit status. `train` and `eval` (and
 `run --policy PATH`) need the `[train]` extra: stable-baselines3 and torch; the rest need

@@ -1,8 +1,9 @@
 """`composer list`: every registered task with its observation and action sizes.
 
     $ composer list
-    task             id                          obs  act  description
-    Reach            composer/Reach-v0            10    2  planar arm tip to a random target
+    task             id                           obs  act  description
+    CartpoleSwingup  composer/CartpoleSwingup-v0    5    1  Swing a hanging pole up and ...
+    Reach            composer/Reach-v0             10    2  Move a planar 2-link arm's ...
 
 Each task is built once to read its sizes; a task that cannot be built (say, a robot whose
 model files are not installed) is listed with the reason instead of sizes.

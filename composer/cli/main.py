@@ -4,15 +4,16 @@
     composer show Reach --out reach.png        # the scene, and a rendered frame
     composer run Reach --episodes 3 --video reach.mp4
     composer train                             # the default task with its tuned recipe
-    composer eval Reach runs/Reach-sac
+    composer eval Reach runs/Reach-ppo
 
 Each command is a module (`composer.cli.listing`, `show`, `run`, `train`, `evaluate`) with a
-`run(args) -> exit status`, imported only when chosen: `list`, `show` and `run` never import
-stable-baselines3 or torch. Every `composer.Error` (a mistake such as an unknown task, a
-missing optional dependency or an unwritable output) is printed as one line on stderr with
-exit status 2; Ctrl-C exits with 130. On a Linux machine without a display, commands that
-render re-run themselves with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once,
-when it is imported.
+`run(args) -> exit status` (`args.info`: the TaskInfo of `args.task`, found first), imported
+only when chosen: `list`, `show` and `run` never import stable-baselines3 or torch.
+
+Every `composer.Error` (a mistake such as an unknown task, a missing optional dependency or
+an unwritable output) is printed as one line on stderr with exit status 2; Ctrl-C exits
+with 130. On a Linux machine without a display, commands that render re-run themselves
+with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once, when it is imported.
 """
 
 from __future__ import annotations
@@ -99,6 +100,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.execve(sys.executable, [sys.executable, "-m", "composer", *sys.argv[1:]], env)
     try:
         catalog.import_modules(args.imports)
+        if "task" in args:  # found before the command's module imports torch: fails fast
+            args.info = catalog.find(args.task)
         command = importlib.import_module(f"composer.cli.{args.module}")
         return command.run(args)
     except (errors.Error, mjcf.RenderError) as e:

@@ -1,7 +1,7 @@
 """The learning-curve PNG of a training run, drawn with matplotlib's Agg canvas (no display,
 no pyplot global state).
 
-    plot.learning_curve(metrics, 'runs/Reach-sac/learning_curve.png')
+    plot.learning_curve(metrics, 'runs/Reach-ppo/learning_curve.png')
 
 `metrics` is what `composer train` writes to metrics.json: evaluation returns (mean ± std)
 and success rate against timesteps, the mean return of training episodes, and the random

@@ -19,7 +19,7 @@ from composer.cli import catalog, output, rollout, video
 
 def run(args: argparse.Namespace) -> int:
     """Roll out the policy; returns the exit status."""
-    info = catalog.find(args.task)
+    info = args.info
     path = output.file(args.video) if args.video else None
     env = catalog.make(info, render_mode="rgb_array" if path else None)
     try:

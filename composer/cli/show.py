@@ -1,17 +1,18 @@
 """`composer show TASK`: the task's scene, observations and actions, and a rendered frame.
 
     $ composer show Reach --out reach.png
-    Reach (composer/Reach-v0): planar arm tip to a random target
-    timesteps: physics 0.005 s, control 0.02 s (4 substeps); time limit 5 s (250 steps)
+    Reach (composer/Reach-v0): Move a planar 2-link arm's fingertip to a random target
+    timesteps: physics 0.005 s, control 0.04 s (8 substeps); time limit 3 s (75 steps)
     entities
-      arena (Arena)
-        bodies     world
-      arm (TwoLinkArm)
-        bodies     arm/upper, arm/lower
-        joints     arm/shoulder hinge, arm/elbow hinge
-        actuators  arm/shoulder_motor -> arm/shoulder, ctrl [-1, 1]
+      floor (Floor)
+        bodies     world, target
+        arm (PlanarArm)
+          bodies     arm/upper, arm/lower
+          joints     arm/shoulder hinge, arm/elbow hinge [-2.8, 2.8]
+          actuators  arm/shoulder -> arm/shoulder, arm/elbow -> arm/elbow
     observations (10 values)
-      arm/joint_positions  (2,)  float64
+      arm/joint_angles      (4,)  float64
+      ...
     actions (2 values): Box(-1.0, 1.0, (2,), float32)
     frame: reach.png (320x240)
 
@@ -36,7 +37,7 @@ from composer.environment import Environment
 
 def run(args: argparse.Namespace) -> int:
     """Print the scene and write the frame; returns the exit status."""
-    info = catalog.find(args.task)
+    info = args.info
     path = output.file(args.out or f"{info.name}.png")
     env = catalog.make(info, flatten=False, render_mode="rgb_array")
     try:

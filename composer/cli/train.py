@@ -28,12 +28,12 @@ from composer.cli.errors import CliError, PolicyError
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
-VIDEO_SECONDS = 5.0  # the trained policy's video: whole episodes, at least this long
+VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this long
 
 
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
-    info = catalog.find(args.task)
+    info = args.info
     if not args.no_video:
         video.require()
     out, checkpoint = _output(info, args)

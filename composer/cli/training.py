@@ -7,7 +7,7 @@ that evaluates, records progress and stops cleanly on Ctrl-C.
     with training.StopOnInterrupt() as stop:
         model.learn(recipe.timesteps, callback=session.callback(model, stop))
     checkpoint.save(model, session.progress)
-    model = training.load_policy('runs/Reach-sac', env)    # for `run` and `eval`
+    model = training.load_policy('runs/Reach-ppo', env)    # for `run` and `eval`
 
 This module imports stable-baselines3 and torch, so the commands import it only when they
 need it; without them importing it raises MissingExtraError with the install command.

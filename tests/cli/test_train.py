@@ -13,10 +13,11 @@ import imageio.v3 as iio
 
 from tests.cli.helpers import assert_one_line_error, composer, environment
 
-TINY = ("--algo", "ppo", "--n-envs", "2", "--eval-every", "1024", "--eval-episodes", "2")
+EVALS = ("--eval-every", "1024", "--eval-episodes", "2")
+TINY = ("--algo", "ppo", "--n-envs", "2", *EVALS)
 
 
-def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
+def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     result = composer("train", "Reach", "--timesteps", "2048", "--out", "run", *TINY,
                       cwd=tmp_path)  # fmt: skip
     assert result.returncode == 0, result.stderr
@@ -36,7 +37,7 @@ def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
     assert all(0 <= row[3] <= 1 for row in curve)
     assert metrics["recipe"]["n_envs"] == 2 and "n_steps" in metrics["recipe"]
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
-    assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape == (152, 240, 320, 3)
+    assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape == (76, 240, 320, 3)
     checkpoint = {p.name for p in (out / "checkpoint").iterdir()}
     assert checkpoint == {"model.zip", "state.json", "vecnormalize.pkl"}  # PPO normalizes
 
@@ -55,14 +56,22 @@ def test_train_writes_its_outputs_then_eval_run_and_resume_use_them(tmp_path):
     elsewhere = composer("eval", "CartpoleSwingup", "run", cwd=tmp_path)
     assert_one_line_error(elsewhere, "observations of shape (10,)", "this task has (5,)")
 
-    resumed = composer("train", "Reach", "--timesteps", "3072", "--out", "run", "--no-video",
-                       *TINY, cwd=tmp_path)  # fmt: skip
+
+def test_train_resumes_from_the_checkpoint_in_its_folder(tmp_path):
+    first = composer("train", "Reach", "--timesteps", "1024", "--out", "run", "--no-video",
+                     *TINY, cwd=tmp_path)  # fmt: skip
+    assert first.returncode == 0, first.stderr
+    resumed = composer("train", "Reach", "--timesteps", "2048", "--out", "run", "--no-video",
+                       "--n-envs", "4", *EVALS, cwd=tmp_path)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
-    assert "resuming at 2,048 steps: Reach with PPO to 3,072 steps" in resumed.stdout
+    assert "note: resuming keeps the checkpoint's --n-envs 2" in resumed.stdout
+    assert "resuming at 1,024 steps: Reach with PPO to 2,048 steps" in resumed.stdout
     assert "wrote policy.zip, learning_curve.png, metrics.json in run" in resumed.stdout
-    metrics = json.loads((out / "metrics.json").read_text())
-    assert metrics["timesteps"] == 3072
-    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048, 3072]
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["timesteps"] == 2048 and metrics["completed"]
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
+    # 512 steps per environment in each session; the episodes the resume cut are not counted.
+    assert sum(row[2] for row in metrics["train_curve"]) == 2 * 2 * (512 // 75)
 
 
 def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):
