@@ -128,11 +128,11 @@ def positive_int(text: str) -> int:
 
 def recipe_table() -> str:
     """The recipes as a text table, for `composer train --help`."""
-    rows = [("task", "algo", "timesteps", "envs", "net", "lr", "batch")]
+    rows = [("task", "algo", "timesteps", "envs", "vec", "net", "lr", "batch", "gamma")]
     for (task, algo), r in recipes.RECIPES.items():
         net = "x".join(map(str, r.net))
-        rows.append((task, algo, f"{r.timesteps:,}", str(r.n_envs), net, f"{r.learning_rate:g}",
-                     str(r.batch_size)))  # fmt: skip
+        rows.append((task, algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
+                     f"{r.learning_rate:g}", str(r.batch_size), f"{r.gamma:g}"))  # fmt: skip
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     lines = [
         "  ".join(f"{cell:<{w}}" for cell, w in zip(row, widths, strict=True)).rstrip()

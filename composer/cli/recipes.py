@@ -88,10 +88,15 @@ GENERIC = {
 }
 
 # One row per (task, algorithm), measured on a 2-core CPU; a task's first row is its default.
+# fmt: off
 RECIPES: dict[tuple[str, str], Recipe] = {
-    ("Reach", "ppo"): Recipe("ppo", 800_000, 8, (64, 64), 3e-4, 256, gamma=0.95, normalize=True),
-    ("CartpoleSwingup", "ppo"): Recipe("ppo", 300_000, 8, (64, 64), 3e-4, 256, normalize=True),
+    # (task, algo):             Recipe(algo, timesteps, n_envs, net, learning_rate, batch_size, ...)
+    ("Reach", "ppo"):           Recipe("ppo", 800_000, 16, (64, 64), 3e-4, 256, gamma=0.95,
+                                       normalize=True, n_steps=128, vec="batched"),
+    ("CartpoleSwingup", "ppo"): Recipe("ppo", 300_000, 16, (64, 64), 3e-4, 256,
+                                       normalize=True, vec="batched"),
 }
+# fmt: on
 
 
 def default_algo(task: str) -> str:
