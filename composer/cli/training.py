@@ -3,18 +3,21 @@ that evaluates, records progress and stops cleanly on Ctrl-C.
 
     venv = training.vec_env(info, recipe, seed=0)          # K environments, VecMonitor'd
     model = training.new_model(recipe, venv, seed=0)
-    session = training.Session(progress, checkpoint, eval_env, eval_every=10_000)
+    checkpoint = training.Checkpoint('runs/Reach-ppo/checkpoint')
+    session = training.Session(progress, checkpoint, eval_env, eval_every=80_000,
+                               eval_episodes=10)
     with training.StopOnInterrupt() as stop:
-        model.learn(recipe.timesteps, callback=session.callback(model, stop))
-    checkpoint.save(model, session.progress)
+        model.learn(recipe.timesteps, callback=session.callback(stop, progress_bar=True))
+    session.save(model)                                    # a checkpoint with the progress
     model = training.load_policy('runs/Reach-ppo', env)    # for `run` and `eval`
 
 This module imports stable-baselines3 and torch, so the commands import it only when they
 need it; without them importing it raises MissingExtraError with the install command.
 
-A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms, and
-`state.json` (the `Progress`), each replaced atomically, `state.json` last, so a folder with
-a `state.json` holds a complete checkpoint even when training was killed while saving.
+A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms,
+`vecnormalize.pkl` for normalized recipes, and `state.json` (the `Progress`), each replaced
+atomically, `state.json` last, so a folder with a `state.json` holds a complete checkpoint
+even when training was killed while saving.
 """
 
 from __future__ import annotations
