@@ -34,6 +34,8 @@ from composer.cli import catalog, output, video
 from composer.entity import Entity
 from composer.environment import Environment
 
+NO_BREAK = "\N{NO-BREAK SPACE}"
+
 
 def run(args: argparse.Namespace) -> int:
     """Print the scene and write the frame; returns the exit status."""
@@ -91,10 +93,13 @@ def scene_lines(env: Environment) -> Iterator[str]:
         yield f"{indent}{entity.name} ({type(entity).__name__})"
         for kind in ("bodies", "joints", "actuators"):
             if kind in owned[entity]:
-                yield from textwrap.wrap(
-                    ", ".join(owned[entity][kind]), width=96, break_on_hyphens=False,
+                # Lines break between elements only: spaces inside a label are no-break.
+                labels = ", ".join(label.replace(" ", NO_BREAK) for label in owned[entity][kind])
+                lines = textwrap.wrap(
+                    labels, width=96, break_on_hyphens=False, break_long_words=False,
                     initial_indent=f"{indent}  {kind:<10} ", subsequent_indent=indent + " " * 13,
                 )  # fmt: skip
+                yield from (line.replace(NO_BREAK, " ") for line in lines)
 
 
 def _scope(entity: Entity, root: Entity) -> str:
