@@ -169,7 +169,6 @@ class FileNamer:
         self.root = root
         self.flat = flat
         self.by_path = by_path
-        self._names: dict[int, str] = {}
         self._by_base: dict[str, list[Asset]] = {}
         self._named: dict[str, Asset] = {}
         self._users: dict[str, tuple[Element, str]] = {}  # who first named each file
@@ -202,12 +201,13 @@ class FileNamer:
 
     def _claim(self, name: str, asset: Asset) -> bool:
         """Take `name` for `asset` unless its base name is taken by other contents."""
-        base = os.path.basename(name)
-        holders = self._by_base.setdefault(base, [])
-        for holder in holders:
-            if holder != asset:
-                return False
-        if asset not in holders:
+        base = name.rpartition("/")[2]
+        holders = self._by_base.get(base)
+        if holders is None:  # the common case: a base name seen for the first time
+            self._by_base[base] = [asset]
+        elif any(holder is not asset and holder != asset for holder in holders):
+            return False
+        elif asset not in holders:
             holders.append(asset)
         self._named[name] = asset
         return True

@@ -20,7 +20,7 @@ import numpy as np
 
 from composer.cli.errors import MissingExtraError, OutputError
 
-VIDEO_INSTALL = "pip install imageio imageio-ffmpeg"
+VIDEO_INSTALL = "pip install -e '.[video]'  (or: pip install imageio imageio-ffmpeg)"
 
 
 def write_png(frame: np.ndarray, path: str | os.PathLike[str]) -> Path:
