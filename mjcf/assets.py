@@ -142,6 +142,14 @@ def file_path(element: Element, text: str) -> str:
     return path
 
 
+def plain_file_name(name: str) -> str:
+    """`name` reduced to a plain file name: no directories, no leading dots ('..',
+    hidden files), so that it can only ever name a file inside the folder it is
+    written to."""
+    base = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
+    return base or "asset"
+
+
 def is_inside(path: str, folder: str) -> bool:
     """Whether real path `path` is `folder` or inside it."""
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
@@ -213,7 +221,7 @@ class FileNamer:
         return True
 
     def _flat_name(self, element: Element, asset: Asset) -> str:
-        base = asset.name or "asset"
+        base = plain_file_name(asset.name)
         stem, extension = os.path.splitext(base)
         scope = element.root.namescope.prefix(self.root.namescope).replace("/", "-")
         first = [base, f"{scope}{base}"] if scope else [base]

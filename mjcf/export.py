@@ -18,21 +18,16 @@ import posixpath
 import zipfile
 
 from mjcf import errors, serializer
+from mjcf.assets import plain_file_name
 from mjcf.root import RootElement
 
 _MAX_ZIP_ENTRIES = 100_000
 _MAX_ZIP_BYTES = 4 << 30
 
 
-def _safe_name(name: str) -> str:
-    """A plain file name: no directories, no parent references, not hidden."""
-    base = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
-    return base or "asset"
-
-
 def _contents(model: RootElement, precision: int) -> tuple[str, dict[str, bytes]]:
     xml, assets = serializer.serialize(model, flat_assets=True, precision=precision)
-    unsafe = [name for name in assets if _safe_name(name) != name]
+    unsafe = [name for name in assets if plain_file_name(name) != name]
     if unsafe:
         raise errors.AssetError(f"asset names that are not plain file names: {unsafe}")
     return xml, assets
@@ -51,7 +46,7 @@ def export_with_assets(
     xml, assets = _contents(model, precision)
     out_dir = os.fspath(out_dir)
     os.makedirs(out_dir, exist_ok=True)
-    model_filename = _safe_name(model_filename)
+    model_filename = plain_file_name(model_filename)
     if model_filename in assets:
         raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
     for name, data in assets.items():
@@ -83,9 +78,9 @@ def export_with_assets_as_zip(
         model_filename = model_filename + ".xml"
     if os.path.isdir(zip_path) or zip_path.endswith(("/", os.sep)):
         os.makedirs(zip_path, exist_ok=True)
-        zip_path = os.path.join(zip_path, _safe_name(stem) + ".zip")
+        zip_path = os.path.join(zip_path, plain_file_name(stem) + ".zip")
     xml, assets = _contents(model, precision)
-    model_filename = _safe_name(model_filename or "model.xml")
+    model_filename = plain_file_name(model_filename or "model.xml")
     if model_filename in assets:
         raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
     with zipfile.ZipFile(zip_path, "w", compression=zipfile.ZIP_DEFLATED) as archive:

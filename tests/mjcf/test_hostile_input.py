@@ -4,6 +4,7 @@ work on hostile documents, and only mjcf errors out of the public API."""
 from __future__ import annotations
 
 import time
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -118,3 +119,30 @@ def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
         mjcf.Physics.from_mjcf_model(model)
     except mjcf.Error:
         pass
+
+
+def test_export_writes_only_inside_its_target(tmp_path: Path) -> None:
+    """Asset names with directories, '..' or absolute paths become plain file names."""
+    mesh = (MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes()
+    model = mjcf.RootElement(model="evil")
+    for i, prefix in enumerate(["../../escape", "/etc/passwd", "sub/dir/name", ".hidden"]):
+        asset = mjcf.Asset(mesh, ".msh", prefix=prefix)
+        model.asset.add("mesh", name=f"m{i}", file=asset)
+    out = tmp_path / "out"
+    mjcf.export_with_assets(model, out)
+    written = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
+    assert all(name.startswith("out/") and name.count("/") == 1 for name in written), written
+    zip_path = mjcf.export_with_assets_as_zip(model, tmp_path / "evil.zip")
+    with zipfile.ZipFile(zip_path) as archive:
+        assert all("/" not in name and not name.startswith(".") for name in archive.namelist())
+
+
+@pytest.mark.parametrize("entry", ["../evil.xml", "/tmp/evil.xml", "a/../../evil.xml"])
+def test_from_zip_refuses_entries_outside_the_archive(tmp_path: Path, entry: str) -> None:
+    archive_path = tmp_path / "slip.zip"
+    with zipfile.ZipFile(archive_path, "w") as archive:
+        archive.writestr("model.xml", "<mujoco><worldbody/></mujoco>")
+        archive.writestr(entry, "<mujoco/>")
+    with pytest.raises(mjcf.ParseError, match="outside it"):
+        mjcf.from_zip(archive_path)
+    assert not (tmp_path.parent / "evil.xml").exists()
