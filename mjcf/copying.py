@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mjcf import attachment, errors
+from mjcf import values as _values
+from mjcf.assets import Asset
 from mjcf.namescope import unescape
 from mjcf.settings import same as _same
 
@@ -216,25 +218,26 @@ def _clone_into(
     source: Element, target: Element, memo: dict[int, Any], cloned: list, frames: list
 ) -> None:
     """Copy the attributes and subtree of `source` into the new element `target`."""
-    from mjcf import values as _values
-    from mjcf.assets import Asset
-
     memo[id(source)] = target
-    object.__setattr__(target, "_source", source._source)
-    attrs = target._attrs
-    for name, value in source._attrs.items():
-        if type(value) is str:
-            attrs[name] = value
-        elif hasattr(value, "shape"):
-            attrs[name] = _values.track(np.array(value), target)
-        elif isinstance(value, Asset):
-            attrs[name] = copy.copy(value)
-        elif isinstance(value, list):
-            attrs[name] = list(value)
-        else:
-            attrs[name] = value
-    if source._attrs and any(type(v) is not str for v in source._attrs.values()):
-        cloned.append((source, target))
+    if source._source is not None:
+        object.__setattr__(target, "_source", source._source)
+    source_attrs = source._attrs
+    if source_attrs:
+        attrs = target._attrs
+        attrs.update(source_attrs)  # text as read is immutable: shared
+        converted = False
+        for name, value in source_attrs.items():
+            if type(value) is str:
+                continue
+            converted = True
+            if hasattr(value, "shape"):
+                attrs[name] = _values.track(np.array(value), target)
+            elif isinstance(value, Asset):
+                attrs[name] = copy.copy(value)
+            elif isinstance(value, list):
+                attrs[name] = list(value)
+        if converted:
+            cloned.append((source, target))
     root = target._root
     children = target._children
     for child in source._children:
