@@ -251,7 +251,11 @@ class _Writer:
 
     def _plain_writer(self, context: composition.ModelContext):
         """A writer of elements for a context that writes names and values as stored (a
-        model written on its own): the common case, kept tight because it dominates."""
+        model written on its own): the common case, kept tight because it dominates.
+
+        Its tag writing (self-closing when empty, empty once-only elements left out) is
+        `element`'s, inlined on purpose: a shared helper costs a call per element on the
+        path that decides how close writing stays to lxml."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         general, escaped_value = self.element, self._escaped_value
