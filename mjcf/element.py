@@ -16,7 +16,7 @@ attribute is `dclass` in Python.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from mjcf import debugging, errors
@@ -191,7 +191,10 @@ class Element:
             return value
         converter = attribute.converter
         if converter.lazy:
-            value = _values.track(self._convert(attribute, value, from_text=True), self)
+            converted = self._convert(attribute, value, from_text=True)
+            if converted is None:  # blank text, which MuJoCo reads as not set
+                return None
+            value = _values.track(converted, self)
             self._attrs[attribute.name] = value
         elif attribute.kind == "reference":
             target = self._resolve_reference(attribute, value)
@@ -223,8 +226,12 @@ class Element:
             return
         self._set_attribute(self._attribute_spec(name), None)
 
-    def _set_attribute(self, attribute: AttributeSpec, value: Any) -> None:
+    def _set_attribute(self, attribute: AttributeSpec, value: Any, checked: bool = False) -> None:
         name = attribute.name
+        if value is not None:
+            value = self._convert(attribute, value)  # None: a text MuJoCo reads as unset
+            if not checked and name in self._spec.rule_names:
+                self._check_rules({name}, ())
         if value is None:
             if attribute.required and name in self._attrs:
                 raise errors.AttributeValueError(
@@ -235,7 +242,7 @@ class Element:
             if self._attrs.pop(name, None) is not None:
                 self._modified()
             return
-        stored = _values.track(self._convert(attribute, value), self)
+        stored = _values.track(value, self)
         if attribute.kind == "identifier":
             self._check_name(stored)
             self._rename(stored)
@@ -278,17 +285,36 @@ class Element:
                 converted.append((attribute, None))
                 continue
             stored = _values.track(self._convert(attribute, value), self)
+            if stored is None:
+                converted.append((attribute, None))
+                continue
             if attribute.kind == "identifier":
                 self._check_name(stored)
                 self._check_free(stored)
             elif attribute.kind == "reference":
                 self._check_reference(attribute, stored)
             converted.append((attribute, stored))
+        if self._spec.rule_names:
+            setting = {a.name for a, value in converted if value is not None}
+            if not self._spec.rule_names.isdisjoint(setting):
+                self._check_rules(setting, [a.name for a, value in converted if value is None])
         return converted
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         for attribute, stored in converted:
-            self._set_attribute(attribute, stored)
+            self._set_attribute(attribute, stored, checked=True)
+
+    def _check_rules(self, setting: set[str], removing: Iterable[str]) -> None:
+        """Raise mjcf.AttributeValueError if setting the attributes `setting` (and
+        removing `removing`) would set two of a group MuJoCo allows one of (two
+        orientations of a body, say)."""
+        names = (self._attrs.keys() - set(removing)) | setting
+        for rule in self._spec.rules:
+            if rule.kind == "at_most_one" and rule.broken_by(dict.fromkeys(names)):
+                shown = ", ".join(sorted(rule.names & names))
+                raise errors.AttributeValueError(
+                    f"{self.path}: {shown} cannot be set together: {rule.describe()}"
+                )
 
     # -- names ---------------------------------------------------------------------------
 
@@ -353,7 +379,7 @@ class Element:
         file never clashes: MuJoCo reports repeated file names itself)."""
         namespace = self._spec.namespace
         name = self.identifier if namespace is not None else None
-        if name is None:
+        if not name:
             return
         scope = self._root.namescope
         if self._implicit():
@@ -419,7 +445,9 @@ class Element:
         if not spec.repeated:
             existing = self._single_child(tag)
             if existing is not None:
-                if existing._attrs or existing._children:
+                # A model's sections may repeat in MJCF, and MuJoCo merges them: so do we.
+                section = self._parent is None and self is self._root
+                if (existing._attrs or existing._children) and not section:
                     raise errors.SchemaError(
                         f"{self.path}: <{self.tag}> may have only one <{tag}>, and it has "
                         "one already; set its attributes instead"

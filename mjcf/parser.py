@@ -293,18 +293,32 @@ class _Builder:
                 )
             kind = attribute.kind
             if kind == "identifier" or kind == "reference":
+                if not text and kind == "identifier" and not attribute.required:
+                    del attrib[name]  # MuJoCo reads an empty name as no name
+                    continue
                 attrib[name] = self._name_text(element, attribute, text, xml)
-            elif kind != "string" and kind != "file":
+            elif attribute.checks_text:
                 try:
                     attribute.converter.check_text(text)
                 except _values.InvalidValue as error:
                     raise errors.AttributeValueError(
                         f"{_where(self.filename, xml)}: {element.path}: {name!r} {error}"
                     ) from None
+        for name in spec.required:
+            if name not in attrib and (not merge or name not in element._attrs):
+                raise errors.AttributeValueError(
+                    f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> requires the "
+                    f"attribute {name!r}"
+                )
         if merge:
             element._attrs.update(attrib)
         else:
             object.__setattr__(element, "_attrs", attrib)
+        for rule in spec.rules:
+            if rule.broken_by(element._attrs):
+                raise errors.AttributeValueError(
+                    f"{_where(self.filename, xml)}: {element.path}: {rule.describe()}"
+                )
 
     def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
         if PREFIX_SEPARATOR in text:
@@ -323,6 +337,7 @@ class _Builder:
         scope = root.namescope
         make = Element._make
         filename = self.filename
+        singles: set[str] | None = None  # tags of this XML parent that may appear once
         for xml in xml_parent:
             tag = xml.tag
             if not isinstance(tag, str):
@@ -339,6 +354,19 @@ class _Builder:
                 )
             if tag == "replicate" or tag == "attach":
                 self.generated_names = True
+            if not spec.repeated:
+                if singles is None:
+                    singles = set()
+                elif tag in singles:
+                    raise errors.SchemaError(
+                        f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> may have "
+                        f"only one <{tag}>"
+                    )
+                singles.add(tag)
+                existing = parent._single_child(tag)
+                if existing is not None:  # from an earlier copy of a repeated section
+                    self._merge(existing, xml)
+                    continue
             element = make(spec, parent, root)
             if debugging.is_debug_mode():
                 object.__setattr__(
@@ -349,16 +377,13 @@ class _Builder:
                 self._set_attributes(element, dict(attrib), xml)
                 if spec.references and not spec.references.isdisjoint(element._attrs):
                     self.with_references.append(element)
-            if not spec.repeated and parent._single_child(tag) is not None:
-                raise errors.SchemaError(
-                    f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> may have only "
-                    f"one <{tag}>"
-                )
+            elif spec.required or spec.needs_rules:
+                self._set_attributes(element, {}, xml)  # raises: something is missing
             parent._children.append(element)
             namespace = spec.namespace
             if namespace is not None:
                 name = element.identifier
-                if name is not None:
+                if name:  # an empty name (kept where required) is no name
                     if element._implicit():
                         scope.namespace(namespace).setdefault(name, element)
                     else:
@@ -370,6 +395,25 @@ class _Builder:
                             object.__setattr__(root, "_escaped_names", True)
             if len(xml):
                 self._children(element, xml)
+
+    def _merge(self, element: Element, xml: etree._Element) -> None:
+        """Apply a later copy of an element that may appear once (a second `<map>` in a
+        second `<visual>`) as MuJoCo does: its attributes override, in order."""
+        parent = element._parent
+        if parent._spec.tag == "default" and parent._single_child("default") is not None:
+            raise errors.SchemaError(
+                f"{_where(self.filename, xml)}: {parent.path}: a second <{element.tag}> for "
+                "this default class, after classes nested in it: MuJoCo gives the nested "
+                "classes the values of the first only, which mjcf cannot represent; "
+                "merge the two <default> sections"
+            )
+        if xml.attrib:
+            self._set_attributes(element, dict(xml.attrib), xml, merge=True)
+            spec = element._spec
+            if spec.references and not spec.references.isdisjoint(element._attrs):
+                self.with_references.append(element)
+        if len(xml):
+            self._children(element, xml)
 
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's
@@ -397,6 +441,8 @@ class _Builder:
                 for target in targets:
                     if namespace == "default" and target == "main":
                         continue
+                    if not target and namespace != "default":
+                        continue  # no reference, as MuJoCo reads an empty one
                     if scope.get(namespace, target) is None:
                         dangling.append(
                             f"{element.path}: {name}={target!r} (no {namespace} of that name)"

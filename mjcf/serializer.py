@@ -268,7 +268,7 @@ class _Writer:
         def write(element: Element, depth: int) -> None:
             spec = element._spec
             attrs = element._attrs
-            if spec is frame_spec or spec.required:
+            if spec is frame_spec or spec.required or spec.needs_rules:
                 if attrs or element._children or not spec.on_demand:
                     general(element, depth, context)
                 return
@@ -337,7 +337,9 @@ class _Writer:
         if spec is attachment.FRAME_SPEC:
             self._frame(element, depth, context)
             return
-        if spec.required and (element._attrs or element._children or not spec.on_demand):
+        if (spec.required or spec.needs_rules) and (
+            element._attrs or element._children or not spec.on_demand
+        ):
             self._check_required(element)
         if override is None and context.rewrites:
             override = context.rewrite(element)
@@ -386,6 +388,9 @@ class _Writer:
                 raise errors.AttributeValueError(
                     f"{element.path}: <{element._spec.tag}> requires the attribute {name!r}"
                 )
+        for rule in element._spec.needs_rules:
+            if rule.broken_by(attrs):
+                raise errors.AttributeValueError(f"{element.path}: {rule.describe()}")
 
     # -- attributes -----------------------------------------------------------------------
 
@@ -421,6 +426,8 @@ class _Writer:
     def value_text(self, element: Element, attribute: AttributeSpec, value: object, context) -> str:
         """The text of one attribute value in this output."""
         kind = attribute.kind
+        if value == "":  # an empty name is no name: never scoped
+            return ""
         if kind == "reference":
             return self._reference_text(element, attribute, value, context)
         if kind == "identifier":

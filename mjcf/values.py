@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import difflib
 import numbers
+import re
+import struct
 from collections.abc import Iterable
 
 import numpy as np
@@ -94,8 +96,28 @@ def suggest(word: str, choices: Iterable[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+# MuJoCo reads numbers as C's strtod and strtol do: decimal or hexadecimal reals,
+# inf/infinity/nan in any case, integers in decimal only; Python's float() and int()
+# also take underscores and non-ASCII digits, which MuJoCo refuses.
+_C_REAL = re.compile(
+    r"[+-]?(?:0[xX](?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?[0-9]+)?"
+    r"|(?i:nan\([0-9a-zA-Z_]*\)))"
+)
+_INT32 = (-(2**31), 2**31 - 1)
+_FLOAT32_TOO_LARGE = 3.4028235677973366e38  # rounds to infinity as a C float
+_BLANK = frozenset(" \t\n\r")
+
+
+def _is_blank(text: str) -> bool:
+    return not text or _BLANK.issuperset(text)
+
+
+class _TooLarge(ValueError):
+    pass
+
+
 class _Converter:
-    """Base: strings stay strings."""
+    """Base: strings stay strings (not blank ones, where MuJoCo refuses them)."""
 
     lazy = False  # True: text from files is converted on first read
 
@@ -103,6 +125,8 @@ class _Converter:
         self.spec = spec
 
     def from_text(self, text: str) -> object:
+        if not self.spec.blank and _is_blank(text):
+            raise InvalidValue(f"takes text that is not blank, got {text!r}")
         return text
 
     def check_text(self, text: str) -> None:
@@ -111,16 +135,71 @@ class _Converter:
     def from_python(self, value: object) -> object:
         if not isinstance(value, str):
             raise InvalidValue(f"takes a string, got {type(value).__name__}: {value!r}")
+        if self.spec.kind == "string":
+            return self.from_text(value)
         return value
 
     def to_text(self, value: object, precision: int = 17) -> str:
         return str(value)
 
 
+def round_float32(value: float) -> float:
+    """`value` as the nearest C float holds it."""
+    return struct.unpack("<f", struct.pack("<f", value))[0] if abs(value) < 3.4e38 else value
+
+
+_MEMORY = re.compile(r"[ \t\n\r]*(?:-1|\+?([0-9]+)([KMGTPEkmgtpe]?))[ \t\n\r]*")
+
+
+def _memory_size(text: str) -> bool:
+    """A byte count as MuJoCo reads `size memory`: -1, or digits with a K..E suffix."""
+    match = _MEMORY.fullmatch(text)
+    if match is None or not text.isascii():
+        return False
+    if match.group(1) is None:
+        return True
+    power = "KMGTPE".find(match.group(2).upper()) + 1 if match.group(2) else 0
+    return int(match.group(1)) * 1024**power < 2**64
+
+
+def _three_characters(text: str) -> bool:
+    """`compiler eulerseq`: MuJoCo's reader takes any three bytes (its compiler then
+    wants x, y, z, X, Y or Z, where an Euler angle is used)."""
+    return len(text.encode()) == 3
+
+
+# Grammars of text attributes, by the name `_annotations.TEXT_FORMATS` gives them.
+TEXT_FORMATS = {"memory size": _memory_size, "three characters": _three_characters}
+
+
+class _Format(_Converter):
+    """Text MuJoCo reads by a grammar of its own (`size memory="10M"`)."""
+
+    def __init__(self, spec) -> None:
+        super().__init__(spec)
+        self.check = TEXT_FORMATS[spec.text_format]
+
+    def from_text(self, text: str) -> object:
+        if not self.check(text):
+            raise InvalidValue(f"takes {self.spec.text_format}, got {text!r}")
+        return text
+
+    def from_python(self, value: object) -> object:
+        return self.from_text(super().from_python(value))
+
+
 class _Numbers(_Converter):
+    """Numbers as MuJoCo reads them. Blank text is accepted (MuJoCo reads it as
+    if the attribute were not set); it reads back as None and is written as it was."""
+
     lazy = True
     dtype: type = float
     noun = "numbers"
+
+    def __init__(self, spec) -> None:
+        super().__init__(spec)
+        self.limit = _FLOAT32_TOO_LARGE if spec.float32 else float("inf")
+        self.bounded = spec.min_value is not None or spec.max_value is not None
 
     def _check_count(self, count: int, shown: object) -> None:
         spec = self.spec
@@ -131,32 +210,70 @@ class _Numbers(_Converter):
         ):
             raise InvalidValue(f"takes {spec.arity_text()}, got {count}: {shown!r}")
 
-    def from_text(self, text: str) -> object:
+    def _words(self, text: str) -> list:
         words = text.split()
         self._check_count(len(words), text)
+        if "_" in text or not text.isascii():
+            raise InvalidValue(f"takes {self.noun}, got {text!r}")
         try:
             values = [self._parse_word(w) for w in words]
+        except _TooLarge:
+            raise InvalidValue(
+                f"takes {self.noun} MuJoCo can hold, got one too large: {text!r}"
+            ) from None
         except ValueError:
             raise InvalidValue(f"takes {self.noun}, got {text!r}") from None
+        if self.bounded:
+            self._check_bounds(values, text)
+        return values
+
+    def _check_bounds(self, values: Iterable, shown: object) -> None:
+        spec = self.spec
+        low, high = spec.min_value, spec.max_value
+        for value in values:
+            if value != value:  # NaN passes MuJoCo's comparisons
+                continue
+            if spec.float32:
+                value = round_float32(value)
+            if low is not None and (value < low or (spec.min_exclusive and value == low)):
+                relation = "greater than" if spec.min_exclusive else "at least"
+                raise InvalidValue(f"takes {self.noun} {relation} {low:g}, got {shown!r}")
+            if high is not None and (value > high or (spec.max_exclusive and value == high)):
+                relation = "less than" if spec.max_exclusive else "at most"
+                raise InvalidValue(f"takes {self.noun} {relation} {high:g}, got {shown!r}")
+
+    def from_text(self, text: str) -> object:
+        if _is_blank(text):
+            if not self.spec.blank:
+                raise InvalidValue(f"takes {self.noun}, got {text!r}")
+            return None
+        values = self._words(text)
         if self.spec.scalar:
             return values[0]
         return np.array(values, dtype=self.dtype)
 
     def check_text(self, text: str) -> None:
-        words = text.split()
-        self._check_count(len(words), text)
-        try:
-            for w in words:
-                self._parse_word(w)
-        except ValueError:
-            raise InvalidValue(f"takes {self.noun}, got {text!r}") from None
+        if not _is_blank(text):
+            self._words(text)
+        elif not self.spec.blank:
+            raise InvalidValue(f"takes {self.noun}, got {text!r}")
 
     def _parse_word(self, word: str) -> object:
-        return float(word)
+        try:
+            value = float(word)
+        except ValueError:
+            if _C_REAL.fullmatch(word) is None:
+                raise
+            value = float("nan") if "(" in word else _from_hex(word)
+        if -self.limit < value < self.limit or value != value:
+            return value
+        if "n" in word or "N" in word:  # inf, infinity: MuJoCo takes them
+            return value
+        raise _TooLarge(word)
 
     def from_python(self, value: object) -> object:
         if isinstance(value, str):
-            return self.from_text(value)
+            return value if _is_blank(value) and self.spec.blank else self.from_text(value)
         if isinstance(value, np.ndarray | list | tuple):
             array = np.asarray(value)
             if array.ndim > 1:
@@ -168,12 +285,19 @@ class _Numbers(_Converter):
             raise InvalidValue(f"takes {self.noun}, got {type(value).__name__}: {value!r}")
         self._check_count(array.size, value)
         converted = self._convert_array(array, value)
+        if self.bounded:
+            self._check_bounds(converted.tolist(), value)
         return converted[0].item() if self.spec.scalar else converted
 
     def _convert_array(self, array: np.ndarray, shown: object) -> np.ndarray:
         if array.dtype.kind not in "biuf":
             raise InvalidValue(f"takes {self.noun}, got {shown!r}")
-        return array.astype(float)
+        converted = array.astype(float)
+        if self.spec.float32:
+            finite = converted[np.isfinite(converted)]
+            if finite.size and np.abs(finite).max() >= self.limit:
+                raise InvalidValue(f"takes {self.noun} MuJoCo can hold, got one too large: {shown!r}")
+        return converted
 
     def to_text(self, value: object, precision: int = 17) -> str:
         if isinstance(value, np.ndarray):
@@ -181,18 +305,22 @@ class _Numbers(_Converter):
         return format_number(value, precision)
 
 
+def _from_hex(word: str) -> float:
+    try:
+        return float.fromhex(word)
+    except OverflowError:
+        raise _TooLarge(word) from None
+
+
 class _Integers(_Numbers):
     dtype = int
     noun = "integers"
 
     def _parse_word(self, word: str) -> object:
-        try:
-            return int(word)
-        except ValueError:
-            number = float(word)
-            if not number.is_integer():
-                raise
-            return int(number)
+        value = int(word)
+        if not _INT32[0] <= value <= _INT32[1]:
+            raise _TooLarge(word)
+        return value
 
     def _convert_array(self, array: np.ndarray, shown: object) -> np.ndarray:
         if array.dtype.kind == "f":
@@ -200,6 +328,8 @@ class _Integers(_Numbers):
                 raise InvalidValue(f"takes {self.noun}, got {shown!r}")
         elif array.dtype.kind not in "biu":
             raise InvalidValue(f"takes {self.noun}, got {shown!r}")
+        if array.size and (array.min() < _INT32[0] or array.max() > _INT32[1]):
+            raise InvalidValue(f"takes 32-bit {self.noun}, got {shown!r}")
         return array.astype(np.int64)
 
     def to_text(self, value: object, precision: int = 17) -> str:
@@ -209,26 +339,59 @@ class _Integers(_Numbers):
 
 
 class _Keyword(_Converter):
+    """One keyword (or a list of distinct keywords), compared as MuJoCo compares
+    them (some attributes ignore case; a few also take the keyword's number)."""
+
+    def __init__(self, spec) -> None:
+        super().__init__(spec)
+        self.folded = frozenset(v.lower() for v in spec.values) if spec.case_insensitive else None
+        self.lenient = spec.case_insensitive or spec.trims
+
     def from_text(self, text: str) -> object:
         if self.spec.is_list:
-            for word in text.split():
+            words = text.split()
+            for word in words:
                 self._check_word(word)
+            if len(set(words)) != len(words):
+                raise InvalidValue(f"takes distinct keywords, got {text!r}")
+            if len(words) > 1 and (self.spec.ordered or self.spec.alone):
+                self._check_order(words, text)
             return text
         self._check_word(text)
         return text
 
+    def _check_order(self, words: list[str], text: str) -> None:
+        spec = self.spec
+        alone = spec.alone.intersection(words)
+        if alone:
+            raise InvalidValue(f"takes {sorted(alone)[0]!r} only alone, got {text!r}")
+        if spec.ordered:
+            places = [spec.values.index(word) for word in words]
+            if places != sorted(places):
+                raise InvalidValue(f"takes keywords in the order {list(spec.values)}, got {text!r}")
+
     def _check_word(self, text: str) -> None:
-        if text not in self.spec.values:
-            raise InvalidValue(
-                f"takes one of {list(self.spec.values)}, got {text!r}"
-                + suggest(text, self.spec.values)
-            )
+        spec = self.spec
+        if text in spec.values or (spec.blank and _is_blank(text)):
+            return
+        if self.lenient:
+            word = text.strip(" \t\n\r") if spec.trims else text
+            if word in spec.values or (self.folded is not None and word.lower() in self.folded):
+                return
+        if spec.integers is not None and _integer_text(text, spec.integers):
+            return
+        numbers = f", or an integer from {spec.integers[0]} to {spec.integers[1]}" if spec.integers else ""
+        raise InvalidValue(
+            f"takes one of {list(spec.values)}{numbers}, got {text!r}" + suggest(text, spec.values)
+        )
 
     def from_python(self, value: object) -> object:
         if self.spec.is_list and isinstance(value, list | tuple):
             value = " ".join(str(word) for word in value)
         if isinstance(value, bool | np.bool_) and "true" in self.spec.values:
             return "true" if value else "false"
+        if self.spec.integers is not None and isinstance(value, int | np.integer):
+            value = str(int(value))
         if not isinstance(value, str):
             raise InvalidValue(
                 f"takes one of {list(self.spec.values)}, got {type(value).__name__}: {value!r}"
@@ -236,17 +399,28 @@ class _Keyword(_Converter):
         return self.from_text(value)
 
 
+def _integer_text(text: str, bounds: tuple[int, int]) -> bool:
+    word = text.strip(" \t\n\r")
+    if not word.isascii() or "_" in word or " " in word:
+        return False
+    try:
+        return bounds[0] <= int(word) <= bounds[1]
+    except ValueError:
+        return False
+
+
 class _Identifier(_Converter):
+    """Names; an empty one is no name, as MuJoCo reads it (returns None)."""
+
     def from_python(self, value: object) -> object:
         value = super().from_python(value)
-        if not value:
-            raise InvalidValue("takes a non-empty name, got ''")
-        return value
+        return value or None
 
 
 class _Reference(_Converter):
     """References keep names as `str` and element objects as given; the element
-    checks namespaces, since only it knows the model."""
+    checks namespaces, since only it knows the model. An empty name is kept: MuJoCo
+    reads it as no reference, except for a default class, which must be named."""
 
     def from_python(self, value: object) -> object:
         if self.spec.is_list:
@@ -260,8 +434,8 @@ class _Reference(_Converter):
                 return items
             raise InvalidValue(f"takes a list of names or elements, got {value!r}")
         if isinstance(value, str):
-            if not value:
-                raise InvalidValue("takes a non-empty name, got ''")
+            if not value and self.spec.namespace == "default":
+                raise InvalidValue("takes the name of a default class, got ''")
             return value
         if _is_element(value):
             return value
@@ -296,4 +470,6 @@ _CONVERTERS = {
 
 def converter_for(spec) -> _Converter:
     """The converter for an `AttributeSpec`."""
+    if spec.text_format is not None:
+        return _Format(spec)
     return _CONVERTERS[spec.kind](spec)

@@ -24,7 +24,15 @@ import mujoco
 
 from mjcf import values as _values
 
-__all__ = ["MUJOCO", "NAMESPACES", "ROOT_SECTIONS", "AttributeSpec", "ElementSpec", "all_specs"]
+__all__ = [
+    "MUJOCO",
+    "NAMESPACES",
+    "ROOT_SECTIONS",
+    "AttributeSpec",
+    "ElementSpec",
+    "Rule",
+    "all_specs",
+]
 
 _DATA_FILE = Path(__file__).with_name("mjcf_schema.json")
 
@@ -32,23 +40,38 @@ _DATA_FILE = Path(__file__).with_name("mjcf_schema.json")
 class AttributeSpec:
     """What one attribute of one element accepts: its `kind` ('identifier',
     'string', 'file', 'reference', 'keyword', 'int', 'real'), arity bounds for
-    numbers, keywords, the namespace a reference points into, and MuJoCo's default."""
+    numbers (and bounds on their values, and whether MuJoCo holds them as 32-bit
+    floats), keywords (whether case counts, which integers stand for them), the
+    namespace a reference points into, a grammar for text, and MuJoCo's default."""
 
     __slots__ = (
+        "case_insensitive",
+        "checks_text",
         "converter",
         "default",
+        "float32",
+        "integers",
         "is_list",
         "kind",
         "max",
+        "max_value",
         "min",
+        "min_exclusive",
+        "min_value",
         "multiple_of",
         "name",
         "namespace",
         "namespace_from",
         "namespace_map",
+        "alone",
+        "blank",
+        "max_exclusive",
+        "ordered",
         "required",
         "scalar",
         "scoped",
+        "text_format",
+        "trims",
         "values",
     )
 
@@ -65,11 +88,31 @@ class AttributeSpec:
         self.namespace_from: str | None = data.get("namespace_from")
         self.namespace_map: dict[str, str] = dict(data.get("namespace_map", {}))
         self.is_list: bool = bool(data.get("list", False))
+        self.float32: bool = bool(data.get("float32", False))
+        self.min_value: float | None = data.get("min_value")
+        self.min_exclusive: bool = bool(data.get("min_exclusive", False))
+        self.max_value: float | None = data.get("max_value")
+        self.max_exclusive: bool = bool(data.get("max_exclusive", False))
+        self.case_insensitive: bool = bool(data.get("case_insensitive", False))
+        integers = data.get("integers")
+        self.integers: tuple[int, int] | None = tuple(integers) if integers else None
+        self.ordered: bool = bool(data.get("ordered", False))
+        self.alone: frozenset[str] = frozenset(data.get("alone", ()))
+        self.text_format: str | None = data.get("format")
+        # Blank text: numbers and text take it (MuJoCo reads it as not set), keywords not.
+        self.blank: bool = bool(data.get("blank", self.kind != "keyword"))
+        self.trims: bool = bool(data.get("trims", False))
         # Numbers with exactly one value read back as Python scalars, others as arrays.
         self.scalar: bool = self.kind in ("int", "real") and self.min == 1 and self.max == 1
         # Names that take the model's name-scope prefix when models are composed.
         self.scoped: bool = self.kind in ("identifier", "reference")
         self.converter = _values.converter_for(self)
+        # Whether reading text must check it (names are checked by the element).
+        self.checks_text: bool = (
+            self.kind in ("keyword", "int", "real")
+            or self.text_format is not None
+            or (self.kind == "string" and not self.blank)
+        )
 
     def arity_text(self) -> str:
         """Human-readable count of numbers this attribute takes ('1 to 3 numbers')."""
@@ -101,6 +144,47 @@ class AttributeSpec:
         return f"AttributeSpec({self.name!r}: {detail})"
 
 
+class Rule:
+    """A rule MuJoCo's reader keeps between the attributes of one element: at most
+    one of some groups of attributes may be set (`at_most_one`), at least one group
+    must be set entirely (`one_of`), the first attribute needs the second
+    (`requires`), or all of some attributes or none (`together`). A group counts as
+    set when any attribute of it is."""
+
+    __slots__ = ("groups", "kind", "message", "names")
+
+    def __init__(self, data: Mapping) -> None:
+        self.kind = next(k for k in ("at_most_one", "one_of", "requires", "together") if k in data)
+        groups = data[self.kind]
+        if self.kind in ("requires", "together"):
+            groups = [[name] for name in groups]
+        self.groups: tuple[tuple[str, ...], ...] = tuple(tuple(g) for g in groups)
+        self.names = frozenset(name for group in self.groups for name in group)
+        self.message: str = data.get("message", "")
+
+    def broken_by(self, attributes: Mapping[str, object]) -> bool:
+        """Whether element attributes `attributes` (name -> value) break this rule."""
+        if self.kind == "at_most_one":
+            return sum(1 for group in self.groups if not attributes.keys().isdisjoint(group)) > 1
+        if self.kind == "one_of":
+            return not any(all(name in attributes for name in group) for group in self.groups)
+        if self.kind == "together":
+            return 0 < sum(1 for name in self.names if name in attributes) < len(self.names)
+        first, needed = self.groups
+        return first[0] in attributes and needed[0] not in attributes
+
+    def describe(self) -> str:
+        """The rule in words, for error messages."""
+        shown = " / ".join("+".join(group) for group in self.groups)
+        if self.kind == "at_most_one":
+            return f"at most one of {shown} may be set"
+        if self.kind == "one_of":
+            return f"one of {shown} must be set"
+        if self.kind == "together":
+            return f"{' and '.join(sorted(self.names))} must be set together"
+        return f"{self.groups[0][0]!r} needs {self.groups[1][0]!r}"
+
+
 class ElementSpec:
     """What one element accepts in one place of the tree: attributes, child elements
     by tag, whether it may repeat under its parent, and the namespace of its name."""
@@ -112,10 +196,13 @@ class ElementSpec:
         "identifier",
         "key",
         "namespace",
+        "needs_rules",
         "on_demand",
         "references",
         "repeated",
         "required",
+        "rule_names",
+        "rules",
         "scoped_attributes",
         "tag",
     )
@@ -141,6 +228,10 @@ class ElementSpec:
         )
         # A child that may appear once is created on first access (`option.flag`).
         self.on_demand = False
+        self.rules: tuple[Rule, ...] = tuple(Rule(rule) for rule in data.get("rules", ()))
+        self.rule_names = frozenset(name for rule in self.rules for name in rule.names)
+        # Rules that an element being built may break for a while (checked on writing).
+        self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")
 
     @classmethod
     def synthesize(
@@ -166,6 +257,8 @@ class ElementSpec:
         spec.file_attributes = frozenset(
             a.name for a in spec.attributes.values() if a.kind == "file"
         )
+        spec.rules = spec.needs_rules = ()
+        spec.rule_names = frozenset()
         return spec
 
     def child(self, tag: str) -> ElementSpec:
@@ -194,6 +287,12 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
     for spec in specs.values():
         for child in spec.children.values():
             child.on_demand = not child.repeated
+    # An element that appears once elsewhere may repeat under some parents.
+    for key, value in data["elements"].items():
+        for parent_key in value.get("repeated_in", ()):
+            several = copy.copy(specs[key])
+            several.repeated, several.on_demand = True, False
+            specs[parent_key].children[several.tag] = several
     root = specs[data["root"]]
     # Repeated top-level sections are merged into one, as MuJoCo itself does. A section
     # spec may also be used deeper (a <default> in a <default>): that use stays repeated.

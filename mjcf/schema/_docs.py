@@ -53,6 +53,19 @@ class Attribute:
     is_list: bool = False
     any_object_type: bool = False  # keyword over every type of named element
     description: str = ""  # the documentation text, for values listed there
+    # What only the reader tells (see _refine.py):
+    float32: bool = False  # held as a C float: larger numbers are refused
+    min_value: float | None = None
+    min_exclusive: bool = False
+    max_value: float | None = None
+    max_exclusive: bool = False
+    case_insensitive: bool = False
+    integers: tuple[int, int] | None = None  # integer text the reader takes for keywords
+    ordered: bool = False  # a keyword list must follow the order of `values`
+    alone: list[str] = field(default_factory=list)  # keywords a list may hold only alone
+    text_format: str | None = None  # a grammar of values.TEXT_FORMATS
+    blank: bool | None = None  # whether blank text is read; None: as usual for the kind
+    trims: bool = False  # keywords: spaces around them are ignored
 
     def to_json(self) -> dict:
         """The attribute's entry in the JSON file."""
@@ -69,11 +82,33 @@ class Attribute:
             spec["values"] = self.values
             if self.is_list:
                 spec["list"] = True
+            optional = {
+                "case_insensitive": self.case_insensitive,
+                "trims": self.trims,
+                "integers": list(self.integers) if self.integers else None,
+                "ordered": self.ordered,
+                "alone": self.alone,
+            }
+            spec.update((key, value) for key, value in optional.items() if value)
         elif self.kind in ("int", "real"):
             spec["min"] = self.min
             spec["max"] = self.max
             if self.multiple_of:
                 spec["multiple_of"] = self.multiple_of
+            if self.float32:
+                spec["float32"] = True
+            if self.min_value is not None:
+                spec["min_value"] = self.min_value
+                if self.min_exclusive:
+                    spec["min_exclusive"] = True
+            if self.max_value is not None:
+                spec["max_value"] = self.max_value
+                if self.max_exclusive:
+                    spec["max_exclusive"] = True
+        elif self.text_format is not None:
+            spec["format"] = self.text_format
+        if self.blank is not None:
+            spec["blank"] = self.blank
         spec["required"] = self.required
         if self.kind in ("string", "keyword", "int", "real"):
             spec["default"] = self.default
@@ -90,16 +125,25 @@ class Element:
     attributes: dict[str, Attribute] = field(default_factory=dict)
     children: list[str] = field(default_factory=list)
     namespace: str | None = None
+    # Rules the reader keeps between attributes: {"at_most_one": [[names]...]},
+    # {"one_of": [[names]...]} or {"requires": [name, name]}, with MuJoCo's "message".
+    rules: list[dict] = field(default_factory=list)
+    repeated_in: list[str] = field(default_factory=list)  # parents it may repeat under
 
     def to_json(self) -> dict:
         """The element's entry in the JSON file."""
-        return {
+        entry = {
             "tag": self.tag,
             "namespace": self.namespace,
             "repeated": self.repeated,
             "attributes": {name: a.to_json() for name, a in self.attributes.items()},
             "children": self.children,
         }
+        if self.repeated_in:
+            entry["repeated_in"] = self.repeated_in
+        if self.rules:
+            entry["rules"] = self.rules
+        return entry
 
 
 def doc_dir() -> Path:

@@ -33,11 +33,11 @@ from mjcf.schema._docs import Attribute, Element
 
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
-_FILES = {_MODEL_FILE: b"<mujoco/>"}
+FILES = {_MODEL_FILE: b"<mujoco/>"}
 # Documents naming this model (`attach model=`) or class start by defining it.
 _MODEL_NAME = "probe_model"
 _CLASS_NAME = "probe_class"
-_PRELUDES = {
+PRELUDES = {
     _MODEL_NAME: f'<asset><model name="{_MODEL_NAME}" file="{_MODEL_FILE}"/></asset>',
     _CLASS_NAME: f'<default><default class="{_CLASS_NAME}"/></default>',
 }
@@ -112,9 +112,10 @@ class Prober:
     alternative that fits the attributes a probe sets.
     """
 
-    def __init__(self, elements: dict[str, Element], root: str) -> None:
+    def __init__(self, elements: dict[str, Element], root: str, prelude: str = "") -> None:
         self.elements = elements
         self.root = root
+        self.prelude = prelude  # MJCF placed at the start of every document
         self.paths: dict[str, list[str]] = {}
         self.parses = 0
         self._serial = itertools.count()
@@ -211,15 +212,16 @@ class Prober:
                 return False
         return True
 
+    def learned_one_of(self, key: str) -> list[list[list[str]]]:
+        """The "one of ... must be specified" rules learned for element ``key``."""
+        return list(self._one_of.get(key, []))
+
     def _learn(self, key: str, error: str) -> bool:
         """Remember a "one of" / "at most one of" rule from ``error``; True if new."""
         rule = _ONE_OF.search(error)
         if not rule:
             return False
-        groups = [
-            re.findall(r"'(\w+)'", group) if group else [name]
-            for group, name in re.findall(r"\(([^)]*)\)|'(\w+)'", rule.group(2))
-        ]
+        groups = _groups_in(rule.group(2))
         rules = (self._at_most_one if rule.group(1) else self._one_of).setdefault(key, [])
         if groups in rules:
             return False
@@ -276,7 +278,7 @@ class Prober:
         names made alike, so documents compare); None if it cannot."""
         self.parses += 1
         try:
-            spec = mujoco.MjSpec.from_string(self._document([self.fragment(probe)]), include=_FILES)
+            spec = mujoco.MjSpec.from_string(self.document([self.fragment(probe)]), include=FILES)
             return re.sub(r"probe\d+_", "probe_", spec.to_xml())
         except ValueError:
             return None
@@ -284,20 +286,37 @@ class Prober:
     def _parse(self, fragments: list[str]) -> str | None:
         self.parses += 1
         try:
-            mujoco.MjSpec.from_string(self._document(fragments), include=_FILES)
+            mujoco.MjSpec.from_string(self.document(fragments), include=FILES)
         except Exception as error:  # the reader raises ValueError, sometimes others
             return " ".join(str(error).split())
         return None
 
-    def _document(self, fragments: list[str]) -> str:
+    def document(self, fragments: list[str]) -> str:
+        """A whole document holding ``fragments``, one per line after the first (a
+        fragment of the root element's start tag replaces the plain one)."""
         tag = self.elements[self.root].tag
         start = f"<{tag}>"
         if fragments and fragments[0].startswith(start[:-1]):
             start, fragments = fragments[0], fragments[1:]
-        for name, prelude in _PRELUDES.items():
-            if any(f'"{name}"' in fragment for fragment in fragments):
+        start += self.prelude
+        for name, prelude in PRELUDES.items():
+            if prelude not in self.prelude and any(f'"{name}"' in f for f in fragments):
                 start += prelude
         return "\n".join([start, *fragments, f"</{tag}>"])
+
+
+def _groups_in(text: str) -> list[list[str]]:
+    """Attribute groups of a rule: "('a', 'b'), 'c'" -> [['a', 'b'], ['c']]."""
+    return [
+        re.findall(r"'(\w+)'", group) if group else [name]
+        for group, name in re.findall(r"\(([^)]*)\)|'(\w+)'", text)
+    ]
+
+
+def rule_groups(error: str) -> list[list[str]] | None:
+    """The groups of an "at most one of ... can be specified" error, or None."""
+    rule = _ONE_OF.search(error)
+    return _groups_in(rule.group(2)) if rule and rule.group(1) else None
 
 
 def _start_tag(tag: str, values: dict[str, str]) -> str:

@@ -17,11 +17,20 @@ Run it after upgrading mujoco and commit the result. Where the data comes from:
   name things, which keyword attributes take a list. Every element, parent,
   attribute, keyword, int/real type and required attribute the documents give is
   also checked against the reader; where they disagree the reader wins and a
-  note is logged (shown unless ``-q``).
+  note is logged (shown unless ``-q``);
+* what the reader accepts beyond the documentation (``_refine.py``): which
+  children may repeat under which parent, blank values, C-float reals, bounds on
+  numbers, keyword case, spacing and integer forms, keyword lists and their order,
+  text grammars, and rules between attributes ("at most one of").
+
+``python -m mjcf.schema.check`` then compares mjcf with the reader document by
+document, and reports every disagreement left.
 
 The file maps element keys (MuJoCo's doc anchors: ``body-geom``,
 ``default-geom``, ``actuator-position``; plus ``worldbody``) to
-``{"tag", "namespace", "repeated", "attributes", "children"}``. Attribute
+``{"tag", "namespace", "repeated", "attributes", "children"}`` (with
+``"repeated_in"``, parents under which an element that otherwise appears once may
+repeat, and ``"rules"`` between attributes, when there are any). Attribute
 specs have a ``type`` of ``identifier``, ``string``, ``file``, ``reference``
 (``namespace``, or ``namespace_from``/``namespace_map``; ``list``),
 ``keyword`` (``values``; ``list``) or ``int``/``real`` (``min``/``max``
@@ -40,7 +49,7 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _annotations, _probe
+from mjcf.schema import _annotations, _probe, _refine
 from mjcf.schema._docs import (
     BODY,
     DEFAULT,
@@ -154,6 +163,8 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
     _tree_holders(prober, elements)
     _required(prober, elements)
     _enumerated_strings(prober, elements)
+    _refine.keyword_lists(prober, elements)
+    _refine.text_formats(prober, elements)
     _minimal(prober, elements)
     _edges(prober, elements, edges)
     _values(prober, elements)
@@ -162,6 +173,12 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
         for attribute in element.attributes.values():
             if attribute.kind in ("int", "real"):
                 _arity(prober, key, attribute)
+    _refine.repetition(prober, elements)
+    _refine.blanks(prober, elements)
+    _refine.float_precision(prober, elements)
+    _refine.bounds(prober, elements)
+    _refine.keyword_forms(prober, elements)
+    _refine.rules(prober, elements)
     logger.info("probed MuJoCo's reader with %d documents", prober.parses)
 
 
@@ -211,7 +228,7 @@ def _enumerated_strings(prober: _probe.Prober, elements: dict[str, Element]) -> 
             if attribute.kind != "string":
                 continue
             error = prober.error(Probe(key, {attribute.name: "probe_text"}))
-            if error is None:
+            if error is None or _probe.LIST_READER in error:  # lists: _refine.keyword_lists
                 continue
             if not _probe.bad_keyword(error, "probe_text"):
                 _note(f"{key}/{attribute.name}: the reader checks the text: {error}")
@@ -258,12 +275,7 @@ def _edges(
         Probe(child, parent=parent, copies=2 if elements[child].repeated else 1)
         for parent, child in edges
     ]
-    prober.require_accepted(probes)
-    for parent, child in edges:
-        once = not elements[child].repeated
-        if once and prober.error(Probe(child, parent=parent, copies=2)) is None:
-            _note(f"{child}: documented once per {parent}, the reader accepts two")
-            elements[child].repeated = True
+    prober.require_accepted(probes)  # how often, everywhere: _refine.repetition
 
 
 def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
@@ -300,7 +312,7 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             error = prober.error(Probe(key, {attribute.name: "probe_keyword"}))
             if not (error and _probe.bad_keyword(error, "probe_keyword", attribute.name)):
                 _note(f"{key}/{attribute.name}: the reader accepts any keyword")
-            elif _probe.LIST_READER in error:  # a list of keywords? try two
+            elif _probe.LIST_READER in error and not attribute.is_list:  # a list? try two
                 pair = {attribute.name: " ".join(attribute.values[:2])}
                 attribute.is_list = prober.error(Probe(key, pair)) is None
 
@@ -369,6 +381,11 @@ def dumps(schema: dict) -> str:
         )
         fields.append('      "attributes": {' + (f"\n{specs}\n      " if specs else "") + "}")
         fields.append(f'      "children": {json.dumps(data["children"])}')
+        if data.get("repeated_in"):
+            fields.append(f'      "repeated_in": {json.dumps(data["repeated_in"])}')
+        if data.get("rules"):
+            rules = ",\n".join(f"        {json.dumps(rule)}" for rule in data["rules"])
+            fields.append(f'      "rules": [\n{rules}\n      ]')
         return f"    {json.dumps(key)}: {{\n" + ",\n".join(fields) + "\n    }"
 
     head = "".join(

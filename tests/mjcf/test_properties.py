@@ -18,14 +18,30 @@ _NAMES = itertools.count()
 _TEXT = st.text(alphabet="abcxyz_-.<>&\"' 09", min_size=1, max_size=8)
 
 
+def _accepted(attribute: schema.AttributeSpec, value: object) -> bool:
+    try:
+        attribute.converter.from_python(value)
+    except ValueError:
+        return False
+    return True
+
+
 def _value(attribute: schema.AttributeSpec) -> st.SearchStrategy:
     kind = attribute.kind
     if kind == "keyword":
         if attribute.is_list:
-            return st.lists(st.sampled_from(attribute.values), min_size=1, max_size=3).map(" ".join)
+            words = [v for v in attribute.values if v not in attribute.alone]
+            return st.lists(st.sampled_from(words), min_size=1, max_size=3, unique=True).map(
+                lambda chosen: " ".join(sorted(chosen, key=attribute.values.index))
+            )
         return st.sampled_from(attribute.values)
+    if attribute.text_format is not None:
+        samples = ["-1", "0", "10M", "1K", "xyz", "XYZ", "zyx"]
+        return st.sampled_from([t for t in samples if _accepted(attribute, t)])
     if kind in ("int", "real"):
         numbers = _INTS if kind == "int" else _FLOATS
+        if attribute.min_value is not None or attribute.max_value is not None:
+            numbers = numbers.filter(lambda number: _accepted(attribute, number))
         low = max(attribute.min, 1)
         high = attribute.max if attribute.max is not None else low + 6
         step = attribute.multiple_of or 1
@@ -42,7 +58,22 @@ def _settable(spec: schema.ElementSpec) -> list[schema.AttributeSpec]:
 
 def _buildable(spec: schema.ElementSpec) -> bool:
     """Elements whose required attributes a random tree can fill in."""
+    if spec.needs_rules:  # one of some references, say
+        return False
     return all(spec.attributes[name].kind not in ("reference", "file") for name in spec.required)
+
+
+def _compatible(spec: schema.ElementSpec, chosen: list) -> list:
+    """`chosen` without the attributes MuJoCo allows only one group of at a time."""
+    kept: list = []
+    for attribute in chosen:
+        names = {a.name for a in kept} | {attribute.name}
+        if not any(
+            rule.kind == "at_most_one" and rule.broken_by(dict.fromkeys(names))
+            for rule in spec.rules
+        ):
+            kept.append(attribute)
+    return kept
 
 
 @st.composite
@@ -59,7 +90,7 @@ def _element(draw, parent: mjcf.Element, depth: int) -> None:
         if attributes
         else []
     )
-    values = {a.name: draw(_value(a)) for a in chosen}
+    values = {a.name: draw(_value(a)) for a in _compatible(spec, chosen)}
     for name in spec.required:
         attribute = spec.attributes[name]
         if attribute.kind == "identifier":

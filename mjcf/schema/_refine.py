@@ -1,0 +1,428 @@
+"""What MuJoCo's reader accepts beyond what its documentation says, found by probing.
+
+After ``generate.py`` has checked the documented schema against the reader, these
+steps ask the reader about values, one question at a time:
+
+* which reals it holds as C floats (it refuses ``3.5e38`` there);
+* the bounds it puts on numbers ("kv cannot be negative", "nstack must be >= -1"),
+  found exactly by bisection between a refused and an accepted value;
+* whether a keyword ignores case, which integers stand for keywords
+  (``<headlight active="1">``), and in what order and combination a keyword list
+  takes its words (``input="pos vel"``, never ``"vel pos"``);
+* which string attributes hold keyword lists (the reader's "invalid keyword:
+  '(null)'"), with the candidates their documentation quotes;
+* that the grammars of ``values.TEXT_FORMATS`` named in ``_annotations.TEXT_FORMATS``
+  accept exactly what the reader accepts, on sample texts;
+* the rules between attributes of one element: at most one of some groups
+  (orientation specifiers), one of some groups, one attribute requiring another.
+
+A probe's error counts only for what it is about (see ``_probe``); a behaviour none
+of these shapes describes is logged as a note and left to the differential check
+(``check.py``), which reports it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import re
+import struct
+
+from mjcf import values as _values
+from mjcf.schema import _annotations, _probe
+from mjcf.schema._docs import Attribute, Element, SchemaError
+from mjcf.schema._probe import Probe
+
+logger = logging.getLogger(__name__)
+
+_TOO_LARGE = "number is too large"
+# Values tried for bounds: moderate ones, since some numbers are sizes the reader acts
+# on (a flexcomp of count="100 100 1" takes seconds to read), and within C floats.
+_INT_CANDIDATES = [-1000, -2, -1, 0, 1, 2, 10]
+_REAL_CANDIDATES = [-1e30, -1.0, -1e-30, 0.0, 1e-30, 1.0, 1e30]
+# Texts for string attributes that may be keyword lists or follow a grammar.
+_FORMAT_SAMPLES = (
+    "", "0", "-1", "-2", "-0", "+5", "010", "10", "10M", "1k", "10m", "1.5M", "1X", "M",
+    "10 M", " 10M", "10M ", "1KB", "abc", "xyz", "XYZ", "xYz", "xy", "xyzx", "x y", "123",
+    "18446744073709551615", "18446744073709551616", "17179869183G", "17179869184G", "8191P",
+    "16E", "\u00e9..",
+)  # fmt: skip
+
+
+def _note(message: str) -> None:
+    logger.info("note: %s", message)
+
+
+# -- the tree and blank values ---------------------------------------------------------
+
+
+def repetition(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Which children the reader takes twice, under each parent: repeated under all,
+    under none, or only under some (`repeated_in`: an <inertial> appears once in a
+    body, any number of times in a <replicate>)."""
+    edges = [(parent, child) for parent, e in elements.items() for child in e.children]
+    errors = prober.errors([Probe(child, parent=parent, copies=2) for parent, child in edges])
+    twice: dict[str, list[str]] = {}
+    for (parent, child), error in zip(edges, errors, strict=True):
+        twice.setdefault(child, [])
+        if error is None:
+            twice[child].append(parent)
+    for child, parents in twice.items():
+        element = elements[child]
+        every = [p for p, c in edges if c == child]
+        repeated = len(parents) == len(every)
+        if repeated != element.repeated:
+            _note(f"{child}: documented {'once' if element.repeated else 'repeated'}, the reader disagrees")
+        element.repeated = repeated
+        element.repeated_in = [] if repeated else parents
+
+
+_BLANK_BY_KIND = {"int": True, "real": True, "keyword": False, "string": True}
+
+
+def blanks(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Whether the reader takes blank text for each attribute: numbers and text take
+    it (as not set) and keywords do not, with exceptions the probes find."""
+    found = [
+        (key, a)
+        for key, element in elements.items()
+        for a in element.attributes.values()
+        if a.kind in _BLANK_BY_KIND
+    ]
+    errors = prober.errors([Probe(key, {a.name: ""}) for key, a in found])
+    for (_, attribute), error in zip(found, errors, strict=True):
+        accepted = error is None or not (
+            _probe.bad_count(error, attribute.name)
+            or _probe.bad_keyword(error, "", attribute.name)
+            or "empty" in error
+        )
+        if accepted != _BLANK_BY_KIND[attribute.kind]:
+            attribute.blank = accepted
+
+
+# -- numbers ---------------------------------------------------------------------------
+
+
+def _numbers(elements: dict[str, Element]) -> list[tuple[str, Attribute]]:
+    return [
+        (key, attribute)
+        for key, element in elements.items()
+        for attribute in element.attributes.values()
+        if attribute.kind in ("int", "real")
+    ]
+
+
+def _count(attribute: Attribute) -> int:
+    """How many numbers to probe with: all an attribute takes, when bounded."""
+    if attribute.max is not None:
+        return attribute.max
+    return max(attribute.min, attribute.multiple_of or 1)
+
+
+def _text(attribute: Attribute, word: str, position: int | None = None) -> str:
+    """``word`` in every place (position None) or one place of the attribute, "1" elsewhere."""
+    count = _count(attribute)
+    if position is None:
+        return " ".join([word] * count)
+    words = ["1"] * count
+    words[position] = word
+    return " ".join(words)
+
+
+def _semantic(error: str | None, name: str) -> bool:
+    """Whether ``error`` refuses a value for what it means, not for its text."""
+    return error is not None and not _probe.bad_count(error, name)
+
+
+# -- numbers ---------------------------------------------------------------------------
+
+
+def float_precision(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Reals held as C floats: the reader refuses 3.5e38 as too large."""
+    reals = [(key, a) for key, a in _numbers(elements) if a.kind == "real"]
+    errors = prober.errors([Probe(key, {a.name: _text(a, "3.5e38", 0)}) for key, a in reals])
+    for (_, attribute), error in zip(reals, errors, strict=True):
+        attribute.float32 = error is not None and _TOO_LARGE in error
+
+
+def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Bounds the reader puts on every number of an attribute, found exactly."""
+    numbers = _numbers(elements)
+    probes = []
+    for key, attribute in numbers:
+        for value in _candidates(attribute):
+            probes.append(Probe(key, {attribute.name: _text(attribute, _word(attribute, value))}))
+    errors = iter(prober.errors(probes))
+    for key, attribute in numbers:
+        values = _candidates(attribute)
+        accepted = [not _semantic(next(errors), attribute.name) for _ in values]
+        if all(accepted):
+            continue
+        first, last = accepted.index(True) if any(accepted) else -1, len(accepted) - 1
+        if first < 0:
+            _note(f"{key}/{attribute.name}: the reader refuses every probed value")
+            continue
+        last = len(accepted) - 1 - accepted[::-1].index(True)
+        if not all(accepted[first : last + 1]):
+            _note(f"{key}/{attribute.name}: the values the reader accepts are not one range")
+            continue
+        outside = []
+        if first > 0:
+            refused, taken = _threshold(prober, key, attribute, values[first - 1], values[first])
+            attribute.min_value, attribute.min_exclusive = _bound(attribute, refused, taken)
+            outside.append(refused)
+        if last < len(values) - 1:
+            refused, taken = _threshold(prober, key, attribute, values[last + 1], values[last])
+            attribute.max_value, attribute.max_exclusive = _bound(attribute, refused, taken)
+            outside.append(refused)
+        if not _intrinsic(prober, key, attribute, outside, elements[key]):
+            attribute.min_value = attribute.max_value = None
+            attribute.min_exclusive = attribute.max_exclusive = False
+
+
+def _candidates(attribute: Attribute) -> list:
+    return _INT_CANDIDATES if attribute.kind == "int" else _REAL_CANDIDATES
+
+
+def _word(attribute: Attribute, value: float) -> str:
+    return str(value) if attribute.kind == "int" else repr(float(value))
+
+
+def _threshold(
+    prober: _probe.Prober, key: str, attribute: Attribute, refused: float, accepted: float
+) -> tuple[float, float]:
+    """The neighbouring (refused, accepted) values between the two given."""
+    to_index, from_index = (int, int) if attribute.kind == "int" else (_ordinal, _from_ordinal)
+    bad, good = to_index(refused), to_index(accepted)
+    while abs(good - bad) > 1:
+        middle = (bad + good) // 2
+        text = _text(attribute, _word(attribute, from_index(middle)))
+        if _semantic(prober.error(Probe(key, {attribute.name: text})), attribute.name):
+            bad = middle
+        else:
+            good = middle
+    return from_index(bad), from_index(good)
+
+
+def _ordinal(value: float) -> int:
+    """Doubles in order as integers (neighbouring doubles differ by one)."""
+    bits = struct.unpack("<q", struct.pack("<d", value))[0]
+    return bits if bits >= 0 else -(bits & 0x7FFFFFFFFFFFFFFF)
+
+
+def _from_ordinal(ordinal: int) -> float:
+    bits = ordinal if ordinal >= 0 else (-ordinal) | -0x8000000000000000
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
+
+
+def _bound(attribute: Attribute, refused: float, accepted: float) -> tuple:
+    """(bound, exclusive) spelled the short way: 'at least 0', 'greater than 1e-15'."""
+    if attribute.kind == "int":
+        return int(accepted), False
+    if attribute.float32:  # compared after rounding to a C float
+        refused, accepted = _values.round_float32(refused), _values.round_float32(accepted)
+    if len(repr(refused)) < len(repr(accepted)):
+        return refused, True
+    return accepted, False
+
+
+def _intrinsic(
+    prober: _probe.Prober, key: str, attribute: Attribute, outside: list, element: Element
+) -> bool:
+    """Whether the values just outside the bounds are refused whatever the other
+    numbers of the element are (a flexcomp's spacing must exceed its radius: that is
+    no bound of spacing), and in the first and last place alone too."""
+    name = attribute.name
+    places, others = [], []
+    for value in outside:
+        word = _word(attribute, value)
+        places += [Probe(key, {name: _text(attribute, word, p)}) for p in {0, _count(attribute) - 1}]
+        for other in element.attributes.values():
+            if other is attribute or other.kind not in ("int", "real"):
+                continue
+            for scale in ("1", "2") if other.kind == "int" else ("0.001", "1000"):
+                chosen = {name: _text(attribute, word), other.name: _text(other, scale)}
+                others.append(Probe(key, chosen))
+    if any(error is None for error in prober.errors(places)):
+        _note(f"{key}/{name}: bounded in some places only; no bound kept")
+        return False
+    if any(error is None for error in prober.errors(others)):
+        _note(f"{key}/{name}: its bound depends on other attributes; no bound kept")
+        return False
+    return True
+
+
+# -- keywords ----------------------------------------------------------------------------
+
+
+def keyword_forms(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Case, integers standing for keywords, and the order of keyword lists."""
+    for key, element in elements.items():
+        for attribute in element.attributes.values():
+            if attribute.kind != "keyword" or not attribute.values:
+                continue
+            _case(prober, key, attribute)
+            _integers(prober, key, attribute)
+            if attribute.is_list:
+                _list_order(prober, key, attribute)
+
+
+def _accepts(prober: _probe.Prober, key: str, name: str, texts: list[str]) -> list[bool]:
+    errors = prober.errors([Probe(key, {name: text}) for text in texts])
+    return [error is None or not _probe.bad_keyword(error, text, name) for text, error in zip(texts, errors, strict=True)]
+
+
+def _case(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
+    first = attribute.values[0]
+    attribute.trims = all(_accepts(prober, key, attribute.name, [f" {first}", f"{first} "]))
+    variants = [v.upper() for v in attribute.values if v.upper() != v]
+    variants += [v.capitalize() for v in attribute.values if v.capitalize() not in (v, v.upper())]
+    if not variants:
+        return
+    accepted = _accepts(prober, key, attribute.name, variants)
+    if all(accepted):
+        attribute.case_insensitive = True
+    elif any(accepted):
+        _note(f"{key}/{attribute.name}: the reader ignores case for some keywords only")
+
+
+def _integers(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
+    numbers = list(range(-1, len(attribute.values) + 2))
+    accepted = _accepts(prober, key, attribute.name, [str(n) for n in numbers])
+    taken = [n for n, ok in zip(numbers, accepted, strict=True) if ok]
+    if not taken:
+        return
+    if taken != list(range(taken[0], taken[-1] + 1)):
+        _note(f"{key}/{attribute.name}: the reader takes the integers {taken}")
+        return
+    attribute.integers = (taken[0], taken[-1])
+
+
+def _list_order(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
+    """Keyword lists: words in any order, or in the order of `values` (some alone)."""
+    values = attribute.values
+    pairs = list(itertools.permutations(values, 2))
+    errors = prober.errors([Probe(key, {attribute.name: f"{a} {b}"}) for a, b in pairs])
+    accepted = {pair: error is None for pair, error in zip(pairs, errors, strict=True)}
+    if all(accepted.values()):
+        return
+    alone = [v for v in values if not any(accepted[v, w] or accepted[w, v] for w in values if w != v)]
+    words = [v for v in values if v not in alone]
+    rest = sorted(words, key=lambda a: -sum(accepted[a, b] for b in words if b != a))
+    ordered = all(accepted[a, b] and not accepted[b, a] for a, b in itertools.combinations(rest, 2))
+    if not ordered:
+        raise SchemaError(f"{key}/{attribute.name}: keyword pairs the reader takes: {accepted}")
+    attribute.values = rest + alone
+    attribute.ordered, attribute.alone = True, alone
+
+
+def keyword_lists(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """String attributes the reader reads as keyword lists, with the words it takes
+    among those quoted in the documentation of attributes of that name."""
+    quoted: dict[str, set[str]] = {}
+    for element in elements.values():
+        for attribute in element.attributes.values():
+            words = re.findall(r'"(\w+)"', attribute.description)
+            quoted.setdefault(attribute.name, set()).update(words)
+    for key, element in elements.items():
+        for attribute in element.attributes.values():
+            if attribute.kind != "string" or attribute.name in _annotations.TEXT_FORMATS:
+                continue
+            error = prober.error(Probe(key, {attribute.name: "probe_text"}))
+            if error is None or _probe.LIST_READER not in error:
+                continue
+            candidates = sorted(quoted[attribute.name])
+            accepted = _accepts(prober, key, attribute.name, candidates)
+            values = [word for word, ok in zip(candidates, accepted, strict=True) if ok]
+            if not values:
+                raise SchemaError(f"{key}/{attribute.name}: a keyword list, but no keyword found")
+            _note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
+            attribute.kind, attribute.values, attribute.is_list = "keyword", values, True
+
+
+def text_formats(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """String attributes read by a grammar: the one annotated must match the reader's."""
+    for key, element in elements.items():
+        for attribute in element.attributes.values():
+            name = _annotations.TEXT_FORMATS.get(attribute.name)
+            if attribute.kind != "string" or name is None:
+                continue
+            check = _values.TEXT_FORMATS[name]
+            errors = prober.errors([Probe(key, {attribute.name: t}) for t in _FORMAT_SAMPLES])
+            wrong = [
+                text
+                for text, error in zip(_FORMAT_SAMPLES, errors, strict=True)
+                if check(text) != (error is None)
+            ]
+            if wrong:
+                raise SchemaError(f"{key}/{attribute.name}: format {name!r} is wrong for {wrong}")
+            attribute.text_format = name
+
+
+# -- rules between attributes -----------------------------------------------------------
+
+
+def rules(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """At most one of, one of, and requires: each from the reader's errors."""
+    for key, element in elements.items():
+        element.rules = _rules_of(prober, key, element)
+
+
+def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
+    names = [a.name for a in element.attributes.values() if a.kind != "identifier"]
+    values = {name: prober.value(element.attributes[name]) for name in names}
+    alone = dict(zip(names, prober.errors([Probe(key, {n: values[n]}) for n in names]), strict=True))
+    found: list[dict] = []
+    for name, error in alone.items():
+        missing = re.search(r"required attribute missing: '(\w+)'", error or "")
+        together = re.search(r"attributes (.*) must be specified together", error or "")
+        if missing and missing.group(1) in element.attributes:
+            found.append({"requires": [name, missing.group(1)], "message": _message(error)})
+        elif together:
+            group = re.findall(r"'(\w+)'", together.group(1))
+            rule = {"together": group, "message": _message(error)}
+            if rule not in found:
+                found.append(rule)
+    usable = [n for n in names if alone[n] is None]
+    pairs = list(itertools.combinations(usable, 2))
+    errors = prober.errors([Probe(key, {a: values[a], b: values[b]}) for a, b in pairs])
+    conflicts: dict[str, set[tuple[str, str]]] = {}
+    for pair, error in zip(pairs, errors, strict=True):
+        if error is not None:
+            conflicts.setdefault(_message(error), set()).add(pair)
+    for message, refused in conflicts.items():
+        groups = _groups(message, refused) if _RULE_MESSAGE.search(message) else None
+        if groups is None:
+            _note(f"{key}: the reader refuses {sorted(refused)} together: {message}")
+        else:
+            found.append({"at_most_one": groups, "message": message})
+    for groups in prober.learned_one_of(key):
+        found.append({"one_of": groups, "message": f"one of {groups} must be specified"})
+    return found
+
+
+# Errors of the reader that state a rule between attributes rather than a meaning.
+_RULE_MESSAGE = re.compile(r"at most one of|cannot both be|can only be used|multiple \w+ specifiers")
+
+
+def _message(error: str) -> str:
+    """A reader's error without its prefix and the place it names."""
+    return error.split(" Element ")[0].removeprefix("XML Error: ")
+
+
+def _groups(message: str, refused: set[tuple[str, str]]) -> list[list[str]] | None:
+    """The groups of an "at most one of" rule that refusing exactly these pairs
+    shows: named in the message; single attributes refused pairwise; or two groups,
+    each of whose attributes is refused with each of the other's."""
+    listed = _probe.rule_groups(message)
+    if listed is not None:
+        return listed
+    edges = {frozenset(pair) for pair in refused}
+    members = sorted({name for pair in refused for name in pair})
+    if edges == {frozenset(p) for p in itertools.combinations(members, 2)}:
+        return [[name] for name in members]
+    first = [m for m in members if frozenset((members[0], m)) not in edges]
+    second = [m for m in members if m not in first]
+    if edges == {frozenset((a, b)) for a in first for b in second}:
+        return [first, second]
+    return None
