@@ -32,8 +32,6 @@ def _scene() -> mjcf.RootElement:
 
 @pytest.fixture(scope="module")
 def scene_and_model() -> tuple[mjcf.RootElement, mujoco.MjModel]:
-    if not UR5E.exists() or not ROBOTIQ.exists():
-        pytest.skip(f"menagerie robots not found at {MENAGERIE}")
     scene = _scene()
     return scene, mjcf.Physics.from_mjcf_model(scene).model
 
@@ -48,7 +46,7 @@ def test_export_to_a_folder_loads_in_stock_mujoco(scene_and_model, tmp_path: Pat
     path = mjcf.export_with_assets(scene, tmp_path / "out")
     assert Path(path) == tmp_path / "out" / "model.xml"
     files = sorted(os.listdir(tmp_path / "out"))
-    assert "base_0.obj" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
+    assert "base_0.msh" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
     assert len(files) == 1 + 20 + 8  # the model, the arm's meshes, the gripper's: once each
     _identical(compiled, mujoco.MjModel.from_xml_path(path))
     custom = mjcf.export_with_assets(scene, tmp_path / "named", model_filename="two_arms.xml")
