@@ -274,8 +274,11 @@ def test_batch_physics_reads_and_writes_the_simulations():
         physics.field("efc_force")
     with pytest.raises(mjcf.BindingError):
         physics.bind(task.pendulum.hinge).no_such_field  # noqa: B018
-    with pytest.raises(mjcf.BindingError):
-        physics.bind(BatchedSwing().pendulum.hinge)  # an element of another model
+    other = BatchedSwing()  # another model: its elements are found by name, as in dm_control
+    np.testing.assert_array_equal(physics.bind(other.pendulum.hinge).qpos, hinge.qpos)
+    stray = other.pendulum.mjcf_model.worldbody.add("body", name="stray")
+    with pytest.raises(mjcf.BindingError, match="no body named"):
+        physics.bind(stray)
 
 
 def test_render_is_environment_0_as_a_single_environment_renders_it():
