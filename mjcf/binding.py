@@ -43,9 +43,10 @@ reads of derived quantities catch up with them first:
   in-place writes that bypass item assignment (`out=`, `np.copyto`).
 
 Views and copies: when the bound rows are evenly spaced (a run, or every k-th row), a read is a
-numpy view of the MjModel/MjData buffer. Otherwise it is a copy whose item assignments
-(`b.qpos[0] = 1`, `b.qpos[:] += 1`) write the whole copy back. Assigning the attribute always
-writes through. Index arrays are computed once per binding; a read costs one numpy index.
+numpy view of the MjModel/MjData buffer, made once: every read returns that view, whose values
+are the live buffer's (copy it to keep a value). Otherwise a read is a new copy whose item
+assignments (`b.qpos[0] = 1`, `b.qpos[:] += 1`) write the whole copy back. Assigning the
+attribute always writes through. Index arrays are computed once per binding.
 A binding reads the physics' current MjData: it stays valid through `reset()` and pickling, and
 raises BindingError once the physics holds another model.
 """
@@ -180,8 +181,8 @@ def column_key(target: Target, columns: Any) -> Key:
     if array.ndim < 2:
         raise errors.BindingError(f"'{field.name}' has no columns to index: each row is one number")
     cols = resolve_columns(field, columns)
-    if isinstance(key, tuple):  # one object, one row: (row, Ellipsis)
-        return (key[0], cols)
+    if isinstance(key, int):  # one object, one row
+        return (key, cols)
     if isinstance(key, np.ndarray) and isinstance(cols, np.ndarray):
         return np.ix_(key, cols)
     return (key, cols)
@@ -299,8 +300,9 @@ class Binding:
         return out
 
     def _entry(self, name: str) -> tuple:
-        """(array, key, read mask, WriteThrough view or None, write bits, Target) for field
-        `name`, refreshed if the physics changed MjData; raises BindingError."""
+        """(the view a read returns or None, read mask, array, key, WriteThrough view of the
+        array or None, write bits or None, Target) for field `name`, refreshed if the physics
+        changed MjData; raises BindingError."""
         physics = self._physics
         if physics._data is not self._data:
             if self._model is None:  # unpickled: adopt the physics' model
@@ -317,9 +319,9 @@ class Binding:
         entry = self._cache.get(name)
         if entry is None:
             field = self._fields[name]
-            key = self._key(field)
             source = self._model if field.struct == "model" else self._data
             array = getattr(source, field.name)
+            key = self._key(field, array.ndim > 1)
             mask = READ_MASK[self._stage(field)]
             if field.name in tracking.ON_DEMAND:
                 physics._compute_on_demand(field.name)
@@ -333,7 +335,15 @@ class Binding:
             view = array.view(WriteThrough) if tracked or target.fancy else None
             # Writes whose effects need more than setting bits take the slow path (None).
             bits = None if effect in (Effect.DERIVED, Effect.MODEL_CONSTANT) else WRITE_BITS[effect]
-            entry = self._cache[name] = (array, key, mask, view, bits, target)
+            # What a read returns when it is a view: the same object every time (its values
+            # are the live buffer's); None when each read must copy rows no slice covers.
+            fixed = None
+            if not target.fancy:
+                fixed = array[key] if view is None else view[key]
+            entry = (fixed, mask, array, key, view, bits, target)
+            if fixed is not None and view is not None:
+                fixed._source = entry
+            self._cache[name] = entry
         return entry
 
     def _stage(self, field: fields.Field) -> tracking.Stage:
@@ -343,10 +353,11 @@ class Binding:
             return tracking.Stage.ACCELERATION  # recomputed with that stage (see _refresh)
         return tracking.field_stage(field)
 
-    def _key(self, field: fields.Field) -> Key:
-        """The index into `field`'s first axis for the bound ids (cached per address scheme)."""
+    def _key(self, field: fields.Field, wide: bool) -> Key:
+        """The index into `field`'s first axis for the bound ids (cached per address scheme
+        and whether rows are arrays, `wide`, or numbers)."""
         address = field.address
-        key = self._keys.get(address)
+        key = self._keys.get((address, wide))
         if key is not None:
             return key
         rows, counts = fields.row_index(self._model, address, self._ids)
@@ -361,21 +372,22 @@ class Binding:
             )
         if one_row_each and (counts == 1).all():
             # One row each: index like a per-object field; a single object drops the axis.
-            key = (int(rows[0]), Ellipsis) if self._single else _compact(rows)
+            # An int indexes a row of a 2-D field fastest (a view); a 1-D field needs
+            # (row, ...) to give a 0-d view rather than a detached scalar.
+            row = int(rows[0])
+            key = _compact(rows) if not self._single else row if wide else (row, Ellipsis)
         else:
             key = _compact(rows)
-        self._keys[address] = key
+        self._keys[(address, wide)] = key
         return key
 
     def _read(self, name: str) -> np.ndarray:
         entry = self._entry(name)
-        array, key, mask, view, _, _ = entry
-        if mask:
-            physics = self._physics
-            if physics._stale & mask:
-                physics._refresh()
-        if view is None:
-            return array[key]
+        fixed, mask, _, key, view, _, _ = entry
+        if mask and self._physics._stale & mask:
+            self._physics._refresh()
+        if fixed is not None:
+            return fixed
         out = view[key]
         out._source = entry
         return out
@@ -395,13 +407,13 @@ class Binding:
         # Hot path first: a cached field whose write only marks the physics is one numpy
         # assignment and one bitwise or.
         entry = self._cache.get(name)
-        if entry is not None and entry[4] is not None:
+        if entry is not None and entry[5] is not None:
             try:
-                entry[0][entry[1]] = value
+                entry[2][entry[3]] = value
             except (ValueError, TypeError):
                 pass  # Target.write raises the explanatory error
             else:
-                self._physics._stale |= entry[4]
+                self._physics._stale |= entry[5]
                 return
         if name not in self._fields:
             raise errors.BindingError(self._unknown(name))
@@ -524,18 +536,17 @@ def _compact(rows: np.ndarray) -> slice | np.ndarray:
 
 def _field_property(name: str) -> property:
     def fget(self: Binding) -> np.ndarray:
-        # Hot path, inlined: one dict lookup, one flag test, one numpy index. The physics
-        # empties `_cache` when it changes MjData (see `_detach`), so a hit is never stale.
+        # Hot path, inlined: one dict lookup, one flag test, and the cached view (or one
+        # numpy index). The physics empties `_cache` when it changes MjData (see `_detach`),
+        # so a hit is never stale.
         entry = self._cache.get(name)
         if entry is None:
             return self._read(name)
-        array, key, mask, view, _, _ = entry
-        if mask:
-            physics = self._physics
-            if physics._stale & mask:
-                physics._refresh()
-        if view is None:
-            return array[key]
+        fixed, mask, _, key, view, _, _ = entry
+        if mask and self._physics._stale & mask:
+            self._physics._refresh()
+        if fixed is not None:
+            return fixed
         out = view[key]
         out._source = entry
         return out

@@ -267,7 +267,9 @@ class Physics:
 
     def get_state(self) -> np.ndarray:
         """The physics state as one vector: qpos, qvel, act (and the history, plugin and
-        plastic state of models that have them), in mj_getState's order; a copy."""
+        plastic state of models that have them), in mj_getState's order; a copy. As in
+        dm_control it leaves out the solver's warm start, so `set_state` then continues
+        close to, not bit for bit as, the original (`copy()` and pickling are exact)."""
         model = self._model
         out = np.empty(mujoco.mj_stateSize(model, _PHYSICS_STATE))
         mujoco.mj_getState(model, self._data, out, _PHYSICS_STATE)

@@ -114,6 +114,8 @@ def _data_stages(header: Path) -> tuple[dict[str, Stage], dict[str, tuple[str, s
                 stages[name] = Stage.ACCELERATION
             elif "POSITION" in section or "VELOCITY" in section:
                 stages[name] = Stage.POSITION
+            elif section.startswith("MAIN INPUTS") and group != "sensors":
+                stages[name] = Stage.NONE  # state, controls, plugin and sleep bookkeeping
             # "computed by mj_sensorVel/mj_subtreeVel if needed": only when a sensor asks
             on_demand = re.search(r"(mj_\w+) if needed", group)
             if on_demand and on_demand.group(1) in flags:

@@ -17,7 +17,7 @@ import composer
 import mjcf
 from composer.vector import BatchError, VectorEnvironment, make_vector_environment
 from tests.composer.scenes import Block, SwingTask
-from tests.composer.vector_scenes import BatchedSwing, HookedSwing, TowerTask
+from tests.composer.vector_scenes import BatchedSwing, HookedSwing, SensingSwing, TowerTask
 
 TEST_ID = "composer_tests/BatchedSwing-v0"
 if TEST_ID not in gymnasium.registry:
@@ -33,6 +33,7 @@ TASKS = {
     "batched, scheduled observables": lambda: BatchedSwing(schedule=True, terminate_above=1.0),
     "per-environment fallback": lambda: SwingTask(terminate_above=1.0, substeps=5),
     "entity hooks, per environment": HookedSwing,
+    "acceleration-stage sensors, batched": lambda: SensingSwing(terminate_above=1.0),
 }
 
 
