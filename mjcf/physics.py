@@ -35,7 +35,6 @@ from __future__ import annotations
 import contextlib
 import copy as copy_module
 import difflib
-import math
 import os
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -45,7 +44,17 @@ import mujoco
 import numpy as np
 
 from mjcf import binding as binding_module
-from mjcf import compiler, errors, fields, named, raw_access, rendering, tracking, tree_binding
+from mjcf import (
+    compiler,
+    errors,
+    fields,
+    named,
+    raw_access,
+    rendering,
+    tracking,
+    tree_binding,
+    validity,
+)
 from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITE_BITS, WRITTEN
 from mjcf.element import Element as ElementType
 
@@ -55,16 +64,6 @@ if TYPE_CHECKING:
 
 raw_access.install()
 
-# MuJoCo warnings that mean the state was invalid: non-finite or huge qpos/qvel, bad qacc
-# (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls;
-# each with the array whose index the warning's lastinfo reports.
-_INVALID_STATE_WARNINGS = {
-    mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
-    mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
-    mujoco.mjtWarning.mjWARN_BADQACC: "qvel",
-    mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
-}
-_INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # get_state(): dm_control's physics state (qpos, qvel, act, plugin state), plus MuJoCo 4's
 # history and plastic state when a model has them, in mj_getState's order.
@@ -140,7 +139,7 @@ class Physics:
         self._element_bindings: dict[object, binding_module.Binding] = {}
         self._named: named.NamedAccess | None = None
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
-        self._state_check = _StateCheck(self)
+        self._state_check = validity.StateCheck(self)
 
     # -- construction --------------------------------------------------------------------
 
@@ -482,39 +481,7 @@ class Physics:
         return self._state_check
 
     def _raise_if_invalid(self) -> None:
-        warnings = self._warnings
-        # any() over a list first: benign warnings aside, nothing is set, and this is cheapest.
-        if any(warnings.tolist()) and warnings[_INVALID_STATE_IDS].any():
-            found = []
-            for warning, field in _INVALID_STATE_WARNINGS.items():
-                if warnings[warning]:
-                    where = self._locate(field, self._data.warning[warning].lastinfo)
-                    found.append(f"{warning.name} x{warnings[warning]} ({where})")
-            raise errors.PhysicsError(
-                f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
-                f"{', '.join(found)}; reset the physics to continue"
-            )
-        # MuJoCo checks the state only when stepping; a state set since then and forwarded
-        # (reset_context) shows in qacc. The dot product is not finite if any entry is not,
-        # or above 1e154, far past MuJoCo's own 1e10 bound.
-        qacc = self._data.qacc
-        if not math.isfinite(qacc @ qacc):
-            bad = np.flatnonzero(~np.isfinite(qacc))
-            index = int(bad[0]) if bad.size else int(np.argmax(np.abs(qacc)))
-            raise errors.PhysicsError(
-                f"physics state is invalid at t={self.time():.6g}: qacc is not finite at "
-                f"{self._locate('qvel', index)}; was a NaN or infinite qpos/qvel set?"
-            )
-
-    def _locate(self, field: str, index: int) -> str:
-        """'<field> index <i>, joint <name>': the object owning row `index` of qpos/qvel/ctrl."""
-        spec = fields.indexed_field(field)
-        starts, counts = fields.rows(self._model, spec.address)
-        owner = np.flatnonzero((starts <= index) & (index < starts + counts))
-        if owner.size == 0:
-            return f"{field} index {index}"
-        name = fields.names(self._model, spec.kind)[owner[0]] or f"#{owner[0]}"
-        return f"{field} index {index}, {fields.kind_name(spec.kind)} {name!r}"
+        validity.raise_if_invalid(self._model, self._data, self._warnings)
 
     @contextlib.contextmanager
     def check_divergence(self) -> Iterator[Physics]:
@@ -648,22 +615,6 @@ class Physics:
 
     def __del__(self) -> None:
         self.close()
-
-
-class _StateCheck:
-    """`physics.check_invalid_state()` used as a context manager: checks when the block ends."""
-
-    __slots__ = ("_physics",)
-
-    def __init__(self, physics: Physics) -> None:
-        self._physics = physics
-
-    def __enter__(self) -> Physics:
-        return self._physics
-
-    def __exit__(self, kind: type | None, *rest: object) -> None:
-        if kind is None:
-            self._physics._raise_if_invalid()
 
 
 def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:
