@@ -96,6 +96,27 @@ class BatchBinding:
         return f"<BatchBinding of {self._elements!r}>"
 
 
+class _EmptyBatchBinding:
+    """The binding of no elements: every field reads (n, 0); only empty values write."""
+
+    __slots__ = ("_physics",)
+
+    def __init__(self, physics: BatchPhysics) -> None:
+        object.__setattr__(self, "_physics", physics)
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return np.zeros((self._physics.num_envs, 0))
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if np.size(value) != 0:
+            raise mjcf.BindingError(
+                f"cannot write {np.shape(value)}-shaped values to {name!r} of a binding of no "
+                "elements: only an empty value fits"
+            )
+
+
 class BatchPhysics:
     """Numpy access to the simulations of the environments of one call (see the module)."""
 
@@ -176,13 +197,17 @@ class BatchPhysics:
     # -- access --------------------------------------------------------------------------
 
     def bind(self, elements: Any) -> BatchBinding:
-        """The fields of `elements` (one element or a list of one kind, of the first
-        environment's model), cached. Raises mjcf.BindingError as `mjcf.Physics.bind`."""
-        key = tuple(elements) if isinstance(elements, list | tuple) else elements
+        """The fields of `elements` (one element or an iterable of one kind, of the first
+        environment's model, as `mjcf.Physics.bind` takes them), cached; no elements give
+        fields of shape (n, 0). Raises mjcf.BindingError as `mjcf.Physics.bind`."""
+        key = elements if isinstance(elements, mjcf.Element) else tuple(elements)
         found = self._bindings.get(key)
         if found is None:
-            self._template.bind(elements)  # raises BindingError for foreign elements
-            found = self._bindings[key] = BatchBinding(self, elements)
+            single = isinstance(key, mjcf.Element)
+            template = self._template.bind(key)  # raises BindingError for foreign elements
+            if template is mjcf.binding.EMPTY:
+                return _EmptyBatchBinding(self)
+            found = self._bindings[key] = BatchBinding(self, key if single else list(key))
         return found
 
     def field(self, name: str) -> np.ndarray:

@@ -313,3 +313,17 @@ def test_make_vec_of_a_shipped_task():
     reference = gymnasium.make_vec("composer/CartpoleSwingup-v0", num_envs=3)
     assert isinstance(vector, VectorEnvironment)
     assert_same_runs(vector, reference, steps=15)
+
+
+def test_batch_physics_binds_what_mjcf_physics_binds() -> None:
+    """Any iterable of elements, and no elements: (n, 0) fields."""
+    vector = VectorEnvironment(BatchedSwing, 2)
+    vector.reset(seed=0)
+    physics = vector.batch_physics
+    hinge = vector.environments[0].task.pendulum.hinge
+    assert physics.bind(np.array([hinge], dtype=object)).qpos.shape == (2, 1)
+    assert physics.bind(iter([hinge])).qpos.shape == (2, 1)
+    assert physics.bind([]).qpos.shape == (2, 0)
+    physics.bind([]).ctrl = np.zeros((2, 0))
+    with pytest.raises(mjcf.BindingError, match="binding of no elements"):
+        physics.bind([]).ctrl = 1.0
