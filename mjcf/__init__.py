@@ -40,6 +40,7 @@ from mjcf.errors import (
     ReferenceError,
     RenderError,
     SchemaError,
+    StateError,
 )
 from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
 from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
@@ -69,6 +70,7 @@ __all__ = [
     "RenderError",
     "RootElement",
     "SchemaError",
+    "StateError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",

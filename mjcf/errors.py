@@ -82,6 +82,10 @@ class PhysicsError(Error):
     """The simulation diverged (bad acceleration, NaN or infinite state)."""
 
 
+class StateError(Error, ValueError):
+    """A state or control vector of the wrong size, or a step count below one."""
+
+
 class BindingError(Error, builtins.AttributeError):
     """An element that cannot be bound to this physics, or a field its kind does not
     have, or a value of the wrong shape."""

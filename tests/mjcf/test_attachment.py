@@ -489,7 +489,7 @@ def test_compiled_names_are_those_stock_mujoco_reads_from_the_written_model() ->
 
 def test_reload_keeps_the_state_of_unnamed_joints_and_actuators() -> None:
     """Unnamed joints (a free attachment frame's, say) have no name to match on
-    reload: they keep their state by element."""
+    reload with keep_state: they keep their state by element."""
     prop = mjcf.RootElement(model="prop")
     prop.worldbody.add("geom", type="box", size=[0.1, 0.1, 0.1])  # the frame body's mass
     body = prop.worldbody.add("body")
@@ -504,7 +504,7 @@ def test_reload_keeps_the_state_of_unnamed_joints_and_actuators() -> None:
     physics.bind(hinge).qpos = 0.4
     physics.bind(prop.actuator.motor[0]).ctrl = 0.7
     scene.worldbody.add("geom", pos=[3, 3, 0.5], size=[0.2])  # a change elsewhere
-    physics.reload_from_mjcf_model(scene)
+    physics.reload_from_mjcf_model(scene, keep_state=True)
     assert physics.bind(free).qpos.tolist() == [1, 2, 3, 1, 0, 0, 0]
     assert physics.bind(hinge).qpos[0] == 0.4
     assert physics.bind(prop.actuator.motor[0]).ctrl == 0.7
