@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from mjcf import debugging, errors
 from mjcf import values as _values
-from mjcf.namescope import PREFIX_SEPARATOR
+from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
 from mjcf.namescope import unescape as _unescape
 from mjcf.schema import AttributeSpec, ElementSpec
 
@@ -109,6 +109,12 @@ class Element:
         return self._root.namescope
 
     @property
+    def is_removed(self) -> bool:
+        """Whether this element was removed from its model (by `remove()` of itself or of
+        an ancestor, or, for an attachment frame, by detaching its model)."""
+        return self is not self._root and not self._is_registered()
+
+    @property
     def identifier(self) -> str | None:
         """This element's name (its class for a default), or the name MuJoCo gives
         an unnamed mesh/texture/hfield/skin after its file; None if unnamed."""
@@ -122,18 +128,19 @@ class Element:
 
     @property
     def full_identifier(self) -> str | None:
-        """The scoped name MuJoCo will see for this element in the outermost model
-        ('arm/gripper/pad'), or None if unnamed."""
+        """The name MuJoCo sees for this element in the outermost model it is attached
+        into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
+        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
+        cannot carry a name, and removed or replicated ones (see `mjcf.naming`)."""
         return self.prefixed_identifier(None)
 
     def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
-        """This element's scoped name relative to model `prefix_root` (default: the
-        outermost model it is attached into)."""
-        name = self.identifier
-        if name is None:
-            return None
-        scope = None if prefix_root is None else prefix_root.namescope
-        return self._root.namescope.prefix(scope) + name
+        """This element's name as model `prefix_root` (default: the outermost model it is
+        attached into) writes it; see `full_identifier`. Raises mjcf.ReferenceError if
+        this element's model is not attached inside `prefix_root`."""
+        from mjcf import naming
+
+        return naming.scoped_name(self, prefix_root)
 
     @property
     def path(self) -> str:
@@ -380,14 +387,15 @@ class Element:
         items = value if isinstance(value, list) else [value]
         namespace = attribute.reference_namespace(self._attrs)
         for item in items:
-            if isinstance(item, Element):
-                if namespace is not None and item._spec.namespace != namespace:
-                    raise errors.ReferenceError(
-                        f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
-                        f"{item.path} (a {item._spec.namespace or item.tag})"
-                    )
-                if item.identifier is None:
-                    item._root._referenced_unnamed.add(item)
+            if (
+                isinstance(item, Element)
+                and namespace is not None
+                and item._spec.namespace != namespace
+            ):
+                raise errors.ReferenceError(
+                    f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
+                    f"{item.path} (a {item._spec.namespace or item.tag})"
+                )
 
     def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
         namespace = attribute.reference_namespace(self._attrs)
@@ -535,7 +543,8 @@ class Element:
     def find(self, namespace: str, identifier: str) -> Element | None:
         """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
         'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
-        inside this element, or None."""
+        inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
+        unknown namespace."""
         from mjcf import traversal
 
         return traversal.find(self, namespace, identifier)
@@ -547,10 +556,29 @@ class Element:
         exclude_attachments: bool = False,
     ) -> list[Element]:
         """Every element of `namespace` (or with tag `namespace`) inside this element,
-        in the order MuJoCo will see them, including attached models' unless excluded."""
+        in the order MuJoCo will see them, including attached models' unless excluded.
+        Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
         from mjcf import traversal
 
         return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
+
+    def enter_scope(self, scope_identifier: str) -> RootElement | None:
+        """The model attached into this element's model under the scoped name
+        `scope_identifier` ('arm', or 'arm/gripper' for one attached inside it), or None
+        if there is none."""
+        scope = self._root.namescope
+        for part in split_identifier(scope_identifier):
+            scope = scope.child(part) if part else None
+            if scope is None:
+                return None
+        return scope.model
+
+    def is_same_as(self, other: object) -> bool:
+        """Whether `other` is structurally the same element: same schema, attribute
+        values (references by what they point to) and children (see `mjcf.sameness`)."""
+        from mjcf import sameness
+
+        return sameness.is_same_as(self, other)
 
     # -- XML -------------------------------------------------------------------------------
 
@@ -589,7 +617,11 @@ class Element:
         return sorted(n for n in names if n.isidentifier())
 
     def __copy__(self) -> Element:
-        raise TypeError("copy a model with copy.deepcopy(root)")
+        raise TypeError(
+            f"{self.path}: an element belongs to its model and cannot be copied alone; copy "
+            "the model with copy.copy(root) or copy.deepcopy(root), or merge a copy into "
+            "another element with include_copy"
+        )
 
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
         """A copy of the whole model (detached, with its attached models), sharing the

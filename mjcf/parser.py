@@ -21,7 +21,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, errors
+from mjcf import debugging, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR, unescape
@@ -135,6 +135,7 @@ def _parse(
     object.__setattr__(root, "_confine_to", confine)
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
+    builder.link_unnamed()
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -251,6 +252,10 @@ class _Builder:
         self.escape = escape_separators
         self.with_references: list[Element] = []
         self.generated_names = False  # <replicate>/<attach> make names we do not see
+        # Elements written with a name mjcf generated ('//unnamed_geom_0'), which are
+        # read back unnamed, and the elements whose references name one.
+        self.unnamed: dict[tuple[str, str], Element] = {}
+        self.to_unnamed: list[Element] = []
 
     def build(self, xml_root: etree._Element) -> None:
         root = self.root
@@ -292,7 +297,12 @@ class _Builder:
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
             kind = attribute.kind
-            if kind == "identifier" or kind == "reference":
+            if kind == "identifier" and spec.namespace and naming.GENERATED.fullmatch(text):
+                self.unnamed[(spec.namespace, text)] = element
+                del attrib[name]
+            elif kind == "reference":
+                attrib[name] = self._reference_text(element, attribute, text, xml)
+            elif kind == "identifier":
                 attrib[name] = self._name_text(element, attribute, text, xml)
             elif kind != "string" and kind != "file":
                 try:
@@ -305,6 +315,17 @@ class _Builder:
             element._attrs.update(attrib)
         else:
             object.__setattr__(element, "_attrs", attrib)
+
+    def _reference_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+        items = text.split() if attribute.is_list else [text]
+        generated = [naming.GENERATED.fullmatch(item) is not None for item in items]
+        if not any(generated):
+            return self._name_text(element, attribute, text, xml)
+        self.to_unnamed.append(element)
+        return " ".join(
+            item if is_generated else self._name_text(element, attribute, item, xml)
+            for item, is_generated in zip(items, generated, strict=True)
+        )
 
     def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
         if PREFIX_SEPARATOR in text:
@@ -371,6 +392,24 @@ class _Builder:
             if len(xml):
                 self._children(element, xml)
 
+    def link_unnamed(self) -> None:
+        """References that name an element by the name mjcf generated for it point at
+        that element, which is read back unnamed."""
+        for element in self.to_unnamed:
+            attrs = element._attrs
+            for name in element._spec.references.intersection(attrs):
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                text = attrs[name]
+                if namespace is None or not isinstance(text, str):
+                    continue
+                items = text.split() if attribute.is_list else [text]
+                targets = [self.unnamed.get((namespace, item), item) for item in items]
+                if attribute.is_list:
+                    attrs[name] = targets
+                elif isinstance(targets[0], Element):
+                    attrs[name] = targets[0]
+
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's
         folder (strict paths)."""
@@ -387,15 +426,23 @@ class _Builder:
         scope = self.root.namescope
         dangling = []
         for element in self.with_references:
+            if element._spec.key.startswith("default-"):
+                continue  # resolved where an element uses the class, as MuJoCo does
             attrs = element._attrs
             for name in element._spec.references.intersection(attrs):
                 attribute = element._spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 if namespace is None:
                     continue
-                targets = attrs[name].split() if attribute.is_list else [attrs[name]]
+                value = attrs[name]
+                if isinstance(value, Element):
+                    continue
+                if isinstance(value, list):
+                    targets = value
+                else:
+                    targets = value.split() if attribute.is_list else [value]
                 for target in targets:
-                    if namespace == "default" and target == "main":
+                    if isinstance(target, Element) or (namespace == "default" and target == "main"):
                         continue
                     if scope.get(namespace, target) is None:
                         dangling.append(
