@@ -21,7 +21,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, errors, naming
+from mjcf import debugging, default_sections, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR, unescape
@@ -265,6 +265,7 @@ class _Builder:
                     f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
                 )
         sections = {section.tag: section for section in root._children}
+        seen: set[str] = set()
         for xml_section in xml_root:
             tag = xml_section.tag
             if not isinstance(tag, str):
@@ -279,7 +280,17 @@ class _Builder:
             if tag == "default" and attrib.get("class") in ("main", None):
                 attrib.pop("class", None)
             self._set_attributes(section, attrib, xml_section, merge=True)
-            self._children(section, xml_section)
+            if tag == "default" and tag in seen:
+                default_sections.merge_section(
+                    section,
+                    xml_section,
+                    self._set_attributes,
+                    self._children,
+                    lambda xml: _where(self.filename, xml),
+                )
+            else:
+                self._children(section, xml_section)
+            seen.add(tag)
 
     def _set_attributes(
         self, element: Element, attrib: dict, xml: etree._Element, merge: bool = False
@@ -338,7 +349,7 @@ class _Builder:
             text = text.replace(PREFIX_SEPARATOR, "\\" + PREFIX_SEPARATOR)
         return text
 
-    def _children(self, parent: Element, xml_parent: etree._Element) -> None:
+    def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
         specs = parent._spec.children
         root = self.root
         scope = root.namescope
