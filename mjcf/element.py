@@ -19,8 +19,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
-from mjcf import debugging, errors
+from mjcf import debugging, element_list, errors
 from mjcf import values as _values
+from mjcf.element_list import ElementList
 from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
 from mjcf.namescope import unescape as _unescape
 from mjcf.schema import AttributeSpec, ElementSpec
@@ -33,21 +34,6 @@ if TYPE_CHECKING:
 _ALIASES = {"dclass": "class", "class_": "class"}
 # Asset elements that MuJoCo names after their file when they have no name.
 _NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
-
-
-class ElementList(list):
-    """The repeated children of one tag: a list that is also indexable by name."""
-
-    def __getitem__(self, key):  # type: ignore[override]
-        if isinstance(key, str):
-            for element in self:
-                if element.identifier == key:
-                    return element
-            raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
-        return super().__getitem__(key)
-
-    def tags(self) -> str:
-        return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"
 
 
 class Element:
@@ -470,11 +456,12 @@ class Element:
         return None
 
     def get_children(self, tag: str) -> Any:
-        """Children with `tag`: an `ElementList` for repeated elements, or the single
+        """Children with `tag`: an `ElementList` for repeated elements (for a top-level
+        section, with those of attached models: see `mjcf.element_list`), or the single
         child for elements that may appear once (created empty on first access)."""
         spec = self._child_spec(tag)
         if spec.repeated:
-            return ElementList(c for c in self._children if c._spec.tag == tag)
+            return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
         if child is None:
             child = self._new_child(spec)
@@ -482,8 +469,9 @@ class Element:
         return child
 
     def all_children(self) -> list[Element]:
-        """The direct children of this element, in order."""
-        return list(self._children)
+        """The direct children of this element, in order (for a top-level section, then
+        those of attached models: see `mjcf.element_list`)."""
+        return element_list.children(self)
 
     def iter(self) -> Iterator[Element]:
         """This element and its descendants in document order (not into attached

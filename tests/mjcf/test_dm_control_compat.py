@@ -291,3 +291,25 @@ def test_unknown_namespace_is_a_value_error_and_still_a_key_error() -> None:
         model.worldbody.body["nope"]
     with pytest.raises(AttributeError):
         model.find("body", "torso").poss = np.zeros(3)
+
+
+# -- section lists ---------------------------------------------------------------------------------
+
+
+def test_section_lists_include_attached_models_as_in_dm_control() -> None:
+    scene = mjcf.RootElement(model="scene")
+    scene.worldbody.add("body", name="post").add("joint", name="slide", type="slide")
+    scene.actuator.add("motor", name="push", joint="slide")
+    legs = [_leg(), _leg()]
+    for leg in legs:
+        scene.attach(leg)
+    positions = scene.actuator.position
+    assert positions == legs[0].actuator.position + legs[1].actuator.position
+    assert scene.actuator.all_children() == [scene.actuator.motor[0], *positions]
+    name = positions[3].prefixed_identifier(scene)
+    assert name == "unnamed_model_1//unnamed_actuator_1" and positions[name] is positions[3]
+    assert scene.actuator.motor["push"].joint is scene.find("joint", "slide")
+    assert [b.name for b in scene.worldbody.body] == ["post"]  # the world body: its own
+    assert legs[0].actuator.position == legs[0].actuator.get_children("position")
+    with pytest.raises(KeyError):
+        scene.actuator.motor["unnamed_model/push"]
