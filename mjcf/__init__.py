@@ -20,6 +20,7 @@ when it is made, and a failed change leaves the model as it was; errors are
 their own trees; composition happens when a model is written or compiled.
 """
 
+from mjcf import traversal_utils  # dm_control's module name for the frame helpers
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -85,4 +86,5 @@ __all__ = [
     "get_frame_joints",
     "get_freejoint",
     "is_debug_mode",
+    "traversal_utils",
 ]

@@ -313,3 +313,76 @@ def test_section_lists_include_attached_models_as_in_dm_control() -> None:
     assert legs[0].actuator.position == legs[0].actuator.get_children("position")
     with pytest.raises(KeyError):
         scene.actuator.motor["unnamed_model/push"]
+
+
+# -- dm_control's own examples, with `import mjcf` -------------------------------------------------
+
+
+def test_dm_control_readme_flow() -> None:
+    """The steps of dm_control's PyMJCF README: parse, traverse, edit, find, attach."""
+    model = mjcf.from_xml_string(
+        """<mujoco model="test">
+          <default><default class="brick"><geom rgba="1 0 0 1"/></default></default>
+          <worldbody><body name="foo"><freejoint/><inertial pos="0 0 0" mass="1"/>
+            <body name="bar"><joint name="my_hinge" type="hinge"/>
+              <geom name="my_geom" pos="0 1 2" class="brick"/></body></body></worldbody>
+        </mujoco>"""
+    )
+    my_geom = model.worldbody.body["foo"].body["bar"].geom["my_geom"]
+    assert my_geom.pos.tolist() == [0, 1, 2] and my_geom.rgba is None
+    assert model.default.default["brick"].geom.rgba.tolist() == [1, 0, 0, 1]
+    assert model.find("geom", "my_geom") is my_geom
+    joints = model.find_all("joint")
+    assert [j.tag for j in joints] == ["freejoint", "joint"]
+    with pytest.raises(ValueError):
+        my_geom.pos = [1, 2, 3, 4, 5, 6]
+    with pytest.raises(ValueError):
+        del model.find("body", "foo").inertial.mass
+    with pytest.raises(ValueError):
+        model.find("body", "foo").add("geom", name="my_geom")
+    model.actuator.add("velocity", joint=model.find("joint", "my_hinge"))
+    arena = mjcf.RootElement()
+    arena.worldbody.add("geom", name="ground", type="plane", size=[10, 10, 1])
+    arena.attach(model)
+    assert arena.find("attachment_frame", "test") is mjcf.traversal_utils.get_attachment_frame(
+        model
+    )
+    assert 'name="test/my_geom"' in arena.to_xml_string()
+
+
+def test_dm_control_tutorial_creatures() -> None:
+    """dm_control's tutorial: six unnamed creatures of unnamed legs, all called
+    'unnamed_model', attached with free joints, driven through bound actuators."""
+    rng = np.random.RandomState(42)
+
+    def creature(num_legs: int) -> mjcf.RootElement:
+        model = mjcf.RootElement()
+        model.compiler.angle = "radian"
+        model.worldbody.add(
+            "geom", name="torso", type="ellipsoid", size=[0.1, 0.1, 0.05], rgba=rng.rand(4)
+        )
+        for i in range(num_legs):
+            theta = 2 * i * np.pi / num_legs
+            site = model.worldbody.add(
+                "site", pos=[0.1 * np.cos(theta), 0.1 * np.sin(theta), 0], euler=[0, 0, theta]
+            )
+            site.attach(_leg())
+        return model
+
+    arena = mjcf.RootElement()
+    checker = arena.asset.add("texture", type="2d", builtin="checker", width=300, height=300)
+    grid = arena.asset.add("material", name="grid", texture=checker, texrepeat=[5, 5])
+    arena.worldbody.add("geom", type="plane", size=[2, 2, 0.1], material=grid)
+    creatures = [creature(n) for n in (3, 4, 5, 6)]
+    for i, model in enumerate(creatures):
+        spawn = arena.worldbody.add("site", pos=[i * 0.5, 0, 0.15], group=3)
+        spawn.attach(model).add("freejoint")
+    physics = mjcf.Physics.from_mjcf_model(arena)
+    actuators = [a for model in creatures for a in model.find_all("actuator")]
+    assert len(actuators) == 2 * (3 + 4 + 5 + 6)
+    torsos = [model.find("geom", "torso") for model in creatures]
+    start = physics.bind(torsos).xpos.copy()
+    while physics.data.time < 0.5:
+        physics.bind(actuators).ctrl = 0.9 * np.sin(5 * physics.data.time + np.arange(36))
+        physics.step()
+    assert not np.allclose(physics.bind(torsos).xpos, start)
