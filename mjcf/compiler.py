@@ -56,15 +56,15 @@ class Compiled(NamedTuple):
             return naming.scoped_name(element, composition.root) or ""
         name = element.identifier
         if name is None:
-            name = composition.generated_names().get(element)
-            if name is None:
+            index = self.ids.get(element)
+            if index is None:
                 if naming.is_replicated(element):
                     raise errors.BindingError(
                         f"{element.path}: is inside a <replicate>, so it compiles to several "
                         "objects; name it and bind them by their numbered names"
                     )
                 raise errors.BindingError(f"{element.path}: was added after the model was compiled")
-            return name
+            return mujoco.mj_id2name(self.model, _KINDS[element._spec.namespace], index) or ""
         if element._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + unescape(name)
@@ -87,14 +87,22 @@ def compile_composition(root: RootElement) -> Compiled:
         model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
-    ids = {}
-    for element, name in composition.generated_names().items():
-        kind = _KINDS.get(element._spec.namespace)
-        if kind is not None:
-            ids[element] = mujoco.mj_name2id(model, kind, name)
-    compiled = Compiled(model, composition, xml, assets, ids)
+    compiled = Compiled(model, composition, xml, assets, _generated_ids(model, composition))
     keyframes.fill(model, composition, compiled.id_of)
     return compiled
+
+
+def _generated_ids(model: mujoco.MjModel, composition: Composition) -> dict[Element, int]:
+    """{element: compiled index} of the objects written with generated names (found by
+    element, as their names shift when elements are added before them)."""
+    ids = {}
+    for context in (composition.context(composition.root), *composition.attached_contexts()):
+        for element in naming.unnamed_elements(context.model):
+            kind = _KINDS.get(element._spec.namespace)
+            name = naming.written_name(element, context.prefix)
+            if kind is not None and name is not None:
+                ids[element] = mujoco.mj_name2id(model, kind, name)
+    return ids
 
 
 def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], int]:

@@ -219,7 +219,6 @@ class Composition:
         # Compiling writes the file names of meshes and textures named after their file
         # with their names, as the assets are renamed.
         self.for_compile = for_compile
-        self._generated: dict[Element, str] = {}
         self._inertia: str | None = None
         self._models = [root, *attachment.attached_models(root)]
         self.has_attachments = len(self._models) > 1
@@ -342,21 +341,19 @@ class Composition:
         """The name written for an element without a name attribute: its scoped file
         name for meshes and textures named after their file (when that could change),
         else its generated name (see `mjcf.naming`), else None."""
+        if (
+            context.plain
+            and not self.for_compile
+            and element._spec.tag in naming.NAMED_AFTER_FILE
+            and element._attrs.get("file") is not None
+        ):
+            return None  # MuJoCo names it after its file, as it is written
         implicit = element.identifier
         if implicit is not None:
             if context.plain and not self.for_compile:
                 return None
             return context.prefix + implicit
-        name = self._generated.get(element)
-        if name is None:
-            name = naming.written_name(element, context.prefix)
-            if name is not None:
-                self._generated[element] = name
-        return name
-
-    def generated_names(self) -> dict[Element, str]:
-        """`{element: generated name}` of the unnamed elements written so far."""
-        return self._generated
+        return naming.written_name(element, context.prefix)
 
     def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
         """An attachment frame's own joints belong to the model that owns the frame, not

@@ -24,6 +24,7 @@ from mjcf import values as _values
 from mjcf.element_list import ElementList
 from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
 from mjcf.namescope import unescape as _unescape
+from mjcf.naming import NAMED_AFTER_FILE
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -32,8 +33,6 @@ if TYPE_CHECKING:
 
 # Python spellings of MJCF attribute names that are Python keywords.
 _ALIASES = {"dclass": "class", "class_": "class"}
-# Asset elements that MuJoCo names after their file when they have no name.
-_NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 
 
 class Element:
@@ -108,7 +107,7 @@ class Element:
         if spec.identifier is None:
             return None
         value = self._attrs.get(spec.identifier)
-        if value is None and spec.tag in _NAMED_AFTER_FILE:
+        if value is None and spec.tag in NAMED_AFTER_FILE:
             return _name_from_file(self._attrs.get("file"))
         return value
 
@@ -234,7 +233,7 @@ class Element:
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
-        elif attribute.kind == "file" and self._spec.tag in _NAMED_AFTER_FILE:
+        elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
             self._rename_after_file(stored)
         self._attrs[name] = stored
         self._modified()
@@ -325,7 +324,7 @@ class Element:
             scope.register(namespace, _unescape(new_name), self)
             if "\\" in new_name:
                 object.__setattr__(self._root, "_escaped_names", True)
-        elif self._spec.tag in _NAMED_AFTER_FILE:
+        elif self._spec.tag in NAMED_AFTER_FILE:
             implicit = _name_from_file(self._attrs.get("file"))
             if implicit is not None:
                 scope.namespace(namespace).setdefault(implicit, self)

@@ -35,6 +35,8 @@ if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
 
+# Asset elements that MuJoCo names after their file when they have no name.
+NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 # A generated name as the outermost model writes it: '//unnamed_body_3'.
 GENERATED = re.compile(r"//unnamed_([a-z_]+)_(\d+)")
 # Elements below these tags are templates or copies, not one compiled object each.
@@ -123,6 +125,17 @@ def _world_body_name(worldbody: Element, prefix_root: RootElement | None) -> str
     while holder._spec.tag == "frame":  # MuJoCo's <frame>s are no bodies
         holder = holder._parent
     return scoped_name(holder, prefix_root) or WORLD
+
+
+def unnamed_elements(root: RootElement) -> list[Element]:
+    """The elements of `root`'s own tree that are written with a generated name: its
+    numbered unnamed elements and the unnamed joints of its attachment frames."""
+    found = list(_numbers(root))
+    for frame in root._attachments:
+        found.extend(
+            c for c in frame._children if c._spec.namespace == "joint" and c.identifier is None
+        )
+    return found
 
 
 def _numbers(root: RootElement) -> dict[Element, int]:

@@ -308,7 +308,12 @@ class _Builder:
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
             kind = attribute.kind
-            if kind == "identifier" and spec.namespace and naming.GENERATED.fullmatch(text):
+            if (
+                kind == "identifier"
+                and text[:2] == "//"
+                and spec.namespace
+                and naming.GENERATED.fullmatch(text)
+            ):
                 self.unnamed[(spec.namespace, text)] = element
                 del attrib[name]
             elif kind == "reference":
@@ -328,6 +333,8 @@ class _Builder:
             object.__setattr__(element, "_attrs", attrib)
 
     def _reference_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+        if "//" not in text:  # no generated name: the common case
+            return self._name_text(element, attribute, text, xml)
         items = text.split() if attribute.is_list else [text]
         generated = [naming.GENERATED.fullmatch(item) is not None for item in items]
         if not any(generated):

@@ -272,12 +272,12 @@ class _Writer:
                 if attrs or element._children or not spec.on_demand:
                     general(element, depth, context)
                 return
-            if attrs:
-                cached = element._text
-                if cached is not None and cached[0] == version:
-                    text = cached[1]
-                else:
-                    special = spec.file_attributes
+            cached = element._text
+            if cached is not None and cached[0] == version:
+                text = cached[1]
+            else:
+                special = spec.file_attributes
+                if attrs:
                     text = "".join([
                         f' {name}="{value}"' if type(value) is str and name not in special
                         else f' {name}="{escaped_value(element, name, value, context)}"'
@@ -291,15 +291,15 @@ class _Writer:
                         or text.count('"') != 2 * len(attrs)
                     ):
                         text = escaped_attributes(element, context, None)
-                    if not special:  # file names depend on the output; the rest does not
-                        element._text = (version, text)
-            else:
-                text = ""
-            identifier = spec.identifier
-            if identifier is not None and identifier not in attrs:
-                name = generated_name(element, context)
-                if name is not None:
-                    text = f' {identifier}="{escape(name)}"' + text
+                else:
+                    text = ""
+                identifier = spec.identifier
+                if identifier is not None and identifier not in attrs:
+                    name = generated_name(element, context)
+                    if name is not None:  # a name that changes only with the model
+                        text = f' {identifier}="{escape(name)}"' + text
+                if not special:  # file names depend on the output; the rest does not
+                    element._text = (version, text)
             children = element._children
             indent = indents[depth]
             if not children:

@@ -386,3 +386,16 @@ def test_dm_control_tutorial_creatures() -> None:
         physics.bind(actuators).ctrl = 0.9 * np.sin(5 * physics.data.time + np.arange(36))
         physics.step()
     assert not np.allclose(physics.bind(torsos).xpos, start)
+
+
+def test_an_unnamed_element_added_after_compiling_is_not_bound_to_another() -> None:
+    """Generated names shift when an element is added before others: the compiled
+    model is found by element, never by a name now meaning something else."""
+    model = _leg()
+    physics = mjcf.Physics.from_mjcf_model(model)
+    thigh = model.find_all("body")[0]
+    before = model.worldbody.insert("body", 0, pos=[1, 0, 0])
+    assert before.full_identifier == "//unnamed_body_0" and thigh.full_identifier.endswith("_1")
+    with pytest.raises(mjcf.BindingError, match="added after the model was compiled"):
+        physics.bind(before)
+    assert physics.bind(thigh).xpos.tolist() == physics.data.xpos[1].tolist()
