@@ -24,7 +24,7 @@ from mjcf import values as _values
 from mjcf.element_list import ElementList
 from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
 from mjcf.namescope import unescape as _unescape
-from mjcf.naming import NAMED_AFTER_FILE
+from mjcf.naming import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -108,7 +108,7 @@ class Element:
             return None
         value = self._attrs.get(spec.identifier)
         if value is None and spec.tag in NAMED_AFTER_FILE:
-            return _name_from_file(self._attrs.get("file"))
+            return name_from_file(self._attrs.get("file"))
         return value
 
     @property
@@ -325,7 +325,7 @@ class Element:
             if "\\" in new_name:
                 object.__setattr__(self._root, "_escaped_names", True)
         elif self._spec.tag in NAMED_AFTER_FILE:
-            implicit = _name_from_file(self._attrs.get("file"))
+            implicit = name_from_file(self._attrs.get("file"))
             if implicit is not None:
                 scope.namespace(namespace).setdefault(implicit, self)
 
@@ -336,7 +336,7 @@ class Element:
         old = self.identifier
         if old is not None:
             scope.unregister(self._spec.namespace, old, self)
-        new = _name_from_file(file_value)
+        new = name_from_file(file_value)
         if new is not None:
             scope.namespace(self._spec.namespace).setdefault(new, self)
 
@@ -616,13 +616,3 @@ class Element:
         from mjcf import copying
 
         return copying.deepcopy_element(self, memo)
-
-
-def _name_from_file(value: object) -> str | None:
-    if value is None:
-        return None
-    path = value if isinstance(value, str) else getattr(value, "name", None)
-    if not path:
-        return None
-    base = path.replace("\\", "/").rsplit("/", 1)[-1]
-    return base.rsplit(".", 1)[0] if "." in base else base

@@ -43,6 +43,18 @@ GENERATED = re.compile(r"//unnamed_([a-z_]+)_(\d+)")
 _NOT_ONE_OBJECT = frozenset({"replicate", "default"})
 
 
+def name_from_file(value: object) -> str | None:
+    """The name MuJoCo gives an unnamed mesh, texture, height field or skin: its file
+    name without folder and extension; None without a file."""
+    if value is None:
+        return None
+    path = value if isinstance(value, str) else getattr(value, "name", None)
+    if not path:
+        return None
+    base = path.replace("\\", "/").rsplit("/", 1)[-1]
+    return base.rsplit(".", 1)[0] if "." in base else base
+
+
 def scoped_name(element: Element, prefix_root: RootElement | None = None) -> str | None:
     """The name `element` has in the output of `prefix_root` (default: the outermost
     model it is attached into); None for elements that cannot carry a name, and for
