@@ -116,7 +116,8 @@ class Element:
         """The name MuJoCo sees for this element in the outermost model it is attached
         into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
         'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
-        cannot carry a name, and removed or replicated ones (see `mjcf.naming`)."""
+        cannot carry a name, and unnamed ones that are removed or replicated (see
+        `mjcf.naming`)."""
         return self.prefixed_identifier(None)
 
     def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:

@@ -58,7 +58,7 @@ def name_from_file(value: object) -> str | None:
 def scoped_name(element: Element, prefix_root: RootElement | None = None) -> str | None:
     """The name `element` has in the output of `prefix_root` (default: the outermost
     model it is attached into); None for elements that cannot carry a name, and for
-    removed and replicated ones."""
+    unnamed ones that are removed or replicated."""
     from mjcf import attachment
 
     if element._spec.tag == "worldbody" and element._parent is element.root:
