@@ -16,7 +16,8 @@
 What it promises: every change is validated against the installed MuJoCo's schema
 when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
-`to_xml_string()` compiles in stock MuJoCo to the same model. Attached models keep
+`to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
+as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
 their own trees; composition happens when a model is written or compiled.
 """
 
