@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, errors, fields
+from mjcf import attachment, errors, fields, naming
 
 if TYPE_CHECKING:
     from mjcf.compiler import Compiled
@@ -60,9 +60,7 @@ def element_ids(
     kind = kinds.pop()
     ids = np.empty(len(elements), dtype=np.intp)
     for i, element in enumerate(elements):
-        if element.tag == "worldbody":
-            ids[i] = 0
-        elif compiled is not None and _compiled_from(compiled, element):
+        if compiled is not None and _compiled_from(compiled, element):
             index = compiled.id_of(element, kind)
             if index < 0:
                 raise errors.BindingError(
@@ -114,8 +112,9 @@ def transfer_state(
     unnamed: dict[tuple[int, int], int] | None = None,
 ) -> None:
     """Copy time and the state of every joint, actuator and mocap body that exists in
-    both models (matched by name, or for unnamed ones by `unnamed`: {(kind, new id):
-    old id}, see `compiler.unnamed_pairs`) from the old simulation to the new one."""
+    both models (matched by name, or for those with generated names by `unnamed`:
+    {(kind, new id): old id}, see `compiler.unnamed_pairs`) from the old simulation to
+    the new one."""
     new_data.time = old_data.time
     pairs = unnamed or {}
     joint = mujoco.mjtObj.mjOBJ_JOINT
@@ -154,9 +153,12 @@ def _same_name(
     new_id: int,
     unnamed: dict[tuple[int, int], int],
 ) -> int:
+    paired = unnamed.get((int(kind), new_id))
+    if paired is not None:  # a generated name, which can shift: matched by element
+        return paired
     name = mujoco.mj_id2name(new_model, kind, new_id)
-    if not name:
-        return unnamed.get((int(kind), new_id), -1)
+    if not name or naming.GENERATED.search(name):
+        return -1
     return mujoco.mj_name2id(old_model, kind, name)
 
 
