@@ -16,10 +16,12 @@
 What it promises: every change is validated against the installed MuJoCo's schema
 when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
-`to_xml_string()` compiles in stock MuJoCo to the same model. Attached models keep
+`to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
+as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
 their own trees; composition happens when a model is written or compiled.
 """
 
+from mjcf import traversal_utils  # dm_control's module name for the frame helpers
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -34,12 +36,14 @@ from mjcf.errors import (
     CompileError,
     Error,
     NameError,
+    NamespaceError,
     NotFoundError,
     ParseError,
     PhysicsError,
     ReferenceError,
     RenderError,
     SchemaError,
+    StateError,
 )
 from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
 from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
@@ -61,6 +65,7 @@ __all__ = [
     "Element",
     "Error",
     "NameError",
+    "NamespaceError",
     "NotFoundError",
     "ParseError",
     "Physics",
@@ -69,6 +74,7 @@ __all__ = [
     "RenderError",
     "RootElement",
     "SchemaError",
+    "StateError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",
@@ -83,4 +89,5 @@ __all__ = [
     "get_frame_joints",
     "get_freejoint",
     "is_debug_mode",
+    "traversal_utils",
 ]

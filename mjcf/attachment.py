@@ -11,7 +11,8 @@ The child model keeps its own tree and name scope; the parent holds an
 `AttachmentFrame` where the child's world body goes. The frame is written as a MuJoCo
 `<frame>` (so the child's free joints stay free), or as a `<body>` once joints or an
 inertial are added to it. A model is attached in one place at a time; attach a
-`copy.deepcopy` of it to use it twice.
+`copy.deepcopy` of it to use it twice. A model whose name is taken where it is attached
+(the same file loaded twice) is renamed 'name_1', 'name_2', ... as in dm_control.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from typing import TYPE_CHECKING
 
 from mjcf import errors, schema
 from mjcf.element import Element
-from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
+from mjcf.namescope import split_identifier
 from mjcf.schema import ElementSpec
 
 if TYPE_CHECKING:
@@ -96,9 +97,10 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     return its attachment frame. Raises mjcf.AttachmentError for a model that is
     already attached, that would contain itself, or whose settings conflict with those
     of the models it goes into (a conflict with a model attached beside it is raised
-    when the scene is written or compiled), and mjcf.NameError if a model of the same
-    name is attached here already; the tree is unchanged then. Checks cost the same
-    whatever is attached already."""
+    when the scene is written or compiled); the tree is unchanged then. A child whose
+    model name is taken by a model attached into the same model already is renamed
+    'name_1' (then 'name_2', ...), as dm_control does. Checks cost the same whatever
+    is attached already."""
     from mjcf import settings
     from mjcf.root import RootElement
 
@@ -137,12 +139,27 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
                 frame._attrs[name] = place._get_value(place._spec.attributes[name])
                 if hasattr(frame._attrs[name], "copy"):
                     frame._attrs[name] = frame._attrs[name].copy()
+    _give_free_name(child, place.root)
     place.root.namescope.add_child(child.namescope)
     body._children.append(frame)
     place.root._attachments.append(frame)
     object.__setattr__(child, "_frame", frame)
     place._modified()
     return frame
+
+
+def _give_free_name(child: RootElement, parent: RootElement) -> None:
+    """Rename `child` 'name_1', 'name_2', ... if a model attached to `parent` has its
+    name (the same robot file loaded twice)."""
+    scope = parent.namescope
+    name = child.model
+    if scope.child(name) is None:
+        return
+    number = 1
+    while scope.child(f"{name}_{number}") is not None:
+        number += 1
+    child._attrs["model"] = f"{name}_{number}"
+    child._modified()
 
 
 def detach(child: RootElement) -> None:
@@ -192,7 +209,6 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
 def frame_output_name(frame: AttachmentFrame, owner: ModelContext) -> str:
     """The name an attachment frame is written with: its own name in its model's scope,
     or the attached model's scope prefix ('arm/'), which no user name can take."""
-    name = frame._attrs.get("name")
-    if name is not None:
-        return owner.prefix + name
-    return owner.prefix + frame._attached.model + PREFIX_SEPARATOR
+    from mjcf import naming
+
+    return naming.frame_name(frame, owner.prefix)

@@ -206,11 +206,6 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     object.__setattr__(new, "_attachments", [memo[id(frame)] for frame in root._attachments])
     object.__setattr__(new, "_escaped_names", root._escaped_names)
     object.__setattr__(new, "_version", root._version)
-    object.__setattr__(
-        new,
-        "_referenced_unnamed",
-        {memo[id(e)] for e in root._referenced_unnamed if id(e) in memo},
-    )
     return new
 
 

@@ -114,7 +114,7 @@ def commit_defaults(root: RootElement) -> None:
                 element._attrs[name] = _values.track(value, element)
             else:
                 own = element._get_value(element._spec.attributes[name])
-                element._attrs[name] = _values.track(_overlay(name, value, own), element)
+                element._attrs[name] = _values.track(overlay(name, value, own), element)
     for model in models:
         for element in model.iter():
             if traversal.has_ancestor(element, "default"):
@@ -144,7 +144,7 @@ def _defaults_for(element: Element, tag: str) -> dict[str, Any]:
             for name in source._attrs:
                 if name in attributes and name != "class":
                     value = source._get_value(source._spec.attributes[name])
-                    values[name] = _overlay(name, values.get(name), value)
+                    values[name] = overlay(name, values.get(name), value)
                 elif child_tag != tag:
                     raise errors.AttributeValueError(
                         f"{element.path}: its default class sets <{child_tag} {name}>, which "
@@ -161,7 +161,7 @@ def _reset_shortcut(values: dict[str, Any], default_tag_: str, tag: str) -> None
             values.pop(name, None)
 
 
-def _overlay(name: str, below: Any, value: Any) -> Any:
+def overlay(name: str, below: Any, value: Any) -> Any:
     """A copy of `value` over the default `below`: MuJoCo reads fewer numbers than an
     array holds over the default's, so the rest of the default stays."""
     if isinstance(value, np.ndarray):

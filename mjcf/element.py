@@ -19,10 +19,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
-from mjcf import debugging, errors
+from mjcf import debugging, element_list, errors
 from mjcf import values as _values
-from mjcf.namescope import PREFIX_SEPARATOR
+from mjcf.element_list import ElementList
+from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
 from mjcf.namescope import unescape as _unescape
+from mjcf.naming import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -31,23 +33,6 @@ if TYPE_CHECKING:
 
 # Python spellings of MJCF attribute names that are Python keywords.
 _ALIASES = {"dclass": "class", "class_": "class"}
-# Asset elements that MuJoCo names after their file when they have no name.
-_NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
-
-
-class ElementList(list):
-    """The repeated children of one tag: a list that is also indexable by name."""
-
-    def __getitem__(self, key):  # type: ignore[override]
-        if isinstance(key, str):
-            for element in self:
-                if element.identifier == key:
-                    return element
-            raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
-        return super().__getitem__(key)
-
-    def tags(self) -> str:
-        return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"
 
 
 class Element:
@@ -109,6 +94,12 @@ class Element:
         return self._root.namescope
 
     @property
+    def is_removed(self) -> bool:
+        """Whether this element was removed from its model (by `remove()` of itself or of
+        an ancestor, or, for an attachment frame, by detaching its model)."""
+        return self is not self._root and not self._is_registered()
+
+    @property
     def identifier(self) -> str | None:
         """This element's name (its class for a default), or the name MuJoCo gives
         an unnamed mesh/texture/hfield/skin after its file; None if unnamed."""
@@ -116,24 +107,26 @@ class Element:
         if spec.identifier is None:
             return None
         value = self._attrs.get(spec.identifier)
-        if value is None and spec.tag in _NAMED_AFTER_FILE:
-            return _name_from_file(self._attrs.get("file"))
+        if value is None and spec.tag in NAMED_AFTER_FILE:
+            return name_from_file(self._attrs.get("file"))
         return value
 
     @property
     def full_identifier(self) -> str | None:
-        """The scoped name MuJoCo will see for this element in the outermost model
-        ('arm/gripper/pad'), or None if unnamed."""
+        """The name MuJoCo sees for this element in the outermost model it is attached
+        into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
+        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
+        cannot carry a name, and unnamed ones that are removed or replicated (see
+        `mjcf.naming`)."""
         return self.prefixed_identifier(None)
 
     def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
-        """This element's scoped name relative to model `prefix_root` (default: the
-        outermost model it is attached into)."""
-        name = self.identifier
-        if name is None:
-            return None
-        scope = None if prefix_root is None else prefix_root.namescope
-        return self._root.namescope.prefix(scope) + name
+        """This element's name as model `prefix_root` (default: the outermost model it is
+        attached into) writes it; see `full_identifier`. Raises mjcf.ReferenceError if
+        this element's model is not attached inside `prefix_root`."""
+        from mjcf import naming
+
+        return naming.scoped_name(self, prefix_root)
 
     @property
     def path(self) -> str:
@@ -241,7 +234,7 @@ class Element:
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
-        elif attribute.kind == "file" and self._spec.tag in _NAMED_AFTER_FILE:
+        elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
             self._rename_after_file(stored)
         self._attrs[name] = stored
         self._modified()
@@ -332,8 +325,8 @@ class Element:
             scope.register(namespace, _unescape(new_name), self)
             if "\\" in new_name:
                 object.__setattr__(self._root, "_escaped_names", True)
-        elif self._spec.tag in _NAMED_AFTER_FILE:
-            implicit = _name_from_file(self._attrs.get("file"))
+        elif self._spec.tag in NAMED_AFTER_FILE:
+            implicit = name_from_file(self._attrs.get("file"))
             if implicit is not None:
                 scope.namespace(namespace).setdefault(implicit, self)
 
@@ -344,7 +337,7 @@ class Element:
         old = self.identifier
         if old is not None:
             scope.unregister(self._spec.namespace, old, self)
-        new = _name_from_file(file_value)
+        new = name_from_file(file_value)
         if new is not None:
             scope.namespace(self._spec.namespace).setdefault(new, self)
 
@@ -380,14 +373,15 @@ class Element:
         items = value if isinstance(value, list) else [value]
         namespace = attribute.reference_namespace(self._attrs)
         for item in items:
-            if isinstance(item, Element):
-                if namespace is not None and item._spec.namespace != namespace:
-                    raise errors.ReferenceError(
-                        f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
-                        f"{item.path} (a {item._spec.namespace or item.tag})"
-                    )
-                if item.identifier is None:
-                    item._root._referenced_unnamed.add(item)
+            if (
+                isinstance(item, Element)
+                and namespace is not None
+                and item._spec.namespace != namespace
+            ):
+                raise errors.ReferenceError(
+                    f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
+                    f"{item.path} (a {item._spec.namespace or item.tag})"
+                )
 
     def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
         namespace = attribute.reference_namespace(self._attrs)
@@ -462,11 +456,12 @@ class Element:
         return None
 
     def get_children(self, tag: str) -> Any:
-        """Children with `tag`: an `ElementList` for repeated elements, or the single
+        """Children with `tag`: an `ElementList` for repeated elements (for a top-level
+        section, with those of attached models: see `mjcf.element_list`), or the single
         child for elements that may appear once (created empty on first access)."""
         spec = self._child_spec(tag)
         if spec.repeated:
-            return ElementList(c for c in self._children if c._spec.tag == tag)
+            return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
         if child is None:
             child = self._new_child(spec)
@@ -474,8 +469,9 @@ class Element:
         return child
 
     def all_children(self) -> list[Element]:
-        """The direct children of this element, in order."""
-        return list(self._children)
+        """The direct children of this element, in order (for a top-level section, then
+        those of attached models: see `mjcf.element_list`)."""
+        return element_list.children(self)
 
     def iter(self) -> Iterator[Element]:
         """This element and its descendants in document order (not into attached
@@ -535,7 +531,8 @@ class Element:
     def find(self, namespace: str, identifier: str) -> Element | None:
         """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
         'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
-        inside this element, or None."""
+        inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
+        unknown namespace."""
         from mjcf import traversal
 
         return traversal.find(self, namespace, identifier)
@@ -547,10 +544,29 @@ class Element:
         exclude_attachments: bool = False,
     ) -> list[Element]:
         """Every element of `namespace` (or with tag `namespace`) inside this element,
-        in the order MuJoCo will see them, including attached models' unless excluded."""
+        in the order MuJoCo will see them, including attached models' unless excluded.
+        Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
         from mjcf import traversal
 
         return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
+
+    def enter_scope(self, scope_identifier: str) -> RootElement | None:
+        """The model attached into this element's model under the scoped name
+        `scope_identifier` ('arm', or 'arm/gripper' for one attached inside it), or None
+        if there is none."""
+        scope = self._root.namescope
+        for part in split_identifier(scope_identifier):
+            scope = scope.child(part) if part else None
+            if scope is None:
+                return None
+        return scope.model
+
+    def is_same_as(self, other: object) -> bool:
+        """Whether `other` is structurally the same element: same schema, attribute
+        values (references by what they point to) and children (see `mjcf.sameness`)."""
+        from mjcf import sameness
+
+        return sameness.is_same_as(self, other)
 
     # -- XML -------------------------------------------------------------------------------
 
@@ -589,7 +605,11 @@ class Element:
         return sorted(n for n in names if n.isidentifier())
 
     def __copy__(self) -> Element:
-        raise TypeError("copy a model with copy.deepcopy(root)")
+        raise TypeError(
+            f"{self.path}: an element belongs to its model and cannot be copied alone; copy "
+            "the model with copy.copy(root) or copy.deepcopy(root), or merge a copy into "
+            "another element with include_copy"
+        )
 
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
         """A copy of the whole model (detached, with its attached models), sharing the
@@ -597,13 +617,3 @@ class Element:
         from mjcf import copying
 
         return copying.deepcopy_element(self, memo)
-
-
-def _name_from_file(value: object) -> str | None:
-    if value is None:
-        return None
-    path = value if isinstance(value, str) else getattr(value, "name", None)
-    if not path:
-        return None
-    base = path.replace("\\", "/").rsplit("/", 1)[-1]
-    return base.rsplit(".", 1)[0] if "." in base else base

@@ -8,7 +8,9 @@ and line) and what was expected, so one line is enough to find and fix it::
 
 Errors that users catch by their builtin meaning also subclass that builtin:
 `AttributeError` (so `getattr(element, 'x', None)` and `hasattr` behave), `ValueError`
-for bad values, `KeyError` for lookups by name.
+for bad values, `KeyError` for lookups by name. An unknown namespace in `find` /
+`find_all` is a `NamespaceError`: a `NotFoundError` (so a `KeyError`, as before) that is
+also the `ValueError` dm_control raises there.
 """
 
 from __future__ import annotations
@@ -47,10 +49,16 @@ class ReferenceError(Error, ValueError):
 
 
 class NotFoundError(Error, KeyError):
-    """`find` / lookup of a namespace that does not exist."""
+    """A lookup by name of something that does not exist: an element of an element list
+    (`body.geom['x']`), a row of a named indexer, a keyframe."""
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""
+
+
+class NamespaceError(NotFoundError, ValueError):
+    """`find` / `find_all` of a namespace that does not exist. A `ValueError`, as in
+    dm_control, and a `NotFoundError` (`KeyError`) for code that caught that."""
 
 
 class ParseError(Error, ValueError):
@@ -80,6 +88,10 @@ class CompileError(Error):
 
 class PhysicsError(Error):
     """The simulation diverged (bad acceleration, NaN or infinite state)."""
+
+
+class StateError(Error, ValueError):
+    """A state or control vector of the wrong size, or a step count below one."""
 
 
 class BindingError(Error, builtins.AttributeError):

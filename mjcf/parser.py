@@ -21,7 +21,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, errors
+from mjcf import debugging, default_sections, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR, unescape
@@ -135,6 +135,7 @@ def _parse(
     object.__setattr__(root, "_confine_to", confine)
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
+    builder.link_unnamed()
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -251,6 +252,10 @@ class _Builder:
         self.escape = escape_separators
         self.with_references: list[Element] = []
         self.generated_names = False  # <replicate>/<attach> make names we do not see
+        # Elements written with a name mjcf generated ('//unnamed_geom_0'), which are
+        # read back unnamed, and the elements whose references name one.
+        self.unnamed: dict[tuple[str, str], Element] = {}
+        self.to_unnamed: list[Element] = []
 
     def build(self, xml_root: etree._Element) -> None:
         root = self.root
@@ -260,6 +265,7 @@ class _Builder:
                     f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
                 )
         sections = {section.tag: section for section in root._children}
+        seen: set[str] = set()
         for xml_section in xml_root:
             tag = xml_section.tag
             if not isinstance(tag, str):
@@ -274,7 +280,17 @@ class _Builder:
             if tag == "default" and attrib.get("class") in ("main", None):
                 attrib.pop("class", None)
             self._set_attributes(section, attrib, xml_section, merge=True)
-            self._children(section, xml_section)
+            if tag == "default" and tag in seen:
+                default_sections.merge_section(
+                    section,
+                    xml_section,
+                    self._set_attributes,
+                    self._children,
+                    lambda xml: _where(self.filename, xml),
+                )
+            else:
+                self._children(section, xml_section)
+            seen.add(tag)
 
     def _set_attributes(
         self, element: Element, attrib: dict, xml: etree._Element, merge: bool = False
@@ -292,7 +308,17 @@ class _Builder:
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
             kind = attribute.kind
-            if kind == "identifier" or kind == "reference":
+            if (
+                kind == "identifier"
+                and text[:2] == "//"
+                and spec.namespace
+                and naming.GENERATED.fullmatch(text)
+            ):
+                self.unnamed[(spec.namespace, text)] = element
+                del attrib[name]
+            elif kind == "reference":
+                attrib[name] = self._reference_text(element, attribute, text, xml)
+            elif kind == "identifier":
                 attrib[name] = self._name_text(element, attribute, text, xml)
             elif kind != "string" and kind != "file":
                 try:
@@ -306,6 +332,19 @@ class _Builder:
         else:
             object.__setattr__(element, "_attrs", attrib)
 
+    def _reference_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+        if "//" not in text:  # no generated name: the common case
+            return self._name_text(element, attribute, text, xml)
+        items = text.split() if attribute.is_list else [text]
+        generated = [naming.GENERATED.fullmatch(item) is not None for item in items]
+        if not any(generated):
+            return self._name_text(element, attribute, text, xml)
+        self.to_unnamed.append(element)
+        return " ".join(
+            item if is_generated else self._name_text(element, attribute, item, xml)
+            for item, is_generated in zip(items, generated, strict=True)
+        )
+
     def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
         if PREFIX_SEPARATOR in text:
             if not self.escape:
@@ -317,7 +356,7 @@ class _Builder:
             text = text.replace(PREFIX_SEPARATOR, "\\" + PREFIX_SEPARATOR)
         return text
 
-    def _children(self, parent: Element, xml_parent: etree._Element) -> None:
+    def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
         specs = parent._spec.children
         root = self.root
         scope = root.namescope
@@ -371,6 +410,24 @@ class _Builder:
             if len(xml):
                 self._children(element, xml)
 
+    def link_unnamed(self) -> None:
+        """References that name an element by the name mjcf generated for it point at
+        that element, which is read back unnamed."""
+        for element in self.to_unnamed:
+            attrs = element._attrs
+            for name in element._spec.references.intersection(attrs):
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                text = attrs[name]
+                if namespace is None or not isinstance(text, str):
+                    continue
+                items = text.split() if attribute.is_list else [text]
+                targets = [self.unnamed.get((namespace, item), item) for item in items]
+                if attribute.is_list:
+                    attrs[name] = targets
+                elif isinstance(targets[0], Element):
+                    attrs[name] = targets[0]
+
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's
         folder (strict paths)."""
@@ -387,15 +444,23 @@ class _Builder:
         scope = self.root.namescope
         dangling = []
         for element in self.with_references:
+            if element._spec.key.startswith("default-"):
+                continue  # resolved where an element uses the class, as MuJoCo does
             attrs = element._attrs
             for name in element._spec.references.intersection(attrs):
                 attribute = element._spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 if namespace is None:
                     continue
-                targets = attrs[name].split() if attribute.is_list else [attrs[name]]
+                value = attrs[name]
+                if isinstance(value, Element):
+                    continue
+                if isinstance(value, list):
+                    targets = value
+                else:
+                    targets = value.split() if attribute.is_list else [value]
                 for target in targets:
-                    if namespace == "default" and target == "main":
+                    if isinstance(target, Element) or (namespace == "default" and target == "main"):
                         continue
                     if scope.get(namespace, target) is None:
                         dangling.append(

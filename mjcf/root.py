@@ -14,6 +14,7 @@ empty sections are left out of the XML.
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 from mjcf import errors, schema
@@ -36,7 +37,7 @@ class RootElement(Element):
         "_frame",
         "_model_dir",
         "_namescope",
-        "_referenced_unnamed",
+        "_numbering",
         "_version",
     )
 
@@ -47,7 +48,7 @@ class RootElement(Element):
     _attachments: list[Any]
     _confine_to: str | None
     _escaped_names: bool
-    _referenced_unnamed: set[Element]
+    _numbering: tuple[int, dict[Element, int]] | None
     _version: int
 
     def __init__(
@@ -71,8 +72,8 @@ class RootElement(Element):
         setter(self, "_confine_to", None)
         # True once a name with an escaped separator ('a\\/b') is in the model.
         setter(self, "_escaped_names", False)
-        # Unnamed elements that references point at: they get generated names.
-        setter(self, "_referenced_unnamed", set())
+        # (version, {unnamed element: number}) for generated names (see mjcf.naming).
+        setter(self, "_numbering", None)
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = self._checked_model_name(model)
@@ -181,6 +182,11 @@ class RootElement(Element):
         if section is None:
             self._child_spec(tag)  # raises with a suggestion
         return section
+
+    def __copy__(self) -> RootElement:
+        """`copy.copy(model)` is `copy.deepcopy(model)`, as in dm_control: an independent
+        copy, detached, with copies of the models attached to it."""
+        return copy.deepcopy(self)
 
     def __repr__(self) -> str:
         return f"MJCF RootElement: model {self.model!r}"

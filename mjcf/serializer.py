@@ -112,7 +112,7 @@ class _Writer:
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.Composition(root, auto_name_all=for_compile)
+        self.composed = composition.Composition(root, for_compile=for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
         self._plain_writers: dict[composition.ModelContext, object] = {}
@@ -261,7 +261,7 @@ class _Writer:
         general, escaped_value = self.element, self._escaped_value
         escaped_attributes = self._escaped_attributes
         frame_spec = _FRAME_SPEC
-        generated_name = self.composed.generated_name if context.rewrites else None
+        generated_name = self.composed.generated_name
         # Cached text is valid for one model version and one number precision.
         version = (context.model._version, self.precision)
 
@@ -272,12 +272,12 @@ class _Writer:
                 if attrs or element._children or not spec.on_demand:
                     general(element, depth, context)
                 return
-            if attrs:
-                cached = element._text
-                if cached is not None and cached[0] == version:
-                    text = cached[1]
-                else:
-                    special = spec.file_attributes
+            cached = element._text
+            if cached is not None and cached[0] == version:
+                text = cached[1]
+            else:
+                special = spec.file_attributes
+                if attrs:
                     text = "".join([
                         f' {name}="{value}"' if type(value) is str and name not in special
                         else f' {name}="{escaped_value(element, name, value, context)}"'
@@ -291,15 +291,15 @@ class _Writer:
                         or text.count('"') != 2 * len(attrs)
                     ):
                         text = escaped_attributes(element, context, None)
-                    if not special:  # file names depend on the output; the rest does not
-                        element._text = (version, text)
-            else:
-                text = ""
-            identifier = spec.identifier
-            if generated_name is not None and identifier is not None and identifier not in attrs:
-                name = generated_name(element, context)
-                if name is not None:
-                    text += f' {identifier}="{escape(name)}"'
+                else:
+                    text = ""
+                identifier = spec.identifier
+                if identifier is not None and identifier not in attrs:
+                    name = generated_name(element, context)
+                    if name is not None:  # a name that changes only with the model
+                        text = f' {identifier}="{escape(name)}"' + text
+                if not special:  # file names depend on the output; the rest does not
+                    element._text = (version, text)
             children = element._children
             indent = indents[depth]
             if not children:
@@ -339,7 +339,7 @@ class _Writer:
             return
         if spec.required and (element._attrs or element._children or not spec.on_demand):
             self._check_required(element)
-        if override is None and context.rewrites:
+        if override is None:
             override = context.rewrite(element)
         text = self.attributes(element, context, override) if element._attrs or override else ""
         children = element._children
@@ -410,8 +410,13 @@ class _Writer:
                 text = self.value_text(element, spec.attributes[name], value, context)
                 out.append(f' {name}="{escape(text)}"')
         if override:
+            identifier = spec.identifier
             for name, value in override.items():
-                if value is not None:
+                if value is None:
+                    continue
+                if name == identifier and name not in attrs:  # a generated name goes first
+                    out.insert(0, f' {name}="{escape(value)}"')
+                else:
                     out.append(f' {name}="{escape(value)}"')
         return "".join(out)
 

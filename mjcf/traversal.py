@@ -23,10 +23,14 @@ ATTACHMENT_FRAME = "attachment_frame"
 
 def find(element: Element, namespace: str, identifier: str) -> Element | None:
     """The element of `namespace` named `identifier` (scoped names reach into attached
-    models) inside `element`, or None. Raises mjcf.NotFoundError for an unknown
-    namespace."""
+    models) inside `element`, or None. Raises mjcf.NamespaceError for an unknown
+    namespace and mjcf.NameError for an identifier that is not a string."""
     from mjcf import attachment
 
+    if not isinstance(identifier, str):
+        raise errors.NameError(
+            f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
+        )
     if namespace == ATTACHMENT_FRAME:
         found = attachment.find_frame(element.root, identifier)
     else:
@@ -115,13 +119,16 @@ def _is_inside(element: Element, ancestor: Element) -> bool:
 
 
 def _check_namespace(namespace: str, allow_tags: bool) -> bool:
-    """Whether `namespace` is a tag rather than a namespace; raises for neither."""
+    """Whether `namespace` is a tag rather than a namespace; raises
+    mjcf.NamespaceError for neither."""
+    if not isinstance(namespace, str):
+        raise errors.NamespaceError(f"a namespace is a str, such as 'body', got {namespace!r}")
     if namespace in schema.NAMESPACES:
         return False
     if allow_tags and namespace in _TAGS:
         return True
     known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
-    raise errors.NotFoundError(
+    raise errors.NamespaceError(
         f"{namespace!r} is not a namespace"
         + _values.suggest(namespace, known)
         + f"; namespaces: {', '.join(known)}"
