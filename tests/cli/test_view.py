@@ -77,10 +77,9 @@ def test_view_shows_the_task_in_a_window_and_starts_the_next_episode(display, tm
         if process.poll() is None:
             process.kill()
     assert process.returncode == 0, stderr
-    assert stdout.splitlines() == [
-        "episode 1: return 16.15 over 75 steps, no success",  # `composer run Reach`'s
-        "episode 2: return 21.36 over 75 steps, no success",
-    ]
+    ran = composer("run", "Reach", "--episodes", "2", cwd=tmp_path)  # the same seeds
+    assert stdout.splitlines() == ran.stdout.splitlines()[:2]
+    assert stdout.startswith("episode 1: return ") and "episode 2: return " in stdout
     colours = [len(np.unique(shot.reshape(-1, 3), axis=0)) for shot in shots]
     best = shots[int(np.argmax(colours))]
     iio.imwrite(tmp_path / "view.png", best)  # to look at when this fails
