@@ -99,7 +99,7 @@ RECIPES: dict[tuple[str, str], Recipe] = {
                                        normalize=True, vec="batched"),
     ("WalkerRun", "ppo"):       Recipe("ppo", 2_000_000, 16, (64, 64), 3e-4, 256,
                                        normalize=True, vec="batched"),
-    ("ArmPushBox", "ppo"):      Recipe("ppo", 1_000_000, 16, (128, 128), 3e-4, 256,
+    ("ArmPushBox", "ppo"):      Recipe("ppo", 1_200_000, 16, (128, 128), 3e-4, 256,
                                        gamma=0.98, normalize=True, n_steps=128, vec="batched"),
 }
 # fmt: on

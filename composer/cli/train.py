@@ -5,7 +5,7 @@
 
 Writes into the output folder (default runs/TASK-ALGO): `policy.zip` (for `composer run` and
 `composer eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json`
-(timesteps, wall time, evaluations, final and random-policy returns, success rate where the
+(timesteps, wall and CPU time, evaluations, final and random-policy returns, success rate where the
 task reports `is_success`) and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status
 130; the same command then resumes it, up to `--timesteps` in all. A folder holding a
 finished run is refused unless `--resume` (train it on to a larger `--timesteps`) or

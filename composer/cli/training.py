@@ -213,6 +213,9 @@ class Progress:
     recipe: dict[str, Any]
     timesteps: int = 0
     wall_time: float = 0.0
+    # CPU seconds of the training process, all its threads (not SubprocVecEnv workers'):
+    # what the run costs apart from what else the machine was doing.
+    cpu_time: float = 0.0
     completed: bool = False
     evaluations: list[dict[str, Any]] = dataclasses.field(default_factory=list)
     # Training episodes by stretches of CURVE_POINTS-th of the run: [timesteps at the last
@@ -338,7 +341,9 @@ class Session:
         self.eval_every = eval_every
         self.eval_episodes = eval_episodes
         self._wall_time_before = progress.wall_time
+        self._cpu_time_before = progress.cpu_time
         self._started = time.monotonic()
+        self._cpu_started = time.process_time()
         last = progress.evaluations[-1]["timesteps"] if progress.evaluations else 0
         self._next_eval = last + eval_every
 
@@ -369,6 +374,9 @@ class Session:
         """Save a checkpoint of `model` with the progress so far."""
         self.progress.timesteps = int(model.num_timesteps)
         self.progress.wall_time = round(self.elapsed(), 2)
+        self.progress.cpu_time = round(
+            self._cpu_time_before + time.process_time() - self._cpu_started, 2
+        )
         self.checkpoint.save(model, self.progress)
 
     def callback(self, stop: StopOnInterrupt, progress_bar: bool) -> BaseCallback:

@@ -27,7 +27,7 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("Reach", "ppo", 2048)
-    assert metrics["completed"] and metrics["wall_time"] > 0
+    assert metrics["completed"] and metrics["wall_time"] > 0 and metrics["cpu_time"] > 0
     assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
     assert metrics["final"] == metrics["evaluations"][-1]
     assert metrics["final"]["success_rate"] is not None  # Reach reports is_success
