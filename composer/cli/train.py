@@ -7,12 +7,11 @@ Writes into the output folder (default runs/TASK-ALGO): `policy.zip` (for `compo
 `composer eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json`
 (timesteps, wall and CPU time, evaluations, final and random-policy returns, success rate
 where the task reports `is_success`, forward speed where it reports `forward_velocity`)
-and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status
-130; the same command then resumes it, up to `--timesteps` in all. A folder holding a
-finished run is refused unless `--resume` (train it on to a larger `--timesteps`) or
-`--fresh` (replace it) says what to do (`composer.cli.run_folder`). Evaluations
-(deterministic actions, fixed seeds) run every `--eval-every` timesteps, a tenth of the run
-by default; each saves a checkpoint. `--tensorboard DIR` also logs stable-baselines3's
+and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status 130; the same command
+then resumes it, up to `--timesteps` in all. A folder holding a finished run is refused
+unless `--resume` (train it on to a larger `--timesteps`) or `--fresh` (replace it) says
+what to do (`composer.cli.run_folder`). Evaluations (deterministic actions, fixed seeds)
+run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint. `--tensorboard DIR` also logs stable-baselines3's
 TensorBoard scalars there, with the evaluations as `eval/...`.
 """
 
