@@ -68,11 +68,12 @@ def test_view_shows_the_task_in_a_window_and_starts_the_next_episode(display, tm
         stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     shots = []
+    deadline = time.monotonic() + 180  # two 3-second episodes at real-time pace, or slower
     try:
-        while process.poll() is None:  # two 3-second episodes at real-time pace
+        while process.poll() is None and time.monotonic() < deadline:
             time.sleep(0.5)
             shots.append(read_xwd(screen))
-        stdout, stderr = process.communicate(timeout=60)
+        stdout, stderr = process.communicate(timeout=max(1.0, deadline - time.monotonic()))
     finally:
         if process.poll() is None:
             process.kill()
