@@ -20,6 +20,7 @@ when it is made, and a failed change leaves the model as it was; errors are
 their own trees; composition happens when a model is written or compiled.
 """
 
+from mjcf import constants, traversal_utils
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -70,6 +71,7 @@ __all__ = [
     "RootElement",
     "SchemaError",
     "commit_defaults",
+    "constants",
     "disable_debug_mode",
     "enable_debug_mode",
     "export_with_assets",
@@ -83,4 +85,5 @@ __all__ = [
     "get_frame_joints",
     "get_freejoint",
     "is_debug_mode",
+    "traversal_utils",
 ]
