@@ -154,8 +154,9 @@ def plain_file_name(name: str) -> str:
     """`name` reduced to a plain file name: no directories, no leading dots ('..',
     hidden files), so that it can only ever name a file inside the folder it is
     written to."""
-    base = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
-    return base or "asset"
+    if "/" in name or "\\" in name or name.startswith("."):
+        name = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
+    return name or "asset"
 
 
 def hashed_file_name(asset: Asset) -> str:
@@ -214,11 +215,16 @@ class FileNamer:
                 name = self._take(asset.path, asset, collect=False)
                 if name is not None:
                     return name
-            name = self._unique_name(element, asset)
+            own = asset.prefix + asset.extension
+            # The common case first: the first file of its name keeps it.
+            name = None if self.hashed else self._take(plain_file_name(own), asset)
+            if name is None:
+                name = self._unique_name(element, asset)
         except errors.AssetError as error:
             raise errors.AssetError(f"{element.path}: {attribute!r}: {error}") from None
         self._users.setdefault(name, (element, attribute))
-        if attribute == "file" and os.path.splitext(name)[0] != asset.prefix:
+        renamed = name != own and attribute == "file"
+        if renamed and os.path.splitext(os.path.basename(name))[0] != asset.prefix:
             self.renamed.add(element)
         return name
 
@@ -226,7 +232,8 @@ class FileNamer:
         """The name `asset` gets if it asks for `name`: `name` if its key is free (it
         is then taken, and the contents collected if `collect`), the name of identical
         contents that hold the key, else None."""
-        key = _asset_key(name)
+        # Names passed as assets are plain file names already; paths on disk are not.
+        key = name.lower() if collect else _asset_key(name)
         held = self._by_key.get(key)
         if held is None:
             self._by_key[key] = (name, asset)

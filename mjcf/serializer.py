@@ -319,7 +319,11 @@ class _Writer:
             else:
                 text = ""
             identifier = spec.identifier
-            if identifier is not None and identifier not in attrs:
+            if (
+                (generated_name is not None or renamed)
+                and identifier is not None
+                and identifier not in attrs
+            ):
                 name = None if generated_name is None else generated_name(element, context)
                 if name is not None:
                     text += f' {identifier}="{escape(name)}"'
