@@ -20,7 +20,10 @@ when it is made, and a failed change leaves the model as it was; errors are
 their own trees; composition happens when a model is written or compiled.
 """
 
-from mjcf import constants, traversal_utils
+# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
+from mjcf import base as base
+from mjcf import constants as constants
+from mjcf import traversal_utils as traversal_utils
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -71,7 +74,6 @@ __all__ = [
     "RootElement",
     "SchemaError",
     "commit_defaults",
-    "constants",
     "disable_debug_mode",
     "enable_debug_mode",
     "export_with_assets",
@@ -85,5 +87,4 @@ __all__ = [
     "get_frame_joints",
     "get_freejoint",
     "is_debug_mode",
-    "traversal_utils",
 ]

@@ -55,3 +55,20 @@ def test_constants_name_what_the_model_uses() -> None:
     written = model.to_xml_string(precision=constants.XML_DEFAULT_PRECISION)
     assert written == model.to_xml_string()
     assert f'pos="{1 / 3!r} 0 0"' in written and geom.parent.tag == constants.BODY
+
+
+def test_base_element_and_debug_mode_names(menagerie) -> None:
+    from mjcf import base, debugging
+
+    arm = mjcf.from_path(UR5E)
+    frame = arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    assert all(isinstance(e, base.Element) for e in (arm, arm.worldbody, frame))
+    assert not isinstance("body", base.Element)
+    was = debugging.debug_mode()
+    try:
+        mjcf.enable_debug_mode()
+        assert debugging.debug_mode() is True
+        mjcf.disable_debug_mode()
+        assert debugging.debug_mode() is False
+    finally:
+        (mjcf.enable_debug_mode if was else mjcf.disable_debug_mode)()
