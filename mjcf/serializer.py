@@ -1,7 +1,8 @@
 """Writing a model as MJCF text, with its attached models composed in.
 
     xml = model.to_xml_string()                    # what a user saves or reads
-    xml, assets = serializer.serialize(model, for_compile=True)   # what MuJoCo compiles
+    xml, assets = serializer.serialize(model)      # with the files it names (get_assets)
+    xml, assets, composed, owners = serializer.serialize_for_compile(model)  # compiling
 
 Attribute text read from a file is written back unchanged; values set from Python
 are written with `precision` significant digits (17: exactly). Asked for fewer digits,
