@@ -21,7 +21,10 @@ as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached model
 their own trees; composition happens when a model is written or compiled.
 """
 
-from mjcf import traversal_utils  # dm_control's module name for the frame helpers
+# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
+from mjcf import base as base
+from mjcf import constants as constants
+from mjcf import traversal_utils as traversal_utils
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode

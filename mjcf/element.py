@@ -570,12 +570,26 @@ class Element:
 
     # -- XML -------------------------------------------------------------------------------
 
-    def to_xml(self, prefix_root: RootElement | None = None, precision: int = 17):
-        """This element (and its subtree, with attached models) as an lxml element."""
+    def to_xml(
+        self,
+        prefix_root: RootElement | None = None,
+        *,
+        precision: int = 17,
+        zero_threshold: float = 0.0,
+        filename_with_hash: bool = False,
+    ):
+        """This element (and its subtree, with attached models) as an lxml element;
+        the keywords are `to_xml_string`'s."""
         from lxml import etree
 
         return etree.fromstring(
-            self.to_xml_string(prefix_root, precision=precision, pretty_print=False)
+            self.to_xml_string(
+                prefix_root,
+                pretty_print=False,
+                precision=precision,
+                zero_threshold=zero_threshold,
+                filename_with_hash=filename_with_hash,
+            )
         )
 
     def to_xml_string(
@@ -583,15 +597,29 @@ class Element:
         prefix_root: RootElement | None = None,
         self_only: bool = False,
         pretty_print: bool = True,
+        *,
         precision: int = 17,
+        zero_threshold: float = 0.0,
+        filename_with_hash: bool = False,
     ) -> str:
         """XML text of this element (with its subtree and attached models unless
         `self_only`). Numbers keep their source text, or are written with `precision`
-        significant digits (17: exact). Raises mjcf errors for missing required
-        attributes and dangling references."""
+        significant digits (17: exact); with `precision` below 17 or a `zero_threshold`
+        every real number is rewritten, those smaller in magnitude than `zero_threshold`
+        as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
+        names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
+        mjcf errors for missing required attributes and dangling references."""
         from mjcf import serializer
 
-        return serializer.to_xml_string(self, prefix_root, self_only, pretty_print, precision)
+        return serializer.to_xml_string(
+            self,
+            prefix_root,
+            self_only,
+            pretty_print,
+            precision,
+            zero_threshold=zero_threshold,
+            filename_with_hash=filename_with_hash,
+        )
 
     def __repr__(self) -> str:
         return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"

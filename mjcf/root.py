@@ -162,13 +162,14 @@ class RootElement(Element):
 
         attachment.detach(self)
 
-    def get_assets(self) -> dict[str, bytes]:
+    def get_assets(self, filename_with_hash: bool = False) -> dict[str, bytes]:
         """`{file name: contents}` of every file `to_xml_string()` refers to (meshes,
-        textures, ...), as `mujoco.MjModel.from_xml_string(xml, assets)` takes them.
-        Raises mjcf.AssetError if a file cannot be read."""
+        textures, ...), under the names it writes (unique as MuJoCo needs them), as
+        `mujoco.MjModel.from_xml_string(xml, assets)` takes them; `filename_with_hash`
+        as in `to_xml_string`. Raises mjcf.AssetError if a file cannot be read."""
         from mjcf import serializer
 
-        return serializer.serialize(self)[1]
+        return serializer.serialize(self, filename_with_hash=filename_with_hash)[1]
 
     def compile_model(self):
         """Compile this model (with attached models) into a new `mjcf.Physics`."""
