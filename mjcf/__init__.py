@@ -19,6 +19,11 @@ when it is made, and a failed change leaves the model as it was; errors are
 `to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
 as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
 their own trees; composition happens when a model is written or compiled.
+
+No exception name shadows a Python builtin, so `from mjcf import *` is safe:
+`NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
+`NameError`, `AttributeError` and `ReferenceError` in the previous release; those old
+names still work (`mjcf.NameError`), with a DeprecationWarning, until the next release.
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
@@ -33,21 +38,22 @@ from mjcf.element import Element
 from mjcf.errors import (
     AssetError,
     AttachmentError,
-    AttributeError,
     AttributeValueError,
     BindingError,
     CompileError,
     Error,
-    NameError,
+    InvalidReferenceError,
+    NameClashError,
     NamespaceError,
     NotFoundError,
     ParseError,
     PhysicsError,
-    ReferenceError,
     RenderError,
     SchemaError,
     StateError,
+    UnknownAttributeError,
 )
+from mjcf.errors import deprecated_name as _deprecated_name
 from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
 from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -61,23 +67,23 @@ __all__ = [
     "AssetError",
     "AttachmentError",
     "AttachmentFrame",
-    "AttributeError",
     "AttributeValueError",
     "BindingError",
     "CompileError",
     "Element",
     "Error",
-    "NameError",
+    "InvalidReferenceError",
+    "NameClashError",
     "NamespaceError",
     "NotFoundError",
     "ParseError",
     "Physics",
     "PhysicsError",
-    "ReferenceError",
     "RenderError",
     "RootElement",
     "SchemaError",
     "StateError",
+    "UnknownAttributeError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",
@@ -94,3 +100,10 @@ __all__ = [
     "is_debug_mode",
     "traversal_utils",
 ]
+
+
+def __getattr__(name: str) -> type[Error]:
+    """`mjcf.NameError`, `mjcf.AttributeError` and `mjcf.ReferenceError`, the previous
+    release's names of `NameClashError`, `UnknownAttributeError` and
+    `InvalidReferenceError`, with a DeprecationWarning (see `mjcf.errors`)."""
+    return _deprecated_name(__name__, name)

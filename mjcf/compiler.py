@@ -46,7 +46,7 @@ class Compiled(NamedTuple):
         composition = self.composition
         try:
             context = composition.context(element.root)
-        except errors.ReferenceError as error:
+        except errors.InvalidReferenceError as error:
             raise errors.BindingError(f"{element.path}: {error}") from None
         if not element._is_registered():
             raise errors.BindingError(f"{element.path}: the element was removed from its model")

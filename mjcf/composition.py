@@ -273,11 +273,11 @@ class Composition:
         return self._inertia
 
     def context(self, model: RootElement) -> ModelContext:
-        """The context of `model`; raises mjcf.ReferenceError for a model that is not
+        """The context of `model`; raises mjcf.InvalidReferenceError for a model that is not
         part of this output."""
         context = self._contexts.get(model)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"model {model.model!r} is not attached inside model {self.root.model!r}"
             )
         return context
@@ -311,12 +311,12 @@ class Composition:
     ) -> str:
         """The written name of a referenced element object."""
         if not target._is_registered():
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
             )
         context = self._contexts.get(target.root)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to {target.path} in model "
                 f"{target.root.model!r}, which is not attached inside model {self.root.model!r}"
             )
@@ -328,7 +328,7 @@ class Composition:
         if name is None:
             generated = self.generated_name(target, context)
             if generated is None:
-                raise errors.ReferenceError(
+                raise errors.InvalidReferenceError(
                     f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
                     "inside a <replicate> and compiles to several unnamed objects; name it"
                 )

@@ -37,7 +37,7 @@ if TYPE_CHECKING:
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
     """Merge a copy of `source` into `target` (see module docstring). Raises
     mjcf.SchemaError for elements of different tags, mjcf.AttachmentError for
-    conflicting attribute values and mjcf.NameError for names already taken; the
+    conflicting attribute values and mjcf.NameClashError for names already taken; the
     tree is unchanged then."""
     from mjcf.root import RootElement
 
@@ -115,7 +115,7 @@ def _check_names(target: Element, plan: list) -> None:
                 key = (namespace, unescape(name))
                 existing = scope.get(namespace, name) or seen.get(key)
                 if existing is not None:
-                    raise errors.NameError(
+                    raise errors.NameClashError(
                         f"{target.path}: cannot include {element.path}: the name {name!r} is "
                         f"already used by another {namespace}: {existing.path}"
                     )
@@ -123,7 +123,7 @@ def _check_names(target: Element, plan: list) -> None:
                 if isinstance(element, attachment.AttachmentFrame):
                     model_name = element.attached_model.model
                     if scope.child(model_name) is not None:
-                        raise errors.NameError(
+                        raise errors.NameClashError(
                             f"{target.path}: a model named {model_name!r} is already attached"
                         )
 

@@ -122,7 +122,7 @@ class Element:
 
     def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
         """This element's name as model `prefix_root` (default: the outermost model it is
-        attached into) writes it; see `full_identifier`. Raises mjcf.ReferenceError if
+        attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError if
         this element's model is not attached inside `prefix_root`."""
         from mjcf import naming
 
@@ -156,7 +156,7 @@ class Element:
         attribute = spec.attributes.get(_ALIASES.get(name, name))
         if attribute is None:
             known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
-            raise errors.AttributeError(
+            raise errors.UnknownAttributeError(
                 f"{self.path}: <{spec.tag}> has no attribute {name!r}"
                 + _values.suggest(name, [k for k in known if k])
             )
@@ -173,7 +173,7 @@ class Element:
         if child_spec is not None:
             return self.get_children(child_spec.tag)
         known = list(spec.attributes) + list(spec.children)
-        raise errors.AttributeError(
+        raise errors.UnknownAttributeError(
             f"{self.path}: <{spec.tag}> has no attribute or child {name!r}"
             + _values.suggest(name, known)
         )
@@ -287,7 +287,7 @@ class Element:
 
     def _check_name(self, name: str) -> None:
         if PREFIX_SEPARATOR in name.replace("\\" + PREFIX_SEPARATOR, ""):
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"{self.path}: name {name!r} contains {PREFIX_SEPARATOR!r}, which separates "
                 "the names of attached models; write it as '\\/' (or parse with "
                 "escape_separators=True)"
@@ -299,7 +299,7 @@ class Element:
             return
         existing = self._root.namescope.get(namespace, name)
         if existing is not None and existing is not self:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"{self.path}: the name {name!r} is already used by another {namespace} "
                 f"in model {self._root.namescope.name!r}: {existing.path}"
             )
@@ -378,7 +378,7 @@ class Element:
                 and namespace is not None
                 and item._spec.namespace != namespace
             ):
-                raise errors.ReferenceError(
+                raise errors.InvalidReferenceError(
                     f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
                     f"{item.path} (a {item._spec.namespace or item.tag})"
                 )
@@ -427,7 +427,7 @@ class Element:
         if name is not None and spec.namespace is not None and not element._implicit():
             existing = self._root.namescope.get(spec.namespace, name)
             if existing is not None:
-                raise errors.NameError(
+                raise errors.NameClashError(
                     f"{self.path}: cannot add <{tag}>: the name {name!r} is already "
                     f"used by another {spec.namespace}: {existing.path}"
                 )

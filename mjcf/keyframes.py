@@ -186,7 +186,7 @@ def _own_joints(body: Element) -> list[Element]:
 def _id(compiled_id: Callable, element: Element, kind: mujoco.mjtObj) -> int:
     index = compiled_id(element, kind)
     if index < 0:
-        raise errors.ReferenceError(f"{element.path} is not in the compiled model")
+        raise errors.InvalidReferenceError(f"{element.path} is not in the compiled model")
     return index
 
 

@@ -59,11 +59,11 @@ class NameScope:
         return None if names is None else names.get(name)
 
     def register(self, namespace: str, name: str, element: Element) -> None:
-        """Record `element` under `name`; raises mjcf.NameError if the name is taken."""
+        """Record `element` under `name`; raises mjcf.NameClashError if the name is taken."""
         names = self.namespace(namespace)
         existing = names.get(name)
         if existing is not None and existing is not element:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"{element.path}: the name {name!r} is already used by another "
                 f"{namespace} in model {self.name!r}: {existing.path}"
             )
@@ -87,10 +87,10 @@ class NameScope:
         return self._children
 
     def add_child(self, scope: NameScope) -> None:
-        """Register an attached model's scope; raises mjcf.NameError on a name clash."""
+        """Register an attached model's scope; raises mjcf.NameClashError on a name clash."""
         name = scope.name
         if name in self._children:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"a model named {name!r} is already attached to model {self.name!r}; "
                 "give the child model a distinct name (RootElement(model=...))"
             )
@@ -112,7 +112,7 @@ class NameScope:
             parts.append(scope.name)
             scope = scope.parent
         if relative_to is not None and scope is not relative_to:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"model {self.name!r} is not attached inside model {relative_to.name!r}"
             )
         return "".join(part + PREFIX_SEPARATOR for part in reversed(parts))

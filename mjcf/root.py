@@ -84,9 +84,9 @@ class RootElement(Element):
 
     def _checked_model_name(self, name: object) -> str:
         if not isinstance(name, str) or not name:
-            raise errors.NameError(f"a model name must be a non-empty string, got {name!r}")
+            raise errors.NameClashError(f"a model name must be a non-empty string, got {name!r}")
         if "/" in name:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"model name {name!r} contains '/', which separates the names of attached models"
             )
         return name
@@ -118,7 +118,7 @@ class RootElement(Element):
             parent = scope.parent
             if parent is not None and new != self.model:
                 if parent.child(new) is not None:
-                    raise errors.NameError(
+                    raise errors.NameClashError(
                         f"a model named {new!r} is already attached to model {parent.name!r}"
                     )
                 parent.remove_child(scope)

@@ -24,11 +24,11 @@ ATTACHMENT_FRAME = "attachment_frame"
 def find(element: Element, namespace: str, identifier: str) -> Element | None:
     """The element of `namespace` named `identifier` (scoped names reach into attached
     models) inside `element`, or None. Raises mjcf.NamespaceError for an unknown
-    namespace and mjcf.NameError for an identifier that is not a string."""
+    namespace and mjcf.NameClashError for an identifier that is not a string."""
     from mjcf import attachment
 
     if not isinstance(identifier, str):
-        raise errors.NameError(
+        raise errors.NameClashError(
             f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
         )
     if namespace == ATTACHMENT_FRAME:

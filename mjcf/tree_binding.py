@@ -77,7 +77,7 @@ def _compiled_from(compiled: Compiled, element: Element) -> bool:
     """Whether `element`'s model is part of the composition `compiled` was compiled from."""
     try:
         compiled.composition.context(element.root)
-    except errors.ReferenceError:
+    except errors.InvalidReferenceError:
         return False
     return True
 
