@@ -131,7 +131,6 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         settings.check_compatible(place.root, child)
     body = place._parent if place._spec.tag == "site" else place
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
-    object.__setattr__(frame, "_attached", child)
     if place._spec.tag == "site":
         for name in ("pos", *_ORIENTATION):
             value = place._attrs.get(name)
@@ -139,27 +138,24 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
                 frame._attrs[name] = place._get_value(place._spec.attributes[name])
                 if hasattr(frame._attrs[name], "copy"):
                     frame._attrs[name] = frame._attrs[name].copy()
-    _give_free_name(child, place.root)
-    place.root.namescope.add_child(child.namescope)
+    free = place.root.namescope.free_child_name(child.model)
+    if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
+        child.model = free
+    link(frame, child)
     body._children.append(frame)
-    place.root._attachments.append(frame)
-    object.__setattr__(child, "_frame", frame)
     place._modified()
     return frame
 
 
-def _give_free_name(child: RootElement, parent: RootElement) -> None:
-    """Rename `child` 'name_1', 'name_2', ... if a model attached to `parent` has its
-    name (the same robot file loaded twice)."""
-    scope = parent.namescope
-    name = child.model
-    if scope.child(name) is None:
-        return
-    number = 1
-    while scope.child(f"{name}_{number}") is not None:
-        number += 1
-    child._attrs["model"] = f"{name}_{number}"
-    child._modified()
+def link(frame: AttachmentFrame, child: RootElement) -> None:
+    """Make `frame` (new, of the parent model) hold model `child` (not attached): the
+    one place the link between them is made. Raises mjcf.NameClashError, changing
+    nothing, if a model of `child`'s name is attached to the parent already."""
+    parent = frame.root
+    parent.namescope.add_child(child.namescope)
+    object.__setattr__(frame, "_attached", child)
+    object.__setattr__(child, "_frame", frame)
+    parent._attachments.append(frame)
 
 
 def detach(child: RootElement) -> None:
@@ -168,10 +164,7 @@ def detach(child: RootElement) -> None:
     frame = child._frame
     if frame is None:
         raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
-    parent = frame._parent
-    frame._unregister_subtree()
-    parent._children.remove(frame)
-    object.__setattr__(frame, "_parent", None)
+    frame._cut()
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
@@ -181,6 +174,12 @@ def detach(child: RootElement) -> None:
 def frame_of(model: RootElement) -> AttachmentFrame | None:
     """The attachment frame of `model`, or None if it is not attached."""
     return model._frame
+
+
+def frames(root: RootElement) -> list[AttachmentFrame]:
+    """The frames of the models attached directly to `root`, in the order they were
+    attached (a copy)."""
+    return list(root._attachments)
 
 
 def attached_models(root: RootElement) -> list[RootElement]:

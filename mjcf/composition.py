@@ -76,7 +76,9 @@ class ModelContext:
     def finish(self) -> None:
         """Decide whether names and values can be written as stored."""
         self.plain = (
-            not self.prefix and self.main_reference == MAIN and not self.model._escaped_names
+            not self.prefix
+            and self.main_reference == MAIN
+            and not self.model.namescope.has_escaped_names
         )
         # Whether stored values are written as they are, only names being added.
         self.names_only = (

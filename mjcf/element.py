@@ -22,8 +22,7 @@ from typing import TYPE_CHECKING, Any
 from mjcf import debugging, element_list, errors
 from mjcf import values as _values
 from mjcf.element_list import ElementList
-from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
-from mjcf.namescope import unescape as _unescape
+from mjcf.namescope import check_identifier, split_identifier
 from mjcf.naming import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
@@ -283,26 +282,15 @@ class Element:
         for attribute, stored in converted:
             self._set_attribute(attribute, stored)
 
-    # -- names ---------------------------------------------------------------------------
+    # -- names: the rules are NameScope's; an element tells its scope what changes -------
 
     def _check_name(self, name: str) -> None:
-        if PREFIX_SEPARATOR in name.replace("\\" + PREFIX_SEPARATOR, ""):
-            raise errors.NameClashError(
-                f"{self.path}: name {name!r} contains {PREFIX_SEPARATOR!r}, which separates "
-                "the names of attached models; write it as '\\/' (or parse with "
-                "escape_separators=True)"
-            )
+        check_identifier(name, self)
 
     def _check_free(self, name: str) -> None:
         namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        existing = self._root.namescope.get(namespace, name)
-        if existing is not None and existing is not self:
-            raise errors.NameClashError(
-                f"{self.path}: the name {name!r} is already used by another {namespace} "
-                f"in model {self._root.namescope.name!r}: {existing.path}"
-            )
+        if namespace is not None and self._is_registered():
+            self._root.namescope.check_free(namespace, name, self, renaming=True)
 
     def _is_registered(self) -> bool:
         """Whether this element is part of its model's tree (not removed)."""
@@ -316,19 +304,11 @@ class Element:
         if namespace is None or not self._is_registered():
             return
         scope = self._root.namescope
-        if new_name is not None:
-            self._check_free(new_name)
-        old = self.identifier
-        if old is not None:
-            scope.unregister(namespace, _unescape(old), self)
-        if new_name is not None:
-            scope.register(namespace, _unescape(new_name), self)
-            if "\\" in new_name:
-                object.__setattr__(self._root, "_escaped_names", True)
-        elif self._spec.tag in NAMED_AFTER_FILE:
+        scope.rename(namespace, self.identifier, new_name, self)
+        if new_name is None and self._spec.tag in NAMED_AFTER_FILE:
             implicit = name_from_file(self._attrs.get("file"))
             if implicit is not None:
-                scope.namespace(namespace).setdefault(implicit, self)
+                scope.add(namespace, implicit, self, implicit=True)
 
     def _rename_after_file(self, file_value: object) -> None:
         if self._attrs.get("name") is not None or not self._is_registered():
@@ -336,25 +316,20 @@ class Element:
         scope = self._root.namescope
         old = self.identifier
         if old is not None:
-            scope.unregister(self._spec.namespace, old, self)
+            scope.remove(self._spec.namespace, old, self)
         new = name_from_file(file_value)
         if new is not None:
-            scope.namespace(self._spec.namespace).setdefault(new, self)
+            scope.add(self._spec.namespace, new, self, implicit=True)
 
     def _register(self) -> None:
-        """Record this element's name in its model's scope (an implicit name after a
-        file never clashes: MuJoCo reports repeated file names itself)."""
+        """Record this element's name in its model's scope; raises mjcf.NameClashError
+        if another element has it."""
         namespace = self._spec.namespace
-        name = self.identifier if namespace is not None else None
-        if name is None:
+        if namespace is None:
             return
-        scope = self._root.namescope
-        if self._implicit():
-            scope.namespace(namespace).setdefault(_unescape(name), self)
-            return
-        scope.register(namespace, _unescape(name), self)
-        if "\\" in name:
-            object.__setattr__(self._root, "_escaped_names", True)
+        name = self.identifier
+        if name is not None:
+            self._root.namescope.add(namespace, name, self, self._implicit())
 
     def _implicit(self) -> bool:
         return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
@@ -365,7 +340,7 @@ class Element:
             namespace = element._spec.namespace
             name = element.identifier
             if namespace is not None and name is not None:
-                scope.unregister(namespace, _unescape(name), element)
+                scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------
 
@@ -423,16 +398,8 @@ class Element:
         element = self._new_child(spec)
         converted = element._prepare(attributes)
         element._apply_unregistered(converted)
-        name = element.identifier
-        if name is not None and spec.namespace is not None and not element._implicit():
-            existing = self._root.namescope.get(spec.namespace, name)
-            if existing is not None:
-                raise errors.NameClashError(
-                    f"{self.path}: cannot add <{tag}>: the name {name!r} is already "
-                    f"used by another {spec.namespace}: {existing.path}"
-                )
+        element._register()  # raises NameClashError while the tree is still unchanged
         self._children.insert(position, element)
-        element._register()
         self._modified()
         return element
 
@@ -505,10 +472,16 @@ class Element:
             )
         for frame in frames:
             frame.detach()
+        self._cut()._modified()
+
+    def _cut(self) -> Element:
+        """Take this element and its subtree out of the tree, forgetting their names;
+        returns the parent it had."""
+        parent = self._parent
         self._unregister_subtree()
         parent._children.remove(self)
         object.__setattr__(self, "_parent", None)
-        parent._modified()
+        return parent
 
     def attach(self, child: RootElement) -> Element:
         """Attach model `child` here (a site, body, frame or the world body) and return

@@ -24,7 +24,7 @@ from mjcf import assets as _assets
 from mjcf import debugging, default_sections, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
-from mjcf.namescope import PREFIX_SEPARATOR, unescape
+from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
 
 _MAX_INCLUDES = 1000
@@ -359,7 +359,6 @@ class _Builder:
     def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
         specs = parent._spec.children
         root = self.root
-        scope = root.namescope
         make = Element._make
         filename = self.filename
         for xml in xml_parent:
@@ -394,21 +393,11 @@ class _Builder:
                     f"one <{tag}>"
                 )
             parent._children.append(element)
-            namespace = spec.namespace
-            if namespace is not None:
-                name = element.identifier
-                if name is not None:
-                    if element._implicit():
-                        scope.namespace(namespace).setdefault(name, element)
-                    else:
-                        try:
-                            scope.register(namespace, unescape(name), element)
-                        except errors.NameClashError as error:
-                            raise errors.NameClashError(
-                                f"{_where(filename, xml)}: {error}"
-                            ) from None
-                        if self.escape and "\\" in name:
-                            object.__setattr__(root, "_escaped_names", True)
+            if spec.namespace is not None:
+                try:
+                    element._register()
+                except errors.NameClashError as error:
+                    raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
                 self._children(element, xml)
 

@@ -19,7 +19,7 @@ from typing import Any
 
 from mjcf import errors, schema
 from mjcf.element import Element
-from mjcf.namescope import NameScope
+from mjcf.namescope import NameScope, check_model_name
 
 DEFAULT_MODEL_NAME = "unnamed_model"
 
@@ -33,7 +33,6 @@ class RootElement(Element):
         "_assets",
         "_attachments",
         "_confine_to",
-        "_escaped_names",
         "_frame",
         "_model_dir",
         "_namescope",
@@ -47,7 +46,6 @@ class RootElement(Element):
     _frame: Any
     _attachments: list[Any]
     _confine_to: str | None
-    _escaped_names: bool
     _numbering: tuple[int, dict[Element, int]] | None
     _version: int
 
@@ -70,26 +68,15 @@ class RootElement(Element):
         setter(self, "_attachments", [])
         # With strict_paths, the real folder that every file of the model must be in.
         setter(self, "_confine_to", None)
-        # True once a name with an escaped separator ('a\\/b') is in the model.
-        setter(self, "_escaped_names", False)
         # (version, {unnamed element: number}) for generated names (see mjcf.naming).
         setter(self, "_numbering", None)
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
-            self._attrs["model"] = self._checked_model_name(model)
+            self._attrs["model"] = check_model_name(model)
         for section in schema.MUJOCO.children.values():
             self._children.append(Element._make(section, self, self))
         default = self._single_child("default")
         default._register()
-
-    def _checked_model_name(self, name: object) -> str:
-        if not isinstance(name, str) or not name:
-            raise errors.NameClashError(f"a model name must be a non-empty string, got {name!r}")
-        if "/" in name:
-            raise errors.NameClashError(
-                f"model name {name!r} contains '/', which separates the names of attached models"
-            )
-        return name
 
     @property
     def model(self) -> str:
@@ -113,14 +100,11 @@ class RootElement(Element):
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "model":
-            new = self._checked_model_name(value)
+            new = check_model_name(value)
             scope = self._namescope
             parent = scope.parent
             if parent is not None and new != self.model:
-                if parent.child(new) is not None:
-                    raise errors.NameClashError(
-                        f"a model named {new!r} is already attached to model {parent.name!r}"
-                    )
+                parent.check_child_free(new)
                 parent.remove_child(scope)
                 self._attrs["model"] = new
                 parent.add_child(scope)
