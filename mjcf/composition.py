@@ -25,6 +25,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
 from mjcf import attachment, defaults, errors, naming, settings
@@ -401,28 +402,12 @@ def _text(values: np.ndarray) -> str:
 
 
 def euler_to_quat(euler: np.ndarray, sequence: str) -> np.ndarray:
-    """The quaternion of Euler angles (radians) in MuJoCo's `eulerseq` convention:
-    lower-case axes rotate with the frame (intrinsic), upper-case stay fixed."""
-    quat = np.array([1.0, 0.0, 0.0, 0.0])
-    for angle, axis in zip(euler, sequence, strict=True):
-        index = "xyz".index(axis.lower())
-        half = angle / 2
-        rotation = np.zeros(4)
-        rotation[0] = math.cos(half)
-        rotation[1 + index] = math.sin(half)
-        quat = _quat_mul(quat, rotation) if axis.islower() else _quat_mul(rotation, quat)
+    """The quaternion (4,) of Euler angles `euler` (3,), in radians, in MuJoCo's
+    `eulerseq` convention (lower-case axes rotate with the frame, upper-case stay
+    fixed), by MuJoCo's own conversion."""
+    quat = np.empty(4)
+    mujoco.mju_euler2Quat(quat, np.asarray(euler, dtype=float), sequence)
     return quat
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array([
-        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-    ])  # fmt: skip
 
 
 def _in_body(element: Element) -> bool:

@@ -20,6 +20,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from mjcf.assets import Asset
+
 
 class InvalidValue(ValueError):
     """A value that does not fit the attribute; the message says what was expected."""
@@ -272,7 +274,7 @@ class _File(_Converter):
     """File attributes hold a path string or an `mjcf.Asset`."""
 
     def from_python(self, value: object) -> object:
-        if isinstance(value, str) or type(value).__name__ == "Asset":
+        if isinstance(value, str | Asset):
             return value
         raise InvalidValue(f"takes a file name or an mjcf.Asset, got {value!r}")
 
