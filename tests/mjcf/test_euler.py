@@ -43,4 +43,3 @@ def test_every_sequence_composes_as_mujoco_compiles_it_alone(angle: str) -> None
             _orientations(composed, "child/"), _orientations(alone, ""), atol=1e-12,
             err_msg=f"eulerseq={sequence!r}, angle={angle!r}",
         )  # fmt: skip
-
