@@ -17,16 +17,11 @@ inertial are added to it. A model is attached in one place at a time; attach a
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from mjcf import errors, schema
+from mjcf import errors, schema, settings
 from mjcf.element import Element
 from mjcf.namescope import split_identifier
+from mjcf.root import RootElement
 from mjcf.schema import ElementSpec
-
-if TYPE_CHECKING:
-    from mjcf.composition import ModelContext
-    from mjcf.root import RootElement
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 _PLACES = frozenset({"body", "worldbody", "frame", "site"})
@@ -101,9 +96,6 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     model name is taken by a model attached into the same model already is renamed
     'name_1' (then 'name_2', ...), as dm_control does. Checks cost the same whatever
     is attached already."""
-    from mjcf import settings
-    from mjcf.root import RootElement
-
     if not isinstance(child, RootElement):
         raise errors.AttachmentError(
             f"only a model (mjcf.RootElement) can be attached, got {child!r}"
@@ -203,11 +195,3 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
             named = root.namescope.get("attachment_frame", identifier)
             return named if isinstance(named, AttachmentFrame) else None
     return scope.model._frame
-
-
-def frame_output_name(frame: AttachmentFrame, owner: ModelContext) -> str:
-    """The name an attachment frame is written with: its own name in its model's scope,
-    or the attached model's scope prefix ('arm/'), which no user name can take."""
-    from mjcf import naming
-
-    return naming.frame_name(frame, owner.prefix)

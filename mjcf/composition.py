@@ -28,9 +28,10 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, defaults, errors, naming, settings
-from mjcf.namescope import PREFIX_SEPARATOR, WORLD
+from mjcf import attachment, defaults, errors, keyframes, naming, settings
+from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
+from mjcf.values import format_number
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -303,8 +304,6 @@ class Composition:
 
     def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""
-        from mjcf import keyframes
-
         return keyframes.keys_to_write(self, for_compile)
 
     # -- references and names --------------------------------------------------------------
@@ -324,7 +323,7 @@ class Composition:
                 f"{target.root.model!r}, which is not attached inside model {self.root.model!r}"
             )
         if isinstance(target, attachment.AttachmentFrame):
-            return attachment.frame_output_name(target, context)
+            return naming.frame_name(target, context.prefix)
         if target._spec.tag == "worldbody":
             return WORLD
         name = target.identifier
@@ -347,7 +346,7 @@ class Composition:
         if (
             context.plain
             and not self.for_compile
-            and element._spec.tag in naming.NAMED_AFTER_FILE
+            and element._spec.tag in NAMED_AFTER_FILE
             and element._attrs.get("file") is not None
         ):
             return None  # MuJoCo names it after its file, as it is written
@@ -377,7 +376,7 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
     out: dict[str, str | None] = {}
     if context.angle_scale is not None or context.euler_seq is not None:
         out.update(context._convert_angles(frame))
-    out["name"] = attachment.frame_output_name(frame, context)
+    out["name"] = naming.frame_name(frame, context.prefix)
     out["childclass"] = child_context.main_reference
     return out
 
@@ -396,8 +395,6 @@ def _numbers(element: Element, name: str) -> np.ndarray:
 
 
 def _text(values: np.ndarray) -> str:
-    from mjcf.values import format_number
-
     return " ".join(format_number(v) for v in np.asarray(values, dtype=float).ravel().tolist())
 
 

@@ -19,18 +19,16 @@ element copies its whole model and returns the element's copy.
 from __future__ import annotations
 
 import copy
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from mjcf import attachment, errors
 from mjcf import values as _values
 from mjcf.assets import Asset
+from mjcf.element import Element
+from mjcf.root import RootElement
 from mjcf.settings import same as _same
-
-if TYPE_CHECKING:
-    from mjcf.element import Element
-    from mjcf.root import RootElement
 
 
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
@@ -38,8 +36,6 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
     mjcf.SchemaError for elements of different tags, mjcf.AttachmentError for
     conflicting attribute values and mjcf.NameClashError for names already taken; the
     tree is unchanged then."""
-    from mjcf.root import RootElement
-
     if target.tag != source.tag or isinstance(target, RootElement) != isinstance(
         source, RootElement
     ):
@@ -129,8 +125,6 @@ def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Ele
 
 def _relink_references(clones: dict[int, Element]) -> None:
     """References to copied elements point at their copies."""
-    from mjcf.element import Element
-
     for clone in clones.values():
         for name, value in clone._attrs.items():
             if isinstance(value, Element) and id(value) in clones:
@@ -169,7 +163,7 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     found = memo.get(id(root))
     if found is not None:
         return found
-    new = type(root)(model_dir=root._model_dir, assets=root._assets)
+    new = type(root)(model_dir=root.model_dir, assets=root.assets)
     memo[id(root)] = new
     new._attrs.update(root._attrs)
     object.__setattr__(new, "_source", root._source)
@@ -217,8 +211,6 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
 
 def _relink_copies(cloned: list[tuple[Element, Element]], memo: dict[int, Any]) -> None:
     """References to copied elements point at their copies."""
-    from mjcf.element import Element
-
     for _, clone in cloned:
         attrs = clone._attrs
         for name, value in attrs.items():

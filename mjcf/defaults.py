@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjcf import errors, schema, traversal
+from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -113,8 +113,6 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
     Raises mjcf.InvalidReferenceError for a class that does not exist,
     mjcf.UnknownAttributeError for a name in `attributes` that no default class can set;
     the model is unchanged then."""
-    from mjcf import attachment
-
     names = None if attributes is None else _checked_names(element, attributes)
     whole_model = element is element.root
     models = [element, *attachment.attached_models(element)] if whole_model else []

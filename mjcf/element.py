@@ -19,11 +19,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
-from mjcf import debugging, element_list, errors
+from lxml import etree
+
+from mjcf import assets, debugging, element_list, errors
 from mjcf import values as _values
 from mjcf.element_list import ElementList
-from mjcf.namescope import check_identifier, split_identifier
-from mjcf.naming import NAMED_AFTER_FILE, name_from_file
+from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file, split_identifier
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -123,7 +124,7 @@ class Element:
         """This element's name as model `prefix_root` (default: the outermost model it is
         attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError if
         this element's model is not attached inside `prefix_root`."""
-        from mjcf import naming
+        from mjcf import naming  # cycle: naming -> attachment -> element
 
         return naming.scoped_name(self, prefix_root)
 
@@ -190,8 +191,6 @@ class Element:
             if target is not None:
                 self._attrs[attribute.name] = value = target
         elif attribute.kind == "file":
-            from mjcf import assets
-
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
 
@@ -254,7 +253,7 @@ class Element:
         self, name: str, prefix_root: RootElement | None = None
     ) -> str | None:
         """The attribute as it would be written to XML (scoped names for references)."""
-        from mjcf import serializer
+        from mjcf import serializer  # cycle: serializer -> attachment -> element
 
         attribute = self._attribute_spec(name)
         if attribute.name not in self._attrs:
@@ -461,7 +460,7 @@ class Element:
             raise errors.SchemaError(
                 f"{self.path}: the <{self.tag}> section always exists; remove its children"
             )
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> element
 
         frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
         if frames and not affect_attachments:
@@ -487,7 +486,7 @@ class Element:
         """Attach model `child` here (a site, body, frame or the world body) and return
         its attachment frame; its names become scoped ('child_model/name'). Raises
         mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> element
 
         return attachment.attach(self, child)
 
@@ -495,7 +494,7 @@ class Element:
         """Merge a copy of `other` (an element of the same tag, or another model into
         this model) into this element, without a name scope, as `<include>` would; see
         `mjcf.copying`. Nothing changes if it raises."""
-        from mjcf import copying
+        from mjcf import copying  # cycle: copying -> element
 
         copying.include_copy(self, other, override_attributes)
 
@@ -506,7 +505,7 @@ class Element:
         'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
         inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
         unknown namespace."""
-        from mjcf import traversal
+        from mjcf import traversal  # cycle: traversal -> attachment -> element
 
         return traversal.find(self, namespace, identifier)
 
@@ -519,7 +518,7 @@ class Element:
         """Every element of `namespace` (or with tag `namespace`) inside this element,
         in the order MuJoCo will see them, including attached models' unless excluded.
         Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
-        from mjcf import traversal
+        from mjcf import traversal  # cycle: traversal -> attachment -> element
 
         return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
 
@@ -537,7 +536,7 @@ class Element:
     def is_same_as(self, other: object) -> bool:
         """Whether `other` is structurally the same element: same schema, attribute
         values (references by what they point to) and children (see `mjcf.sameness`)."""
-        from mjcf import sameness
+        from mjcf import sameness  # cycle: sameness -> element
 
         return sameness.is_same_as(self, other)
 
@@ -553,8 +552,6 @@ class Element:
     ):
         """This element (and its subtree, with attached models) as an lxml element;
         the keywords are `to_xml_string`'s."""
-        from lxml import etree
-
         return etree.fromstring(
             self.to_xml_string(
                 prefix_root,
@@ -582,7 +579,7 @@ class Element:
         as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
         names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
         mjcf errors for missing required attributes and dangling references."""
-        from mjcf import serializer
+        from mjcf import serializer  # cycle: serializer -> attachment -> element
 
         return serializer.to_xml_string(
             self,
@@ -615,6 +612,6 @@ class Element:
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
         """A copy of the whole model (detached, with its attached models), sharing the
         schema; returns this element's copy (see `mjcf.copying`)."""
-        from mjcf import copying
+        from mjcf import copying  # cycle: copying -> element
 
         return copying.deepcopy_element(self, memo)

@@ -30,6 +30,8 @@ if TYPE_CHECKING:
 PREFIX_SEPARATOR = "/"
 WORLD = "world"  # MuJoCo's name of the world body, shared by every model
 _ESCAPED_SEPARATOR = "\\" + PREFIX_SEPARATOR
+# Asset elements that MuJoCo names after their file when they have no name.
+NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 
 
 class NameScope:
@@ -207,6 +209,18 @@ def check_model_name(name: object) -> str:
             f"model name {name!r} contains '/', which separates the names of attached models"
         )
     return name
+
+
+def name_from_file(value: object) -> str | None:
+    """The name MuJoCo gives an unnamed mesh, texture, height field or skin: its file
+    name without folder and extension; None without a file."""
+    if value is None:
+        return None
+    path = value if isinstance(value, str) else getattr(value, "name", None)
+    if not path:
+        return None
+    base = path.replace("\\", "/").rsplit("/", 1)[-1]
+    return base.rsplit(".", 1)[0] if "." in base else base
 
 
 def unescape(name: str) -> str:

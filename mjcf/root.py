@@ -126,7 +126,7 @@ class RootElement(Element):
         it (attributes set, deleted or edited in place, elements added or removed, models
         attached or detached): equal versions mean an unchanged model, so a compiled
         model can be reused."""
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> root
 
         return self._version + sum(m._version for m in attachment.attached_models(self))
 
@@ -142,7 +142,7 @@ class RootElement(Element):
     def detach(self) -> None:
         """Detach this model from the model it is attached to, leaving that model as it
         was before. Raises mjcf.AttachmentError if it is not attached."""
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> root
 
         attachment.detach(self)
 
@@ -151,13 +151,13 @@ class RootElement(Element):
         textures, ...), under the names it writes (unique as MuJoCo needs them), as
         `mujoco.MjModel.from_xml_string(xml, assets)` takes them; `filename_with_hash`
         as in `to_xml_string`. Raises mjcf.AssetError if a file cannot be read."""
-        from mjcf import serializer
+        from mjcf import serializer  # cycle: serializer -> attachment -> root
 
         return serializer.serialize(self, filename_with_hash=filename_with_hash)[1]
 
     def compile_model(self):
         """Compile this model (with attached models) into a new `mjcf.Physics`."""
-        from mjcf.physics import Physics
+        from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
 
         return Physics.from_mjcf_model(self)
 

@@ -14,6 +14,7 @@ and writing a model never converts numbers it does not need to.
 
 from __future__ import annotations
 
+import copy
 import difflib
 import numbers
 from collections.abc import Iterable
@@ -53,8 +54,6 @@ class TrackedArray(np.ndarray):
         self._owner = owner
 
     def __deepcopy__(self, memo: dict) -> TrackedArray:
-        import copy
-
         new = np.array(self).view(TrackedArray)
         new._owner = copy.deepcopy(self._owner, memo)
         return new
@@ -280,7 +279,7 @@ class _File(_Converter):
 
 
 def _is_element(value: object) -> bool:
-    from mjcf.element import Element
+    from mjcf.element import Element  # cycle: element -> values
 
     return isinstance(value, Element)
 
