@@ -381,17 +381,6 @@ class Binding:
         self._keys[(address, wide)] = key
         return key
 
-    def _read(self, name: str) -> np.ndarray:
-        entry = self._entry(name)
-        fixed, mask, _, key, view, _, _ = entry
-        if mask and self._physics._stale & mask:
-            self._physics._refresh()
-        if fixed is not None:
-            return fixed
-        out = view[key]
-        out._source = entry
-        return out
-
     def _detach(self) -> None:
         """Drop cached arrays: the physics is about to hold another MjData (or MjModel)."""
         self._cache.clear()
@@ -400,7 +389,7 @@ class Binding:
         if name in self._fields:
             # A field property raised BindingError, which Python, seeing an AttributeError,
             # answered by calling us: read again to let that error through.
-            return self._read(name)
+            return getattr(type(self), name).fget(self)
         raise errors.BindingError(self._unknown(name))
 
     def __setattr__(self, name: str, value: Any) -> None:
@@ -536,12 +525,12 @@ def _compact(rows: np.ndarray) -> slice | np.ndarray:
 
 def _field_property(name: str) -> property:
     def fget(self: Binding) -> np.ndarray:
-        # Hot path, inlined: one dict lookup, one flag test, and the cached view (or one
-        # numpy index). The physics empties `_cache` when it changes MjData (see `_detach`),
-        # so a hit is never stale.
+        # The hot path: one dict lookup, one flag test, and the cached view (or one numpy
+        # index). The physics empties `_cache` when it changes MjData (see `_detach`), so a
+        # hit is never stale.
         entry = self._cache.get(name)
         if entry is None:
-            return self._read(name)
+            entry = self._entry(name)
         fixed, mask, _, key, view, _, _ = entry
         if mask and self._physics._stale & mask:
             self._physics._refresh()
