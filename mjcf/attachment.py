@@ -19,7 +19,6 @@ from __future__ import annotations
 
 from mjcf import errors, schema, settings
 from mjcf.element import Element
-from mjcf.namescope import split_identifier
 from mjcf.root import RootElement
 from mjcf.schema import ElementSpec
 
@@ -188,10 +187,8 @@ def attached_models(root: RootElement) -> list[RootElement]:
 def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     """The attachment frame of the model attached inside `root` under the scoped name
     `identifier` ('arm' or 'arm/gripper'), or the frame given that name."""
-    scope = root.namescope
-    for part in split_identifier(identifier):
-        scope = scope.child(part)
-        if scope is None:
-            named = root.namescope.get("attachment_frame", identifier)
-            return named if isinstance(named, AttachmentFrame) else None
+    scope = root.namescope.descendant(identifier)
+    if scope is None:
+        named = root.namescope.get("attachment_frame", identifier)
+        return named if isinstance(named, AttachmentFrame) else None
     return scope.model._frame

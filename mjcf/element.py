@@ -19,12 +19,11 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
-from lxml import etree
-
 from mjcf import assets, debugging, element_list, errors
 from mjcf import values as _values
 from mjcf.element_list import ElementList
-from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file, split_identifier
+from mjcf.model_operations import ModelOperations
+from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -35,11 +34,25 @@ if TYPE_CHECKING:
 _ALIASES = {"dclass": "class", "class_": "class"}
 
 
-class Element:
-    """An MJCF element. Create elements with `parent.add(tag, **attributes)`."""
+class Element(ModelOperations):
+    """An MJCF element. Create elements with `parent.add(tag, **attributes)`; finding,
+    removing, attaching, copying and writing are `ModelOperations`.
 
-    # _text: ((model version, precision), attribute text) of the last plain write, reused
-    # while the model is unchanged (see serializer).
+    Internal protocol: what the other mjcf modules may use of an element; everything
+    else is this module's (tests/mjcf/test_architecture.py holds every module to it).
+    Any module reads the tree directly, because parsing and writing are per element:
+    `_spec` (its ElementSpec), `_parent`, `_root`, `_attrs` (attribute name -> stored
+    value: text as read, or the converted value), `_children`, `_source` (where debug
+    mode saw it made), and asks `_get_value(attribute)`, `_single_child(tag)`,
+    `_is_registered()`, `_implicit()` (named after its file, by MuJoCo) and
+    `_modified()` (count an in-place change). Only the modules that build or rewrite
+    trees (parser, copying, default_sections, defaults, attachment, root) make elements
+    with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
+    into them, then record names with `_register()`; `_cut()` and
+    `_unregister_subtree()` take elements out. `_text` is the serializer's cache:
+    ((model version, precision), attribute text) of its last write as stored.
+    """
+
     __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec", "_text")
 
     _spec: ElementSpec
@@ -110,23 +123,6 @@ class Element:
         if value is None and spec.tag in NAMED_AFTER_FILE:
             return name_from_file(self._attrs.get("file"))
         return value
-
-    @property
-    def full_identifier(self) -> str | None:
-        """The name MuJoCo sees for this element in the outermost model it is attached
-        into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
-        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
-        cannot carry a name, and unnamed ones that are removed or replicated (see
-        `mjcf.naming`)."""
-        return self.prefixed_identifier(None)
-
-    def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
-        """This element's name as model `prefix_root` (default: the outermost model it is
-        attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError if
-        this element's model is not attached inside `prefix_root`."""
-        from mjcf import naming  # cycle: naming -> attachment -> element
-
-        return naming.scoped_name(self, prefix_root)
 
     @property
     def path(self) -> str:
@@ -248,17 +244,6 @@ class Element:
         """Set several attributes at once; if any is invalid, none is set."""
         converted = self._prepare(attributes)
         self._apply(converted)
-
-    def get_attribute_xml_string(
-        self, name: str, prefix_root: RootElement | None = None
-    ) -> str | None:
-        """The attribute as it would be written to XML (scoped names for references)."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element
-
-        attribute = self._attribute_spec(name)
-        if attribute.name not in self._attrs:
-            return None
-        return serializer.attribute_text(self, attribute, prefix_root)
 
     def _prepare(self, attributes: dict[str, Any]) -> list[tuple[AttributeSpec, Any]]:
         """Convert and check every attribute without changing anything."""
@@ -448,31 +433,6 @@ class Element:
             yield element
             stack.extend(reversed(element._children))
 
-    def remove(self, affect_attachments: bool = False) -> None:
-        """Remove this element (and its subtree) from the model. Raises mjcf.SchemaError
-        for a model's top-level sections, which always exist."""
-        parent = self._parent
-        if parent is None:
-            raise errors.SchemaError(
-                f"{self.path}: a model root or removed element cannot be removed"
-            )
-        if parent._parent is None and parent is self._root:
-            raise errors.SchemaError(
-                f"{self.path}: the <{self.tag}> section always exists; remove its children"
-            )
-        from mjcf import attachment  # cycle: attachment -> element
-
-        frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
-        if frames and not affect_attachments:
-            models = ", ".join(repr(frame.attached_model.model) for frame in frames)
-            raise errors.AttachmentError(
-                f"{self.path}: models {models} are attached inside; detach them first, or "
-                "call remove(affect_attachments=True)"
-            )
-        for frame in frames:
-            frame.detach()
-        self._cut()._modified()
-
     def _cut(self) -> Element:
         """Take this element and its subtree out of the tree, forgetting their names;
         returns the parent it had."""
@@ -482,118 +442,6 @@ class Element:
         object.__setattr__(self, "_parent", None)
         return parent
 
-    def attach(self, child: RootElement) -> Element:
-        """Attach model `child` here (a site, body, frame or the world body) and return
-        its attachment frame; its names become scoped ('child_model/name'). Raises
-        mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
-        from mjcf import attachment  # cycle: attachment -> element
-
-        return attachment.attach(self, child)
-
-    def include_copy(self, other: Element, override_attributes: bool = False) -> None:
-        """Merge a copy of `other` (an element of the same tag, or another model into
-        this model) into this element, without a name scope, as `<include>` would; see
-        `mjcf.copying`. Nothing changes if it raises."""
-        from mjcf import copying  # cycle: copying -> element
-
-        copying.include_copy(self, other, override_attributes)
-
-    # -- finding ------------------------------------------------------------------------
-
-    def find(self, namespace: str, identifier: str) -> Element | None:
-        """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
-        'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
-        inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
-        unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element
-
-        return traversal.find(self, namespace, identifier)
-
-    def find_all(
-        self,
-        namespace: str,
-        immediate_children_only: bool = False,
-        exclude_attachments: bool = False,
-    ) -> list[Element]:
-        """Every element of `namespace` (or with tag `namespace`) inside this element,
-        in the order MuJoCo will see them, including attached models' unless excluded.
-        Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element
-
-        return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
-
-    def enter_scope(self, scope_identifier: str) -> RootElement | None:
-        """The model attached into this element's model under the scoped name
-        `scope_identifier` ('arm', or 'arm/gripper' for one attached inside it), or None
-        if there is none."""
-        scope = self._root.namescope
-        for part in split_identifier(scope_identifier):
-            scope = scope.child(part) if part else None
-            if scope is None:
-                return None
-        return scope.model
-
-    def is_same_as(self, other: object) -> bool:
-        """Whether `other` is structurally the same element: same schema, attribute
-        values (references by what they point to) and children (see `mjcf.sameness`)."""
-        from mjcf import sameness  # cycle: sameness -> element
-
-        return sameness.is_same_as(self, other)
-
-    # -- XML -------------------------------------------------------------------------------
-
-    def to_xml(
-        self,
-        prefix_root: RootElement | None = None,
-        *,
-        precision: int = 17,
-        zero_threshold: float = 0.0,
-        filename_with_hash: bool = False,
-    ):
-        """This element (and its subtree, with attached models) as an lxml element;
-        the keywords are `to_xml_string`'s."""
-        return etree.fromstring(
-            self.to_xml_string(
-                prefix_root,
-                pretty_print=False,
-                precision=precision,
-                zero_threshold=zero_threshold,
-                filename_with_hash=filename_with_hash,
-            )
-        )
-
-    def to_xml_string(
-        self,
-        prefix_root: RootElement | None = None,
-        self_only: bool = False,
-        pretty_print: bool = True,
-        *,
-        precision: int = 17,
-        zero_threshold: float = 0.0,
-        filename_with_hash: bool = False,
-    ) -> str:
-        """XML text of this element (with its subtree and attached models unless
-        `self_only`). Numbers keep their source text, or are written with `precision`
-        significant digits (17: exact); with `precision` below 17 or a `zero_threshold`
-        every real number is rewritten, those smaller in magnitude than `zero_threshold`
-        as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
-        names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
-        mjcf errors for missing required attributes and dangling references."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element
-
-        return serializer.to_xml_string(
-            self,
-            prefix_root,
-            self_only,
-            pretty_print,
-            precision,
-            zero_threshold=zero_threshold,
-            filename_with_hash=filename_with_hash,
-        )
-
-    def __repr__(self) -> str:
-        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
-
     def __dir__(self) -> list[str]:
         names = set(super().__dir__())
         names.update(_ALIASES.get(n, n) for n in self._spec.attributes if n != "class")
@@ -601,17 +449,3 @@ class Element:
             names.add("dclass")
         names.update(self._spec.children)
         return sorted(n for n in names if n.isidentifier())
-
-    def __copy__(self) -> Element:
-        raise TypeError(
-            f"{self.path}: an element belongs to its model and cannot be copied alone; copy "
-            "the model with copy.copy(root) or copy.deepcopy(root), or merge a copy into "
-            "another element with include_copy"
-        )
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> Element:
-        """A copy of the whole model (detached, with its attached models), sharing the
-        schema; returns this element's copy (see `mjcf.copying`)."""
-        from mjcf import copying  # cycle: copying -> element
-
-        return copying.deepcopy_element(self, memo)

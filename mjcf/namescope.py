@@ -130,6 +130,16 @@ class NameScope:
         """The scope of the attached model called `name`, or None."""
         return self._children.get(name)
 
+    def descendant(self, identifier: str) -> NameScope | None:
+        """The scope of the model attached inside this one under the scoped name
+        `identifier` ('arm', or 'arm/gripper' for one attached inside it), or None."""
+        scope: NameScope | None = self
+        for part in split_identifier(identifier):
+            scope = scope._children.get(part)
+            if scope is None:
+                return None
+        return scope
+
     @property
     def children(self) -> dict[str, NameScope]:
         """Scopes of the models attached directly to this one, by model name."""

@@ -82,6 +82,8 @@ def from_path(
     )
 
 
+# The parameters repeat from_xml_string's on purpose: both are dm_control's signatures,
+# which code calls with positional arguments.
 def from_file(
     file_object: IO,
     escape_separators: bool = False,
