@@ -153,16 +153,19 @@ class WriteThrough(np.ndarray):
 
     Only the array a binding returned does this; arrays derived from it (slices, ufunc
     results) are plain arrays of the same class.
+
+    Internal protocol: bindings and named access set `_writeback`, a tuple whose last item
+    is the `Target` the array writes to.
     """
 
-    __slots__ = ("_source",)  # the binding's cache entry: (..., Target)
+    __slots__ = ("_writeback",)
 
     def __setitem__(self, key: Any, value: Any) -> None:
-        source = getattr(self, "_source", None)  # unset on arrays derived from this one
-        if source is None:
+        writeback = getattr(self, "_writeback", None)  # unset on arrays derived from this one
+        if writeback is None:
             np.ndarray.__setitem__(self, key, value)
             return
-        target: Target = source[-1]
+        target: Target = writeback[-1]
         target.refresh_before_write()
         old = target.array[target.key].copy() if target.effect == Effect.MODEL_CONSTANT else None
         np.ndarray.__setitem__(self, key, value)
@@ -213,9 +216,9 @@ def _column_index(field: fields.Field, name: str) -> int:
 class Binding:
     """Fields of the objects `ids` of one `kind`, read and written in one physics.
 
-    Make bindings with `Physics.bind(elements)` or `Physics._binding(kind, ids)`: the physics
-    caches them and tells them when it changes MjData, which a binding made directly would
-    not hear.
+    Make bindings with `Physics.bind(elements)` or `Physics.bind_names(kind, names)`: the
+    physics caches them and tells them when it changes MjData, which a binding made directly
+    would not hear. Internal protocol: the physics calls `_detach()` before it changes MjData.
     """
 
     __slots__ = (
@@ -342,7 +345,7 @@ class Binding:
                 fixed = array[key] if view is None else view[key]
             entry = (fixed, mask, array, key, view, bits, target)
             if fixed is not None and view is not None:
-                fixed._source = entry
+                fixed._writeback = entry
             self._cache[name] = entry
         return entry
 
@@ -537,7 +540,7 @@ def _field_property(name: str) -> property:
         if fixed is not None:
             return fixed
         out = view[key]
-        out._source = entry
+        out._writeback = entry
         return out
 
     # Writes go through Binding.__setattr__, which every assignment reaches first anyway.
