@@ -24,6 +24,24 @@ No exception name shadows a Python builtin, so `from mjcf import *` is safe:
 `NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
 `NameError`, `AttributeError` and `ReferenceError` in the previous release; those old
 names still work (`mjcf.NameError`), with a DeprecationWarning, until the next release.
+
+How the package is built: its modules form layers, each importing only from its own layer
+and the layers listed before it. Values and names come first (what an attribute holds,
+what MJCF allows, how names scope), then the element tree, then how trees compose
+(attachment, defaults, settings, copies), then reading and writing MJCF text, then
+compiling and simulating. A module reaches one of a later layer only by an import inside
+a function, where a module-level import would be circular, and says so; private members
+of another module's objects are used only through the internal protocol their class
+documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py checks
+all three on the real source:
+
+    values:       errors debugging fields assets values schema namescope
+    tree:         element_list model_operations element root base constants
+    composition:  settings attachment naming traversal frames defaults traversal_utils
+                  copying sameness keyframes composition
+    text:         default_sections parser serializer export
+    simulation:   tracking binding named validity rendering raw_access tree_binding
+                  compiler physics_state physics
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).

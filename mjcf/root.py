@@ -27,7 +27,15 @@ DEFAULT_MODEL_NAME = "unnamed_model"
 class RootElement(Element):
     """A whole MJCF model. `model` is its name (the scope name of its elements when
     it is attached to another model); `model_dir` is where its relative file names
-    are found; `assets` maps file names to contents for files that are not on disk."""
+    are found; `assets` maps file names to contents for files that are not on disk.
+
+    Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
+    top-level section) and `_version` (see `version`); `_frame` (where this model is
+    attached) and `_attachments` (the frames of the models attached to it) belong to
+    `mjcf.attachment`, which alone links and unlinks models; `_numbering` is
+    `mjcf.naming`'s cache of generated names; `_confine_to` (the folder `strict_paths`
+    confines files to) is set by the parser and read by `mjcf.assets`.
+    """
 
     __slots__ = (
         "_assets",
