@@ -48,7 +48,7 @@ class ModelOperations:
         """This element's name as model `prefix_root` (default: the outermost model it is
         attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError
         if this element's model is not attached inside `prefix_root`."""
-        from mjcf import naming  # cycle: naming -> attachment -> element
+        from mjcf import naming  # cycle: naming -> attachment -> element -> this module
 
         return naming.scoped_name(self, prefix_root)
 
@@ -59,7 +59,7 @@ class ModelOperations:
         'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
         inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
         unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element
+        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
         return traversal.find(self, namespace, identifier)
 
@@ -72,7 +72,7 @@ class ModelOperations:
         """Every element of `namespace` (or with tag `namespace`) inside this element,
         in the order MuJoCo will see them, including attached models' unless excluded.
         Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element
+        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
         return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
 
@@ -86,7 +86,7 @@ class ModelOperations:
     def is_same_as(self, other: object) -> bool:
         """Whether `other` is structurally the same element: same schema, attribute
         values (references by what they point to) and children (see `mjcf.sameness`)."""
-        from mjcf import sameness  # cycle: sameness -> element
+        from mjcf import sameness  # cycle: sameness -> element -> this module
 
         return sameness.is_same_as(self, other)
 
@@ -97,7 +97,7 @@ class ModelOperations:
         for a model's top-level sections, which always exist, and mjcf.AttachmentError
         if models are attached inside, unless `affect_attachments` (they are detached
         then)."""
-        from mjcf import attachment  # cycle: attachment -> element
+        from mjcf import attachment  # cycle: attachment -> element -> this module
 
         parent = self.parent
         if parent is None:
@@ -123,7 +123,7 @@ class ModelOperations:
         """Attach model `child` here (a site, body, frame or the world body) and return
         its attachment frame; its names become scoped ('child_model/name'). Raises
         mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
-        from mjcf import attachment  # cycle: attachment -> element
+        from mjcf import attachment  # cycle: attachment -> element -> this module
 
         return attachment.attach(self, child)
 
@@ -131,7 +131,7 @@ class ModelOperations:
         """Merge a copy of `other` (an element of the same tag, or another model into
         this model) into this element, without a name scope, as `<include>` would; see
         `mjcf.copying`. Nothing changes if it raises."""
-        from mjcf import copying  # cycle: copying -> element
+        from mjcf import copying  # cycle: copying -> element -> this module
 
         copying.include_copy(self, other, override_attributes)
 
@@ -145,7 +145,7 @@ class ModelOperations:
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
         """A copy of the whole model (detached, with its attached models), sharing the
         schema; returns this element's copy (see `mjcf.copying`)."""
-        from mjcf import copying  # cycle: copying -> element
+        from mjcf import copying  # cycle: copying -> element -> this module
 
         return copying.deepcopy_element(self, memo)
 
@@ -155,7 +155,7 @@ class ModelOperations:
         self, name: str, prefix_root: RootElement | None = None
     ) -> str | None:
         """The attribute as it would be written to XML (scoped names for references)."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element
+        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
         attribute = self._attribute_spec(name)
         if attribute.name not in self._attrs:
@@ -199,7 +199,7 @@ class ModelOperations:
         as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
         names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
         mjcf errors for missing required attributes and dangling references."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element
+        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
         return serializer.to_xml_string(
             self,
