@@ -13,6 +13,10 @@ The child model keeps its own tree and name scope; the parent holds an
 inertial are added to it. A model is attached in one place at a time; attach a
 `copy.deepcopy` of it to use it twice. A model whose name is taken where it is attached
 (the same file loaded twice) is renamed 'name_1', 'name_2', ... as in dm_control.
+
+This module owns the link between a frame and its model (the frame's model, the model's
+frame, the parent's attachments and the child's scope in the parent's): `link` makes it,
+for `attach` and for copies alike, and `detach` undoes it; nothing else writes it.
 """
 
 from __future__ import annotations
