@@ -70,10 +70,9 @@ _MUTATORS = frozenset(
 
 
 class _File:
-    """One source file: its path, text and syntax tree."""
+    """One source file: its text and syntax tree."""
 
     def __init__(self, path: Path) -> None:
-        self.path = path
         self.text = path.read_text()
         self.tree = ast.parse(self.text, str(path))
 
@@ -240,25 +239,44 @@ def test_the_check_sees_what_it_should() -> None:
 
 
 def _owned(files: list[_File]) -> set[str]:
-    """The private names a module defines: its functions, classes, slots, class and
-    module attributes, and the attributes its methods set on `self`."""
+    """The private names a module defines: its module-level and class-level names
+    (functions, classes, constants, slots) and the attributes its methods set on `self`."""
     owned: set[str] = set()
     for file in files:
-        for node in ast.walk(file.tree):
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
-                owned.add(node.name)
-            elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
-                owned.add(node.id)
-            elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
-                owned.add(node.target.id)
-            elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
-                if isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"):
-                    owned.add(node.attr)
-            elif isinstance(node, ast.Assign) and any(
-                isinstance(t, ast.Name) and t.id == "__slots__" for t in node.targets
-            ):
-                owned.update(c.value for c in ast.walk(node.value) if isinstance(c, ast.Constant))
-    return {name for name in owned if isinstance(name, str) and name.startswith("_")}
+        bodies = [file.tree.body]
+        while bodies:
+            for statement in bodies.pop():
+                if isinstance(statement, ast.ClassDef):
+                    bodies.append(statement.body)
+                owned.update(_defined(statement))
+        owned.update(
+            node.attr
+            for node in ast.walk(file.tree)
+            if isinstance(node, ast.Attribute)
+            and isinstance(node.ctx, ast.Store)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in ("self", "cls")
+        )
+    return {name for name in owned if name.startswith("_")}
+
+
+def _defined(statement: ast.stmt) -> set[str]:
+    """The names a module- or class-level statement defines (a `__slots__` its slots)."""
+    if isinstance(statement, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+        return {statement.name}
+    targets = []
+    if isinstance(statement, ast.Assign):
+        targets = statement.targets
+    elif isinstance(statement, ast.AnnAssign):
+        targets = [statement.target]
+    names = {t.id for target in targets for t in ast.walk(target) if isinstance(t, ast.Name)}
+    if "__slots__" in names and isinstance(statement, ast.Assign):
+        names |= {
+            c.value
+            for c in ast.walk(statement.value)
+            if isinstance(c, ast.Constant) and isinstance(c.value, str)
+        }
+    return names
 
 
 def _foreign_names(tree: ast.Module) -> set[str]:
