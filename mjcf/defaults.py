@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjcf import errors, schema, traversal
+from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -70,7 +70,7 @@ def class_of(element: Element) -> Element:
         return name
     found = model.find("default", name)
     if found is None:
-        raise errors.ReferenceError(f"{element.path}: default class {name!r} does not exist")
+        raise errors.InvalidReferenceError(f"{element.path}: default class {name!r} does not exist")
     return found
 
 
@@ -110,10 +110,9 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
     does, only that element gets its values, and the classes stay. `attributes` limits
     the commit to those attribute names; the classes then stay too, for the others.
 
-    Raises mjcf.ReferenceError for a class that does not exist, mjcf.AttributeError for
-    a name in `attributes` that no default class can set; the model is unchanged then."""
-    from mjcf import attachment
-
+    Raises mjcf.InvalidReferenceError for a class that does not exist,
+    mjcf.UnknownAttributeError for a name in `attributes` that no default class can set;
+    the model is unchanged then."""
     names = None if attributes is None else _checked_names(element, attributes)
     whole_model = element is element.root
     models = [element, *attachment.attached_models(element)] if whole_model else []
@@ -154,13 +153,13 @@ def _remove_classes(model: RootElement) -> None:
 
 
 def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str]:
-    """`attributes` as a set; raises mjcf.AttributeError for a name that no default
+    """`attributes` as a set; raises mjcf.UnknownAttributeError for a name that no default
     class can give (a name that only this element lacks is left alone, as dm_control
     does, so that one list serves elements of several kinds)."""
     names = frozenset([attributes] if isinstance(attributes, str) else attributes)
     for name in sorted(names, key=str):
         if name not in _DEFAULTABLE:
-            raise errors.AttributeError(
+            raise errors.UnknownAttributeError(
                 f"{element.path}: commit_defaults: no default class sets an attribute "
                 f"{name!r}" + _values.suggest(str(name), _DEFAULTABLE)
             )

@@ -23,6 +23,7 @@ import zipfile
 
 from mjcf import errors, serializer
 from mjcf.assets import plain_file_name
+from mjcf.parser import from_xml_string
 from mjcf.root import RootElement
 
 _MAX_ZIP_ENTRIES = 100_000
@@ -169,8 +170,6 @@ def from_zip(
     comes back as one model whose names keep their scopes, escaped ('arm\\/base', see
     `from_xml_string`); it compiles to the same model. Raises mjcf.ParseError for a
     zip that is not such an archive or that is unsafe."""
-    from mjcf.parser import from_xml_string
-
     try:
         archive = zipfile.ZipFile(zip_path)
     except (OSError, zipfile.BadZipFile) as error:

@@ -130,7 +130,7 @@ class _Writer:
         self.composed = composition.Composition(root, for_compile=for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
-        self._plain_writers: dict[composition.ModelContext, object] = {}
+        self._writers: dict[composition.ModelContext, object] = {}
 
     def context_of(self, model: RootElement) -> composition.ModelContext:
         return self.composed.context(model)
@@ -262,44 +262,58 @@ class _Writer:
         self, children: list[Element], depth: int, context: composition.ModelContext
     ) -> None:
         """Write `children` of one model."""
-        if not context.names_only or self.reformat:
-            for child in children:
-                self.element(child, depth, context)
-            return
-        write = self._plain_writers.get(context)
-        if write is None:
-            write = self._plain_writers[context] = self._plain_writer(context)
+        write = self._writer(context)
         for child in children:
             write(child, depth)
 
-    def _plain_writer(self, context: composition.ModelContext):
-        """A writer of elements for a context that writes names and values as stored (a
-        model written on its own): the common case, kept tight because it dominates.
+    def element(
+        self,
+        element: Element,
+        depth: int,
+        context: composition.ModelContext,
+        override: dict | None = None,
+    ) -> None:
+        """Write `element` and its subtree (empty once-only elements are left out);
+        `override` replaces attributes (see `attributes`)."""
+        self._writer(context)(element, depth, override)
 
-        Its tag writing (self-closing when empty, empty once-only elements left out) is
-        `element`'s, inlined on purpose: a shared helper costs a call per element on the
-        path that decides how close writing stays to lxml."""
+    def _writer(self, context: composition.ModelContext):
+        write = self._writers.get(context)
+        if write is None:
+            write = self._writers[context] = self._element_writer(context)
+        return write
+
+    def _element_writer(self, context: composition.ModelContext):
+        """The function that writes an element of `context`'s model with its subtree: one
+        for every element, kept tight because it decides how close writing stays to lxml.
+
+        Where the context writes names and values as stored (a model written on its own:
+        the common case) an element's attribute text is cached on the element until its
+        model changes, so writing an unchanged model again costs a lookup per element;
+        elsewhere (scoped names, converted values, an override) `attributes` builds it
+        each time. Either way the tag is self-closing when nothing is inside, and an empty
+        once-only element is left out."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
-        general, escaped_value = self.element, self._escaped_value
-        escaped_attributes = self._escaped_attributes
+        escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
+        attributes, frame, check_required = self.attributes, self._frame, self._check_required
         renamed, own_name = self.files.renamed, self._own_name
         frame_spec = _FRAME_SPEC
-        generated_name = self.composed.generated_name
-        # Cached text is valid for one model version and one number precision.
-        version = (context.model._version, self.precision)
+        generated_name, rewrite = self.composed.generated_name, context.rewrite
+        as_stored = context.names_only and not self.reformat
+        # Cached text is valid for one model version and one number precision, and only
+        # where it is written as stored: elsewhere no cached text matches.
+        version = (context.model._version, self.precision) if as_stored else None
 
-        def write(element: Element, depth: int) -> None:
+        def text_of(element: Element, depth: int, override: dict | None) -> str | None:
+            """The attribute text of `element`'s tag; None for an attachment frame, which
+            is written whole here."""
             spec = element._spec
             attrs = element._attrs
-            if spec is frame_spec or spec.required:
-                if attrs or element._children or not spec.on_demand:
-                    general(element, depth, context)
-                return
-            cached = element._text
-            if cached is not None and cached[0] == version:
-                text = cached[1]
-            else:
+            if spec is frame_spec:
+                frame(element, depth, context)
+                return None
+            if as_stored and override is None and not spec.required:
                 special = spec.file_attributes
                 if attrs:
                     text = "".join([
@@ -326,6 +340,25 @@ class _Writer:
                         text += own_name(element, context)
                 if not special:  # file names depend on the output; the rest does not
                     element._text = (version, text)
+                return text
+            if spec.required and (attrs or element._children or not spec.on_demand):
+                check_required(element)
+            if override is None:
+                override = rewrite(element)
+            text = attributes(element, context, override) if attrs or override else ""
+            if element in renamed and not (override and spec.identifier in override):
+                text += own_name(element, context)
+            return text
+
+        def write(element: Element, depth: int, override: dict | None = None) -> None:
+            cached = element._text
+            if cached is not None and cached[0] == version and override is None:
+                text = cached[1]
+            else:
+                text = text_of(element, depth, override)
+                if text is None:
+                    return
+            spec = element._spec
             children = element._children
             indent = indents[depth]
             if not children:
@@ -350,48 +383,6 @@ class _Writer:
             owners.append(None)
 
         return write
-
-    def element(
-        self,
-        element: Element,
-        depth: int,
-        context: composition.ModelContext,
-        override: dict | None = None,
-    ) -> None:
-        """Write `element` and its subtree (empty once-only elements are left out)."""
-        spec = element._spec
-        if spec is attachment.FRAME_SPEC:
-            self._frame(element, depth, context)
-            return
-        if spec.required and (element._attrs or element._children or not spec.on_demand):
-            self._check_required(element)
-        if override is None:
-            override = context.rewrite(element)
-        text = self.attributes(element, context, override) if element._attrs or override else ""
-        if element in self.files.renamed and not (override and spec.identifier in override):
-            text += self._own_name(element, context)
-        children = element._children
-        indent = self._indents[depth]
-        newline = self._newline_text
-        parts = self.parts
-        owners = self.owners
-        if not children:
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
-                owners.append(element)
-            return
-        start = len(parts)
-        parts.append(f"{indent}<{spec.tag}{text}>{newline}")
-        owners.append(element)
-        self.children(children, depth + 1, context)
-        if len(parts) == start + 1:
-            self._unemit()
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
-                owners.append(element)
-            return
-        parts.append(f"{indent}</{spec.tag}>{newline}")
-        owners.append(None)
 
     def _frame(self, frame: attachment.AttachmentFrame, depth: int, context) -> None:
         """An attachment frame: its own joints, then the attached model's world body."""
