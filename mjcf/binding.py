@@ -153,16 +153,19 @@ class WriteThrough(np.ndarray):
 
     Only the array a binding returned does this; arrays derived from it (slices, ufunc
     results) are plain arrays of the same class.
+
+    Internal protocol: bindings and named access set `_writeback`, a tuple whose last item
+    is the `Target` the array writes to.
     """
 
-    __slots__ = ("_source",)  # the binding's cache entry: (..., Target)
+    __slots__ = ("_writeback",)
 
     def __setitem__(self, key: Any, value: Any) -> None:
-        source = getattr(self, "_source", None)  # unset on arrays derived from this one
-        if source is None:
+        writeback = getattr(self, "_writeback", None)  # unset on arrays derived from this one
+        if writeback is None:
             np.ndarray.__setitem__(self, key, value)
             return
-        target: Target = source[-1]
+        target: Target = writeback[-1]
         target.refresh_before_write()
         old = target.array[target.key].copy() if target.effect == Effect.MODEL_CONSTANT else None
         np.ndarray.__setitem__(self, key, value)
@@ -213,9 +216,9 @@ def _column_index(field: fields.Field, name: str) -> int:
 class Binding:
     """Fields of the objects `ids` of one `kind`, read and written in one physics.
 
-    Make bindings with `Physics.bind(elements)` or `Physics._binding(kind, ids)`: the physics
-    caches them and tells them when it changes MjData, which a binding made directly would
-    not hear.
+    Make bindings with `Physics.bind(elements)` or `Physics.bind_names(kind, names)`: the
+    physics caches them and tells them when it changes MjData, which a binding made directly
+    would not hear. Internal protocol: the physics calls `_detach()` before it changes MjData.
     """
 
     __slots__ = (
@@ -342,7 +345,7 @@ class Binding:
                 fixed = array[key] if view is None else view[key]
             entry = (fixed, mask, array, key, view, bits, target)
             if fixed is not None and view is not None:
-                fixed._source = entry
+                fixed._writeback = entry
             self._cache[name] = entry
         return entry
 
@@ -381,17 +384,6 @@ class Binding:
         self._keys[(address, wide)] = key
         return key
 
-    def _read(self, name: str) -> np.ndarray:
-        entry = self._entry(name)
-        fixed, mask, _, key, view, _, _ = entry
-        if mask and self._physics._stale & mask:
-            self._physics._refresh()
-        if fixed is not None:
-            return fixed
-        out = view[key]
-        out._source = entry
-        return out
-
     def _detach(self) -> None:
         """Drop cached arrays: the physics is about to hold another MjData (or MjModel)."""
         self._cache.clear()
@@ -400,7 +392,7 @@ class Binding:
         if name in self._fields:
             # A field property raised BindingError, which Python, seeing an AttributeError,
             # answered by calling us: read again to let that error through.
-            return self._read(name)
+            return getattr(type(self), name).fget(self)
         raise errors.BindingError(self._unknown(name))
 
     def __setattr__(self, name: str, value: Any) -> None:
@@ -536,19 +528,19 @@ def _compact(rows: np.ndarray) -> slice | np.ndarray:
 
 def _field_property(name: str) -> property:
     def fget(self: Binding) -> np.ndarray:
-        # Hot path, inlined: one dict lookup, one flag test, and the cached view (or one
-        # numpy index). The physics empties `_cache` when it changes MjData (see `_detach`),
-        # so a hit is never stale.
+        # The hot path: one dict lookup, one flag test, and the cached view (or one numpy
+        # index). The physics empties `_cache` when it changes MjData (see `_detach`), so a
+        # hit is never stale.
         entry = self._cache.get(name)
         if entry is None:
-            return self._read(name)
+            entry = self._entry(name)
         fixed, mask, _, key, view, _, _ = entry
         if mask and self._physics._stale & mask:
             self._physics._refresh()
         if fixed is not None:
             return fixed
         out = view[key]
-        out._source = entry
+        out._writeback = entry
         return out
 
     # Writes go through Binding.__setattr__, which every assignment reaches first anyway.

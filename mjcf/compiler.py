@@ -46,12 +46,12 @@ class Compiled(NamedTuple):
         composition = self.composition
         try:
             context = composition.context(element.root)
-        except errors.ReferenceError as error:
+        except errors.InvalidReferenceError as error:
             raise errors.BindingError(f"{element.path}: {error}") from None
         if not element._is_registered():
             raise errors.BindingError(f"{element.path}: the element was removed from its model")
         if isinstance(element, attachment.AttachmentFrame):
-            return attachment.frame_output_name(element, composition.context(element.root))
+            return naming.frame_name(element, composition.context(element.root).prefix)
         if element._spec.tag == "worldbody":
             return naming.scoped_name(element, composition.root) or ""
         name = element.identifier

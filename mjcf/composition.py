@@ -25,11 +25,13 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
-from mjcf import attachment, defaults, errors, naming, settings
-from mjcf.namescope import PREFIX_SEPARATOR, WORLD
+from mjcf import attachment, defaults, errors, keyframes, naming, settings
+from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
+from mjcf.values import format_number
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -76,7 +78,9 @@ class ModelContext:
     def finish(self) -> None:
         """Decide whether names and values can be written as stored."""
         self.plain = (
-            not self.prefix and self.main_reference == MAIN and not self.model._escaped_names
+            not self.prefix
+            and self.main_reference == MAIN
+            and not self.model.namescope.has_escaped_names
         )
         # Whether stored values are written as they are, only names being added.
         self.names_only = (
@@ -273,11 +277,11 @@ class Composition:
         return self._inertia
 
     def context(self, model: RootElement) -> ModelContext:
-        """The context of `model`; raises mjcf.ReferenceError for a model that is not
+        """The context of `model`; raises mjcf.InvalidReferenceError for a model that is not
         part of this output."""
         context = self._contexts.get(model)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"model {model.model!r} is not attached inside model {self.root.model!r}"
             )
         return context
@@ -300,8 +304,6 @@ class Composition:
 
     def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""
-        from mjcf import keyframes
-
         return keyframes.keys_to_write(self, for_compile)
 
     # -- references and names --------------------------------------------------------------
@@ -311,24 +313,24 @@ class Composition:
     ) -> str:
         """The written name of a referenced element object."""
         if not target._is_registered():
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
             )
         context = self._contexts.get(target.root)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to {target.path} in model "
                 f"{target.root.model!r}, which is not attached inside model {self.root.model!r}"
             )
         if isinstance(target, attachment.AttachmentFrame):
-            return attachment.frame_output_name(target, context)
+            return naming.frame_name(target, context.prefix)
         if target._spec.tag == "worldbody":
             return WORLD
         name = target.identifier
         if name is None:
             generated = self.generated_name(target, context)
             if generated is None:
-                raise errors.ReferenceError(
+                raise errors.InvalidReferenceError(
                     f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
                     "inside a <replicate> and compiles to several unnamed objects; name it"
                 )
@@ -344,7 +346,7 @@ class Composition:
         if (
             context.plain
             and not self.for_compile
-            and element._spec.tag in naming.NAMED_AFTER_FILE
+            and element._spec.tag in NAMED_AFTER_FILE
             and element._attrs.get("file") is not None
         ):
             return None  # MuJoCo names it after its file, as it is written
@@ -374,7 +376,7 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
     out: dict[str, str | None] = {}
     if context.angle_scale is not None or context.euler_seq is not None:
         out.update(context._convert_angles(frame))
-    out["name"] = attachment.frame_output_name(frame, context)
+    out["name"] = naming.frame_name(frame, context.prefix)
     out["childclass"] = child_context.main_reference
     return out
 
@@ -393,34 +395,16 @@ def _numbers(element: Element, name: str) -> np.ndarray:
 
 
 def _text(values: np.ndarray) -> str:
-    from mjcf.values import format_number
-
     return " ".join(format_number(v) for v in np.asarray(values, dtype=float).ravel().tolist())
 
 
 def euler_to_quat(euler: np.ndarray, sequence: str) -> np.ndarray:
-    """The quaternion of Euler angles (radians) in MuJoCo's `eulerseq` convention:
-    lower-case axes rotate with the frame (intrinsic), upper-case stay fixed."""
-    quat = np.array([1.0, 0.0, 0.0, 0.0])
-    for angle, axis in zip(euler, sequence, strict=True):
-        index = "xyz".index(axis.lower())
-        half = angle / 2
-        rotation = np.zeros(4)
-        rotation[0] = math.cos(half)
-        rotation[1 + index] = math.sin(half)
-        quat = _quat_mul(quat, rotation) if axis.islower() else _quat_mul(rotation, quat)
+    """The quaternion (4,) of Euler angles `euler` (3,), in radians, in MuJoCo's
+    `eulerseq` convention (lower-case axes rotate with the frame, upper-case stay
+    fixed), by MuJoCo's own conversion."""
+    quat = np.empty(4)
+    mujoco.mju_euler2Quat(quat, np.asarray(euler, dtype=float), sequence)
     return quat
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array([
-        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-    ])  # fmt: skip
 
 
 def _in_body(element: Element) -> bool:

@@ -27,15 +27,16 @@ import functools
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+import mujoco
 import numpy as np
 from lxml import etree
 
 from mjcf import errors, schema
 from mjcf import values as _values
 from mjcf.defaults import overlay
+from mjcf.element import Element
 
 if TYPE_CHECKING:
-    from mjcf.element import Element
     from mjcf.schema import AttributeSpec
 
 _ACTUATOR_TAGS = frozenset(schema.MUJOCO.child("actuator").children)
@@ -77,8 +78,6 @@ def _read(
     read_attributes: Callable[[Element, dict, etree._Element], None],
     where: Callable[[etree._Element], str],
 ) -> Element:
-    from mjcf.element import Element
-
     spec = main._spec.children.get(xml.tag)
     if spec is None:
         raise errors.SchemaError(f"{where(xml)}: <default> cannot have a <{xml.tag}> child")
@@ -195,8 +194,6 @@ def _built_in(tag: str, attribute: AttributeSpec, new_text: str, where: str) -> 
 
 @functools.cache
 def _spec_defaults() -> Any:
-    import mujoco
-
     return mujoco.MjSpec().default
 
 
@@ -219,8 +216,6 @@ def _built_in_text(tag: str, name: str, new_text: str) -> Any:
     """Ask MuJoCo's writer: a class defined before the global defaults set `name` to
     `new_text` keeps the built-in value, which the writer writes for it when it differs.
     Returns its text, None if they are equal, or _UNKNOWN if MuJoCo writes it otherwise."""
-    import mujoco
-
     probe = (
         '<mujoco><compiler angle="radian"/><default><default class="probe"/></default>'
         f"<default><{tag} {name}={_quoted(new_text)}/></default></mujoco>"

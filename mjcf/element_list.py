@@ -59,7 +59,7 @@ def children(element: Element, tag: str | None = None) -> list[Element]:
     root = element.root
     if element._parent is not root or element._spec.tag in _OWN_SECTIONS:
         return found
-    from mjcf import attachment
+    from mjcf import attachment  # cycle: attachment -> element -> element_list
 
     for model in attachment.attached_models(root):
         section = model._single_child(element._spec.tag)

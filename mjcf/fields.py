@@ -371,3 +371,12 @@ ADDRESSES: tuple[Address, ...] = _derive_addresses(_EXTENTS)
 
 _ATTRIBUTES, _INDEXINGS = _derive_fields(_EXTENTS)
 _PRIMARY = {struct: {n: f[0] for n, f in table.items()} for struct, table in _INDEXINGS.items()}
+
+
+def joint_widths(joint_type: int) -> tuple[int, int]:
+    """(qpos, qvel) entries of a joint of MuJoCo type `joint_type`."""
+    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
+        return 7, 6
+    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
+        return 4, 3
+    return 1, 1

@@ -28,6 +28,7 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING
 
+from mjcf import attachment
 from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 
@@ -35,32 +36,16 @@ if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
 
-# Asset elements that MuJoCo names after their file when they have no name.
-NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 # A generated name as the outermost model writes it: '//unnamed_body_3'.
 GENERATED = re.compile(r"//unnamed_([a-z_]+)_(\d+)")
 # Elements below these tags are templates or copies, not one compiled object each.
 _NOT_ONE_OBJECT = frozenset({"replicate", "default"})
 
 
-def name_from_file(value: object) -> str | None:
-    """The name MuJoCo gives an unnamed mesh, texture, height field or skin: its file
-    name without folder and extension; None without a file."""
-    if value is None:
-        return None
-    path = value if isinstance(value, str) else getattr(value, "name", None)
-    if not path:
-        return None
-    base = path.replace("\\", "/").rsplit("/", 1)[-1]
-    return base.rsplit(".", 1)[0] if "." in base else base
-
-
 def scoped_name(element: Element, prefix_root: RootElement | None = None) -> str | None:
     """The name `element` has in the output of `prefix_root` (default: the outermost
     model it is attached into); None for elements that cannot carry a name, and for
     unnamed ones that are removed or replicated."""
-    from mjcf import attachment
-
     if element._spec.tag == "worldbody" and element._parent is element.root:
         return _world_body_name(element, prefix_root)
     if isinstance(element, attachment.AttachmentFrame):
@@ -75,8 +60,6 @@ def written_name(element: Element, prefix: str) -> str | None:
     """The name written for `element`, which has no name of its own, in an output where
     its model's prefix is `prefix` ('' for the output model); None if it is written
     without one."""
-    from mjcf import attachment
-
     parent = element._parent
     if isinstance(parent, attachment.AttachmentFrame):
         return _frame_joint_name(element, parent, prefix)
@@ -98,13 +81,13 @@ def is_replicated(element: Element) -> bool:
     return False
 
 
-def frame_name(frame: Element, prefix: str) -> str:
+def frame_name(frame: attachment.AttachmentFrame, prefix: str) -> str:
     """The name of an attachment frame: its own, or its model's scope ('robot/'), which
     no user name can take."""
     own = frame._attrs.get("name")
     if own is not None:
         return prefix + _unescape(own)
-    return prefix + frame.attached_model.model + PREFIX_SEPARATOR  # type: ignore[attr-defined]
+    return prefix + frame.attached_model.model + PREFIX_SEPARATOR
 
 
 def _frame_joint_name(joint: Element, frame: Element, prefix: str) -> str | None:
@@ -128,7 +111,7 @@ def _world_body_name(worldbody: Element, prefix_root: RootElement | None) -> str
     body's contents belong to: its attachment frame when that is written as a body,
     else the body the frame is in."""
     model = worldbody.root
-    frame = model._frame
+    frame = attachment.frame_of(model)
     if frame is None or model is prefix_root:
         return WORLD
     if frame.compiles_to_body():
@@ -143,7 +126,7 @@ def unnamed_elements(root: RootElement) -> list[Element]:
     """The elements of `root`'s own tree that are written with a generated name: its
     numbered unnamed elements and the unnamed joints of its attachment frames."""
     found = list(_numbers(root))
-    for frame in root._attachments:
+    for frame in attachment.frames(root):
         found.extend(
             c for c in frame._children if c._spec.namespace == "joint" and c.identifier is None
         )
@@ -156,8 +139,6 @@ def _numbers(root: RootElement) -> dict[Element, int]:
     cached = root._numbering
     if cached is not None and cached[0] == root._version:
         return cached[1]
-    from mjcf import attachment
-
     counts: dict[str, int] = {}
     numbers: dict[Element, int] = {}
     stack = list(reversed(root._children))

@@ -24,7 +24,7 @@ from mjcf import assets as _assets
 from mjcf import debugging, default_sections, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
-from mjcf.namescope import PREFIX_SEPARATOR, unescape
+from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
 
 _MAX_INCLUDES = 1000
@@ -82,6 +82,8 @@ def from_path(
     )
 
 
+# The parameters repeat from_xml_string's on purpose: both are dm_control's signatures,
+# which code calls with positional arguments.
 def from_file(
     file_object: IO,
     escape_separators: bool = False,
@@ -126,7 +128,7 @@ def _parse(
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"{_where(filename, xml_root)}: model name {name!r} contains '/', which "
                 "separates the names of attached models"
             )
@@ -261,7 +263,7 @@ class _Builder:
         root = self.root
         for name in xml_root.attrib:
             if name != "model" and not name.startswith("{"):
-                raise errors.AttributeError(
+                raise errors.UnknownAttributeError(
                     f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
                 )
         sections = {section.tag: section for section in root._children}
@@ -303,7 +305,7 @@ class _Builder:
                 if name.startswith("{"):  # namespaced, e.g. xsi:noNamespaceSchemaLocation
                     del attrib[name]
                     continue
-                raise errors.AttributeError(
+                raise errors.UnknownAttributeError(
                     f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> has no attribute "
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
@@ -348,7 +350,7 @@ class _Builder:
     def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
         if PREFIX_SEPARATOR in text:
             if not self.escape:
-                raise errors.NameError(
+                raise errors.NameClashError(
                     f"{_where(self.filename, xml)}: {element.path}: {attribute.name!r} is "
                     f"{text!r}, which contains '/', the separator of attached models' names; "
                     "parse with escape_separators=True to keep it"
@@ -359,7 +361,6 @@ class _Builder:
     def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
         specs = parent._spec.children
         root = self.root
-        scope = root.namescope
         make = Element._make
         filename = self.filename
         for xml in xml_parent:
@@ -394,19 +395,11 @@ class _Builder:
                     f"one <{tag}>"
                 )
             parent._children.append(element)
-            namespace = spec.namespace
-            if namespace is not None:
-                name = element.identifier
-                if name is not None:
-                    if element._implicit():
-                        scope.namespace(namespace).setdefault(name, element)
-                    else:
-                        try:
-                            scope.register(namespace, unescape(name), element)
-                        except errors.NameError as error:
-                            raise errors.NameError(f"{_where(filename, xml)}: {error}") from None
-                        if self.escape and "\\" in name:
-                            object.__setattr__(root, "_escaped_names", True)
+            if spec.namespace is not None:
+                try:
+                    element._register()
+                except errors.NameClashError as error:
+                    raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
                 self._children(element, xml)
 
@@ -438,7 +431,7 @@ class _Builder:
                     _assets.file_path(element, value)
 
     def check_references(self) -> None:
-        """Raise mjcf.ReferenceError for references to elements that do not exist."""
+        """Raise mjcf.InvalidReferenceError for references to elements that do not exist."""
         if self.generated_names:
             return
         scope = self.root.namescope
@@ -470,6 +463,6 @@ class _Builder:
             shown = "; ".join(dangling[:5]) + (
                 f"; and {len(dangling) - 5} more" if len(dangling) > 5 else ""
             )
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{self.filename or '<string>'}: dangling references: {shown}"
             )

@@ -55,8 +55,9 @@ from mjcf import (
     tree_binding,
     validity,
 )
-from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITE_BITS, WRITTEN
+from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITTEN
 from mjcf.element import Element as ElementType
+from mjcf.physics_state import STATE_WRITE, StateAccess
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -65,15 +66,10 @@ if TYPE_CHECKING:
 raw_access.install()
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
-# get_state(): dm_control's physics state (qpos, qvel, act, plugin state), plus MuJoCo 4's
-# history and plastic state when a model has them, in mj_getState's order.
-_PHYSICS_STATE = mujoco.mjtState.mjSTATE_PHYSICS | mujoco.mjtState.mjSTATE_PLUGIN
 # As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.
 _RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
 _FWDINV = int(mujoco.mjtEnableBit.mjENBL_FWDINV)
 _VEL = int(mujoco.mjtStage.mjSTAGE_VEL)
-_STATE_WRITE = WRITE_BITS[tracking.Effect.STATE]
-_INPUT_WRITE = WRITE_BITS[tracking.Effect.STEP_INPUT]
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
 _TRANSIENT = (
@@ -96,11 +92,20 @@ _TRANSIENT = (
 _SHARED = ("_compiled",)
 
 
-class Physics:
+class Physics(StateAccess):
     """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name.
 
     `legacy_step` (dm_control's flag, True by default) picks how `step()` leaves MjData: True,
-    consistent with the new state; False, as a plain `mj_step` leaves it (see `step`).
+    consistent with the new state; False, as a plain `mj_step` leaves it (see `step`). The
+    state accessors (`get_state`, `set_control`, `position` ...) are `StateAccess`'s.
+
+    Internal protocol, for bindings, named access and validity checks (the only mjcf modules
+    that use it; tests/mjcf/test_architecture.py holds them to it): they read `_model`,
+    `_data` and `_stale` (the bits of `mjcf.binding`), set bits of `_stale` after a write,
+    call `_refresh()` before a read `_stale` says is behind, `_compute_on_demand(field)`
+    for a field MuJoCo computes only for sensors, `_update_constants(undo, what)` after
+    writing an input of mj_setConst, and `_raise_if_invalid()`. A binding adds itself to
+    `_live_bindings`, whose `_detach()` the physics calls before it changes MjData.
     """
 
     legacy_step: bool = True
@@ -254,70 +259,7 @@ class Physics:
     def mark_as_dirty(self) -> None:
         """Say the state changed behind the physics' back (e.g. written into `data`):
         derived reads forward first and the next step starts with a full `mj_step`."""
-        self._stale |= _STATE_WRITE
-
-    def timestep(self) -> float:
-        """The simulation timestep in seconds (model.opt.timestep)."""
-        return float(self._opt.timestep)
-
-    def time(self) -> float:
-        """The simulation time in seconds (data.time)."""
-        return float(self._data.time)
-
-    def get_state(self) -> np.ndarray:
-        """The physics state as one vector: qpos, qvel, act (and the history, plugin and
-        plastic state of models that have them), in mj_getState's order; a copy. As in
-        dm_control it leaves out the solver's warm start, so `set_state` then continues
-        close to, not bit for bit as, the original (`copy()` and pickling are exact)."""
-        model = self._model
-        out = np.empty(mujoco.mj_stateSize(model, _PHYSICS_STATE))
-        mujoco.mj_getState(model, self._data, out, _PHYSICS_STATE)
-        return out
-
-    def state(self) -> np.ndarray:
-        """dm_control's alias of `get_state()`."""
-        return self.get_state()
-
-    def set_state(self, physics_state: np.ndarray) -> None:
-        """Set the state `get_state()` returned; derived fields follow at the next read
-        through bindings, `forward()` or `step()`. Raises StateError for a wrong size."""
-        model = self._model
-        size = mujoco.mj_stateSize(model, _PHYSICS_STATE)
-        state = np.asarray(physics_state, dtype=np.float64)
-        if state.shape != (size,):
-            raise errors.StateError(
-                f"physics state has shape {state.shape}, expected ({size},): qpos ({model.nq}), "
-                f"qvel ({model.nv}), act ({model.na}) and, where the model has them, "
-                "history, plugin and plastic state, as get_state() returns"
-            )
-        mujoco.mj_setState(model, self._data, state, _PHYSICS_STATE)
-        self._stale |= _STATE_WRITE
-
-    def control(self) -> np.ndarray:
-        """A copy of the controls (data.ctrl)."""
-        return self._data.ctrl.copy()
-
-    def set_control(self, control: Any) -> None:
-        """Set the controls the next step applies; raises StateError for a wrong size."""
-        try:
-            np.copyto(self._data.ctrl, control)
-        except ValueError as e:
-            raise errors.StateError(
-                f"control has shape {np.shape(control)}, expected ({self._model.nu},)"
-            ) from e
-        self._stale |= _INPUT_WRITE
-
-    def activation(self) -> np.ndarray:
-        """A copy of the actuator activations (data.act)."""
-        return self._data.act.copy()
-
-    def position(self) -> np.ndarray:
-        """A copy of the generalized positions (data.qpos)."""
-        return self._data.qpos.copy()
-
-    def velocity(self) -> np.ndarray:
-        """A copy of the generalized velocities (data.qvel)."""
-        return self._data.qvel.copy()
+        self._stale |= STATE_WRITE
 
     def step(self, nstep: int = 1) -> None:
         """Advance the simulation by `nstep` timesteps; does not check divergence.

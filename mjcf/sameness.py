@@ -21,17 +21,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mjcf import attachment
+from mjcf.element import Element
+from mjcf.root import RootElement
 
 if TYPE_CHECKING:
-    from mjcf.element import Element
     from mjcf.schema import AttributeSpec
 
 
 def is_same_as(element: Element, other: object) -> bool:
     """Whether `other` is an element structurally equal to `element` (see module)."""
-    from mjcf.element import Element
-    from mjcf.root import RootElement
-
     if not isinstance(other, Element) or other._spec is not element._spec:
         return False
     is_root = isinstance(element, RootElement)

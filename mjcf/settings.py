@@ -32,9 +32,10 @@ import os
 import re
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
-from mjcf import attachment, errors, schema
+from mjcf import errors, schema
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -215,9 +216,7 @@ def _inertia_sources(model: RootElement) -> list[tuple[bool, bool]]:
                 inertial = True
             elif tag == "geom":
                 geoms = True
-            elif tag in ("frame", "replicate") and not isinstance(
-                child, attachment.AttachmentFrame
-            ):
+            elif tag in ("frame", "replicate"):  # not attachment frames: another model
                 stack.extend(child._children)
         found.append((inertial, geoms))
     return found
@@ -271,9 +270,7 @@ def unscaled_mass(model: RootElement) -> float:
     """The total body mass of `model` (with the models attached to it) compiled alone
     without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
     element attributes."""
-    import mujoco
-
-    from mjcf import serializer
+    from mjcf import serializer  # cycle: serializer -> composition -> settings
 
     for element in model.iter():
         if element._spec.tag in _UNSCALABLE:

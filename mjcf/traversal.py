@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-from mjcf import errors, schema
+from mjcf import attachment, errors, schema
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -24,11 +24,9 @@ ATTACHMENT_FRAME = "attachment_frame"
 def find(element: Element, namespace: str, identifier: str) -> Element | None:
     """The element of `namespace` named `identifier` (scoped names reach into attached
     models) inside `element`, or None. Raises mjcf.NamespaceError for an unknown
-    namespace and mjcf.NameError for an identifier that is not a string."""
-    from mjcf import attachment
-
+    namespace and mjcf.NameClashError for an identifier that is not a string."""
     if not isinstance(identifier, str):
-        raise errors.NameError(
+        raise errors.NameClashError(
             f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
         )
     if namespace == ATTACHMENT_FRAME:
@@ -45,8 +43,6 @@ def find_all(
     element: Element, namespace: str, immediate_children_only: bool, exclude_attachments: bool
 ) -> list[Element]:
     """Every element of `namespace` (or tag) inside `element`, in MuJoCo's order."""
-    from mjcf import attachment
-
     if namespace == ATTACHMENT_FRAME:
         return [
             e
@@ -73,8 +69,6 @@ def walk(
     """The descendants of `element` in the order MuJoCo compiles them: an attached
     model's world body contents where it is attached, and its other sections after
     those of the model it is attached to."""
-    from mjcf import attachment
-
     if immediate_children_only:
         yield from element._children
         return
@@ -105,8 +99,6 @@ def has_ancestor(element: Element, tag: str) -> bool:
 
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
-    from mjcf import attachment
-
     current = element
     while current is not None:
         if current is ancestor:

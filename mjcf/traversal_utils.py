@@ -1,6 +1,10 @@
-"""dm_control's `mjcf.traversal_utils`, under its name: the frame and default helpers of
-`mjcf.frames` and `mjcf.defaults`, so that `mjcf.traversal_utils.get_attachment_frame(m)`
-in dm_control code runs unchanged. New code can call them as `mjcf.get_attachment_frame`.
+"""dm_control's `mjcf.traversal_utils` module path, for code that imports it:
+
+    from mjcf import traversal_utils
+    frame = traversal_utils.get_attachment_frame(arm)
+    traversal_utils.commit_defaults(geom, attributes=['rgba'])
+
+The functions are those of `mjcf.frames` and `mjcf.defaults`, also exported by `mjcf`.
 """
 
 from mjcf.defaults import commit_defaults

@@ -77,7 +77,7 @@ def _compiled_from(compiled: Compiled, element: Element) -> bool:
     """Whether `element`'s model is part of the composition `compiled` was compiled from."""
     try:
         compiled.composition.context(element.root)
-    except errors.ReferenceError:
+    except errors.InvalidReferenceError:
         return False
     return True
 
@@ -122,7 +122,7 @@ def transfer_state(
         old_id = _same_name(old_model, new_model, joint, new_id, pairs)
         if old_id < 0 or old_model.jnt_type[old_id] != new_model.jnt_type[new_id]:
             continue
-        width_q, width_v = joint_widths(int(new_model.jnt_type[new_id]))
+        width_q, width_v = fields.joint_widths(int(new_model.jnt_type[new_id]))
         new_q, old_q = new_model.jnt_qposadr[new_id], old_model.jnt_qposadr[old_id]
         new_data.qpos[new_q : new_q + width_q] = old_data.qpos[old_q : old_q + width_q]
         new_v, old_v = new_model.jnt_dofadr[new_id], old_model.jnt_dofadr[old_id]
@@ -160,12 +160,3 @@ def _same_name(
     if not name or naming.GENERATED.search(name):
         return -1
     return mujoco.mj_name2id(old_model, kind, name)
-
-
-def joint_widths(joint_type: int) -> tuple[int, int]:
-    """(qpos, qvel) entries of a joint of MuJoCo type `joint_type`."""
-    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
-        return 7, 6
-    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
-        return 4, 3
-    return 1, 1

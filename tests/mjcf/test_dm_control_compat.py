@@ -211,7 +211,7 @@ def test_reload_follows_unnamed_joints_by_element_when_names_shift() -> None:
     physics.bind(knee).qpos = 0.3
     hip_body = leg.find_all("body")[0]
     hip_body.insert("joint", 0, axis=[1, 0, 0])  # every generated joint name shifts by one
-    physics.reload_from_mjcf_model(scene)
+    physics.reload_from_mjcf_model(scene, keep_state=True)
     assert physics.bind(knee).qpos[0] == 0.3
     assert physics.bind(hip_body.joint[0]).qpos[0] == 0.0
 

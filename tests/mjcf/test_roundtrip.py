@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import textwrap
 from pathlib import Path
 
@@ -195,6 +196,62 @@ def test_precision_controls_written_digits() -> None:
     root.worldbody.add("geom", size=[1 / 3])
     assert 'size="0.3333333333333333"' in root.to_xml_string()
     assert 'size="0.333"' in root.to_xml_string(precision=3)
+
+
+def _real_numbers(xml: str) -> list[str]:
+    """Every number written in an attribute of `xml` that has a fraction or exponent."""
+    values = re.findall(r'="([-+0-9.eE ]+)"', xml)
+    return [w for v in values for w in v.split() if "." in w or "e" in w.lower()]
+
+
+def test_precision_applies_to_numbers_read_from_files_too(tmp_path, monkeypatch) -> None:
+    """As in dm_control, `precision` below 17 rewrites every real number, those read
+    from the file included; integers and keywords stay; MuJoCo compiles the result."""
+    monkeypatch.chdir(tmp_path)
+    path = GYM_ASSETS / "humanoid.xml"
+    root = mjcf.from_path(path)
+    xml = root.to_xml_string(precision=3)
+    assert any(len(w.lstrip("-0.").replace(".", "")) > 3 for w in _real_numbers(path.read_text()))
+    assert all(len(w.lstrip("-0.").replace(".", "").split("e")[0]) <= 3 for w in _real_numbers(xml))
+    assert 'condim="3"' in xml and 'type="capsule"' in xml
+    assert root.to_xml_string() == mjcf.from_path(path).to_xml_string()  # nothing changed
+    reference = mujoco.MjModel.from_xml_path(str(path))
+    rounded = mujoco.MjModel.from_xml_string(xml)
+    assert np.allclose(rounded.body_pos, reference.body_pos, rtol=1e-2, atol=1e-3)
+    assert np.allclose(rounded.body_mass, reference.body_mass, rtol=3e-2)
+
+
+def test_zero_threshold_writes_small_numbers_as_zero() -> None:
+    root = mjcf.from_xml_string(
+        '<mujoco><option timestep="0.002"/><worldbody>'
+        '<body name="b" pos="1e-12 -3e-10 0.5"><geom size="0.1"/></body></worldbody></mujoco>'
+    )
+    root.find("body", "b").quat = [1, 1e-17, 0, -2e-16]
+    assert 'pos="1e-12 -3e-10 0.5"' in root.to_xml_string()  # by default, as read
+    xml = root.to_xml_string(zero_threshold=1e-9)
+    assert 'pos="0 0 0.5"' in xml and 'quat="1 0 0 0"' in xml
+    assert 'timestep="0.002"' in xml and 'size="0.1"' in xml
+    assert root.to_xml(zero_threshold=1e-9).find("worldbody/body").get("pos") == "0 0 0.5"
+
+
+def test_precision_reaches_composed_values() -> None:
+    """Values the composition computes (angles converted into the parent's units, merged
+    settings, merged keyframes) are written with the precision asked for too."""
+    parent = mjcf.RootElement(model="parent")
+    parent.compiler.angle = "radian"
+    parent.option.timestep = 1 / 300
+    child = mjcf.RootElement(model="child")  # degrees
+    body = child.worldbody.add("body", name="b", euler=[10, 20, 30])
+    body.add("joint", name="j", range=[-10, 10])
+    body.add("geom", size=[0.1])
+    child.keyframe.add("key", name="k", qpos=[1 / 3])
+    parent.attach(child)
+    exact = parent.to_xml_string()
+    assert 'range="-0.17453292519943295 0.17453292519943295"' in exact
+    short = parent.to_xml_string(precision=3)
+    assert 'range="-0.175 0.175"' in short and 'timestep="0.00333"' in short
+    assert 'qpos="0.333"' in short
+    assert all(len(w.lstrip("-0.").replace(".", "")) <= 3 for w in _real_numbers(short))
 
 
 def test_to_xml_is_lxml_element() -> None:
