@@ -11,8 +11,9 @@ and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status 130; the same
 then resumes it, up to `--timesteps` in all. A folder holding a finished run is refused
 unless `--resume` (train it on to a larger `--timesteps`) or `--fresh` (replace it) says
 what to do (`composer.cli.run_folder`). Evaluations (deterministic actions, fixed seeds)
-run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint. `--tensorboard DIR` also logs stable-baselines3's
-TensorBoard scalars there, with the evaluations as `eval/...`.
+run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint.
+`--tensorboard DIR` also logs stable-baselines3's TensorBoard scalars there, with the
+evaluations as `eval/...`.
 """
 
 from __future__ import annotations

@@ -243,7 +243,7 @@ def test_shipped_and_robot_models_composed_keep_their_files_apart(menagerie) -> 
         cubes.model = name
         scene.attach(cubes).pos = [0, 2, 0]
     _, assets = _assert_names_fit_mujoco(scene)
-    assert {"cube.stl", "cube.msh", "deepmind.png", "pad.stl", "base_0.obj"} <= set(assets)
+    assert {"cube.stl", "cube.msh", "deepmind.png", "pad.stl", "base_0.msh"} <= set(assets)
     assert len(assets) == 28 + 3
 
 
