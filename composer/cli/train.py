@@ -33,6 +33,11 @@ VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this
 
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
+    from composer.cli import ray_training  # imports Ray only when it trains
+
+    if args.engine == ray_training.ENGINE:
+        return ray_training.run(args)
+    ray_training.check_options(args)
     info = args.info
     if not args.no_video:
         video.require()
