@@ -166,9 +166,10 @@ def _flag(name: str) -> str:
 
 @contextlib.contextmanager
 def ray_instance(address: str | None, workers: int | None) -> Iterator[int]:
-    """Within `with`: Ray started locally (address None; at least `workers` CPUs, so that
-    many env runners fit even on fewer cores) or joined at `address`; yields the CPUs
-    Ray has. Raises CliError when the cluster cannot be reached."""
+    """Within `with`: Ray started locally (address None) with `workers` CPUs (this
+    machine's count if None: that many env runners fit, whatever the cores) or joined at
+    `address`; yields the CPUs Ray has. Raises CliError when the cluster cannot be
+    reached."""
     import ray
 
     quiet_ray()
@@ -179,9 +180,12 @@ def ray_instance(address: str | None, workers: int | None) -> Iterator[int]:
     }
     if address is not None:
         _check_reachable(address)
+        # `ray start` clusters use token authentication (Ray 2.60's default); a client in
+        # token mode also joins a cluster without it.
+        os.environ.setdefault("RAY_AUTH_MODE", "token")
     try:
         if address is None:
-            cpus = max(os.cpu_count() or 1, workers or 1)
+            cpus = workers or os.cpu_count() or 1
             ray.init(
                 num_cpus=cpus, object_store_memory=LOCAL_OBJECT_STORE_BYTES,
                 include_dashboard=False, **options,
@@ -189,8 +193,12 @@ def ray_instance(address: str | None, workers: int | None) -> Iterator[int]:
         else:
             ray.init(address=address, **options)
     except (ConnectionError, RuntimeError, ValueError) as e:
-        where = f"the Ray cluster at {address}" if address else "a local Ray instance"
-        raise CliError(f"cannot start or join {where}: {e}") from e
+        if address is None:
+            raise CliError(f"cannot start a local Ray instance: {e}") from e
+        raise CliError(
+            f"cannot join the Ray cluster at {address}: {e} (is this machine's token the "
+            "cluster's? see docs/ray.md)"
+        ) from e
     try:
         yield int(ray.cluster_resources().get("CPU", 0))
     finally:

@@ -7,10 +7,12 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import threading
 
 import imageio.v3 as iio
@@ -153,6 +155,67 @@ def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
     assert finished.stdout.count(f"trained policy: {returned.strip()}") == 1, finished.stdout
 
 
+def free_port() -> int:
+    """A TCP port nothing listens on (now)."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def ray_start(*options: str, env: dict[str, str]) -> subprocess.Popen[str]:
+    """`ray start OPTIONS --block` in its own session: SIGTERM to it stops its node."""
+    ray_cli = os.path.join(os.path.dirname(sys.executable), "ray")
+    return subprocess.Popen(
+        [ray_cli, "start", *options, "--block", "--num-cpus", "1", "--disable-usage-stats",
+         "--object-store-memory", str(80 * 1024**2)],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        start_new_session=True,
+    )  # fmt: skip
+
+
+def wait_started(node: subprocess.Popen[str]) -> None:
+    """Read `ray start`'s output until its node runs (or it ended)."""
+    for line in node.stdout:
+        if "This command will now block" in line:
+            return
+    raise AssertionError(f"ray start exited with {node.wait()}")
+
+
+@needs_ray
+def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
+    """`ray start --head` and `ray start --address=...` (two nodes of one CPU, here on one
+    machine, with a token of their own), then training with --address spreads the env
+    runners over both."""
+    port = free_port()
+    token = os.urandom(16).hex()
+    env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token)
+    temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
+    nodes = [ray_start("--head", "--port", str(port), "--include-dashboard", "false",
+                       "--temp-dir", temp, env=env)]  # fmt: skip
+    try:
+        wait_started(nodes[0])
+        nodes.append(ray_start("--address", f"127.0.0.1:{port}", env=env))
+        wait_started(nodes[1])
+        result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
+                          "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
+                          "1", "--out", "run", "--no-video", cwd=tmp_path, env=env,
+                          timeout=TIMEOUT)  # fmt: skip
+    finally:
+        for node in reversed(nodes):
+            node.terminate()
+            try:
+                node.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                os.killpg(node.pid, signal.SIGKILL)
+        shutil.rmtree(temp, ignore_errors=True)
+    assert result.returncode == 0, result.stderr
+    assert "on 2 env runners x 2 environments" in result.stdout  # the cluster's two CPUs
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["ray"]["cluster"] == f"127.0.0.1:{port}"
+    assert (metrics["ray"]["nodes"], metrics["ray"]["cpus"], metrics["workers"]) == (2, 2, 2)
+    assert metrics["timesteps"] == 2048 and metrics["completed"]
+
+
 def test_options_of_the_other_engine_are_refused(tmp_path):
     mixed = composer("train", "Reach", *RAY, "--n-envs", "4", cwd=tmp_path)
     assert_one_line_error(mixed, "--n-envs belong to the stable-baselines3 engine")
@@ -162,9 +225,7 @@ def test_options_of_the_other_engine_are_refused(tmp_path):
 
 @needs_ray
 def test_an_unreachable_cluster_fails_at_once(tmp_path):
-    with socket.socket() as probe:  # a port nothing listens on
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
+    port = free_port()
     result = composer("train", "Reach", *RAY, "--address", f"127.0.0.1:{port}", cwd=tmp_path)
     assert_one_line_error(result, f"cannot reach the Ray cluster at 127.0.0.1:{port}",
                           "ray start --head")  # fmt: skip
