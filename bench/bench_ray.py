@@ -3,6 +3,7 @@ stable-baselines3 batched path and the raw mujoco.batch floor, on CartpoleSwingu
 time Ray and RLlib add to each env step. Needs the [ray] extra.
 
     python bench/bench_ray.py                 # 1 and 2 env runners of 8 environments each
+    python bench/bench_ray.py AntRun          # another task (costlier physics)
     python -m bench ray
 
 Each figure is the best of a few rounds; all use the CLI's own objects (the recipe, the
@@ -192,8 +193,9 @@ def ray_figures(info: Any, recipe: Any, workers: int, quick: bool) -> dict[str, 
     }
 
 
-def main(quick: bool = False) -> dict[str, Any]:
-    """Measure and print; returns the figures (steps/s, ratios, microseconds per step)."""
+def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
+    """Measure `task` and print; returns the figures (steps/s, ratios, microseconds per
+    env step)."""
     try:
         import ray  # noqa: F401
     except ImportError:
@@ -201,8 +203,8 @@ def main(quick: bool = False) -> dict[str, Any]:
         return {}
     from composer.cli import catalog, recipes
 
-    info = catalog.find(TASK)
-    recipe = recipes.for_task(TASK).replace(vec="batched")
+    info = catalog.find(task)
+    recipe = recipes.for_task(task).replace(vec="batched", n_envs=2 * ENVS_PER_WORKER)
     figures: dict[str, Any] = sb3_figures(info, recipe, quick)
     for workers in WORKERS:
         measured = ray_figures(info, recipe, workers, quick)
@@ -219,7 +221,7 @@ def main(quick: bool = False) -> dict[str, Any]:
     figures["ray_sample_2_vs_raw_batch_2_threads"] = (
         figures["ray_sample_2"] / figures["raw_batch_2_threads"]
     )
-    print(f"{TASK}: env steps/s (and microseconds per env step), {ENVS_PER_WORKER} "
+    print(f"{task}: env steps/s (and microseconds per env step), {ENVS_PER_WORKER} "
           "environments per env runner")  # fmt: skip
     for name, rate in figures.items():
         if name in micro:
@@ -239,4 +241,5 @@ def main(quick: bool = False) -> dict[str, Any]:
 
 
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv)
+    names = [a for a in sys.argv[1:] if not a.startswith("--")]
+    main(quick="--quick" in sys.argv, task=names[0] if names else TASK)

@@ -97,8 +97,9 @@ def main(quick: bool = False) -> dict[str, Any]:
         results["ray_vs_sb3_end_to_end"] = (
             ray_["seconds_to_threshold"] / sb3["seconds_to_threshold"]
         )
-        print(f"  ray / sb3 time to the threshold: {results['ray_vs_sb3_training_time']:.2f}x "
-              f"training, {results['ray_vs_sb3_end_to_end']:.2f}x end to end (target <= 2)")  # fmt: skip
+        training, end_to_end = (results[f"ray_vs_sb3_{k}"] for k in ("training_time", "end_to_end"))
+        print(f"  ray / sb3 time to the threshold: {training:.2f}x training, {end_to_end:.2f}x "
+              "end to end (target <= 2)")  # fmt: skip
     return results
 
 

@@ -64,7 +64,8 @@ def parser() -> argparse.ArgumentParser:
     run.set_defaults(renders=lambda args: args.video is not None)
 
     train = _command(
-        commands, "train", "train", "train a policy with stable-baselines3 ([train] extra)",
+        commands, "train", "train",
+        "train a policy with stable-baselines3 ([train] extra) or RLlib on Ray ([ray] extra)",
         epilog=recipe_table(), formatter_class=argparse.RawDescriptionHelpFormatter,
     )  # fmt: skip
     _task(train, nargs="?", default=recipes.DEFAULT_TASK)

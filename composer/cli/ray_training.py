@@ -47,6 +47,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from composer.cli import catalog, output, plot, recipes, rollout, training, video
 from composer.cli.errors import CliError, PolicyError
 from composer.cli.ray_files import Checkpoint, RayModel, quiet_ray, require_ray
@@ -469,7 +471,8 @@ def _train(
         while progress.timesteps < recipe.timesteps and not stop.requested:
             result = algo.train()
             runners = result.get("env_runners", {})
-            steps = int(runners.get("num_env_steps_sampled", 0))
+            # No runner sampled (all lost, restarting): RLlib reports NaN steps.
+            steps = int(np.nan_to_num(runners.get("num_env_steps_sampled", 0)))
             progress.timesteps += steps
             model.num_timesteps = progress.timesteps
             for episode_return, success in runners.get(EPISODES, []):
@@ -499,9 +502,9 @@ def _watch_runners(
         say(f"env runner restarted ({total} restart{'s' if total > 1 else ''} in this run); "
             f"env runners: {describe_runners(model.algo)}")  # fmt: skip
     elif now_healthy < healthy:
-        lost = layout.workers - now_healthy
-        say(f"env runner lost ({lost} of {layout.workers}); Ray restarts it while the "
-            f"other {now_healthy} sample the whole batch")  # fmt: skip
+        left = (f"{now_healthy} of {layout.workers} left sample the whole batch" if now_healthy
+                else "training waits")  # fmt: skip
+        say(f"env runner lost: {left} until Ray restarts it")
     return now_healthy, now_restarts
 
 

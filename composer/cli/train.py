@@ -9,7 +9,8 @@ Writes into the output folder (default runs/TASK-ALGO): `policy.zip` (for `compo
 task reports `is_success`) and `checkpoint/`. A folder holding a checkpoint is resumed (also
 with `--resume DIR`) up to `--timesteps` in all; Ctrl-C saves a checkpoint and exits with
 status 130. Evaluations (deterministic actions, fixed seeds) run every `--eval-every`
-timesteps, a tenth of the run by default; each saves a checkpoint.
+timesteps, a tenth of the run by default; each saves a checkpoint. `--engine ray` trains
+with RLlib on Ray instead (`composer.cli.ray_training`).
 """
 
 from __future__ import annotations
