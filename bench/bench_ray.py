@@ -1,26 +1,28 @@
 """Env steps per second of `composer train --engine ray` (RLlib on Ray) next to the
-stable-baselines3 batched path and the raw mujoco.batch floor, on CartpoleSwingup, and the
-time Ray and RLlib add to each env step. Needs the [ray] extra.
+stable-baselines3 batched path and the raw mujoco.batch floor, and the time Ray and RLlib
+add to each env step. Needs the [ray] extra.
 
-    python bench/bench_ray.py                 # 1 and 2 env runners of 8 environments each
+    python bench/bench_ray.py                 # CartpoleSwingup: 1 and 2 env runners
     python bench/bench_ray.py AntRun          # another task (costlier physics)
     python -m bench ray
 
-Each figure is the best of a few rounds; all use the CLI's own objects (the recipe, the
-VecEnv and model of the SB3 engine, the RLlib Algorithm of the Ray engine):
-  raw_batch_1_thread   mujoco.batch of 8 sims on one thread: write ctrl, step the
-                       control step's substeps, copy qpos and qvel (an env runner's floor)
-  raw_batch_2_threads  16 sims on two threads (this machine's floor for the recipe's 16)
-  vector_1_thread      composer.VectorEnvironment of 8 on one thread, random actions
-  sb3_collect_1_thread the SB3 engine's collection loop on those 8: policy forward
-                       (action, value, log-prob) on the recipe's network, then the VecEnv
-                       step: the work of an env runner without Ray
-  sb3_collect          the same on the recipe's 16 environments, batched on two threads
-  sb3_train            the SB3 engine's PPO.learn (collection and updates), 16 envs
-  ray_sample_N         N env runners sampling 8 environments each, episodes returned to
-                       the driver (N = 1, 2)
+Each figure is the best of a few rounds and uses the CLI's own objects: the SB3 engine's
+recipe, VecEnv and model (its environments batched on two threads), the Ray engine's
+recipe and Algorithm with its default M environments per env runner (16 for
+CartpoleSwingup, whose SB3 recipe has 16 in all):
+  raw_batch_1_thread   mujoco.batch of M sims on one thread: write ctrl, step the control
+                       step's substeps, copy qpos and qvel (an env runner's floor)
+  raw_batch_2_threads  the SB3 recipe's environments on two threads (this machine's floor)
+  vector_1_thread      composer.VectorEnvironment of M on one thread, random actions
+  sb3_collect_1_thread the SB3 engine's collection loop on those M: policy forward
+                       (action, value, log-prob), then the VecEnv step: what an env runner
+                       does, without Ray
+  sb3_collect          the same on the SB3 recipe's environments, on two threads
+  sb3_train            the SB3 engine's PPO.learn (collection and updates)
+  ray_sample_N         N env runners sampling M environments each, episodes returned to the
+                       driver (N = 1, 2)
   ray_train_N          Algorithm.train() with N env runners: sampling, then the learner's
-                       update in the driver, then weights back to the runners
+                       update in this process, then weights back to the runners
 Ray's per-step cost is ray_sample_1 against sb3_collect_1_thread: the same environments,
 network and core, with RLlib's episodes, connectors and Ray's transport around them.
 """
@@ -39,7 +41,6 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 TASK = "CartpoleSwingup"
-ENVS_PER_WORKER = 8
 WORKERS = (1, 2)
 
 
@@ -116,16 +117,17 @@ def sb3_learn(model: Any, updates: int) -> Callable[[], float]:
     return run
 
 
-def sb3_figures(info: Any, recipe: Any, quick: bool) -> dict[str, float]:
-    """The SB3 engine's and the floors' figures."""
+def sb3_figures(info: Any, recipe: Any, per_runner: int, quick: bool) -> dict[str, float]:
+    """The SB3 engine's figures on `recipe`, and those of `per_runner` environments on one
+    thread."""
     from composer import sb3
     from composer.cli import training
     from composer.vector import make_vector_environment
 
     steps, rounds = (5, 1) if quick else (400, 3)
     kwargs = {**info.default_kwargs, "flatten_observations": True}
-    one = make_vector_environment(ENVS_PER_WORKER, info.task, nthread=1, **kwargs)
-    two = make_vector_environment(2 * ENVS_PER_WORKER, info.task, nthread=2, **kwargs)
+    one = make_vector_environment(per_runner, info.task, nthread=1, **kwargs)
+    two = make_vector_environment(recipe.n_envs, info.task, nthread=2, **kwargs)
     figures = {
         "raw_batch_1_thread": best(rounds, raw_batch(one, 1, steps)),
         "raw_batch_2_threads": best(rounds, raw_batch(two, 2, steps)),
@@ -133,8 +135,8 @@ def sb3_figures(info: Any, recipe: Any, quick: bool) -> dict[str, float]:
     }
     one.close()
     two.close()
-    for name, n_envs, threads in (("sb3_collect_1_thread", ENVS_PER_WORKER, 1),
-                                  ("sb3_collect", 2 * ENVS_PER_WORKER, 2)):  # fmt: skip
+    for name, n_envs, threads in (("sb3_collect_1_thread", per_runner, 1),
+                                  ("sb3_collect", recipe.n_envs, 2)):  # fmt: skip
         # As training.vec_env builds the recipe's ('batched', normalized), on `threads`.
         batched = sb3.make_vec_env(info.task, n_envs, nthread=threads, **kwargs)
         batched.seed(0)
@@ -147,30 +149,33 @@ def sb3_figures(info: Any, recipe: Any, quick: bool) -> dict[str, float]:
     return figures
 
 
-def ray_figures(info: Any, recipe: Any, workers: int, quick: bool) -> dict[str, Any]:
-    """One Ray instance of `workers` CPUs: sampling and training rates, time split."""
+def ray_figures(
+    info: Any, recipe: Any, workers: int, per_runner: int, quick: bool
+) -> dict[str, Any]:
+    """One Ray instance of `workers` CPUs, each runner stepping `per_runner` environments
+    of the Ray engine's `recipe`: sampling and training rates, and the learner's share."""
     import ray
 
-    from composer.cli import ray_training
+    from composer.cli import ray_algorithm, ray_files, ray_training
 
-    ray_training.quiet_ray()
+    ray_files.quiet_ray()
     ray.init(
         num_cpus=workers, object_store_memory=ray_training.LOCAL_OBJECT_STORE_BYTES,
         include_dashboard=False, log_to_driver=False, logging_level=logging.ERROR,
     )  # fmt: skip
     try:
-        layout = ray_training.Layout(workers, ENVS_PER_WORKER, None)
+        layout = ray_algorithm.Layout(workers, per_runner, None)
         recipe = recipe.replace(n_envs=layout.n_envs)
-        algo = ray_training.build_algorithm(info, recipe, layout, seed=0)
-        per_runner = 64 if quick else recipe.n_steps * ENVS_PER_WORKER
+        algo = ray_algorithm.build_algorithm(info, recipe, layout, seed=0)
+        steps_each = 64 if quick else recipe.n_steps * per_runner
 
         def sample() -> float:
             start = time.perf_counter()
             algo.env_runner_group.foreach_env_runner(
-                lambda runner: len(runner.sample(num_timesteps=per_runner, explore=True)),
+                lambda runner: len(runner.sample(num_timesteps=steps_each, explore=True)),
                 local_env_runner=False,
             )
-            return workers * per_runner / (time.perf_counter() - start)
+            return workers * steps_each / (time.perf_counter() - start)
 
         sampling = best(1 if quick else 3, sample)
         algo.train()  # the first iteration warms up the learner
@@ -201,13 +206,15 @@ def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
     except ImportError:
         print("skipped: Ray is not installed (pip install -e '.[ray]')")
         return {}
-    from composer.cli import catalog, recipes
+    from composer.cli import catalog, ray_algorithm, recipes
 
     info = catalog.find(task)
-    recipe = recipes.for_task(task).replace(vec="batched", n_envs=2 * ENVS_PER_WORKER)
-    figures: dict[str, Any] = sb3_figures(info, recipe, quick)
+    sb3_recipe = recipes.for_task(task).replace(vec="batched")
+    ray_recipe = ray_algorithm.ray_recipe(task, sb3_recipe.algo)
+    per_runner = max(1, ray_recipe.n_envs // max(WORKERS))  # the CLI's default M here
+    figures: dict[str, Any] = sb3_figures(info, sb3_recipe, per_runner, quick)
     for workers in WORKERS:
-        measured = ray_figures(info, recipe, workers, quick)
+        measured = ray_figures(info, ray_recipe, workers, per_runner, quick)
         figures[f"ray_sample_{workers}"] = measured["sample"]
         figures[f"ray_train_{workers}"] = measured["train"]
         figures[f"ray_learner_share_{workers}"] = measured["learner_share"]
@@ -221,8 +228,8 @@ def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
     figures["ray_sample_2_vs_raw_batch_2_threads"] = (
         figures["ray_sample_2"] / figures["raw_batch_2_threads"]
     )
-    print(f"{task}: env steps/s (and microseconds per env step), {ENVS_PER_WORKER} "
-          "environments per env runner")  # fmt: skip
+    print(f"{task}: env steps/s (and microseconds per env step); {per_runner} environments "
+          f"per env runner, {sb3_recipe.n_envs} for SB3")  # fmt: skip
     for name, rate in figures.items():
         if name in micro:
             print(f"  {name:22} {rate:10.0f} steps/s  {micro[name]:8.1f} us")

@@ -87,9 +87,15 @@ def parser() -> argparse.ArgumentParser:
         "--engine", choices=("sb3", "ray"), default="sb3",
         help="stable-baselines3 on this machine (default), or RLlib on Ray ([ray] extra)",
     )  # fmt: skip
-    train.add_argument("--workers", type=positive_int, help="ray: env runners (default: CPUs)")
-    train.add_argument("--envs-per-worker", type=positive_int, help="ray: environments each")
-    train.add_argument("--address", help="ray: join this cluster (default: start Ray locally)")
+    train.add_argument(
+        "--workers", type=positive_int, metavar="N", help="ray: env runners (default: CPUs)"
+    )
+    train.add_argument(
+        "--envs-per-worker", type=positive_int, metavar="M", help="ray: environments each"
+    )
+    train.add_argument(
+        "--address", metavar="HOST:PORT", help="ray: join this cluster (default: start locally)"
+    )
     train.set_defaults(renders=lambda args: not args.no_video)
 
     evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")

@@ -3,7 +3,7 @@
     folder = ray_files.find_policy('runs/CartpoleSwingup-ppo-ray')   # None: not a Ray result
     policy = ray_files.load_policy(folder, env)     # policy.predict(obs, deterministic=True)
     checkpoint = ray_files.Checkpoint('runs/CartpoleSwingup-ppo-ray/checkpoint')
-    checkpoint.progress(), checkpoint.algorithm_path()
+    checkpoint.state()['timesteps'], checkpoint.algorithm_path()
 
 A policy is a folder: `module/`, the RLlib RLModule that computes actions (the inference
 part of the trained network, `RLModule.from_checkpoint` reads it), and `policy.json`: the
@@ -19,8 +19,8 @@ written atomically after the subfolder is complete, so a folder with a `state.js
 a complete checkpoint even when training was killed while saving. Older subfolders are
 deleted after.
 
-Ray is imported only to load or save; finding files needs nothing beyond the standard
-library, so `composer eval` can tell a Ray result from a stable-baselines3 one cheaply.
+Ray is imported only to load or save, so `composer eval` tells a Ray result from a
+stable-baselines3 one without it.
 """
 
 from __future__ import annotations
@@ -45,13 +45,14 @@ ENGINE = "ray"
 _FILTER_EPSILON = 1e-8
 
 
-def require_ray() -> None:
-    """Raise MissingExtraError with the install command unless Ray's RLlib imports."""
+def require_ray(needs: str = "--engine ray needs") -> None:
+    """Raise MissingExtraError with the install command unless Ray's RLlib imports; the
+    message starts with `needs`."""
     try:
         import ray.rllib  # noqa: F401
     except ImportError as e:
         raise MissingExtraError(
-            f"--engine ray needs the [ray] extra ({e.name or 'ray'} is missing): {RAY_INSTALL}"
+            f"{needs} the [ray] extra ({e.name or 'ray'} is missing): {RAY_INSTALL}"
         ) from e
 
 
@@ -198,7 +199,7 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
         raise PolicyError(f"cannot read {folder / POLICY_FILE}: {e}") from e
     if spec.get("format") != POLICY_FORMAT:
         raise PolicyError(f"{folder / POLICY_FILE} is not a policy written by `composer train`")
-    require_ray()
+    require_ray(f"{folder} was trained with --engine ray: loading it needs")
     quiet_ray()
     from ray.rllib.core.rl_module.rl_module import RLModule
 

@@ -11,12 +11,8 @@ after it; with one the run joins that cluster (`ray start --head` on one machine
 start --address=HEAD:6379` on the others; docs/ray.md). `--workers` defaults to the CPUs
 Ray has, `--envs-per-worker` to the recipe's environments divided among them.
 
-The recipe is the task's stable-baselines3 recipe (`composer train --help`) translated to
-RLlib: PPO collects `n_steps` per environment per update (a batch of n_steps x N x M),
-clip 0.2, GAE lambda 0.95, gradient norm 0.5, separate policy and value networks with a
-state-independent log std, as stable-baselines3 does; `normalize` filters observations
-with RLlib's MeanStdFilter (rewards are not scaled). SAC maps its replay, warm-up and
-update ratio the same way.
+The recipe is the task's stable-baselines3 recipe (`composer train --help`), adapted and
+translated to RLlib as `composer.cli.ray_algorithm` says.
 
 Writes into the output folder (default runs/TASK-ALGO-ray) what the stable-baselines3
 engine writes, the policy being a folder: `policy/` (an RLlib RLModule with its
@@ -28,14 +24,13 @@ on as many workers as given now; Ctrl-C saves a checkpoint and exits with status
 
 An env runner that dies (killed, out of memory, its machine gone) is restarted by Ray and
 rejoins with the current weights; meanwhile the others sample the whole batch, so no
-iteration is lost or short. Each loss and return is printed as it happens.
+iteration is lost or short. The command prints each loss and return as it happens.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import json
 import logging
 import math
@@ -51,11 +46,17 @@ import numpy as np
 
 from composer.cli import catalog, output, plot, recipes, rollout, training, video
 from composer.cli.errors import CliError, PolicyError
-from composer.cli.ray_files import Checkpoint, RayModel, quiet_ray, require_ray
+from composer.cli.ray_algorithm import (
+    EPISODES,
+    Layout,
+    build_algorithm,
+    describe_runners,
+    ray_recipe,
+)
+from composer.cli.ray_files import ENGINE, Checkpoint, RayModel, quiet_ray, require_ray
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
-ENGINE = "ray"
 # The stable-baselines3 options that have no meaning here, and ours that have none there.
 SB3_ONLY = ("n_envs", "vec")
 RAY_ONLY = ("workers", "envs_per_worker", "address")
@@ -63,33 +64,6 @@ RAY_ONLY = ("workers", "envs_per_worker", "address")
 CONNECT_SECONDS = 5.0
 # Object store of a local instance: RLlib only passes episodes and weights through it.
 LOCAL_OBJECT_STORE_BYTES = 256 * 1024**2
-# The key under which env runners report finished episodes: (return, success) each.
-EPISODES = "composer_episodes"
-# stable-baselines3's PPO defaults, so a recipe means the same on both engines.
-SB3_PPO = {
-    "lambda_": 0.95,
-    "clip_param": 0.2,
-    "use_kl_loss": False,
-    "vf_loss_coeff": 0.5,
-    "grad_clip": 0.5,
-    "vf_clip_param": math.inf,
-}
-SB3_SAC = {"tau": 0.005, "twin_q": True, "n_step": 1}
-
-
-@dataclasses.dataclass(frozen=True)
-class Layout:
-    """Where a run samples: env runners, environments each, and the cluster's address
-    (None: a local instance)."""
-
-    workers: int
-    envs_per_worker: int
-    address: str | None
-
-    @property
-    def n_envs(self) -> int:
-        """Environments in all."""
-        return self.workers * self.envs_per_worker
 
 
 def run(args: argparse.Namespace) -> int:
@@ -111,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             if resumed:
                 algo.restore_from_path(str(checkpoint.algorithm_path().resolve()))
-            restarts = checkpoint.state().get("env_runner_restarts", 0) if resumed else 0
+            restarts = saved.get("env_runner_restarts", 0)
             model = RayModel(algo, _policy_info(info, recipe), _layout_json(layout, restarts))
             model.num_timesteps = progress.timesteps
             session = training.Session(
@@ -238,124 +212,6 @@ def check_capacity(layout: Layout, cpus: int) -> None:
         )
 
 
-def build_algorithm(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:
-    """The RLlib Algorithm of `recipe` on `info`'s task with `layout`'s env runners."""
-    import ray.rllib  # noqa: F401
-
-    from composer import rllib
-
-    rllib.register_env(info.env_id)
-    config = algorithm_config(info, recipe, layout, seed)
-    try:
-        return config.build_algo()
-    except Exception as e:  # RLlib wraps env-runner failures in many types
-        raise CliError(f"RLlib could not build {recipe.algo.upper()} on {info.name}: {e}") from e
-
-
-def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:
-    """The RLlib AlgorithmConfig of `recipe` (see the module docstring)."""
-    from ray.rllib.algorithms.ppo import PPOConfig
-    from ray.rllib.algorithms.sac import SACConfig
-    from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
-
-    kwargs = catalog.environment_kwargs(info)
-    env_config = {k: v for k, v in kwargs.items() if k not in info.default_kwargs}
-    if recipe.algo == "ppo":
-        config = PPOConfig().training(
-            lr=recipe.learning_rate,
-            gamma=recipe.gamma,
-            train_batch_size_per_learner=recipe.n_envs * recipe.n_steps,
-            minibatch_size=recipe.batch_size,
-            num_epochs=recipe.n_epochs,
-            entropy_coeff=recipe.ent_coef,
-            **SB3_PPO,
-        )
-        model = DefaultModelConfig(
-            fcnet_hiddens=list(recipe.net), fcnet_activation="tanh",
-            vf_share_layers=False, free_log_std=True,
-        )  # fmt: skip
-        fragment: int | str = "auto"
-    else:
-        config = SACConfig().training(
-            actor_lr=recipe.learning_rate,
-            critic_lr=recipe.learning_rate,
-            alpha_lr=recipe.learning_rate,
-            gamma=recipe.gamma,
-            train_batch_size_per_learner=recipe.batch_size,
-            replay_buffer_config={"type": "EpisodeReplayBuffer", "capacity": recipe.buffer_size},
-            store_buffer_in_checkpoints=True,
-            num_steps_sampled_before_learning_starts=recipe.learning_starts,
-            training_intensity=_sac_intensity(recipe),
-            **SB3_SAC,
-        )
-        model = DefaultModelConfig(fcnet_hiddens=list(recipe.net), fcnet_activation="relu")
-        fragment = recipe.train_freq
-    return (
-        config.environment(info.env_id, env_config=env_config)
-        .framework("torch")
-        .env_runners(
-            num_env_runners=layout.workers,
-            num_envs_per_env_runner=layout.envs_per_worker,
-            num_cpus_per_env_runner=1,
-            gym_env_vectorize_mode="vector_entry_point",
-            rollout_fragment_length=fragment,
-            env_to_module_connector=_observation_filter if recipe.normalize else None,
-        )
-        .learners(num_learners=0)
-        .rl_module(model_config=model)
-        .callbacks(on_episode_end=_record_episode)
-        .fault_tolerance(
-            restart_failed_env_runners=True,
-            max_num_env_runner_restarts=1000,
-            delay_between_env_runner_restarts_s=0.0,
-        )
-        .debugging(seed=seed, log_level="ERROR")
-    )
-
-
-def _sac_intensity(recipe: recipes.Recipe) -> float:
-    """RLlib's trained-to-sampled ratio for stable-baselines3's `gradient_steps` updates of
-    `batch_size` every `train_freq` steps of each of `n_envs` environments."""
-    return recipe.gradient_steps * recipe.batch_size / (recipe.train_freq * recipe.n_envs)
-
-
-def _observation_filter(env: Any = None, spaces: Any = None, device: Any = None) -> Any:
-    """RLlib's env-to-module connector normalizing observations (picklable)."""
-    from ray.rllib.connectors.env_to_module import MeanStdFilter
-
-    return MeanStdFilter()
-
-
-def _record_episode(
-    *, episode: Any, prev_episode_chunks: list[Any], metrics_logger: Any, **kwargs: Any
-) -> None:
-    """Env runners' callback: report a finished episode's return (over every chunk RLlib
-    cut it into) and success (its last info's `is_success`, None if absent)."""
-    total = float(episode.get_return()) + sum(float(c.get_return()) for c in prev_episode_chunks)
-    success = episode.get_infos(-1).get("is_success")
-    metrics_logger.log_value(
-        EPISODES, (total, None if success is None else bool(success)), reduce="item_series"
-    )
-
-
-def describe_runners(algo: Any) -> str:
-    """'2 on 192.0.2.2 (pids 123, 124)': the live env runners by machine."""
-    places = algo.env_runner_group.foreach_env_runner(_whereabouts, local_env_runner=False)
-    hosts: dict[str, list[int]] = {}
-    for host, pid in places:
-        hosts.setdefault(host, []).append(pid)
-    return "; ".join(
-        f"{len(pids)} on {host} (pid{'s' if len(pids) > 1 else ''} {', '.join(map(str, pids))})"
-        for host, pids in hosts.items()
-    )
-
-
-def _whereabouts(runner: Any) -> tuple[str, int]:
-    import ray
-
-    return ray.util.get_node_ip_address(), os.getpid()
-
-
 # -- the run ---------------------------------------------------------------------------------
 
 
@@ -382,7 +238,7 @@ def _layout(args: argparse.Namespace, saved: dict[str, Any], cpus: int) -> Layou
     environments among them."""
     workers = args.workers or saved.get("workers") or max(1, cpus)
     algo = args.algo or saved.get("algo") or recipes.default_algo(args.info.name)
-    default_envs = max(1, recipes.for_task(args.info.name, algo).n_envs // workers)
+    default_envs = max(1, ray_recipe(args.info.name, algo).n_envs // workers)
     envs = args.envs_per_worker or saved.get("envs_per_worker") or default_envs
     return Layout(int(workers), int(envs), args.address)
 
@@ -409,7 +265,7 @@ def _start(
         recipe = saved.replace(timesteps=args.timesteps)
     else:
         algo = args.algo or recipes.default_algo(info.name)
-        recipe = recipes.for_task(info.name, algo).replace(
+        recipe = ray_recipe(info.name, algo).replace(
             timesteps=args.timesteps, n_envs=layout.n_envs, vec="batched"
         )
         progress = training.Progress(info.name, info.env_id, algo, args.seed or 0, {})

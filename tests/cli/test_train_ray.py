@@ -38,23 +38,23 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps", "20000",
                       "--out", "run", cwd=tmp_path, timeout=TIMEOUT)  # fmt: skip
     assert result.returncode == 0, result.stderr
-    assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 8 "
+    assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
             "environments -> run") in result.stdout  # fmt: skip
     assert re.search(r"^env runners: 2 on [\d.]+ \(pids \d+, \d+\)$", result.stdout, re.M)
     assert re.search(r"^ +20,480 steps +\d+s  return [\d.]+ ± [\d.]+$", result.stdout, re.M)
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
-    assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 8)
+    assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 16)
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("CartpoleSwingup", "ppo",
                                                                         20480)  # fmt: skip
     assert metrics["completed"] and metrics["env_steps_per_second"] > 0
     assert metrics["env_runner_restarts"] == 0 and metrics["ray"]["cluster"] == "local"
-    # 4,096 steps per iteration (16 environments x 256): an evaluation every 2,000 is due
+    # 4,096 steps per iteration (32 environments x 128): an evaluation every 2,000 is due
     # after each of the 5 iterations.
     assert [e["timesteps"] for e in metrics["evaluations"]] == [4096 * i for i in range(1, 6)]
     assert metrics["final"] == metrics["evaluations"][-1]
-    assert metrics["recipe"]["n_envs"] == 16 and metrics["recipe"]["n_steps"] == 256
-    assert sum(row[2] for row in metrics["train_curve"]) == 16 * (20480 // 16 // 200)
+    assert metrics["recipe"]["n_envs"] == 32 and metrics["recipe"]["n_steps"] == 128
+    assert sum(row[2] for row in metrics["train_curve"]) == 32 * (20480 // 32 // 200)
     assert metrics["random_policy"]["episodes"] == 10
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
     assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape[1:] == (240, 320, 3)
@@ -80,12 +80,12 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
                        timeout=TIMEOUT)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
     assert ("resuming at 20,480 steps: CartpoleSwingup with RLlib PPO to 28,000 steps on "
-            "1 env runner x 8 environments") in resumed.stdout  # fmt: skip
+            "1 env runner x 16 environments") in resumed.stdout  # fmt: skip
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["timesteps"] == 28672 and metrics["workers"] == 1  # the batch stays 4,096
     assert [e["timesteps"] for e in metrics["evaluations"]][5:] == [24576, 28672]
-    # Resumed environments start new episodes: 8 of 1,024 steps each, 5 episodes each.
-    assert sum(row[2] for row in metrics["train_curve"]) == 96 + 8 * 5
+    # Resumed environments start new episodes: 16 of 512 steps each, 2 episodes each.
+    assert sum(row[2] for row in metrics["train_curve"]) == 96 + 16 * 2
 
 
 @needs_ray
@@ -248,3 +248,15 @@ def test_without_ray_the_engine_names_the_extra_to_install(tmp_path):
     assert "Traceback" not in result.stderr
     assert "--engine ray needs the [ray] extra" in result.stderr
     assert "pip install -e '.[train,ray]'" in result.stderr
+
+
+def test_without_ray_a_ray_policy_names_the_extra_to_install(tmp_path):
+    policy = tmp_path / "run" / "policy"
+    policy.mkdir(parents=True)
+    (policy / "policy.json").write_text(json.dumps({"format": "composer-rllib-policy"}))
+    result = composer_without(("ray",), "eval", "Reach", "run", cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "run/policy was trained with --engine ray: loading it needs the [ray] extra" in (
+        result.stderr
+    )
