@@ -6,10 +6,9 @@ add to each env step. Needs the [ray] extra.
     python bench/bench_ray.py AntRun          # another task (costlier physics)
     python -m bench ray
 
-Each figure is the best of a few rounds and uses the CLI's own objects: the SB3 engine's
-recipe, VecEnv and model (its environments batched on two threads), the Ray engine's
-recipe and Algorithm with its default M environments per env runner (16 for
-CartpoleSwingup, whose SB3 recipe has 16 in all):
+Everything uses the CLI's own objects: the SB3 engine's recipe, VecEnv and model (its
+environments batched on two threads), and the Ray engine's recipe and Algorithm with its
+default M environments per env runner on this machine (16 for CartpoleSwingup):
   raw_batch_1_thread   mujoco.batch of M sims on one thread: write ctrl, step the control
                        step's substeps, copy qpos and qvel (an env runner's floor)
   raw_batch_2_threads  the SB3 recipe's environments on two threads (this machine's floor)
@@ -18,13 +17,17 @@ CartpoleSwingup, whose SB3 recipe has 16 in all):
                        (action, value, log-prob), then the VecEnv step: what an env runner
                        does, without Ray
   sb3_collect          the same on the SB3 recipe's environments, on two threads
-  sb3_train            the SB3 engine's PPO.learn (collection and updates)
-  ray_sample_N         N env runners sampling M environments each, episodes returned to the
-                       driver (N = 1, 2)
-  ray_train_N          Algorithm.train() with N env runners: sampling, then the learner's
-                       update in this process, then weights back to the runners
-Ray's per-step cost is ray_sample_1 against sb3_collect_1_thread: the same environments,
-network and core, with RLlib's episodes, connectors and Ray's transport around them.
+  sb3_train            the SB3 engine's PPO.learn: one rollout and its update
+  ray_sample_N         N env runners sampling M environments each, the episodes returned
+                       to this process (N = 1, 2)
+  ray_train_N          one Algorithm.train() with N env runners: sampling, the learner's
+                       update in this process, the weights back to the runners
+Rounds alternate between all of them (one Ray instance holds both algorithms) and each
+figure is its best round, so a busy machine disturbs the comparison less. Besides
+wall-clock rates, the CPU time per env step of the process(es) doing the stepping is
+measured (process time: what a busy machine does not inflate); Ray's per-step cost is
+ray_sample_1 against sb3_collect_1_thread in CPU time: the same environments, network and
+core, with RLlib's episodes, connectors and Ray's transport around them.
 """
 
 from __future__ import annotations
@@ -42,14 +45,18 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 TASK = "CartpoleSwingup"
 WORKERS = (1, 2)
+# A round's result: env steps, wall seconds, CPU seconds (None when not measured).
+Round = tuple[int, float, float | None]
 
 
-def best(rounds: int, run: Callable[[], float]) -> float:
-    """The best of `rounds` calls of `run` (each returns env-steps/s)."""
-    return max(run() for _ in range(rounds))
+def timed(steps: int, work: Callable[[], Any]) -> Round:
+    """Run `work` (which steps `steps` env steps in this process) and time it."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    work()
+    return steps, time.perf_counter() - wall, time.process_time() - cpu
 
 
-def raw_batch(vector: Any, nthread: int, steps: int) -> Callable[[], float]:
+def raw_batch(vector: Any, nthread: int, steps: int) -> Callable[[], Round]:
     """The vector environment's sims on mujoco.batch directly (see the module docstring)."""
     from mujoco import batch as mujoco_batch
 
@@ -59,82 +66,73 @@ def raw_batch(vector: Any, nthread: int, steps: int) -> Callable[[], float]:
     ctrl, qpos, qvel = batch.bind("ctrl"), batch.bind("qpos"), batch.bind("qvel")
     actions = np.random.default_rng(0).uniform(-1, 1, (steps, *ctrl.shape))
 
-    def run() -> float:
-        batch.reset()
-        start = time.perf_counter()
+    def work() -> None:
         for action in actions:
             ctrl[:] = action
             batch.step(nstep=substeps)
-            observation = np.concatenate([qpos, qvel], axis=1)
-        del observation
-        return steps * vector.num_envs / (time.perf_counter() - start)
+            np.concatenate([qpos, qvel], axis=1)
+
+    def run() -> Round:
+        batch.reset()
+        return timed(steps * vector.num_envs, work)
 
     return run
 
 
-def vector_steps(vector: Any, steps: int) -> Callable[[], float]:
+def vector_steps(vector: Any, steps: int) -> Callable[[], Round]:
     """VectorEnvironment.step with random actions."""
     actions = np.random.default_rng(0).uniform(-1, 1, (steps, *vector.action_space.shape))
 
-    def run() -> float:
-        vector.reset(seed=0)
-        start = time.perf_counter()
+    def work() -> None:
         for action in actions:
             vector.step(action)
-        return steps * vector.num_envs / (time.perf_counter() - start)
+
+    def run() -> Round:
+        vector.reset(seed=0)
+        return timed(steps * vector.num_envs, work)
 
     return run
 
 
-def sb3_collect(model: Any, steps: int) -> Callable[[], float]:
+def sb3_collect(model: Any, steps: int) -> Callable[[], Round]:
     """stable-baselines3's rollout loop: policy forward, clip, VecEnv step."""
     import torch
 
     venv = model.get_env()
     low, high = venv.action_space.low, venv.action_space.high
 
-    def run() -> float:
+    def work() -> None:
         observation = venv.reset()
-        start = time.perf_counter()
         for _ in range(steps):
             with torch.no_grad():
                 actions, _, _ = model.policy(torch.as_tensor(observation))
             observation, *_ = venv.step(np.clip(actions.numpy(), low, high))
-        return steps * venv.num_envs / (time.perf_counter() - start)
 
-    return run
-
-
-def sb3_learn(model: Any, updates: int) -> Callable[[], float]:
-    """PPO.learn for `updates` rollouts and updates."""
-    steps = updates * model.n_steps * model.get_env().num_envs
-
-    def run() -> float:
-        start = time.perf_counter()
-        model.learn(steps, reset_num_timesteps=True)
-        return steps / (time.perf_counter() - start)
-
-    return run
+    return lambda: timed(steps * venv.num_envs, work)
 
 
-def sb3_figures(info: Any, recipe: Any, per_runner: int, quick: bool) -> dict[str, float]:
-    """The SB3 engine's figures on `recipe`, and those of `per_runner` environments on one
-    thread."""
+def sb3_learn(model: Any) -> Callable[[], Round]:
+    """PPO.learn of one rollout and its update."""
+    steps = model.n_steps * model.get_env().num_envs
+    return lambda: timed(steps, lambda: model.learn(steps, reset_num_timesteps=True))
+
+
+def sb3_sides(info: Any, recipe: Any, per_runner: int, quick: bool) -> dict[str, Any]:
+    """The floors' and the SB3 engine's measurements on `recipe`, and `per_runner`
+    environments on one thread."""
     from composer import sb3
     from composer.cli import training
     from composer.vector import make_vector_environment
 
-    steps, rounds = (5, 1) if quick else (400, 3)
+    steps = 5 if quick else 300
     kwargs = {**info.default_kwargs, "flatten_observations": True}
     one = make_vector_environment(per_runner, info.task, nthread=1, **kwargs)
     two = make_vector_environment(recipe.n_envs, info.task, nthread=2, **kwargs)
-    figures = {
-        "raw_batch_1_thread": best(rounds, raw_batch(one, 1, steps)),
-        "raw_batch_2_threads": best(rounds, raw_batch(two, 2, steps)),
-        "vector_1_thread": best(rounds, vector_steps(one, steps)),
+    sides = {
+        "raw_batch_1_thread": raw_batch(one, 1, steps),
+        "raw_batch_2_threads": raw_batch(two, 2, steps),
+        "vector_1_thread": vector_steps(one, steps),
     }
-    one.close()
-    two.close()
     for name, n_envs, threads in (("sb3_collect_1_thread", per_runner, 1),
                                   ("sb3_collect", recipe.n_envs, 2)):  # fmt: skip
         # As training.vec_env builds the recipe's ('batched', normalized), on `threads`.
@@ -142,104 +140,116 @@ def sb3_figures(info: Any, recipe: Any, per_runner: int, quick: bool) -> dict[st
         batched.seed(0)
         venv = training.VecNormalize(training.VecMonitor(batched), gamma=recipe.gamma)
         model = training.new_model(recipe.replace(n_envs=n_envs), venv, seed=0)
-        figures[name] = best(rounds, sb3_collect(model, steps))
+        sides[name] = sb3_collect(model, steps)
         if threads == 2:
-            figures["sb3_train"] = best(1, sb3_learn(model, 1 if quick else 3))
-        venv.close()
-    return figures
+            sides["sb3_train"] = sb3_learn(model)
+    return sides
 
 
-def ray_figures(
-    info: Any, recipe: Any, workers: int, per_runner: int, quick: bool
-) -> dict[str, Any]:
-    """One Ray instance of `workers` CPUs, each runner stepping `per_runner` environments
-    of the Ray engine's `recipe`: sampling and training rates, and the learner's share."""
-    import ray
+def ray_sides(algo: Any, workers: int, per_runner: int, quick: bool) -> dict[str, Any]:
+    """Sampling and one training iteration of `algo` (`workers` runners of `per_runner`)."""
+    steps_each = 64 if quick else 2048
 
-    from composer.cli import ray_algorithm, ray_files, ray_training
+    def sample_on_runner(runner: Any) -> float:
+        cpu = time.process_time()
+        runner.sample(num_timesteps=steps_each, explore=True)
+        return time.process_time() - cpu
 
-    ray_files.quiet_ray()
-    ray.init(
-        num_cpus=workers, object_store_memory=ray_training.LOCAL_OBJECT_STORE_BYTES,
-        include_dashboard=False, log_to_driver=False, logging_level=logging.ERROR,
-    )  # fmt: skip
-    try:
-        layout = ray_algorithm.Layout(workers, per_runner, None)
-        recipe = recipe.replace(n_envs=layout.n_envs)
-        algo = ray_algorithm.build_algorithm(info, recipe, layout, seed=0)
-        steps_each = 64 if quick else recipe.n_steps * per_runner
+    def sample() -> Round:
+        start = time.perf_counter()
+        cpus = algo.env_runner_group.foreach_env_runner(sample_on_runner, local_env_runner=False)
+        return workers * steps_each, time.perf_counter() - start, sum(cpus)
 
-        def sample() -> float:
-            start = time.perf_counter()
-            algo.env_runner_group.foreach_env_runner(
-                lambda runner: len(runner.sample(num_timesteps=steps_each, explore=True)),
-                local_env_runner=False,
-            )
-            return workers * steps_each / (time.perf_counter() - start)
+    shares: list[float] = []
 
-        sampling = best(1 if quick else 3, sample)
-        algo.train()  # the first iteration warms up the learner
-        iterations = 1 if quick else 4
-        steps, timers = 0, {"sampling": 0.0, "learning": 0.0, "total": 0.0}
-        for _ in range(iterations):
-            result = algo.train()
-            steps += int(result["env_runners"]["num_env_steps_sampled"])
-            timers["sampling"] += result["timers"]["env_runner_sampling_timer"]
-            timers["learning"] += result["timers"]["learner_update_timer"]
-            timers["total"] += result["timers"]["training_iteration"]
-        algo.stop()
-    finally:
-        ray.shutdown()
-    return {
-        "sample": sampling,
-        "train": steps / timers["total"],
-        "learner_share": timers["learning"] / timers["total"],
-        "sampling_share": timers["sampling"] / timers["total"],
-    }
+    def train() -> Round:
+        start = time.perf_counter()
+        result = algo.train()
+        wall = time.perf_counter() - start
+        shares.append(result["timers"]["learner_update_timer"] / wall)
+        # The batch: the result's step count would include sample()'s steps since the last.
+        return algo.config.train_batch_size_per_learner, wall, None
+
+    return {f"ray_sample_{workers}": sample, f"ray_train_{workers}": train, "shares": shares}
 
 
 def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
-    """Measure `task` and print; returns the figures (steps/s, ratios, microseconds per
-    env step)."""
+    """Measure `task` and print; returns the figures (steps/s, CPU microseconds per env
+    step, ratios)."""
     try:
-        import ray  # noqa: F401
+        import ray
     except ImportError:
         print("skipped: Ray is not installed (pip install -e '.[ray]')")
         return {}
-    from composer.cli import catalog, ray_algorithm, recipes
+    from composer.cli import catalog, ray_algorithm, ray_files, ray_training, recipes
 
     info = catalog.find(task)
     sb3_recipe = recipes.for_task(task).replace(vec="batched")
     ray_recipe = ray_algorithm.ray_recipe(task, sb3_recipe.algo)
     per_runner = max(1, ray_recipe.n_envs // max(WORKERS))  # the CLI's default M here
-    figures: dict[str, Any] = sb3_figures(info, sb3_recipe, per_runner, quick)
-    for workers in WORKERS:
-        measured = ray_figures(info, ray_recipe, workers, per_runner, quick)
-        figures[f"ray_sample_{workers}"] = measured["sample"]
-        figures[f"ray_train_{workers}"] = measured["train"]
-        figures[f"ray_learner_share_{workers}"] = measured["learner_share"]
-    micro = {name: 1e6 / rate for name, rate in figures.items() if "share" not in name}
-    figures["ray_overhead_us_per_step"] = micro["ray_sample_1"] - micro["sb3_collect_1_thread"]
+    sides = sb3_sides(info, sb3_recipe, per_runner, quick)
+    ray_files.quiet_ray()
+    ray.init(
+        num_cpus=sum(WORKERS), object_store_memory=ray_training.LOCAL_OBJECT_STORE_BYTES,
+        include_dashboard=False, log_to_driver=False, logging_level=logging.ERROR,
+    )  # fmt: skip
+    shares: dict[int, list[float]] = {}
+    try:
+        algos = []
+        for workers in WORKERS:
+            layout = ray_algorithm.Layout(workers, per_runner, None)
+            recipe = ray_recipe.replace(n_envs=layout.n_envs)
+            algos.append(ray_algorithm.build_algorithm(info, recipe, layout, seed=0))
+            algos[-1].train()  # warm up: the first iteration builds the learner's graph
+            measured = ray_sides(algos[-1], workers, per_runner, quick)
+            shares[workers] = measured.pop("shares")
+            sides.update(measured)
+        best: dict[str, Round] = {}
+        for _ in range(1 if quick else 5):
+            for name, run in sides.items():
+                steps, wall, cpu = run()
+                if name not in best or steps / wall > best[name][0] / best[name][1]:
+                    best[name] = (steps, wall, cpu)
+        for algo in algos:
+            algo.stop()
+    finally:
+        ray.shutdown()
+    return report(task, best, shares, per_runner, sb3_recipe.n_envs)
+
+
+def report(
+    task: str, best: dict[str, Round], shares: dict[int, list[float]], per_runner: int,
+    sb3_envs: int,
+) -> dict[str, Any]:  # fmt: skip
+    """Print the figures and return them."""
+    figures: dict[str, Any] = {}
+    print(f"{task}: env steps/s and CPU microseconds per env step; {per_runner} environments "
+          f"per env runner, {sb3_envs} for SB3")  # fmt: skip
+    for name, (steps, wall, cpu) in best.items():
+        figures[f"{name}_steps_per_s"] = steps / wall
+        if cpu is not None:
+            figures[f"{name}_cpu_us"] = 1e6 * cpu / steps
+        cpu_text = f"{1e6 * cpu / steps:8.1f} us" if cpu is not None else ""
+        print(f"  {name:22} {steps / wall:10.0f} steps/s  {cpu_text}")
+    for workers, values in shares.items():
+        figures[f"ray_learner_share_{workers}"] = share = float(np.median(values))
+        print(f"  ray, {workers} env runner(s): the learner's update takes {share:.0%} of an "
+              "iteration (median)")  # fmt: skip
+    rate = {k.removesuffix("_steps_per_s"): v for k, v in figures.items() if "steps_per_s" in k}
+    figures["ray_overhead_cpu_us_per_step"] = (
+        figures["ray_sample_1_cpu_us"] - figures["sb3_collect_1_thread_cpu_us"]
+    )
     figures["ray_sample_1_vs_sb3_collect_1_thread"] = (
-        figures["ray_sample_1"] / figures["sb3_collect_1_thread"]
+        rate["ray_sample_1"] / rate["sb3_collect_1_thread"]
     )
-    figures["ray_sample_2_vs_1"] = figures["ray_sample_2"] / figures["ray_sample_1"]
-    figures["ray_train_2_vs_sb3_train"] = figures["ray_train_2"] / figures["sb3_train"]
+    figures["ray_sample_2_vs_1"] = rate["ray_sample_2"] / rate["ray_sample_1"]
+    figures["ray_train_2_vs_sb3_train"] = rate["ray_train_2"] / rate["sb3_train"]
     figures["ray_sample_2_vs_raw_batch_2_threads"] = (
-        figures["ray_sample_2"] / figures["raw_batch_2_threads"]
+        rate["ray_sample_2"] / rate["raw_batch_2_threads"]
     )
-    print(f"{task}: env steps/s (and microseconds per env step); {per_runner} environments "
-          f"per env runner, {sb3_recipe.n_envs} for SB3")  # fmt: skip
-    for name, rate in figures.items():
-        if name in micro:
-            print(f"  {name:22} {rate:10.0f} steps/s  {micro[name]:8.1f} us")
-    for workers in WORKERS:
-        share = figures[f"ray_learner_share_{workers}"]
-        print(f"  ray, {workers} env runner(s): the learner's update is {share:.0%} of an "
-              "iteration")  # fmt: skip
-    print(f"  Ray + RLlib add {figures['ray_overhead_us_per_step']:.0f} us per env step "
-          f"(1 runner samples at {figures['ray_sample_1_vs_sb3_collect_1_thread']:.2f}x the "
-          "same loop without Ray)")  # fmt: skip
+    print(f"  Ray + RLlib add {figures['ray_overhead_cpu_us_per_step']:.0f} us of CPU per env "
+          f"step to the same loop without Ray (which takes "
+          f"{figures['sb3_collect_1_thread_cpu_us']:.0f})")  # fmt: skip
     print(
         f"  2 runners / 1 runner sampling: {figures['ray_sample_2_vs_1']:.2f}x; "
         f"ray training (2 runners) / SB3 training: {figures['ray_train_2_vs_sb3_train']:.2f}x"
