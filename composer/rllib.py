@@ -64,7 +64,7 @@ except ImportError as e:
 # Keywords only the batch takes; a single environment drops them.
 _VECTOR_ONLY = ("nthread",)
 
-__all__ = ["EnvCreator", "register_env"]
+__all__ = ["DistinctSeeds", "EnvCreator", "register_env"]
 
 
 def register_env(env_id: str) -> str:
