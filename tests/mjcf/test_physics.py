@@ -180,7 +180,7 @@ def test_huge_velocity_raises_physics_error(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # MuJoCo logs its warnings to MUJOCO_LOG.TXT in the cwd
     physics = Physics.from_xml_path(HUMANOID)
     physics.check_invalid_state()  # a fresh state is valid
-    physics.data.qvel[:] = 1e12
+    physics.named.data.qvel[:] = 1e12  # tracked: the step starts from this state
     physics.step()
     with pytest.raises(errors.PhysicsError, match=r"mjWARN_BADQVEL.*joint 'root'"):
         physics.check_invalid_state()
