@@ -75,9 +75,7 @@ def ray_recipe(task: str, algo: str) -> recipes.Recipe:
 
 def build_algorithm(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:
     """The RLlib Algorithm of `recipe` on `info`'s task with `layout`'s env runners."""
-    import ray.rllib  # noqa: F401
-
-    from composer import rllib
+    from composer import rllib  # imports Ray
 
     rllib.register_env(info.env_id)
     config = algorithm_config(info, recipe, layout, seed)
@@ -89,7 +87,7 @@ def build_algorithm(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed
 
 def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:
     """The RLlib AlgorithmConfig of `recipe` (see the module docstring)."""
-    from ray.rllib.algorithms.ppo import PPOConfig
+    from ray.rllib.algorithms.ppo import PPOConfig  # Ray: see the module docstring
     from ray.rllib.algorithms.sac import SACConfig
     from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
 
@@ -156,7 +154,7 @@ def _sac_intensity(recipe: recipes.Recipe) -> float:
 
 def _observation_filter(env: Any = None, spaces: Any = None, device: Any = None) -> Any:
     """RLlib's env-to-module connector normalizing observations (picklable)."""
-    from ray.rllib.connectors.env_to_module import MeanStdFilter
+    from ray.rllib.connectors.env_to_module import MeanStdFilter  # in the env runner
 
     return MeanStdFilter()
 
@@ -186,6 +184,6 @@ def describe_runners(algo: Any) -> str:
 
 
 def _whereabouts(runner: Any) -> tuple[str, int]:
-    import ray
+    import ray  # in the env runner
 
     return ray.util.get_node_ip_address(), os.getpid()

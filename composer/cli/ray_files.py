@@ -33,6 +33,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
+import gymnasium
 import numpy as np
 
 from composer.cli.errors import MissingExtraError, OutputError, PolicyError
@@ -86,8 +87,7 @@ class RayPolicy:
 
     def __init__(self, module: Any, spec: dict[str, Any]) -> None:
         """Serve `module` (an RLlib RLModule) with `spec` (the contents of policy.json)."""
-        import gymnasium
-        import torch
+        import torch  # the [train] extra: training.py turns its absence into a message
 
         self.module = module
         self.spec = spec
@@ -121,7 +121,7 @@ class RayPolicy:
     def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
         """The action for one observation (shape observation_shape): the distribution's
         mode when `deterministic`, else a sample, mapped into the action bounds."""
-        from ray.rllib.core.columns import Columns
+        from ray.rllib.core.columns import Columns  # Ray: only where a Ray policy is used
         from ray.rllib.utils.spaces.space_utils import unsquash_action
 
         torch = self._torch
@@ -173,7 +173,7 @@ def policy_spec(algo: Any, info: dict[str, Any]) -> dict[str, Any]:
 def observation_filter(runner: Any) -> dict[str, Any] | None:
     """The mean, std and clip of the MeanStdFilter in `runner`'s env-to-module pipeline,
     as plain lists, or None when it has none."""
-    from ray.rllib.utils.filter import RunningStat
+    from ray.rllib.utils.filter import RunningStat  # Ray: only where a Ray policy is saved
 
     pipeline = runner.get_state(components="env_to_module_connector")["env_to_module_connector"]
     state = pipeline.get("MeanStdFilter")
@@ -201,7 +201,7 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
         raise PolicyError(f"{folder / POLICY_FILE} is not a policy written by `composer train`")
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
     quiet_ray()
-    from ray.rllib.core.rl_module.rl_module import RLModule
+    from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked just above
 
     try:
         module = RLModule.from_checkpoint(_uri(folder / "module"))

@@ -36,6 +36,7 @@ import logging
 import math
 import os
 import platform
+import shutil
 import socket
 import sys
 from collections.abc import Iterator
@@ -43,8 +44,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
-from composer.cli import catalog, output, plot, recipes, rollout, training, video
+from composer.cli import catalog, output, plot, recipes, rollout, train, training, video
 from composer.cli.errors import CliError, PolicyError
 from composer.cli.ray_algorithm import (
     EPISODES,
@@ -53,7 +55,14 @@ from composer.cli.ray_algorithm import (
     describe_runners,
     ray_recipe,
 )
-from composer.cli.ray_files import ENGINE, Checkpoint, RayModel, quiet_ray, require_ray
+from composer.cli.ray_files import (
+    ENGINE,
+    Checkpoint,
+    RayModel,
+    quiet_ray,
+    require_ray,
+    save_policy,
+)
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
@@ -146,7 +155,7 @@ def ray_instance(address: str | None, workers: int | None) -> Iterator[int]:
     machine's count if None: that many env runners fit, whatever the cores) or joined at
     `address`; yields the CPUs Ray has. Raises CliError when the cluster cannot be
     reached."""
-    import ray
+    import ray  # only when training on Ray: `composer train` imports this module
 
     quiet_ray()
     options: dict[str, Any] = {
@@ -281,7 +290,7 @@ def _policy_info(info: TaskInfo, recipe: recipes.Recipe) -> dict[str, Any]:
 def _layout_json(layout: Layout, restarts: int) -> dict[str, Any]:
     """What checkpoints and metrics.json record of the layout and the cluster; `restarts`:
     env runners restarted so far in the run."""
-    import ray
+    import ray  # only when training on Ray: `composer train` imports this module
 
     return {
         "engine": ENGINE,
@@ -368,8 +377,6 @@ def _progress_bar(total: int, done: int) -> Any:
     """A tqdm bar on a terminal, else None."""
     if not sys.stderr.isatty():
         return None
-    from tqdm import tqdm
-
     return tqdm(total=total, initial=min(done, total), unit="steps", unit_scale=True)
 
 
@@ -413,15 +420,11 @@ def _finish(
 
 
 def _save_policy(model: RayModel, folder: Path) -> None:
-    from composer.cli.ray_files import save_policy
-
     save_policy(model.algo, folder, model.info)
 
 
 def _replace_folder(folder: Path, write: Any) -> None:
     """Write a folder through `write(path)` beside it, then swap it in."""
-    import shutil
-
     partial = folder.with_name(f".{folder.name}.partial")
     shutil.rmtree(partial, ignore_errors=True)
     write(partial)
@@ -430,9 +433,7 @@ def _replace_folder(folder: Path, write: Any) -> None:
 
 
 def _record(info: TaskInfo, model: RayModel, path: Path) -> Path:
-    """A video of the model's episodes, at least training.VIDEO_SECONDS long."""
-    from composer.cli import train
-
+    """A video of the model's episodes, at least train.VIDEO_SECONDS long."""
     env = catalog.make(info, render_mode="rgb_array")
     try:
         seconds = info.default_kwargs.get("time_limit") or train.VIDEO_SECONDS
