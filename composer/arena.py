@@ -5,6 +5,11 @@
     arena.attach(robot, attach_site=arena.mjcf_model.find('site', 'mount'))
     frame = arena.add_free_entity(ball)                 # a frame with a free joint
     frame.pos = [0, 0, 1]                               # its initial position (qpos0)
+    arena.add_free_entity(composer.Entity.from_path('ant.xml'))   # floats already
+
+A model that floats already (a standalone robot file whose top body has a free joint,
+such as gymnasium's ant or humanoid) keeps its own free joint when added as a free
+entity, and its world body (a ground plane of its own, say) stays static.
 
 An arena is an `Entity`: subclasses call `super()._build(...)` and add walls, tables or
 terrain to `self.mjcf_model`.
@@ -15,7 +20,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import mjcf
+import mjcf.defaults
 from composer.entity import Entity
+from composer.errors import EntityError
 
 
 class Arena(Entity):
@@ -54,8 +61,41 @@ class Arena(Entity):
         root.worldbody.add("light", name="top", pos=[0, 0, 6], dir=[0, 0, -1], directional=True)
 
     def add_free_entity(self, entity: Entity) -> mjcf.Element:
-        """Attach `entity` at the world body with a free joint, and return the frame;
-        raises EntityError as `attach`."""
+        """Attach `entity` at the world body with a free joint, and return the frame. An
+        entity whose model has a top body with a free joint already floats: it is attached
+        as it is (a second free joint could not compile), its world body static. Raises
+        EntityError as `attach`, and for a model whose world body holds a plane, which
+        MuJoCo allows in static bodies only, when the frame would get the free joint."""
+        model = entity.mjcf_model
+        if any(mjcf.get_freejoint(body) is not None for body in _top_bodies(model.worldbody)):
+            return self.attach(entity)
+        planes = [
+            geom
+            for geom in _static_children(model.worldbody)
+            if geom.tag == "geom" and mjcf.defaults.effective_value(geom, "type") == "plane"
+        ]
+        if planes:
+            raise EntityError(
+                f"cannot add entity {entity.name!r} as a free entity: its world body holds "
+                f"{planes[0].path}, a plane, which MuJoCo allows only in static bodies; give "
+                "its top body a free joint, or attach it with arena.attach(entity)"
+            )
         frame = self.attach(entity)
         frame.add("freejoint")
         return frame
+
+
+def _static_children(element: mjcf.Element) -> list[mjcf.Element]:
+    """The children of a world body, with those of MuJoCo `<frame>`s in it (not bodies,
+    not attached models)."""
+    found = []
+    for child in element.all_children():
+        if child.tag == "frame":
+            found.extend(_static_children(child))
+        else:
+            found.append(child)
+    return found
+
+
+def _top_bodies(worldbody: mjcf.Element) -> list[mjcf.Element]:
+    return [child for child in _static_children(worldbody) if child.tag == "body"]

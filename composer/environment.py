@@ -15,8 +15,8 @@ What it promises:
   at construction) compiles and runs `after_compile`, then resets the physics and runs
   `initialize_episode`. A step runs the task's `before_step(physics, action, ...)` (which
   applies the action), the entities' `before_step`, then per physics step `before_substep`,
-  `mj_step`, `after_substep`, then `after_step`; then observations, reward, termination
-  are read. Each hook runs on the task, then on every entity (`composer.hooks`).
+  `physics.step()`, `after_substep`, then `after_step`; then observations, reward,
+  termination are read. Each hook runs on the task, then on every entity (`composer.hooks`).
 - `terminated` comes from `task.should_terminate_episode`; `truncated` is set when the time
   limit is reached (after ceil(time_limit / control_timestep) steps) or when MuJoCo reported
   an invalid state (bad qacc, NaN): then `info['physics_error']` holds the message, the
@@ -30,8 +30,10 @@ What it promises:
   actuators' ctrlrange) before the task applies them.
 - Observations are new arrays every step (safe to keep); a step's `info` holds the task's
   `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
-- Derived quantities (xpos, sensordata) are those MuJoCo computed in the last physics step,
-  before its integration, as with `mujoco.mj_step` itself and Gymnasium's MuJoCo envs.
+- Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
+  consistent with the current state, as `mj_forward` would compute them, not one physics
+  step behind as with a bare `mujoco.mj_step` (see `mjcf.Physics.step`; this costs nothing
+  over `mj_step`). `env.physics.legacy_step = False` restores bare `mj_step`s.
 """
 
 from __future__ import annotations
@@ -41,7 +43,6 @@ import warnings
 from typing import Any
 
 import gymnasium
-import mujoco
 import numpy as np
 
 import mjcf
@@ -142,7 +143,6 @@ class Environment(gymnasium.Env):
             else math.ceil(self._time_limit / task.control_timestep - 1e-9)
         )  # fmt: skip
         # Per-step constants, bound once.
-        self._model, self._data = physics.model, physics.data
         self._plan = self._updater.plan
         self._period = len(self._plan)
         self._substep_plan = self._updater.substep_plan
@@ -220,9 +220,9 @@ class Environment(gymnasium.Env):
         if self._substep_hooks:
             self._run_substeps(action, first, self._substep_plan[phase])
         else:
-            model, data = self._model, self._data
+            advance = physics.step
             for count, samples in self._plan[phase]:
-                mujoco.mj_step(model, data, count)
+                advance(count)
                 for sample, offset in samples:
                     sample(first + offset)
         for hook in task_hooks.after_step:
@@ -247,13 +247,12 @@ class Environment(gymnasium.Env):
 
     def _run_substeps(self, action: np.ndarray, first: int, plan: list[list[Any]]) -> None:
         physics, random_state, task_hooks = self._physics, self._random_state, self._hooks
-        model, data = self._model, self._data
         for samples in plan:
             for hook in task_hooks.task_before_substep:
                 hook(physics, action, random_state)
             for hook in task_hooks.before_substep:
                 hook(physics, random_state)
-            mujoco.mj_step(model, data)
+            physics.step()
             for hook in task_hooks.after_substep:
                 hook(physics, random_state)
             for sample, offset in samples:

@@ -16,10 +16,38 @@
 What it promises: every change is validated against the installed MuJoCo's schema
 when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
-`to_xml_string()` compiles in stock MuJoCo to the same model. Attached models keep
+`to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
+as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
 their own trees; composition happens when a model is written or compiled.
+
+No exception name shadows a Python builtin, so `from mjcf import *` is safe:
+`NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
+`NameError`, `AttributeError` and `ReferenceError` in the previous release; those old
+names still work (`mjcf.NameError`), with a DeprecationWarning, until the next release.
+
+How the package is built: its modules form layers, each importing only from its own layer
+and the layers listed before it. Values and names come first (what an attribute holds,
+what MJCF allows, how names scope), then the element tree, then how trees compose
+(attachment, defaults, settings, copies), then reading and writing MJCF text, then
+compiling and simulating. A module reaches one of a later layer only by an import inside
+a function, where a module-level import would be circular, and says so; private members
+of another module's objects are used only through the internal protocol their class
+documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py checks
+all three on the real source:
+
+    values:       errors debugging fields assets values schema namescope
+    tree:         element_list model_operations element root base constants
+    composition:  settings attachment naming traversal frames defaults traversal_utils
+                  copying sameness keyframes composition
+    text:         default_sections parser serializer export
+    simulation:   tracking binding named validity rendering raw_access tree_binding
+                  compiler physics_state physics
 """
 
+# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
+from mjcf import base as base
+from mjcf import constants as constants
+from mjcf import traversal_utils as traversal_utils
 from mjcf.assets import Asset
 from mjcf.attachment import AttachmentFrame
 from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -28,19 +56,22 @@ from mjcf.element import Element
 from mjcf.errors import (
     AssetError,
     AttachmentError,
-    AttributeError,
     AttributeValueError,
     BindingError,
     CompileError,
     Error,
-    NameError,
+    InvalidReferenceError,
+    NameClashError,
+    NamespaceError,
     NotFoundError,
     ParseError,
     PhysicsError,
-    ReferenceError,
     RenderError,
     SchemaError,
+    StateError,
+    UnknownAttributeError,
 )
+from mjcf.errors import deprecated_name as _deprecated_name
 from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
 from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -54,21 +85,23 @@ __all__ = [
     "AssetError",
     "AttachmentError",
     "AttachmentFrame",
-    "AttributeError",
     "AttributeValueError",
     "BindingError",
     "CompileError",
     "Element",
     "Error",
-    "NameError",
+    "InvalidReferenceError",
+    "NameClashError",
+    "NamespaceError",
     "NotFoundError",
     "ParseError",
     "Physics",
     "PhysicsError",
-    "ReferenceError",
     "RenderError",
     "RootElement",
     "SchemaError",
+    "StateError",
+    "UnknownAttributeError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",
@@ -83,4 +116,12 @@ __all__ = [
     "get_frame_joints",
     "get_freejoint",
     "is_debug_mode",
+    "traversal_utils",
 ]
+
+
+def __getattr__(name: str) -> type[Error]:
+    """`mjcf.NameError`, `mjcf.AttributeError` and `mjcf.ReferenceError`, the previous
+    release's names of `NameClashError`, `UnknownAttributeError` and
+    `InvalidReferenceError`, with a DeprecationWarning (see `mjcf.errors`)."""
+    return _deprecated_name(__name__, name)

@@ -2,27 +2,28 @@
 
     mesh = model.asset.add('mesh', file=mjcf.Asset(stl_bytes, '.stl', prefix='wheel'))
     model.find('mesh', 'base').file          # Asset: .contents, .extension, .prefix, .path
-    model.get_assets()                       # {file name in to_xml_string(): bytes}
+    xml, assets = model.to_xml_string(), model.get_assets()
+    mujoco.MjModel.from_xml_string(xml, assets)   # the same file names in both
 
 A file attribute read from a model file becomes an `Asset` that knows its path (the
 way MuJoCo finds it: `compiler strippath/meshdir/texturedir/assetdir`, relative to the
 model's directory) and reads its contents on first use. Files given as
-`assets={'name.stl': bytes}` are used instead of disk files of that name.
+`assets={'name.stl': bytes}` are used instead of disk files of that name, as MuJoCo
+uses them.
 
-When a model is written, every asset gets a file name that is unique among the
-model's assets and readable (the original base name; the attached model's scope,
-then a counter, are added only when two different files share a base name; identical
-contents share one name). `to_xml_string()` writes files that exist on disk as paths
-relative to the model's directory, so the XML saved there loads as is; compiling and
-exporting use flat names with the contents passed along.
+When a model is written, every file gets a plain, readable name: its own base name,
+changed only where two different files would share one (MuJoCo's asset dict knows
+files by base name, ignoring case), by the attached model's scope and then a number.
+`to_xml_string()`, `get_assets()` and the exports use the same names; dm_control's
+content-hash names are there on request (`filename_with_hash=True`).
 """
 
 from __future__ import annotations
 
-import functools
+import hashlib
 import itertools
 import os
-from pathlib import Path
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from mjcf import errors
@@ -70,6 +71,13 @@ class Asset:
     def name(self) -> str:
         """The file name this asset is known by ('prefix.ext')."""
         return self.prefix + self.extension
+
+    def get_vfs_filename(self, filename_with_hash: bool = True) -> str:
+        """dm_control's file name for this asset: '<prefix>-<sha1 of contents><ext>'
+        (`hashed_file_name`), or '<prefix><ext>' without the hash. A written model names
+        it by `name`, changed only where names clash (see `FileNamer`). Raises
+        mjcf.AssetError if its file cannot be read."""
+        return hashed_file_name(self) if filename_with_hash else self.name
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Asset):
@@ -146,8 +154,18 @@ def plain_file_name(name: str) -> str:
     """`name` reduced to a plain file name: no directories, no leading dots ('..',
     hidden files), so that it can only ever name a file inside the folder it is
     written to."""
-    base = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
-    return base or "asset"
+    if "/" in name or "\\" in name or name.startswith("."):
+        name = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
+    return name or "asset"
+
+
+def hashed_file_name(asset: Asset) -> str:
+    """dm_control's name for `asset`: '<prefix>-<sha1 of contents><extension>', or
+    '<sha1><extension>' without a prefix. Raises mjcf.AssetError if its file cannot be
+    read."""
+    digest = hashlib.sha1(asset.contents).hexdigest()
+    stem = plain_file_name(asset.prefix) + "-" if asset.prefix else ""
+    return plain_file_name(stem + digest + asset.extension)
 
 
 def is_inside(path: str, folder: str) -> bool:
@@ -155,81 +173,94 @@ def is_inside(path: str, folder: str) -> bool:
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
-@functools.lru_cache(maxsize=65536)
-def _relative_path(path: str, model_dir: str) -> str:
-    """`path` relative to `model_dir` if it is inside it, else `path`."""
-    if model_dir:
-        relative = os.path.relpath(path, model_dir)
-        if not relative.startswith(".."):
-            return Path(relative).as_posix()
-    return path
+def _asset_key(name: str) -> str:
+    """The key under which MuJoCo's asset dict and file lookup know file `name`: its
+    base name in lower case ('x/Part.stl' and 'part.stl' are one file to MuJoCo, even
+    when one of them is an absolute path on disk)."""
+    return name.replace("\\", "/").rsplit("/", 1)[-1].lower()
 
 
 class FileNamer:
-    """Names the assets of one output document, and collects their contents.
+    """Names the files of one output document, and collects the contents of those that
+    go to MuJoCo as assets.
 
-    `flat`: every asset gets a flat unique name and its contents are collected (export);
-    else files on disk are written as paths relative to the model's directory.
-    `by_path`: files on disk are written as absolute paths that MuJoCo reads itself (and
-    caches: compiling), and only the other assets are named and collected."""
+    Each file is named by its plain base name ('pad.stl'), unique as MuJoCo's asset dict
+    needs it (by base name, ignoring case). Where different contents would share a name,
+    the later file gets the attached model's scope ('gripper-pad.stl'), then a number
+    ('pad-2.stl'), in the order the document is written; identical contents share one
+    name. `hashed` names files as dm_control does (`hashed_file_name`). `by_path`
+    (compiling): files on disk are written as absolute paths that MuJoCo reads itself
+    (and caches); their base names are reserved all the same, since MuJoCo would take an
+    asset of that name in their place."""
 
-    def __init__(self, root: RootElement, flat: bool, by_path: bool = False) -> None:
+    def __init__(self, root: RootElement, by_path: bool = False, hashed: bool = False) -> None:
         self.root = root
-        self.flat = flat
         self.by_path = by_path
-        self._by_base: dict[str, list[Asset]] = {}
-        self._named: dict[str, Asset] = {}
+        self.hashed = hashed
+        self._by_key: dict[str, tuple[str, Asset]] = {}  # asset key -> (name, asset)
+        self._named: dict[str, Asset] = {}  # names whose contents go to MuJoCo
         self._users: dict[str, tuple[Element, str]] = {}  # who first named each file
+        # Elements whose `file` is written under another stem: an unnamed mesh, texture
+        # ... would get another name from MuJoCo, so the writer names it explicitly.
+        self.renamed: set[Element] = set()
 
     def name_for(self, element: Element, attribute: str, value: object) -> str:
         """The file name written for one file attribute value; raises mjcf.AssetError
         naming the element if its file cannot be read."""
         asset = resolve(element, attribute, value)
-        if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
-            if self.by_path and not os.access(asset.path, os.R_OK):
-                raise errors.AssetError(
-                    f"{element.path}: {attribute!r}: cannot read asset file {asset.path!r}"
-                )
-            return asset.path
         try:
-            name = None
-            if not self.flat and asset.path is not None:
-                preferred = self._disk_name(asset.path)
-                if self._claim(preferred, asset):
-                    name = preferred
+            if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
+                if self.by_path and not os.access(asset.path, os.R_OK):
+                    raise errors.AssetError(f"cannot read asset file {asset.path!r}")
+                name = self._take(asset.path, asset, collect=False)
+                if name is not None:
+                    return name
+            own = asset.prefix + asset.extension
+            # The common case first: the first file of its name keeps it.
+            name = None if self.hashed else self._take(plain_file_name(own), asset)
             if name is None:
-                name = self._flat_name(element, asset)
+                name = self._unique_name(element, asset)
         except errors.AssetError as error:
             raise errors.AssetError(f"{element.path}: {attribute!r}: {error}") from None
         self._users.setdefault(name, (element, attribute))
+        renamed = name != own and attribute == "file"
+        if renamed and os.path.splitext(os.path.basename(name))[0] != asset.prefix:
+            self.renamed.add(element)
         return name
 
-    def _disk_name(self, path: str) -> str:
-        return _relative_path(path, self.root.model_dir)
+    def _take(self, name: str, asset: Asset, collect: bool = True) -> str | None:
+        """The name `asset` gets if it asks for `name`: `name` if its key is free (it
+        is then taken, and the contents collected if `collect`), the name of identical
+        contents that hold the key, else None."""
+        # Names passed as assets are plain file names already; paths on disk are not.
+        key = name.lower() if collect else _asset_key(name)
+        held = self._by_key.get(key)
+        if held is None:
+            self._by_key[key] = (name, asset)
+            if collect:
+                self._named[name] = asset
+            return name
+        holder_name, holder = held
+        if holder is asset or holder == asset:
+            return holder_name
+        return None
 
-    def _claim(self, name: str, asset: Asset) -> bool:
-        """Take `name` for `asset` unless its base name is taken by other contents."""
-        base = name.rpartition("/")[2]
-        holders = self._by_base.get(base)
-        if holders is None:  # the common case: a base name seen for the first time
-            self._by_base[base] = [asset]
-        elif any(holder is not asset and holder != asset for holder in holders):
-            return False
-        elif asset not in holders:
-            holders.append(asset)
-        self._named[name] = asset
-        return True
-
-    def _flat_name(self, element: Element, asset: Asset) -> str:
-        base = plain_file_name(asset.name)
-        stem, extension = os.path.splitext(base)
-        scope = element.root.namescope.prefix(self.root.namescope).replace("/", "-")
-        first = [base, f"{scope}{base}"] if scope else [base]
-        numbered = (f"{scope}{stem}-{n}{extension}" for n in range(2, 100_000))
-        for candidate in itertools.chain(first, numbered):
-            if self._claim(candidate, asset):
-                return candidate
-        raise errors.AssetError(f"{element.path}: too many assets named {base!r}")
+    def _unique_name(self, element: Element, asset: Asset) -> str:
+        if self.hashed:
+            candidates: Iterable[str] = [hashed_file_name(asset)]
+        else:
+            base = plain_file_name(asset.name)
+            stem, extension = os.path.splitext(base)
+            scope = element.root.namescope.prefix(self.root.namescope)
+            scope = scope.replace("\\", "").replace("/", "-")
+            first = [base, f"{scope}{base}"] if scope else [base]
+            numbered = (f"{scope}{stem}-{n}{extension}" for n in range(2, 100_000))
+            candidates = itertools.chain(first, numbered)
+        for candidate in candidates:
+            name = self._take(candidate, asset)
+            if name is not None:
+                return name
+        raise errors.AssetError(f"too many different files named {plain_file_name(asset.name)!r}")
 
     def contents(self) -> dict[str, bytes]:
         """`{file name: bytes}` of every asset named so far; raises mjcf.AssetError

@@ -11,21 +11,20 @@ The child model keeps its own tree and name scope; the parent holds an
 `AttachmentFrame` where the child's world body goes. The frame is written as a MuJoCo
 `<frame>` (so the child's free joints stay free), or as a `<body>` once joints or an
 inertial are added to it. A model is attached in one place at a time; attach a
-`copy.deepcopy` of it to use it twice.
+`copy.deepcopy` of it to use it twice. A model whose name is taken where it is attached
+(the same file loaded twice) is renamed 'name_1', 'name_2', ... as in dm_control.
+
+This module owns the link between a frame and its model (the frame's model, the model's
+frame, the parent's attachments and the child's scope in the parent's): `link` makes it,
+for `attach` and for copies alike, and `detach` undoes it; nothing else writes it.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from mjcf import errors, schema
+from mjcf import errors, schema, settings
 from mjcf.element import Element
-from mjcf.namescope import PREFIX_SEPARATOR, split_identifier
+from mjcf.root import RootElement
 from mjcf.schema import ElementSpec
-
-if TYPE_CHECKING:
-    from mjcf.composition import ModelContext
-    from mjcf.root import RootElement
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 _PLACES = frozenset({"body", "worldbody", "frame", "site"})
@@ -96,12 +95,10 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     return its attachment frame. Raises mjcf.AttachmentError for a model that is
     already attached, that would contain itself, or whose settings conflict with those
     of the models it goes into (a conflict with a model attached beside it is raised
-    when the scene is written or compiled), and mjcf.NameError if a model of the same
-    name is attached here already; the tree is unchanged then. Checks cost the same
-    whatever is attached already."""
-    from mjcf import settings
-    from mjcf.root import RootElement
-
+    when the scene is written or compiled); the tree is unchanged then. A child whose
+    model name is taken by a model attached into the same model already is renamed
+    'name_1' (then 'name_2', ...), as dm_control does. Checks cost the same whatever
+    is attached already."""
     if not isinstance(child, RootElement):
         raise errors.AttachmentError(
             f"only a model (mjcf.RootElement) can be attached, got {child!r}"
@@ -129,7 +126,6 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         settings.check_compatible(place.root, child)
     body = place._parent if place._spec.tag == "site" else place
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
-    object.__setattr__(frame, "_attached", child)
     if place._spec.tag == "site":
         for name in ("pos", *_ORIENTATION):
             value = place._attrs.get(name)
@@ -137,12 +133,24 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
                 frame._attrs[name] = place._get_value(place._spec.attributes[name])
                 if hasattr(frame._attrs[name], "copy"):
                     frame._attrs[name] = frame._attrs[name].copy()
-    place.root.namescope.add_child(child.namescope)
+    free = place.root.namescope.free_child_name(child.model)
+    if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
+        child.model = free
+    link(frame, child)
     body._children.append(frame)
-    place.root._attachments.append(frame)
-    object.__setattr__(child, "_frame", frame)
     place._modified()
     return frame
+
+
+def link(frame: AttachmentFrame, child: RootElement) -> None:
+    """Make `frame` (new, of the parent model) hold model `child` (not attached): the
+    one place the link between them is made. Raises mjcf.NameClashError, changing
+    nothing, if a model of `child`'s name is attached to the parent already."""
+    parent = frame.root
+    parent.namescope.add_child(child.namescope)
+    object.__setattr__(frame, "_attached", child)
+    object.__setattr__(child, "_frame", frame)
+    parent._attachments.append(frame)
 
 
 def detach(child: RootElement) -> None:
@@ -151,10 +159,7 @@ def detach(child: RootElement) -> None:
     frame = child._frame
     if frame is None:
         raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
-    parent = frame._parent
-    frame._unregister_subtree()
-    parent._children.remove(frame)
-    object.__setattr__(frame, "_parent", None)
+    frame._cut()
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
@@ -164,6 +169,12 @@ def detach(child: RootElement) -> None:
 def frame_of(model: RootElement) -> AttachmentFrame | None:
     """The attachment frame of `model`, or None if it is not attached."""
     return model._frame
+
+
+def frames(root: RootElement) -> list[AttachmentFrame]:
+    """The frames of the models attached directly to `root`, in the order they were
+    attached (a copy)."""
+    return list(root._attachments)
 
 
 def attached_models(root: RootElement) -> list[RootElement]:
@@ -180,19 +191,8 @@ def attached_models(root: RootElement) -> list[RootElement]:
 def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     """The attachment frame of the model attached inside `root` under the scoped name
     `identifier` ('arm' or 'arm/gripper'), or the frame given that name."""
-    scope = root.namescope
-    for part in split_identifier(identifier):
-        scope = scope.child(part)
-        if scope is None:
-            named = root.namescope.get("attachment_frame", identifier)
-            return named if isinstance(named, AttachmentFrame) else None
+    scope = root.namescope.descendant(identifier)
+    if scope is None:
+        named = root.namescope.get("attachment_frame", identifier)
+        return named if isinstance(named, AttachmentFrame) else None
     return scope.model._frame
-
-
-def frame_output_name(frame: AttachmentFrame, owner: ModelContext) -> str:
-    """The name an attachment frame is written with: its own name in its model's scope,
-    or the attached model's scope prefix ('arm/'), which no user name can take."""
-    name = frame._attrs.get("name")
-    if name is not None:
-        return owner.prefix + name
-    return owner.prefix + frame._attached.model + PREFIX_SEPARATOR

@@ -7,10 +7,10 @@
 
 The tree is written once, MuJoCo compiles the text with the assets passed in memory,
 and keyframes of attached models are filled in. The compiled model is the one stock
-MuJoCo compiles from `to_xml_string()` or an export, names included: unnamed elements
-are named in the text only to be found in the parsed `MjSpec`, and unnamed again
-before it compiles. A MuJoCo error becomes an `mjcf.CompileError` that names the
-element it points at and, in debug mode, the Python line that created it.
+MuJoCo compiles from `to_xml_string()` or an export, names included (unnamed elements
+have the names `mjcf.naming` generates). A MuJoCo error becomes an
+`mjcf.CompileError` that names the element it points at and, in debug mode, the
+Python line that created it.
 """
 
 from __future__ import annotations
@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import mujoco
 
-from mjcf import attachment, errors, keyframes, serializer
-from mjcf.composition import replicated
+from mjcf import attachment, errors, keyframes, naming, serializer
 from mjcf.namescope import unescape
 
 if TYPE_CHECKING:
@@ -39,7 +38,7 @@ class Compiled(NamedTuple):
     composition: Composition
     xml: str
     assets: dict[str, bytes]
-    ids: dict[Element, int]  # the compiled index of each element left unnamed
+    ids: dict[Element, int]  # the compiled index of each element with a generated name
 
     def name_of(self, element: Element) -> str:
         """The name `element` has in the compiled model; raises mjcf.BindingError for
@@ -47,25 +46,25 @@ class Compiled(NamedTuple):
         composition = self.composition
         try:
             context = composition.context(element.root)
-        except errors.ReferenceError as error:
+        except errors.InvalidReferenceError as error:
             raise errors.BindingError(f"{element.path}: {error}") from None
         if not element._is_registered():
             raise errors.BindingError(f"{element.path}: the element was removed from its model")
         if isinstance(element, attachment.AttachmentFrame):
-            return attachment.frame_output_name(element, composition.context(element.root))
+            return naming.frame_name(element, composition.context(element.root).prefix)
+        if element._spec.tag == "worldbody":
+            return naming.scoped_name(element, composition.root) or ""
         name = element.identifier
         if name is None:
-            if element in self.ids:
-                return ""
-            name = composition.auto_names().get(element)
-            if name is None:
-                if replicated(element):
+            index = self.ids.get(element)
+            if index is None:
+                if naming.is_replicated(element):
                     raise errors.BindingError(
                         f"{element.path}: is inside a <replicate>, so it compiles to several "
                         "objects; name it and bind them by their numbered names"
                     )
                 raise errors.BindingError(f"{element.path}: was added after the model was compiled")
-            return name
+            return mujoco.mj_id2name(self.model, _KINDS[element._spec.namespace], index) or ""
         if element._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + unescape(name)
@@ -85,20 +84,31 @@ def compile_composition(root: RootElement) -> Compiled:
     naming the offending element when MuJoCo rejects it."""
     xml, assets, composition, lines = serializer.serialize_for_compile(root)
     try:
-        spec = mujoco.MjSpec.from_string(xml, assets=assets)
-        handles = _unname(spec, composition.binding_names())
-        model = spec.compile()
+        model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
-    ids = {element: handle.id for element, handle in handles.items()}
-    compiled = Compiled(model, composition, xml, assets, ids)
+    compiled = Compiled(model, composition, xml, assets, _generated_ids(model, composition))
     keyframes.fill(model, composition, compiled.id_of)
     return compiled
 
 
+def _generated_ids(model: mujoco.MjModel, composition: Composition) -> dict[Element, int]:
+    """{element: compiled index} of the objects written with generated names (found by
+    element, as their names shift when elements are added before them)."""
+    ids = {}
+    for context in (composition.context(composition.root), *composition.attached_contexts()):
+        for element in naming.unnamed_elements(context.model):
+            kind = _KINDS.get(element._spec.namespace)
+            name = naming.written_name(element, context.prefix)
+            if kind is not None and name is not None:
+                ids[element] = mujoco.mj_name2id(model, kind, name)
+    return ids
+
+
 def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], int]:
-    """{(kind, index in `new`): index in `old`} of the unnamed joints, actuators and
-    bodies compiled in both, so that state can follow them from one to the other."""
+    """{(kind, index in `new`): index in `old`} of the joints, actuators and bodies with
+    generated names compiled in both, so that state follows them from one to the other
+    (their generated names can shift when elements are added before them)."""
     if old is None:
         return {}
     kinds = {
@@ -115,47 +125,15 @@ def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], 
     return pairs
 
 
-def _unname(spec: mujoco.MjSpec, names: dict[Element, str]) -> dict[Element, object]:
-    """Find the spec element of every element named only to be found, and take its
-    name away again; returns them by element."""
-    wanted = {element._spec.namespace for element in names}
-    found: dict[str, dict[str, object]] = {namespace: {} for namespace in wanted}
-    tree = wanted & _TREE
-    if tree:
-        # MjSpec's whole-model lists of tree elements cost O(n) each item; the bodies'
-        # own lists do not.
-        stack = [spec.worldbody]
-        while stack:
-            body = stack.pop()
-            children = body.bodies
-            stack.extend(children)
-            for namespace in tree:
-                handles = children if namespace == "body" else getattr(body, _PLURALS[namespace])
-                _collect(handles, found[namespace])
-    for namespace in wanted - _TREE:
-        _collect(getattr(spec, _PLURALS.get(namespace, namespace + "s")), found[namespace])
-    out = {}
-    for element, name in names.items():
-        handle = found[element._spec.namespace].get(name)
-        if handle is not None:  # else MuJoCo made it something else: it cannot be bound
-            handle.name = ""
-            out[element] = handle
-    return out
-
-
-def _collect(handles: list, into: dict[str, object]) -> None:
-    for handle in handles:
-        name = handle.name
-        if name.startswith("//"):
-            into[name] = handle
-
-
-_PLURALS = {
-    "body": "bodies", "mesh": "meshes", "flex": "flexes", "equality": "equalities",
-    "joint": "joints", "geom": "geoms", "site": "sites", "camera": "cameras",
-    "light": "lights",
+# Object kinds of the compiled model by namespace (a <frame> compiles to none).
+_KINDS = {
+    namespace: getattr(mujoco.mjtObj, f"mjOBJ_{namespace.upper()}")
+    for namespace in (
+        "body", "joint", "geom", "site", "camera", "light", "flex", "mesh", "skin", "hfield",
+        "texture", "material", "pair", "exclude", "equality", "tendon", "actuator", "sensor",
+        "numeric", "text", "tuple", "key", "plugin",
+    )
 }  # fmt: skip
-_TREE = frozenset({"body", "joint", "geom", "site", "camera", "light"})
 
 
 def _explain(message: str, lines: list[Element | None]) -> str:

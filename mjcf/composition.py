@@ -15,10 +15,9 @@ written:
   and ball joints, attachment frames included) and `eulerseq` (euler becomes quat) are
   converted element by element to the output model's, and an attached model's
   `settotalmass` becomes its densities, masses and inertias scaled;
-- unnamed elements are named only where the output needs it: those a reference
-  points at get a plain generated name, and when compiling every other one gets a
-  '//' name that `mjcf.compiler` takes away again before MuJoCo compiles, so the
-  compiled names are the written ones.
+- unnamed elements are written with the names `mjcf.naming` gives them
+  ('child//unnamed_geom_0'), in every output, so the compiled names are the written
+  ones.
 """
 
 from __future__ import annotations
@@ -26,23 +25,19 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
-from mjcf import attachment, defaults, errors, settings, traversal
-from mjcf.namescope import PREFIX_SEPARATOR, WORLD
+from mjcf import attachment, defaults, errors, keyframes, naming, settings
+from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
+from mjcf.values import format_number
 
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
 
-# Namespaces of the objects of a compiled model (an `MjSpec` finds them by name).
-BINDABLE = frozenset({
-    "body", "joint", "geom", "site", "camera", "light", "flex", "mesh", "skin", "hfield",
-    "texture", "material", "pair", "exclude", "equality", "tendon", "actuator", "sensor",
-    "numeric", "text", "tuple", "key", "plugin",
-})  # fmt: skip
 _ANGLE_JOINT_ATTRIBUTES = ("range", "ref", "springref")
 _ANGLE_JOINT_TYPES = frozenset({"hinge", "ball"})
 MAIN = "main"
@@ -65,7 +60,6 @@ class ModelContext:
         "names_only",
         "plain",
         "prefix",
-        "rewrites",
     )
 
     def __init__(self, composition: Composition, model: RootElement, prefix: str) -> None:
@@ -80,12 +74,13 @@ class ModelContext:
         self.euler_seq: str | None = None
         self.mass_scale: float | None = None
         self.plain = True
-        self.rewrites = True
 
     def finish(self) -> None:
         """Decide whether names and values can be written as stored."""
         self.plain = (
-            not self.prefix and self.main_reference == MAIN and not self.model._escaped_names
+            not self.prefix
+            and self.main_reference == MAIN
+            and not self.model.namescope.has_escaped_names
         )
         # Whether stored values are written as they are, only names being added.
         self.names_only = (
@@ -95,7 +90,6 @@ class ModelContext:
             and self.euler_seq is None
             and self.mass_scale is None
         )
-        self.rewrites = not (self.names_only and not self.composition.auto_named)
 
     # -- names ---------------------------------------------------------------------------
 
@@ -121,8 +115,6 @@ class ModelContext:
     def rewrite(self, element: Element) -> dict[str, str | None] | None:
         """Attributes this output writes differently from what the element stores
         (None values are left out), or None when it writes them as stored."""
-        if not self.rewrites:
-            return None
         composition = self.composition
         override = None
         spec = element._spec
@@ -226,17 +218,14 @@ class ModelContext:
 class Composition:
     """The models composed into one output document, and how each is written."""
 
-    def __init__(self, root: RootElement, auto_name_all: bool = False) -> None:
+    def __init__(self, root: RootElement, for_compile: bool = False) -> None:
         self.root = root
-        # Compiling names every element, so that each can be bound to the simulation.
-        self.auto_name_all = auto_name_all
-        self._auto_names: dict[Element, str] = {}
-        self._auto_counts: dict[str, int] = {}
-        self._binding_names: dict[Element, str] = {}
+        # Compiling writes the file names of meshes and textures named after their file
+        # with their names, as the assets are renamed.
+        self.for_compile = for_compile
         self._inertia: str | None = None
         self._models = [root, *attachment.attached_models(root)]
         self.has_attachments = len(self._models) > 1
-        self.auto_named = auto_name_all or any(m._referenced_unnamed for m in self._models)
         self._contexts: dict[RootElement, ModelContext] = {}
         moved = len(self._models) > 1 and _has_global_defaults(root)
         root_angle = settings.setting(root, "angle")
@@ -288,11 +277,11 @@ class Composition:
         return self._inertia
 
     def context(self, model: RootElement) -> ModelContext:
-        """The context of `model`; raises mjcf.ReferenceError for a model that is not
+        """The context of `model`; raises mjcf.InvalidReferenceError for a model that is not
         part of this output."""
         context = self._contexts.get(model)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"model {model.model!r} is not attached inside model {self.root.model!r}"
             )
         return context
@@ -315,8 +304,6 @@ class Composition:
 
     def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""
-        from mjcf import keyframes
-
         return keyframes.keys_to_write(self, for_compile)
 
     # -- references and names --------------------------------------------------------------
@@ -326,25 +313,26 @@ class Composition:
     ) -> str:
         """The written name of a referenced element object."""
         if not target._is_registered():
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
             )
         context = self._contexts.get(target.root)
         if context is None:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to {target.path} in model "
                 f"{target.root.model!r}, which is not attached inside model {self.root.model!r}"
             )
         if isinstance(target, attachment.AttachmentFrame):
-            return attachment.frame_output_name(target, context)
+            return naming.frame_name(target, context.prefix)
         if target._spec.tag == "worldbody":
             return WORLD
         name = target.identifier
         if name is None:
-            generated = self.auto_name(target, context)  # already scoped
+            generated = self.generated_name(target, context)
             if generated is None:
-                raise errors.ReferenceError(
-                    f"{element.path}: {attribute.name!r} refers to an unnamed {target.path}"
+                raise errors.InvalidReferenceError(
+                    f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
+                    "inside a <replicate> and compiles to several unnamed objects; name it"
                 )
             return generated
         if target._spec.namespace == "default":
@@ -354,51 +342,20 @@ class Composition:
     def generated_name(self, element: Element, context: ModelContext) -> str | None:
         """The name written for an element without a name attribute: its scoped file
         name for meshes and textures named after their file (when that could change),
-        else a generated name if it must have one, else None."""
+        else its generated name (see `mjcf.naming`), else None."""
+        if (
+            context.plain
+            and not self.for_compile
+            and element._spec.tag in NAMED_AFTER_FILE
+            and element._attrs.get("file") is not None
+        ):
+            return None  # MuJoCo names it after its file, as it is written
         implicit = element.identifier
         if implicit is not None:
-            if context.plain and not self.auto_name_all:
+            if context.plain and not self.for_compile:
                 return None
             return context.prefix + implicit
-        return self.auto_name(element, context)
-
-    def auto_name(self, element: Element, context: ModelContext) -> str | None:
-        """A generated name for an unnamed element that must be named in this output
-        (every unnamed element when compiling, so that it can be bound)."""
-        spec = element._spec
-        if spec.namespace in (None, "default") or element.identifier is not None:
-            return None
-        name = self._auto_names.get(element)
-        if name is not None:
-            return name
-        if element not in element.root._referenced_unnamed:
-            if not self.auto_name_all or spec.namespace not in BINDABLE or replicated(element):
-                return None
-            # A name only to find the element in the compiled model, where it is unnamed
-            # again (see mjcf.compiler); '//' never occurs in a user's scoped name.
-            count = len(self._binding_names)
-            name = f"//{count}"
-            self._binding_names[element] = name
-        else:
-            # Text a user reads back: a plain name that the model does not use.
-            key = f"{context.prefix}:{spec.namespace}"
-            count = self._auto_counts.get(key, 0)
-            scope = element.root.namescope
-            while scope.get(spec.namespace, f"unnamed_{spec.namespace}_{count}") is not None:
-                count += 1
-            self._auto_counts[key] = count + 1
-            name = f"{context.prefix}unnamed_{spec.namespace}_{count}"
-        self._auto_names[element] = name
-        return name
-
-    def auto_names(self) -> dict[Element, str]:
-        """`{element: generated name}` of the elements named by this output."""
-        return self._auto_names
-
-    def binding_names(self) -> dict[Element, str]:
-        """`{element: generated name}` of the unnamed elements that are named only so
-        that they can be found after compiling (nothing refers to them)."""
-        return self._binding_names
+        return naming.written_name(element, context.prefix)
 
     def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
         """An attachment frame's own joints belong to the model that owns the frame, not
@@ -419,15 +376,9 @@ def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, s
     out: dict[str, str | None] = {}
     if context.angle_scale is not None or context.euler_seq is not None:
         out.update(context._convert_angles(frame))
-    out["name"] = attachment.frame_output_name(frame, context)
+    out["name"] = naming.frame_name(frame, context.prefix)
     out["childclass"] = child_context.main_reference
     return out
-
-
-def replicated(element: Element) -> bool:
-    """Whether `element` is inside a `<replicate>`, so that it compiles to several
-    objects (MuJoCo numbers their names) rather than one to bind."""
-    return traversal.has_ancestor(element, "replicate")
 
 
 def _has_global_defaults(root: RootElement) -> bool:
@@ -444,34 +395,16 @@ def _numbers(element: Element, name: str) -> np.ndarray:
 
 
 def _text(values: np.ndarray) -> str:
-    from mjcf.values import format_number
-
     return " ".join(format_number(v) for v in np.asarray(values, dtype=float).ravel().tolist())
 
 
 def euler_to_quat(euler: np.ndarray, sequence: str) -> np.ndarray:
-    """The quaternion of Euler angles (radians) in MuJoCo's `eulerseq` convention:
-    lower-case axes rotate with the frame (intrinsic), upper-case stay fixed."""
-    quat = np.array([1.0, 0.0, 0.0, 0.0])
-    for angle, axis in zip(euler, sequence, strict=True):
-        index = "xyz".index(axis.lower())
-        half = angle / 2
-        rotation = np.zeros(4)
-        rotation[0] = math.cos(half)
-        rotation[1 + index] = math.sin(half)
-        quat = _quat_mul(quat, rotation) if axis.islower() else _quat_mul(rotation, quat)
+    """The quaternion (4,) of Euler angles `euler` (3,), in radians, in MuJoCo's
+    `eulerseq` convention (lower-case axes rotate with the frame, upper-case stay
+    fixed), by MuJoCo's own conversion."""
+    quat = np.empty(4)
+    mujoco.mju_euler2Quat(quat, np.asarray(euler, dtype=float), sequence)
     return quat
-
-
-def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a
-    w2, x2, y2, z2 = b
-    return np.array([
-        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-    ])  # fmt: skip
 
 
 def _in_body(element: Element) -> bool:

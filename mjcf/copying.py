@@ -19,28 +19,23 @@ element copies its whole model and returns the element's copy.
 from __future__ import annotations
 
 import copy
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from mjcf import attachment, errors
 from mjcf import values as _values
 from mjcf.assets import Asset
-from mjcf.namescope import unescape
+from mjcf.element import Element
+from mjcf.root import RootElement
 from mjcf.settings import same as _same
-
-if TYPE_CHECKING:
-    from mjcf.element import Element
-    from mjcf.root import RootElement
 
 
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
     """Merge a copy of `source` into `target` (see module docstring). Raises
     mjcf.SchemaError for elements of different tags, mjcf.AttachmentError for
-    conflicting attribute values and mjcf.NameError for names already taken; the
+    conflicting attribute values and mjcf.NameClashError for names already taken; the
     tree is unchanged then."""
-    from mjcf.root import RootElement
-
     if target.tag != source.tag or isinstance(target, RootElement) != isinstance(
         source, RootElement
     ):
@@ -103,29 +98,17 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
 
 
 def _check_names(target: Element, plan: list) -> None:
+    """Raise mjcf.NameClashError if a copy would take a name that `target`'s model has."""
     scope = target.root.namescope
-    seen: dict[tuple[str, str], Element] = {}
     for _, _, children in plan:
         for child in children:
             for element in child.iter():
                 namespace = element._spec.namespace
                 name = element.identifier
-                if namespace is None or name is None or element._implicit():
-                    continue
-                key = (namespace, unescape(name))
-                existing = scope.get(namespace, name) or seen.get(key)
-                if existing is not None:
-                    raise errors.NameError(
-                        f"{target.path}: cannot include {element.path}: the name {name!r} is "
-                        f"already used by another {namespace}: {existing.path}"
-                    )
-                seen[key] = element
+                if namespace is not None and name is not None and not element._implicit():
+                    scope.check_free(namespace, name, element)
                 if isinstance(element, attachment.AttachmentFrame):
-                    model_name = element.attached_model.model
-                    if scope.child(model_name) is not None:
-                        raise errors.NameError(
-                            f"{target.path}: a model named {model_name!r} is already attached"
-                        )
+                    scope.check_child_free(element.attached_model.model)
 
 
 def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
@@ -134,12 +117,7 @@ def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Ele
     object.__setattr__(clone, "_attrs", {k: _copy_value(v) for k, v in element._attrs.items()})
     clones[id(element)] = clone
     if isinstance(element, attachment.AttachmentFrame):
-        child_model = copy.deepcopy(element.attached_model)
-        object.__setattr__(child_model, "_frame", None)
-        object.__setattr__(clone, "_attached", child_model)
-        object.__setattr__(child_model, "_frame", clone)
-        parent.root.namescope.add_child(child_model.namescope)
-        parent.root._attachments.append(clone)
+        attachment.link(clone, copy.deepcopy(element.attached_model))
     for child in element._children:
         clone._children.append(_clone(child, clone, clones))
     return clone
@@ -147,8 +125,6 @@ def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Ele
 
 def _relink_references(clones: dict[int, Element]) -> None:
     """References to copied elements point at their copies."""
-    from mjcf.element import Element
-
     for clone in clones.values():
         for name, value in clone._attrs.items():
             if isinstance(value, Element) and id(value) in clones:
@@ -177,7 +153,7 @@ def deepcopy_element(element: Element, memo: dict[int, Any]) -> Element:
     else:  # a removed element: a removed copy, in a copy of its model
         root_copy = deepcopy_element(element.root, memo)
         copy_ = type(element)._make(element._spec, None, root_copy)
-        _clone_into(element, copy_, memo, cloned, [])
+        _clone_into(element, copy_, memo, cloned)
     _relink_copies(cloned, memo)
     return memo[id(element)]
 
@@ -187,36 +163,23 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     found = memo.get(id(root))
     if found is not None:
         return found
-    new = type(root)(model_dir=root._model_dir, assets=root._assets)
+    new = type(root)(model_dir=root.model_dir, assets=root.assets)
     memo[id(root)] = new
     new._attrs.update(root._attrs)
     object.__setattr__(new, "_source", root._source)
-    frames: list[tuple[Element, Element]] = []
     sections = {section._spec.tag: section for section in new._children}
     for section in root._children:
-        _clone_into(section, sections[section._spec.tag], memo, cloned, frames)
+        _clone_into(section, sections[section._spec.tag], memo, cloned)
     for element in new.iter():
         if element._parent is not None:
             element._register()
-    for original, frame in frames:
-        child = _copy_model(original._attached, memo, cloned)
-        object.__setattr__(frame, "_attached", child)
-        object.__setattr__(child, "_frame", frame)
-        new.namescope.add_child(child.namescope)
-    object.__setattr__(new, "_attachments", [memo[id(frame)] for frame in root._attachments])
-    object.__setattr__(new, "_escaped_names", root._escaped_names)
+    for frame in attachment.frames(root):  # in the order they were attached
+        attachment.link(memo[id(frame)], _copy_model(frame.attached_model, memo, cloned))
     object.__setattr__(new, "_version", root._version)
-    object.__setattr__(
-        new,
-        "_referenced_unnamed",
-        {memo[id(e)] for e in root._referenced_unnamed if id(e) in memo},
-    )
     return new
 
 
-def _clone_into(
-    source: Element, target: Element, memo: dict[int, Any], cloned: list, frames: list
-) -> None:
+def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: list) -> None:
     """Copy the attributes and subtree of `source` into the new element `target`."""
     memo[id(source)] = target
     if source._source is not None:
@@ -243,15 +206,11 @@ def _clone_into(
     for child in source._children:
         clone = type(child)._make(child._spec, target, root)
         children.append(clone)
-        if isinstance(child, attachment.AttachmentFrame):
-            frames.append((child, clone))
-        _clone_into(child, clone, memo, cloned, frames)
+        _clone_into(child, clone, memo, cloned)
 
 
 def _relink_copies(cloned: list[tuple[Element, Element]], memo: dict[int, Any]) -> None:
     """References to copied elements point at their copies."""
-    from mjcf.element import Element
-
     for _, clone in cloned:
         attrs = clone._attrs
         for name, value in attrs.items():

@@ -49,6 +49,10 @@ def is_debug_mode() -> bool:
     return _enabled
 
 
+# dm_control's name for it (`mjcf.debugging.debug_mode()`).
+debug_mode = is_debug_mode
+
+
 def creation_site() -> SourceLocation | None:
     """The first stack frame outside this package, in debug mode; else None."""
     if not _enabled:

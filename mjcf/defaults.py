@@ -4,6 +4,7 @@
     mjcf.commit_defaults(model)      # every element now carries its default values;
                                      # the <default> section is emptied; the compiled
                                      # model is unchanged
+    mjcf.commit_defaults(geom, attributes=['rgba'])   # one element, one attribute
 
 An element uses its `class`, else the `childclass` of its nearest enclosing body or
 frame, else the model's global defaults ('main'). A class inherits from the classes
@@ -13,11 +14,12 @@ element of the class in order (see MuJoCo's "actuator shortcuts").
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjcf import errors, traversal
+from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -28,6 +30,14 @@ MAIN = "main"
 # Elements whose defaults come from a default child of another tag.
 _DEFAULT_TAG = {"spatial": "tendon", "fixed": "tendon"}
 _EQUALITY_TAGS = frozenset({"connect", "weld", "joint", "tendon", "flex", "flexstrain"})
+# Attributes a default class can set: those `commit_defaults` can commit.
+_DEFAULTABLE = frozenset(
+    name
+    for spec in schema.MUJOCO.child("default").children.values()
+    if spec.tag != "default"
+    for name in spec.attributes
+    if name != "class"
+)
 
 
 def default_tag(element: Element) -> str | None:
@@ -60,7 +70,7 @@ def class_of(element: Element) -> Element:
         return name
     found = model.find("default", name)
     if found is None:
-        raise errors.ReferenceError(f"{element.path}: default class {name!r} does not exist")
+        raise errors.InvalidReferenceError(f"{element.path}: default class {name!r} does not exist")
     return found
 
 
@@ -90,45 +100,73 @@ def effective_value(element: Element, name: str) -> Any:
     return None
 
 
-def commit_defaults(root: RootElement) -> None:
-    """Write every value that elements of `root` (and of the models attached to it)
-    get from default classes onto the elements themselves, then remove the default
-    classes and `class`/`childclass` attributes, so the model no longer needs them. The
-    compiled model is unchanged. Raises mjcf.ReferenceError for a class that does not
-    exist; the model is unchanged then."""
-    from mjcf import attachment
+def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -> None:
+    """Write the values that elements get from default classes onto the elements
+    themselves; the compiled model is unchanged.
 
-    models = [root, *attachment.attached_models(root)]
+    Given a model (a `RootElement`), every element of it and of the models attached to
+    it gets its values, then the default classes and `class`/`childclass` attributes are
+    removed, so the model no longer needs them. Given another element, as dm_control
+    does, only that element gets its values, and the classes stay. `attributes` limits
+    the commit to those attribute names; the classes then stay too, for the others.
+
+    Raises mjcf.InvalidReferenceError for a class that does not exist,
+    mjcf.UnknownAttributeError for a name in `attributes` that no default class can set;
+    the model is unchanged then."""
+    names = None if attributes is None else _checked_names(element, attributes)
+    whole_model = element is element.root
+    models = [element, *attachment.attached_models(element)] if whole_model else []
+    targets = [e for model in models for e in model.iter()] if whole_model else [element]
     plans = []
-    for model in models:
-        for element in model.iter():
-            tag = default_tag(element)
-            if tag is None or element._parent is None or traversal.has_ancestor(element, "default"):
-                continue
-            values = _defaults_for(element, tag)
-            if values:
-                plans.append((element, values))
-    for element, values in plans:
+    for target in targets:
+        tag = default_tag(target)
+        if tag is None or target._parent is None or traversal.has_ancestor(target, "default"):
+            continue
+        values = _defaults_for(target, tag, names)
+        if values:
+            plans.append((target, values))
+    for target, values in plans:
         for name, value in values.items():
-            if name not in element._attrs:
-                element._attrs[name] = _values.track(value, element)
+            if name not in target._attrs:
+                target._attrs[name] = _values.track(value, target)
             else:
-                own = element._get_value(element._spec.attributes[name])
-                element._attrs[name] = _values.track(_overlay(name, value, own), element)
-    for model in models:
-        for element in model.iter():
-            if traversal.has_ancestor(element, "default"):
-                continue
-            element._attrs.pop("class", None)
-            element._attrs.pop("childclass", None)
-        for child in list(model.default._children):
-            child._unregister_subtree()
-        model.default._children.clear()
-        model.default._attrs.clear()
-        model._modified()
+                own = target._get_value(target._spec.attributes[name])
+                target._attrs[name] = _values.track(overlay(name, value, own), target)
+        target._modified()
+    if whole_model and names is None:
+        for model in models:
+            _remove_classes(model)
 
 
-def _defaults_for(element: Element, tag: str) -> dict[str, Any]:
+def _remove_classes(model: RootElement) -> None:
+    """Remove the default classes of `model` and the attributes that name them."""
+    for element in model.iter():
+        if traversal.has_ancestor(element, "default"):
+            continue
+        element._attrs.pop("class", None)
+        element._attrs.pop("childclass", None)
+    for child in list(model.default._children):
+        child._unregister_subtree()
+    model.default._children.clear()
+    model.default._attrs.clear()
+    model._modified()
+
+
+def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str]:
+    """`attributes` as a set; raises mjcf.UnknownAttributeError for a name that no default
+    class can give (a name that only this element lacks is left alone, as dm_control
+    does, so that one list serves elements of several kinds)."""
+    names = frozenset([attributes] if isinstance(attributes, str) else attributes)
+    for name in sorted(names, key=str):
+        if name not in _DEFAULTABLE:
+            raise errors.UnknownAttributeError(
+                f"{element.path}: commit_defaults: no default class sets an attribute "
+                f"{name!r}" + _values.suggest(str(name), _DEFAULTABLE)
+            )
+    return names
+
+
+def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> dict[str, Any]:
     values: dict[str, Any] = {}
     attributes = element._spec.attributes
     for default in class_chain(class_of(element)):
@@ -142,9 +180,11 @@ def _defaults_for(element: Element, tag: str) -> dict[str, Any]:
             else:
                 continue
             for name in source._attrs:
+                if names is not None and name not in names:
+                    continue
                 if name in attributes and name != "class":
                     value = source._get_value(source._spec.attributes[name])
-                    values[name] = _overlay(name, values.get(name), value)
+                    values[name] = overlay(name, values.get(name), value)
                 elif child_tag != tag:
                     raise errors.AttributeValueError(
                         f"{element.path}: its default class sets <{child_tag} {name}>, which "
@@ -161,7 +201,7 @@ def _reset_shortcut(values: dict[str, Any], default_tag_: str, tag: str) -> None
             values.pop(name, None)
 
 
-def _overlay(name: str, below: Any, value: Any) -> Any:
+def overlay(name: str, below: Any, value: Any) -> Any:
     """A copy of `value` over the default `below`: MuJoCo reads fewer numbers than an
     array holds over the default's, so the rest of the default stays."""
     if isinstance(value, np.ndarray):

@@ -19,10 +19,11 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
-from mjcf import debugging, errors
+from mjcf import assets, debugging, element_list, errors
 from mjcf import values as _values
-from mjcf.namescope import PREFIX_SEPARATOR
-from mjcf.namescope import unescape as _unescape
+from mjcf.element_list import ElementList
+from mjcf.model_operations import ModelOperations
+from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -31,30 +32,27 @@ if TYPE_CHECKING:
 
 # Python spellings of MJCF attribute names that are Python keywords.
 _ALIASES = {"dclass": "class", "class_": "class"}
-# Asset elements that MuJoCo names after their file when they have no name.
-_NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 
 
-class ElementList(list):
-    """The repeated children of one tag: a list that is also indexable by name."""
+class Element(ModelOperations):
+    """An MJCF element. Create elements with `parent.add(tag, **attributes)`; finding,
+    removing, attaching, copying and writing are `ModelOperations`.
 
-    def __getitem__(self, key):  # type: ignore[override]
-        if isinstance(key, str):
-            for element in self:
-                if element.identifier == key:
-                    return element
-            raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
-        return super().__getitem__(key)
+    Internal protocol: what the other mjcf modules may use of an element; everything
+    else is this module's (tests/mjcf/test_architecture.py holds every module to it).
+    Any module reads the tree directly, because parsing and writing are per element:
+    `_spec` (its ElementSpec), `_parent`, `_root`, `_attrs` (attribute name -> stored
+    value: text as read, or the converted value), `_children`, `_source` (where debug
+    mode saw it made), and asks `_get_value(attribute)`, `_single_child(tag)`,
+    `_is_registered()`, `_implicit()` (named after its file, by MuJoCo) and
+    `_modified()` (count an in-place change). Only the modules that build or rewrite
+    trees (parser, copying, default_sections, defaults, attachment, root) make elements
+    with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
+    into them, then record names with `_register()`; `_cut()` and
+    `_unregister_subtree()` take elements out. `_text` is the serializer's cache:
+    ((model version, precision), attribute text) of its last write as stored.
+    """
 
-    def tags(self) -> str:
-        return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"
-
-
-class Element:
-    """An MJCF element. Create elements with `parent.add(tag, **attributes)`."""
-
-    # _text: ((model version, precision), attribute text) of the last plain write, reused
-    # while the model is unchanged (see serializer).
     __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec", "_text")
 
     _spec: ElementSpec
@@ -109,6 +107,12 @@ class Element:
         return self._root.namescope
 
     @property
+    def is_removed(self) -> bool:
+        """Whether this element was removed from its model (by `remove()` of itself or of
+        an ancestor, or, for an attachment frame, by detaching its model)."""
+        return self is not self._root and not self._is_registered()
+
+    @property
     def identifier(self) -> str | None:
         """This element's name (its class for a default), or the name MuJoCo gives
         an unnamed mesh/texture/hfield/skin after its file; None if unnamed."""
@@ -116,24 +120,9 @@ class Element:
         if spec.identifier is None:
             return None
         value = self._attrs.get(spec.identifier)
-        if value is None and spec.tag in _NAMED_AFTER_FILE:
-            return _name_from_file(self._attrs.get("file"))
+        if value is None and spec.tag in NAMED_AFTER_FILE:
+            return name_from_file(self._attrs.get("file"))
         return value
-
-    @property
-    def full_identifier(self) -> str | None:
-        """The scoped name MuJoCo will see for this element in the outermost model
-        ('arm/gripper/pad'), or None if unnamed."""
-        return self.prefixed_identifier(None)
-
-    def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
-        """This element's scoped name relative to model `prefix_root` (default: the
-        outermost model it is attached into)."""
-        name = self.identifier
-        if name is None:
-            return None
-        scope = None if prefix_root is None else prefix_root.namescope
-        return self._root.namescope.prefix(scope) + name
 
     @property
     def path(self) -> str:
@@ -163,7 +152,7 @@ class Element:
         attribute = spec.attributes.get(_ALIASES.get(name, name))
         if attribute is None:
             known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
-            raise errors.AttributeError(
+            raise errors.UnknownAttributeError(
                 f"{self.path}: <{spec.tag}> has no attribute {name!r}"
                 + _values.suggest(name, [k for k in known if k])
             )
@@ -180,7 +169,7 @@ class Element:
         if child_spec is not None:
             return self.get_children(child_spec.tag)
         known = list(spec.attributes) + list(spec.children)
-        raise errors.AttributeError(
+        raise errors.UnknownAttributeError(
             f"{self.path}: <{spec.tag}> has no attribute or child {name!r}"
             + _values.suggest(name, known)
         )
@@ -201,8 +190,6 @@ class Element:
             if target is not None:
                 self._attrs[attribute.name] = value = target
         elif attribute.kind == "file":
-            from mjcf import assets
-
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
 
@@ -226,12 +213,18 @@ class Element:
             return
         self._set_attribute(self._attribute_spec(name), None)
 
-    def _set_attribute(self, attribute: AttributeSpec, value: Any, checked: bool = False) -> None:
-        name = attribute.name
+    def _set_attribute(self, attribute: AttributeSpec, value: Any) -> None:
+        """Set one attribute from a Python value; None (or a text MuJoCo reads as not
+        set, such as an empty name) removes it."""
         if value is not None:
-            value = self._convert(attribute, value)  # None: a text MuJoCo reads as unset
-            if not checked and name in self._spec.rule_names:
-                self._check_rules({name}, ())
+            value = self._convert(attribute, value)
+            if value is not None and attribute.name in self._spec.rule_names:
+                self._check_rules({attribute.name}, ())
+        self._store(attribute, value)
+
+    def _store(self, attribute: AttributeSpec, value: Any) -> None:
+        """Store one converted value (None removes the attribute)."""
+        name = attribute.name
         if value is None:
             if attribute.required and name in self._attrs:
                 raise errors.AttributeValueError(
@@ -248,7 +241,7 @@ class Element:
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
-        elif attribute.kind == "file" and self._spec.tag in _NAMED_AFTER_FILE:
+        elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
             self._rename_after_file(stored)
         self._attrs[name] = stored
         self._modified()
@@ -264,17 +257,6 @@ class Element:
         """Set several attributes at once; if any is invalid, none is set."""
         converted = self._prepare(attributes)
         self._apply(converted)
-
-    def get_attribute_xml_string(
-        self, name: str, prefix_root: RootElement | None = None
-    ) -> str | None:
-        """The attribute as it would be written to XML (scoped names for references)."""
-        from mjcf import serializer
-
-        attribute = self._attribute_spec(name)
-        if attribute.name not in self._attrs:
-            return None
-        return serializer.attribute_text(self, attribute, prefix_root)
 
     def _prepare(self, attributes: dict[str, Any]) -> list[tuple[AttributeSpec, Any]]:
         """Convert and check every attribute without changing anything."""
@@ -302,40 +284,30 @@ class Element:
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         for attribute, stored in converted:
-            self._set_attribute(attribute, stored, checked=True)
+            self._store(attribute, stored)
 
     def _check_rules(self, setting: set[str], removing: Iterable[str]) -> None:
         """Raise mjcf.AttributeValueError if setting the attributes `setting` (and
         removing `removing`) would set two of a group MuJoCo allows one of (two
         orientations of a body, say)."""
         names = (self._attrs.keys() - set(removing)) | setting
-        for rule in self._spec.rules:
-            if rule.kind == "at_most_one" and rule.broken_by(dict.fromkeys(names)):
-                shown = ", ".join(sorted(rule.names & names))
-                raise errors.AttributeValueError(
-                    f"{self.path}: {shown} cannot be set together: {rule.describe()}"
-                )
+        rule = self._spec.conflict(names)
+        if rule is not None:
+            shown = ", ".join(sorted(rule.names & names))
+            raise errors.AttributeValueError(
+                f"{self.path}: {shown} cannot be set together: {rule.describe()} (remove "
+                "one, e.g. `del element.name`, before setting another)"
+            )
 
-    # -- names ---------------------------------------------------------------------------
+    # -- names: the rules are NameScope's; an element tells its scope what changes -------
 
     def _check_name(self, name: str) -> None:
-        if PREFIX_SEPARATOR in name.replace("\\" + PREFIX_SEPARATOR, ""):
-            raise errors.NameError(
-                f"{self.path}: name {name!r} contains {PREFIX_SEPARATOR!r}, which separates "
-                "the names of attached models; write it as '\\/' (or parse with "
-                "escape_separators=True)"
-            )
+        check_identifier(name, self)
 
     def _check_free(self, name: str) -> None:
         namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        existing = self._root.namescope.get(namespace, name)
-        if existing is not None and existing is not self:
-            raise errors.NameError(
-                f"{self.path}: the name {name!r} is already used by another {namespace} "
-                f"in model {self._root.namescope.name!r}: {existing.path}"
-            )
+        if namespace is not None and self._is_registered():
+            self._root.namescope.check_free(namespace, name, self, renaming=True)
 
     def _is_registered(self) -> bool:
         """Whether this element is part of its model's tree (not removed)."""
@@ -349,19 +321,11 @@ class Element:
         if namespace is None or not self._is_registered():
             return
         scope = self._root.namescope
-        if new_name is not None:
-            self._check_free(new_name)
-        old = self.identifier
-        if old is not None:
-            scope.unregister(namespace, _unescape(old), self)
-        if new_name is not None:
-            scope.register(namespace, _unescape(new_name), self)
-            if "\\" in new_name:
-                object.__setattr__(self._root, "_escaped_names", True)
-        elif self._spec.tag in _NAMED_AFTER_FILE:
-            implicit = _name_from_file(self._attrs.get("file"))
+        scope.rename(namespace, self.identifier, new_name, self)
+        if new_name is None and self._spec.tag in NAMED_AFTER_FILE:
+            implicit = name_from_file(self._attrs.get("file"))
             if implicit is not None:
-                scope.namespace(namespace).setdefault(implicit, self)
+                scope.add(namespace, implicit, self, implicit=True)
 
     def _rename_after_file(self, file_value: object) -> None:
         if self._attrs.get("name") is not None or not self._is_registered():
@@ -369,25 +333,21 @@ class Element:
         scope = self._root.namescope
         old = self.identifier
         if old is not None:
-            scope.unregister(self._spec.namespace, old, self)
-        new = _name_from_file(file_value)
+            scope.remove(self._spec.namespace, old, self)
+        new = name_from_file(file_value)
         if new is not None:
-            scope.namespace(self._spec.namespace).setdefault(new, self)
+            scope.add(self._spec.namespace, new, self, implicit=True)
 
     def _register(self) -> None:
-        """Record this element's name in its model's scope (an implicit name after a
-        file never clashes: MuJoCo reports repeated file names itself)."""
+        """Record this element's name in its model's scope; raises mjcf.NameClashError
+        if another element has it."""
         namespace = self._spec.namespace
-        name = self.identifier if namespace is not None else None
-        if not name:
+        if namespace is None:
             return
-        scope = self._root.namescope
-        if self._implicit():
-            scope.namespace(namespace).setdefault(_unescape(name), self)
             return
-        scope.register(namespace, _unescape(name), self)
-        if "\\" in name:
-            object.__setattr__(self._root, "_escaped_names", True)
+        name = self.identifier
+        if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
+            self._root.namescope.add(namespace, name, self, self._implicit())
 
     def _implicit(self) -> bool:
         return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
@@ -398,7 +358,7 @@ class Element:
             namespace = element._spec.namespace
             name = element.identifier
             if namespace is not None and name is not None:
-                scope.unregister(namespace, _unescape(name), element)
+                scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------
 
@@ -406,14 +366,15 @@ class Element:
         items = value if isinstance(value, list) else [value]
         namespace = attribute.reference_namespace(self._attrs)
         for item in items:
-            if isinstance(item, Element):
-                if namespace is not None and item._spec.namespace != namespace:
-                    raise errors.ReferenceError(
-                        f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
-                        f"{item.path} (a {item._spec.namespace or item.tag})"
-                    )
-                if item.identifier is None:
-                    item._root._referenced_unnamed.add(item)
+            if (
+                isinstance(item, Element)
+                and namespace is not None
+                and item._spec.namespace != namespace
+            ):
+                raise errors.InvalidReferenceError(
+                    f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
+                    f"{item.path} (a {item._spec.namespace or item.tag})"
+                )
 
     def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
         namespace = attribute.reference_namespace(self._attrs)
@@ -457,16 +418,8 @@ class Element:
         element = self._new_child(spec)
         converted = element._prepare(attributes)
         element._apply_unregistered(converted)
-        name = element.identifier
-        if name is not None and spec.namespace is not None and not element._implicit():
-            existing = self._root.namescope.get(spec.namespace, name)
-            if existing is not None:
-                raise errors.NameError(
-                    f"{self.path}: cannot add <{tag}>: the name {name!r} is already "
-                    f"used by another {spec.namespace}: {existing.path}"
-                )
+        element._register()  # raises NameClashError while the tree is still unchanged
         self._children.insert(position, element)
-        element._register()
         self._modified()
         return element
 
@@ -490,11 +443,12 @@ class Element:
         return None
 
     def get_children(self, tag: str) -> Any:
-        """Children with `tag`: an `ElementList` for repeated elements, or the single
+        """Children with `tag`: an `ElementList` for repeated elements (for a top-level
+        section, with those of attached models: see `mjcf.element_list`), or the single
         child for elements that may appear once (created empty on first access)."""
         spec = self._child_spec(tag)
         if spec.repeated:
-            return ElementList(c for c in self._children if c._spec.tag == tag)
+            return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
         if child is None:
             child = self._new_child(spec)
@@ -502,8 +456,9 @@ class Element:
         return child
 
     def all_children(self) -> list[Element]:
-        """The direct children of this element, in order."""
-        return list(self._children)
+        """The direct children of this element, in order (for a top-level section, then
+        those of attached models: see `mjcf.element_list`)."""
+        return element_list.children(self)
 
     def iter(self) -> Iterator[Element]:
         """This element and its descendants in document order (not into attached
@@ -514,99 +469,14 @@ class Element:
             yield element
             stack.extend(reversed(element._children))
 
-    def remove(self, affect_attachments: bool = False) -> None:
-        """Remove this element (and its subtree) from the model. Raises mjcf.SchemaError
-        for a model's top-level sections, which always exist."""
+    def _cut(self) -> Element:
+        """Take this element and its subtree out of the tree, forgetting their names;
+        returns the parent it had."""
         parent = self._parent
-        if parent is None:
-            raise errors.SchemaError(
-                f"{self.path}: a model root or removed element cannot be removed"
-            )
-        if parent._parent is None and parent is self._root:
-            raise errors.SchemaError(
-                f"{self.path}: the <{self.tag}> section always exists; remove its children"
-            )
-        from mjcf import attachment
-
-        frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
-        if frames and not affect_attachments:
-            models = ", ".join(repr(frame.attached_model.model) for frame in frames)
-            raise errors.AttachmentError(
-                f"{self.path}: models {models} are attached inside; detach them first, or "
-                "call remove(affect_attachments=True)"
-            )
-        for frame in frames:
-            frame.detach()
         self._unregister_subtree()
         parent._children.remove(self)
         object.__setattr__(self, "_parent", None)
-        parent._modified()
-
-    def attach(self, child: RootElement) -> Element:
-        """Attach model `child` here (a site, body, frame or the world body) and return
-        its attachment frame; its names become scoped ('child_model/name'). Raises
-        mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
-        from mjcf import attachment
-
-        return attachment.attach(self, child)
-
-    def include_copy(self, other: Element, override_attributes: bool = False) -> None:
-        """Merge a copy of `other` (an element of the same tag, or another model into
-        this model) into this element, without a name scope, as `<include>` would; see
-        `mjcf.copying`. Nothing changes if it raises."""
-        from mjcf import copying
-
-        copying.include_copy(self, other, override_attributes)
-
-    # -- finding ------------------------------------------------------------------------
-
-    def find(self, namespace: str, identifier: str) -> Element | None:
-        """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
-        'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
-        inside this element, or None."""
-        from mjcf import traversal
-
-        return traversal.find(self, namespace, identifier)
-
-    def find_all(
-        self,
-        namespace: str,
-        immediate_children_only: bool = False,
-        exclude_attachments: bool = False,
-    ) -> list[Element]:
-        """Every element of `namespace` (or with tag `namespace`) inside this element,
-        in the order MuJoCo will see them, including attached models' unless excluded."""
-        from mjcf import traversal
-
-        return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
-
-    # -- XML -------------------------------------------------------------------------------
-
-    def to_xml(self, prefix_root: RootElement | None = None, precision: int = 17):
-        """This element (and its subtree, with attached models) as an lxml element."""
-        from lxml import etree
-
-        return etree.fromstring(
-            self.to_xml_string(prefix_root, precision=precision, pretty_print=False)
-        )
-
-    def to_xml_string(
-        self,
-        prefix_root: RootElement | None = None,
-        self_only: bool = False,
-        pretty_print: bool = True,
-        precision: int = 17,
-    ) -> str:
-        """XML text of this element (with its subtree and attached models unless
-        `self_only`). Numbers keep their source text, or are written with `precision`
-        significant digits (17: exact). Raises mjcf errors for missing required
-        attributes and dangling references."""
-        from mjcf import serializer
-
-        return serializer.to_xml_string(self, prefix_root, self_only, pretty_print, precision)
-
-    def __repr__(self) -> str:
-        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+        return parent
 
     def __dir__(self) -> list[str]:
         names = set(super().__dir__())
@@ -615,23 +485,3 @@ class Element:
             names.add("dclass")
         names.update(self._spec.children)
         return sorted(n for n in names if n.isidentifier())
-
-    def __copy__(self) -> Element:
-        raise TypeError("copy a model with copy.deepcopy(root)")
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> Element:
-        """A copy of the whole model (detached, with its attached models), sharing the
-        schema; returns this element's copy (see `mjcf.copying`)."""
-        from mjcf import copying
-
-        return copying.deepcopy_element(self, memo)
-
-
-def _name_from_file(value: object) -> str | None:
-    if value is None:
-        return None
-    path = value if isinstance(value, str) else getattr(value, "name", None)
-    if not path:
-        return None
-    base = path.replace("\\", "/").rsplit("/", 1)[-1]
-    return base.rsplit(".", 1)[0] if "." in base else base

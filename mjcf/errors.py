@@ -8,12 +8,22 @@ and line) and what was expected, so one line is enough to find and fix it::
 
 Errors that users catch by their builtin meaning also subclass that builtin:
 `AttributeError` (so `getattr(element, 'x', None)` and `hasattr` behave), `ValueError`
-for bad values, `KeyError` for lookups by name.
+for bad values, `KeyError` for lookups by name. An unknown namespace in `find` /
+`find_all` is a `NamespaceError`: a `NotFoundError` (so a `KeyError`, as before) that is
+also the `ValueError` dm_control raises there.
+
+No name here is a Python builtin's, so `from mjcf import *` shadows none. The previous
+release called three of them after the builtin they subclass; those names still work,
+with a DeprecationWarning, until the next release, and are not in `__all__`:
+
+    mjcf.UnknownAttributeError  ->  mjcf.UnknownAttributeError   (an AttributeError)
+    mjcf.NameClashError       ->  mjcf.NameClashError          (a ValueError)
+    mjcf.InvalidReferenceError  ->  mjcf.InvalidReferenceError   (a ValueError)
 """
 
 from __future__ import annotations
 
-import builtins
+import warnings
 
 
 class Error(Exception):
@@ -28,7 +38,7 @@ class SchemaError(Error):
     second copy of an element that may appear only once."""
 
 
-class AttributeError(Error, builtins.AttributeError):
+class UnknownAttributeError(Error, AttributeError):
     """An attribute that the element's MJCF schema does not have."""
 
 
@@ -37,20 +47,28 @@ class AttributeValueError(Error, ValueError):
     required attribute."""
 
 
-class NameError(Error, ValueError):
-    """A name that is already taken in its namespace, or that is not a valid name."""
+class NameClashError(Error, ValueError):
+    """A name that is already taken in its namespace (or, for a model, among the models
+    attached to the same model), or that clashes with the separator '/' of scoped
+    names."""
 
 
-class ReferenceError(Error, ValueError):
+class InvalidReferenceError(Error, ValueError):
     """A reference attribute naming an element that does not exist, or an element of
     another model."""
 
 
 class NotFoundError(Error, KeyError):
-    """`find` / lookup of a namespace that does not exist."""
+    """A lookup by name of something that does not exist: an element of an element list
+    (`body.geom['x']`), a row of a named indexer, a keyframe."""
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""
+
+
+class NamespaceError(NotFoundError, ValueError):
+    """`find` / `find_all` of a namespace that does not exist. A `ValueError`, as in
+    dm_control, and a `NotFoundError` (`KeyError`) for code that caught that."""
 
 
 class ParseError(Error, ValueError):
@@ -82,10 +100,43 @@ class PhysicsError(Error):
     """The simulation diverged (bad acceleration, NaN or infinite state)."""
 
 
-class BindingError(Error, builtins.AttributeError):
+class StateError(Error, ValueError):
+    """A state or control vector of the wrong size, or a step count below one."""
+
+
+class BindingError(Error, AttributeError):
     """An element that cannot be bound to this physics, or a field its kind does not
     have, or a value of the wrong shape."""
 
 
 class RenderError(Error):
     """No OpenGL backend could be created for rendering."""
+
+
+# -- the previous release's names ---------------------------------------------------------
+
+DEPRECATED_NAMES: dict[str, type[Error]] = {
+    "AttributeError": UnknownAttributeError,
+    "NameError": NameClashError,
+    "ReferenceError": InvalidReferenceError,
+}
+
+
+def deprecated_name(module: str, name: str) -> type[Error]:
+    """The exception class an old name of module `module` stands for (see
+    `DEPRECATED_NAMES`), with a DeprecationWarning; raises AttributeError, as a module
+    does, for any other name."""
+    renamed = DEPRECATED_NAMES.get(name)
+    if renamed is None:
+        raise AttributeError(f"module {module!r} has no attribute {name!r}")
+    warnings.warn(
+        f"{module}.{name} is now {module}.{renamed.__name__} (the old name shadowed Python's "
+        f"builtin {name}); it will be removed in the next release",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+    return renamed
+
+
+def __getattr__(name: str) -> type[Error]:
+    return deprecated_name(__name__, name)

@@ -2,12 +2,16 @@
 
     mjcf.export_with_assets(model, 'out/')              # out/model.xml + meshes, textures
     mujoco.MjModel.from_xml_path('out/model.xml')       # stock MuJoCo loads it
-    mjcf.export_with_assets_as_zip(model, 'scene.zip')  # model.xml + assets, MJZ layout
+    mjcf.export_with_assets(model, 'out/', None)        # out/<model name>.xml
+    mjcf.export_with_assets_as_zip(model, 'scene.zip')  # scene/model.xml + assets
+    mjcf.export_with_assets_as_zip(model, out_dir='out/', model_name='arm')  # out/arm.zip
     model = mjcf.from_zip('scene.zip')
 
-Asset files get flat, readable, unique names next to the XML (see `mjcf.assets`).
-Nothing is ever written outside the target: asset names are reduced to plain file
-names, and reading a zip never follows a path out of it.
+The exported XML is `to_xml_string()` and the files beside it are `get_assets()`: the
+same plain, readable, unique names (see `mjcf.assets`). dm_control's keyword names
+(`out_file_name`, `out_dir`, `model_name`) are accepted too. Nothing is ever written
+outside the target: asset names are plain file names, and reading a zip never follows
+a path out of it.
 """
 
 from __future__ import annotations
@@ -19,36 +23,74 @@ import zipfile
 
 from mjcf import errors, serializer
 from mjcf.assets import plain_file_name
+from mjcf.parser import from_xml_string
 from mjcf.root import RootElement
 
 _MAX_ZIP_ENTRIES = 100_000
 _MAX_ZIP_BYTES = 4 << 30
+_DEFAULT_FILENAME = "model.xml"
+_UNSET: object = object()  # tells a keyword not given from one given as None
 
 
-def _contents(model: RootElement, precision: int) -> tuple[str, dict[str, bytes]]:
-    xml, assets = serializer.serialize(model, flat_assets=True, precision=precision)
+def _contents(
+    model: RootElement, model_filename: str, precision: int, zero_threshold: float
+) -> tuple[str, dict[str, bytes]]:
+    """The model's XML and assets, as `to_xml_string` and `get_assets` give them; raises
+    mjcf.AssetError for a file that cannot be read or that cannot be exported beside
+    the model file."""
+    xml, assets = serializer.serialize(model, precision=precision, zero_threshold=zero_threshold)
     unsafe = [name for name in assets if plain_file_name(name) != name]
     if unsafe:
         raise errors.AssetError(f"asset names that are not plain file names: {unsafe}")
+    if any(name.lower() == model_filename.lower() for name in assets):
+        raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
     return xml, assets
+
+
+def _check_model(model: object) -> None:
+    if not isinstance(model, RootElement):
+        raise errors.AssetError(f"exporting takes a model (RootElement), got {model!r}")
+
+
+def _checked_filename(name: object, keyword: str) -> str:
+    """`name` if it is a plain file name ending in '.xml'; raises mjcf.AssetError (a
+    ValueError) otherwise."""
+    if not isinstance(name, str) or not name.lower().endswith(".xml"):
+        raise errors.AssetError(f"{keyword} must be a file name ending in '.xml', got {name!r}")
+    if plain_file_name(name) != name:
+        raise errors.AssetError(
+            f"{keyword} must be a plain file name (the folder is given separately), got {name!r}"
+        )
+    return name
 
 
 def export_with_assets(
     model: RootElement,
     out_dir: str | os.PathLike,
-    model_filename: str = "model.xml",
+    model_filename: str | None = _DEFAULT_FILENAME,
+    *,
     precision: int = 17,
+    zero_threshold: float = 0.0,
+    out_file_name: str | None = _UNSET,  # type: ignore[assignment]
 ) -> str:
-    """Write `model` as `out_dir/model_filename` and its assets beside it; returns the
-    XML file's path. Raises mjcf.AssetError if an asset cannot be read."""
-    if not isinstance(model, RootElement):
-        raise errors.AssetError(f"export_with_assets takes a model (RootElement), got {model!r}")
-    xml, assets = _contents(model, precision)
+    """Write `model` as `out_dir/model_filename` and its assets beside it (the folder is
+    created if needed); returns the XML file's path. `model_filename=None` names it
+    '<model name>.xml'; `out_file_name` is dm_control's name for `model_filename`;
+    `precision` and `zero_threshold` are `to_xml_string`'s. Raises mjcf.AssetError (a
+    ValueError) for a model file name that is not a plain name ending in '.xml' or an
+    asset that cannot be read; nothing is written then."""
+    _check_model(model)
+    if out_file_name is not _UNSET:
+        if model_filename != _DEFAULT_FILENAME:
+            raise TypeError("give model_filename or out_file_name (dm_control's name), not both")
+        model_filename = out_file_name
+    if model_filename is None:
+        model_filename = plain_file_name(model.model) + ".xml"
+    keyword = "out_file_name" if out_file_name is not _UNSET else "model_filename"
+    model_filename = _checked_filename(model_filename, keyword)
+    xml, assets = _contents(model, model_filename, precision, zero_threshold)
     out_dir = os.fspath(out_dir)
     os.makedirs(out_dir, exist_ok=True)
-    model_filename = plain_file_name(model_filename)
-    if model_filename in assets:
-        raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
     for name, data in assets.items():
         with open(os.path.join(out_dir, name), "wb") as handle:
             handle.write(data)
@@ -60,33 +102,63 @@ def export_with_assets(
 
 def export_with_assets_as_zip(
     model: RootElement,
-    zip_path: str | os.PathLike,
+    zip_path: str | os.PathLike | None = None,
     model_filename: str | None = None,
+    *,
     precision: int = 17,
+    zero_threshold: float = 0.0,
+    out_dir: str | os.PathLike | None = None,
+    model_name: str | None = None,
 ) -> str:
-    """Write `model` and its assets into a zip (model file at the top, 'model.xml' by
-    default, which MuJoCo's MJZ loader finds); returns the zip's path. Raises
-    mjcf.AssetError if an asset cannot be read (nothing is written then).
+    """Write `model` and its assets into a zip, inside a folder named like the zip
+    (`scene.zip` holds `scene/model.xml` and the assets beside it: dm_control's layout,
+    which MuJoCo's `MjSpec.from_zip` and `mjcf.from_zip` load); returns the zip's path.
 
-    As in dm_control, `zip_path` may be a folder: the zip is then `<folder>/<model
-    name>.zip`; and a `model_filename` without '.xml' is dm_control's `model_name`,
-    which names both the zip in that folder and the model file ('<model_name>.xml')."""
+    Called as the seed documents it, `zip_path` is the zip and `model_filename` the
+    model file ('model.xml' by default). Called as dm_control does, with a folder
+    (`out_dir`, or a `zip_path` that is a folder or does not end in '.zip') and a
+    `model_name` (or a `model_filename` without '.xml'), the zip is
+    `<folder>/<model_name>.zip` holding `<model_name>/<model_name>.xml`; `model_name`
+    defaults to the model's name. Raises mjcf.AssetError (a ValueError) for a file
+    that cannot be read or a name that cannot be used; nothing is written then."""
+    _check_model(model)
+    if out_dir is not None:
+        if zip_path is not None:
+            raise TypeError("give zip_path or out_dir (dm_control's name), not both")
+        zip_path = out_dir
+    if zip_path is None:
+        raise TypeError("export_with_assets_as_zip needs zip_path (or dm_control's out_dir)")
+    if model_name is not None:
+        if model_filename is not None:
+            raise TypeError("give model_filename or model_name (dm_control's name), not both")
+        model_filename = model_name
     zip_path = os.fspath(zip_path)
-    stem = model.model
-    if model_filename is not None and not model_filename.endswith(".xml"):
-        stem = model_filename
-        model_filename = model_filename + ".xml"
-    if os.path.isdir(zip_path) or zip_path.endswith(("/", os.sep)):
-        os.makedirs(zip_path, exist_ok=True)
-        zip_path = os.path.join(zip_path, plain_file_name(stem) + ".zip")
-    xml, assets = _contents(model, precision)
-    model_filename = plain_file_name(model_filename or "model.xml")
-    if model_filename in assets:
-        raise errors.AssetError(f"an asset is named {model_filename!r}, like the model file")
+    if model_filename is not None and not model_filename.lower().endswith(".xml"):
+        model_name, model_filename = model_filename, model_filename + ".xml"
+    into_folder = (
+        out_dir is not None
+        or os.path.isdir(zip_path)
+        or zip_path.endswith(("/", os.sep))
+        or not zip_path.lower().endswith(".zip")
+    )
+    if into_folder:
+        stem = model_name if model_name is not None else model.model
+        folder = zip_path
+        zip_path = os.path.join(folder, plain_file_name(stem) + ".zip")
+        model_filename = model_filename or plain_file_name(stem) + ".xml"
+    else:
+        folder = None
+        stem = os.path.splitext(os.path.basename(zip_path))[0]
+        model_filename = model_filename or _DEFAULT_FILENAME
+    model_filename = _checked_filename(model_filename, "model_filename")
+    inside = plain_file_name(stem)
+    xml, assets = _contents(model, model_filename, precision, zero_threshold)
+    if folder is not None:
+        os.makedirs(folder, exist_ok=True)
     with zipfile.ZipFile(zip_path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
-        archive.writestr(model_filename, xml)
+        archive.writestr(f"{inside}/{model_filename}", xml)
         for name, data in assets.items():
-            archive.writestr(name, data)
+            archive.writestr(f"{inside}/{name}", data)
     return zip_path
 
 
@@ -98,8 +170,6 @@ def from_zip(
     comes back as one model whose names keep their scopes, escaped ('arm\\/base', see
     `from_xml_string`); it compiles to the same model. Raises mjcf.ParseError for a
     zip that is not such an archive or that is unsafe."""
-    from mjcf.parser import from_xml_string
-
     try:
         archive = zipfile.ZipFile(zip_path)
     except (OSError, zipfile.BadZipFile) as error:

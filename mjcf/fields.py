@@ -207,6 +207,45 @@ def names(model: mujoco.MjModel, kind: Obj) -> tuple[str, ...]:
     return tuple(mujoco.mj_id2name(model, kind, i) or "" for i in range(count(model, kind)))
 
 
+def column_names(name: str) -> tuple[str, ...] | None:
+    """The names of the columns of MjModel/MjData field `name`, dm_control's convention: x y z
+    for positions, directions, axes, sizes and inertias; qw qx qy qz for quaternions; xx xy
+    xz yx ... zz for 3x3 matrices; r g b a for colors. None for fields without named columns."""
+    return _COLUMNS.get(name)
+
+
+_XYZ = ("x", "y", "z")
+_QUAT = ("qw", "qx", "qy", "qz")
+_MAT = ("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz")
+_RGBA = ("r", "g", "b", "a")
+# Ends of field names whose (n, 3) rows are Cartesian vectors.
+_XYZ_ENDS = ("pos", "pos0", "poscom0", "dir", "dir0", "axis", "anchor", "inertia", "com",
+             "vert", "normal", "linvel", "angmom", "size")  # fmt: skip
+
+
+def _column_table() -> dict[str, tuple[str, ...]]:
+    """{field: column names} by name and width, over every 2-D field of mjModel and mjData."""
+    table = {}
+    for struct_name in ("mjModel", "mjData"):
+        for decl in structs.STRUCTS[struct_name].fields:
+            extent = getattr(decl, "array_extent", None)
+            if not extent or len(extent) != 2:
+                continue
+            name, width = decl.name, extent[1]
+            if width == 3 and name.endswith(_XYZ_ENDS):
+                table[name] = _XYZ
+            elif width == 4 and name.endswith("quat"):
+                table[name] = _QUAT
+            elif width == 4 and name.endswith("rgba"):
+                table[name] = _RGBA
+            elif width == 9 and name.endswith(("mat", "mat0")):
+                table[name] = _MAT
+    return table
+
+
+_COLUMNS = _column_table()
+
+
 # -- derivation from the installed mujoco, once at import ------------------------------------
 
 
@@ -332,3 +371,12 @@ ADDRESSES: tuple[Address, ...] = _derive_addresses(_EXTENTS)
 
 _ATTRIBUTES, _INDEXINGS = _derive_fields(_EXTENTS)
 _PRIMARY = {struct: {n: f[0] for n, f in table.items()} for struct, table in _INDEXINGS.items()}
+
+
+def joint_widths(joint_type: int) -> tuple[int, int]:
+    """(qpos, qvel) entries of a joint of MuJoCo type `joint_type`."""
+    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
+        return 7, 6
+    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
+        return 4, 3
+    return 1, 1

@@ -8,13 +8,9 @@ mjcf.get_freejoint(body)                      # a body's free joint, or None
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from mjcf import attachment
-
-if TYPE_CHECKING:
-    from mjcf.element import Element
-    from mjcf.root import RootElement
+from mjcf.element import Element
+from mjcf.root import RootElement
 
 
 def get_attachment_frame(model: RootElement) -> Element | None:
@@ -53,8 +49,6 @@ def get_frame_joints(frame: Element | None) -> list[Element]:
 
 
 def _as_frame(element: Element | None) -> Element | None:
-    from mjcf.root import RootElement
-
     if isinstance(element, RootElement):
         return attachment.frame_of(element)
     return element

@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, errors
-from mjcf.tree_binding import joint_widths
+from mjcf import attachment, errors, fields
+from mjcf.values import format_number
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -112,7 +112,7 @@ def _layout(
     qvel: list[int] = []
     for joint in _ordered_joints(owner, with_attached):
         index = _id(compiled_id, joint, mujoco.mjtObj.mjOBJ_JOINT)
-        width_q, width_v = joint_widths(int(model.jnt_type[index]))
+        width_q, width_v = fields.joint_widths(int(model.jnt_type[index]))
         qpos.extend(range(model.jnt_qposadr[index], model.jnt_qposadr[index] + width_q))
         qvel.extend(range(model.jnt_dofadr[index], model.jnt_dofadr[index] + width_v))
     ctrl: list[int] = []
@@ -186,7 +186,7 @@ def _own_joints(body: Element) -> list[Element]:
 def _id(compiled_id: Callable, element: Element, kind: mujoco.mjtObj) -> int:
     index = compiled_id(element, kind)
     if index < 0:
-        raise errors.ReferenceError(f"{element.path} is not in the compiled model")
+        raise errors.InvalidReferenceError(f"{element.path} is not in the compiled model")
     return index
 
 
@@ -197,8 +197,7 @@ def _padded_vectors(composition: Composition) -> dict[int, dict[str, str | None]
     """Full-length key vectors of every key of a composed model, computed by compiling
     it, once for each composed model and key values (writing the same model again
     does not compile it again)."""
-    from mjcf import compiler, serializer
-    from mjcf.values import format_number
+    from mjcf import compiler, serializer  # cycle: both lead back to composition -> keyframes
 
     keys = _all_keys(composition)
     digest = hashlib.sha1(serializer.serialize_for_compile(composition.root)[0].encode())

@@ -7,6 +7,8 @@
     physics.named.data.sensordata["touch"]       # sensor_adr / sensor_dim slice
     physics.named.data.qvel[3:6], physics.named.data.qpos[mask]   # ints, slices, masks: as numpy
     physics.named.data.xpos["torso", 2]          # a tuple indexes the following axes too
+    physics.named.data.xpos["torso", "z"]        # columns by name: x y z, qw qx qy qz ...
+    physics.named.data.xpos[["torso", "head"], ["x", "z"]]   # numpy pairs lists, as dm_control
     physics.named.data.qpos.axes.row.names       # the owner name of every row
     print(physics.named.data.qpos)               # a table of names and values
 
@@ -14,8 +16,11 @@ Every field `mjcf.fields.indexed_fields(struct)` lists is here, under `model` or
 name stands for the rows its object owns: one row (an int index, so numpy drops the axis) for a
 field with one row per object, the object's block (a slice, kept as an axis) for an addressed
 field (qpos, qvel, sensordata, act ...). A list of names concatenates their rows. Reads follow
-numpy: a name or a slice gives a view, a list a copy. Assignment through any key writes through.
-Unnamed objects are reachable by integer index only.
+numpy: a name or a slice gives a view, a list a copy. Assignment through any key writes through,
+and item assignment into a returned array of a state or model field does too. Writes and reads
+are tracked as bindings' are (`mjcf.binding`): a derived field read after a state write is
+recomputed first. Column names are `mjcf.fields.column_names`. Unnamed objects are reachable
+by integer index only.
 """
 
 from __future__ import annotations
@@ -28,7 +33,8 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
-from mjcf import errors, fields
+from mjcf import binding as binding_module
+from mjcf import errors, fields, tracking
 
 if TYPE_CHECKING:
     from mjcf.physics import Physics
@@ -116,13 +122,14 @@ class _NameTable:
 class FieldIndexer:
     """One MjModel/MjData field, indexed by object names as well as numpy keys."""
 
-    __slots__ = ("_field", "_physics", "_table", "_table_model")
+    __slots__ = ("_field", "_mask", "_physics", "_table", "_table_model")
 
     def __init__(self, physics: Physics, field: fields.Field) -> None:
         self._physics = physics
         self._field = field
         self._table: _NameTable | None = None
         self._table_model: mujoco.MjModel | None = None
+        self._mask: int | None = None  # what a read needs fresh (per model: sensors vary)
 
     @property
     def field(self) -> fields.Field:
@@ -131,10 +138,36 @@ class FieldIndexer:
 
     @property
     def array(self) -> np.ndarray:
-        """The whole MjModel/MjData array (a view)."""
+        """The whole MjModel/MjData array (a view, brought up to date for a derived field;
+        writes into it are not tracked)."""
+        self._refresh()
+        return self._raw()
+
+    def _raw(self) -> np.ndarray:
         physics = self._physics
         source = physics._model if self._field.struct == "model" else physics._data
         return getattr(source, self._field.name)
+
+    def _refresh(self) -> None:
+        """Recompute derived fields if a tracked write made this one stale."""
+        physics = self._physics
+        mask = self._read_mask()
+        if mask and physics._stale & mask:
+            physics._refresh()
+
+    def _read_mask(self) -> int:
+        self._names()  # re-resolves the mask when the model changed
+        if self._mask is None:
+            field, model = self._field, self._physics._model
+            if field.name == "sensordata":
+                stage = tracking.sensor_stage(model, np.arange(model.nsensor))
+            elif field.name in tracking.ON_DEMAND:
+                self._physics._compute_on_demand(field.name)
+                stage = tracking.Stage.ACCELERATION
+            else:
+                stage = tracking.field_stage(field)
+            self._mask = binding_module.READ_MASK[stage]
+        return self._mask
 
     @property
     def axes(self) -> Axes:
@@ -145,13 +178,20 @@ class FieldIndexer:
     @property
     def shape(self) -> tuple[int, ...]:
         """The shape of the whole array."""
-        return self.array.shape
+        return self._raw().shape
 
     def __len__(self) -> int:
-        return len(self.array)
+        return len(self._raw())
 
     def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
         return np.array(self.array, dtype=dtype, copy=copy)
+
+    def _target(self, key: Any, given: Any) -> binding_module.Target:
+        """How to write rows `key` (resolved from the user's `given`)."""
+        return binding_module.Target(
+            self._physics, self._raw(), key, self._field, self._read_mask(),
+            lambda: f"{self._field.name}[{given!r}]",
+        )  # fmt: skip
 
     def _names(self) -> _NameTable:
         # Re-resolve when the physics holds another model than the one the names came from.
@@ -159,42 +199,61 @@ class FieldIndexer:
         if self._table is None or self._table_model is not model:
             self._table = _NameTable(model, self._field)
             self._table_model = model
+            self._mask = None
         return self._table
 
     def _resolve(self, key: Any) -> Any:
-        """Translate names in `key` (first axis only) to numpy row indices."""
+        """Translate names in `key` to numpy indices: object names on the first axis,
+        column names (mjcf.fields.column_names) on the second."""
         if isinstance(key, tuple):
-            return (self._resolve(key[0]), *key[1:]) if key else key
+            if not key:
+                return key
+            rows = self._resolve(key[0])
+            if len(key) > 1 and _has_name(key[1]):
+                return (rows, self._columns(key[1]), *key[2:])
+            return (rows, *key[1:])
         if isinstance(key, str):
             return self._names().key(key, self._field.name)
         if isinstance(key, np.ndarray) and key.dtype.kind in "US":
-            return self._names().rows(key.tolist(), self._field.name)
+            rows = self._names().rows(key.reshape(-1).tolist(), self._field.name)
+            # One row per name keeps the key's shape, for broadcasting against columns.
+            return rows.reshape(key.shape) if rows.size == key.size else rows
         if isinstance(key, list) and any(isinstance(k, str) for k in key):
             return self._names().rows(key, self._field.name)
         return key
 
+    def _columns(self, key: Any) -> Any:
+        try:
+            return binding_module.resolve_columns(self._field, key)
+        except errors.BindingError as e:
+            raise errors.NotFoundError(str(e)) from None
+
     def __getitem__(self, key: Any) -> Any:
-        """Rows by name, list of names, int, slice or mask; raises NotFoundError for a name."""
-        array = self.array
+        """Rows by name, list of names, int, slice or mask (and columns by index or name);
+        raises NotFoundError for an unknown name, BindingError for a bad index."""
+        self._refresh()
+        array = self._raw()
         resolved = self._resolve(key)
         try:
-            return array[resolved]
+            target = self._target(resolved, key)
+            if target.effect not in (tracking.Effect.MODEL, tracking.Effect.MODEL_CONSTANT):
+                return array[resolved]  # plain numpy, as bindings' MjData fields
+            out = array.view(binding_module.WriteThrough)[resolved]
         except IndexError as e:
             raise errors.BindingError(f"{self._field.name}[{key!r}]: {e}") from e
+        if not isinstance(out, np.ndarray):
+            return out  # one number: a copy, like numpy's scalars
+        target.fancy = not np.may_share_memory(out, array)
+        out._writeback = (target,)
+        return out
 
     def __setitem__(self, key: Any, value: Any) -> None:
         """Write rows selected as in __getitem__; raises BindingError for a shape mismatch."""
-        array = self.array
         resolved = self._resolve(key)
         try:
-            array[resolved] = value
+            self._target(resolved, key).write(value)
         except IndexError as e:
             raise errors.BindingError(f"{self._field.name}[{key!r}]: {e}") from e
-        except (ValueError, TypeError) as e:
-            raise errors.BindingError(
-                f"cannot write {np.shape(value)}-shaped values to {self._field.name}[{key!r}] "
-                f"of shape {np.shape(array[resolved])}: {e}"
-            ) from e
 
     def __repr__(self) -> str:
         field = self._field
@@ -219,6 +278,14 @@ class FieldIndexer:
             )
             lines.append(f"{row:>5}  {label:<{width}}  {value}")
         return "\n".join(lines)
+
+
+def _has_name(key: Any) -> bool:
+    if isinstance(key, str):
+        return True
+    if isinstance(key, list | tuple):
+        return any(isinstance(k, str) for k in key)
+    return isinstance(key, np.ndarray) and key.dtype.kind in "US"
 
 
 class StructView:

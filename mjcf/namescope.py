@@ -1,10 +1,21 @@
 """Name scopes: the names of one model's elements, by namespace, and the scopes of the
-models attached to it.
+models attached to it. The one owner of the rules for names: what a valid name is, that
+a name is unique in its namespace, and how adding, renaming and removing one changes
+the scope. Elements, the parser and copies ask it; nothing else edits its tables.
+
+    scope = model.namescope
+    scope.get('joint', 'arm/shoulder')           # scoped names reach attached models
+    scope.check_free('geom', 'tip', geom)        # NameClashError if another geom has it
+    scope.add('geom', 'tip', geom)               # what Element does when a name is set
+    scope.rename('geom', 'tip', 'pad', geom)
+    scope.remove('geom', 'pad', geom)
 
 Every `RootElement` owns one `NameScope`. Names are unique within a namespace of one
 scope ('body', 'geom', 'actuator', ...); an attached model keeps its own scope, which is
 registered in its parent's under the child model's name. MuJoCo sees scoped names:
 `arm/gripper/pad` is the element named 'pad' in the scope 'gripper' attached into 'arm'.
+A name as an element stores it may hold an escaped separator ('a\\/b', read with
+`escape_separators`); the scope knows it as MuJoCo sees it ('a/b').
 """
 
 from __future__ import annotations
@@ -18,36 +29,34 @@ if TYPE_CHECKING:
 
 PREFIX_SEPARATOR = "/"
 WORLD = "world"  # MuJoCo's name of the world body, shared by every model
+_ESCAPED_SEPARATOR = "\\" + PREFIX_SEPARATOR
+# Asset elements that MuJoCo names after their file when they have no name.
+NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 
 
 class NameScope:
     """The namespaces of one model, and the scopes of the models attached to it."""
 
-    __slots__ = ("_children", "_namespaces", "model", "parent")
+    __slots__ = ("_children", "_namespaces", "has_escaped_names", "model", "parent")
 
     def __init__(self, model: Element) -> None:
         self._namespaces: dict[str, dict[str, Element]] = {}
         self._children: dict[str, NameScope] = {}
         self.parent: NameScope | None = None
         self.model = model
+        # True once a name written differently from how it is stored ('a\\/b') was added.
+        self.has_escaped_names = False
 
     @property
     def name(self) -> str:
         """The model name, which is this scope's name inside its parent scope."""
         return self.model.model
 
-    def namespace(self, namespace: str) -> dict[str, Element]:
-        """The live `{name: element}` dict of one namespace (created empty on demand)."""
-        names = self._namespaces.get(namespace)
-        if names is None:
-            names = self._namespaces[namespace] = {}
-        return names
+    # -- the names of this model's elements -----------------------------------------------
 
     def get(self, namespace: str, name: str) -> Element | None:
         """The element called `name` (possibly scoped 'child/name') or None. The world
         body is the body called 'world'."""
-        if name == WORLD and namespace == "body":
-            return self.model.worldbody
         scope = self
         if PREFIX_SEPARATOR in name:
             *path, name = split_identifier(name)
@@ -55,25 +64,65 @@ class NameScope:
                 scope = scope._children.get(part)
                 if scope is None:
                     return None
-        names = scope._namespaces.get(namespace)
+        return scope._holder(namespace, name)
+
+    def _holder(self, namespace: str, name: str) -> Element | None:
+        if name == WORLD and namespace == "body":
+            return self.model.worldbody
+        names = self._namespaces.get(namespace)
         return None if names is None else names.get(name)
 
-    def register(self, namespace: str, name: str, element: Element) -> None:
-        """Record `element` under `name`; raises mjcf.NameError if the name is taken."""
-        names = self.namespace(namespace)
-        existing = names.get(name)
-        if existing is not None and existing is not element:
-            raise errors.NameError(
-                f"{element.path}: the name {name!r} is already used by another "
-                f"{namespace} in model {self.name!r}: {existing.path}"
+    def check_free(
+        self, namespace: str, name: str, claimant: Element, renaming: bool = False
+    ) -> None:
+        """Raise mjcf.NameClashError, naming `claimant`, if `name` (as an element stores
+        it) is taken in `namespace`; when `renaming`, a name `claimant` holds already is
+        free for it."""
+        existing = self._holder(namespace, unescape(name))
+        if existing is not None and not (renaming and existing is claimant):
+            raise errors.NameClashError(
+                f"{claimant.path}: the name {name!r} is already used by another {namespace} "
+                f"in model {self.name!r}: {existing.path}"
             )
-        names[name] = element
 
-    def unregister(self, namespace: str, name: str, element: Element) -> None:
+    def add(self, namespace: str, name: str, element: Element, implicit: bool = False) -> None:
+        """Record `element` under `name` (as it stores it); raises mjcf.NameClashError
+        if another element has it. An `implicit` name, which MuJoCo gives an unnamed
+        asset after its file, never clashes: the first element keeps it (MuJoCo reports
+        repeated file names itself)."""
+        names = self._namespaces.get(namespace)
+        if names is None:
+            names = self._namespaces[namespace] = {}
+        if implicit:
+            names.setdefault(name, element)
+            return
+        key = name
+        if _ESCAPED_SEPARATOR in name:
+            key = unescape(name)
+            self.has_escaped_names = True
+        existing = names.get(key)
+        if existing is None and key == WORLD:
+            existing = self._holder(namespace, key)
+        if existing is not None and existing is not element:
+            self.check_free(namespace, name, element)  # raises, naming both
+        names[key] = element
+
+    def remove(self, namespace: str, name: str, element: Element) -> None:
         """Forget `name` if it still belongs to `element`."""
         names = self._namespaces.get(namespace)
-        if names is not None and names.get(name) is element:
-            del names[name]
+        key = unescape(name)
+        if names is not None and names.get(key) is element:
+            del names[key]
+
+    def rename(self, namespace: str, old: str | None, new: str | None, element: Element) -> None:
+        """Move `element` from name `old` to `new` (either may be None: no name); raises
+        mjcf.NameClashError, changing nothing, if `new` is taken."""
+        if new is not None:
+            self.check_free(namespace, new, element, renaming=True)
+        if old is not None:
+            self.remove(namespace, old, element)
+        if new is not None:
+            self.add(namespace, new, element)
 
     # -- attached scopes ------------------------------------------------------------------
 
@@ -81,20 +130,44 @@ class NameScope:
         """The scope of the attached model called `name`, or None."""
         return self._children.get(name)
 
+    def descendant(self, identifier: str) -> NameScope | None:
+        """The scope of the model attached inside this one under the scoped name
+        `identifier` ('arm', or 'arm/gripper' for one attached inside it), or None."""
+        scope: NameScope | None = self
+        for part in split_identifier(identifier):
+            scope = scope._children.get(part)
+            if scope is None:
+                return None
+        return scope
+
     @property
     def children(self) -> dict[str, NameScope]:
         """Scopes of the models attached directly to this one, by model name."""
         return self._children
 
-    def add_child(self, scope: NameScope) -> None:
-        """Register an attached model's scope; raises mjcf.NameError on a name clash."""
-        name = scope.name
+    def check_child_free(self, name: str) -> None:
+        """Raise mjcf.NameClashError if a model called `name` is attached to this one."""
         if name in self._children:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"a model named {name!r} is already attached to model {self.name!r}; "
                 "give the child model a distinct name (RootElement(model=...))"
             )
-        self._children[name] = scope
+
+    def free_child_name(self, name: str) -> str:
+        """`name` if no model attached here has it, else the first free 'name_1',
+        'name_2', ... (dm_control's names for the same model file attached twice)."""
+        if name not in self._children:
+            return name
+        number = 1
+        while f"{name}_{number}" in self._children:
+            number += 1
+        return f"{name}_{number}"
+
+    def add_child(self, scope: NameScope) -> None:
+        """Register an attached model's scope; raises mjcf.NameClashError on a name
+        clash."""
+        self.check_child_free(scope.name)
+        self._children[scope.name] = scope
         scope.parent = self
 
     def remove_child(self, scope: NameScope) -> None:
@@ -112,7 +185,7 @@ class NameScope:
             parts.append(scope.name)
             scope = scope.parent
         if relative_to is not None and scope is not relative_to:
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"model {self.name!r} is not attached inside model {relative_to.name!r}"
             )
         return "".join(part + PREFIX_SEPARATOR for part in reversed(parts))
@@ -126,9 +199,43 @@ class NameScope:
         return scope
 
 
+def check_identifier(name: str, element: Element) -> None:
+    """Raise mjcf.NameClashError if `name`, a name of `element`, holds the separator of
+    scoped names unescaped."""
+    if PREFIX_SEPARATOR in name.replace(_ESCAPED_SEPARATOR, ""):
+        raise errors.NameClashError(
+            f"{element.path}: name {name!r} contains {PREFIX_SEPARATOR!r}, which separates "
+            "the names of attached models; write it as '\\/' (or parse with "
+            "escape_separators=True)"
+        )
+
+
+def check_model_name(name: object) -> str:
+    """`name` if it can name a model (a scope); raises mjcf.NameClashError otherwise."""
+    if not isinstance(name, str) or not name:
+        raise errors.NameClashError(f"a model name must be a non-empty string, got {name!r}")
+    if PREFIX_SEPARATOR in name:
+        raise errors.NameClashError(
+            f"model name {name!r} contains '/', which separates the names of attached models"
+        )
+    return name
+
+
+def name_from_file(value: object) -> str | None:
+    """The name MuJoCo gives an unnamed mesh, texture, height field or skin: its file
+    name without folder and extension; None without a file."""
+    if value is None:
+        return None
+    path = value if isinstance(value, str) else getattr(value, "name", None)
+    if not path:
+        return None
+    base = path.replace("\\", "/").rsplit("/", 1)[-1]
+    return base.rsplit(".", 1)[0] if "." in base else base
+
+
 def unescape(name: str) -> str:
     """The name MuJoCo sees: an escaped separator '\\/' is a plain '/'."""
-    return name.replace("\\" + PREFIX_SEPARATOR, PREFIX_SEPARATOR)
+    return name.replace(_ESCAPED_SEPARATOR, PREFIX_SEPARATOR)
 
 
 def split_identifier(identifier: str) -> list[str]:

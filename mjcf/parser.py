@@ -21,10 +21,10 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, errors
+from mjcf import debugging, default_sections, errors, naming
 from mjcf import values as _values
 from mjcf.element import Element
-from mjcf.namescope import PREFIX_SEPARATOR, unescape
+from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
 
 _MAX_INCLUDES = 1000
@@ -82,6 +82,8 @@ def from_path(
     )
 
 
+# The parameters repeat from_xml_string's on purpose: both are dm_control's signatures,
+# which code calls with positional arguments.
 def from_file(
     file_object: IO,
     escape_separators: bool = False,
@@ -126,7 +128,7 @@ def _parse(
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
-            raise errors.NameError(
+            raise errors.NameClashError(
                 f"{_where(filename, xml_root)}: model name {name!r} contains '/', which "
                 "separates the names of attached models"
             )
@@ -135,6 +137,7 @@ def _parse(
     object.__setattr__(root, "_confine_to", confine)
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
+    builder.link_unnamed()
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -251,15 +254,20 @@ class _Builder:
         self.escape = escape_separators
         self.with_references: list[Element] = []
         self.generated_names = False  # <replicate>/<attach> make names we do not see
+        # Elements written with a name mjcf generated ('//unnamed_geom_0'), which are
+        # read back unnamed, and the elements whose references name one.
+        self.unnamed: dict[tuple[str, str], Element] = {}
+        self.to_unnamed: list[Element] = []
 
     def build(self, xml_root: etree._Element) -> None:
         root = self.root
         for name in xml_root.attrib:
             if name != "model" and not name.startswith("{"):
-                raise errors.AttributeError(
+                raise errors.UnknownAttributeError(
                     f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
                 )
         sections = {section.tag: section for section in root._children}
+        seen: set[str] = set()
         for xml_section in xml_root:
             tag = xml_section.tag
             if not isinstance(tag, str):
@@ -274,7 +282,17 @@ class _Builder:
             if tag == "default" and attrib.get("class") in ("main", None):
                 attrib.pop("class", None)
             self._set_attributes(section, attrib, xml_section, merge=True)
-            self._children(section, xml_section)
+            if tag == "default" and tag in seen:
+                default_sections.merge_section(
+                    section,
+                    xml_section,
+                    self._set_attributes,
+                    self._children,
+                    lambda xml: _where(self.filename, xml),
+                )
+            else:
+                self._children(section, xml_section)
+            seen.add(tag)
 
     def _set_attributes(
         self, element: Element, attrib: dict, xml: etree._Element, merge: bool = False
@@ -287,15 +305,24 @@ class _Builder:
                 if name.startswith("{"):  # namespaced, e.g. xsi:noNamespaceSchemaLocation
                     del attrib[name]
                     continue
-                raise errors.AttributeError(
+                raise errors.UnknownAttributeError(
                     f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> has no attribute "
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
             kind = attribute.kind
-            if kind == "identifier" or kind == "reference":
-                if not text and kind == "identifier" and not attribute.required:
-                    del attrib[name]  # MuJoCo reads an empty name as no name
-                    continue
+            if kind == "identifier" and not text and not attribute.required:
+                del attrib[name]  # MuJoCo reads an empty name as no name
+            elif (
+                kind == "identifier"
+                and text[:2] == "//"
+                and spec.namespace
+                and naming.GENERATED.fullmatch(text)
+            ):
+                self.unnamed[(spec.namespace, text)] = element
+                del attrib[name]
+            elif kind == "reference":
+                attrib[name] = self._reference_text(element, attribute, text, xml)
+            elif kind == "identifier":
                 attrib[name] = self._name_text(element, attribute, text, xml)
             elif attribute.checks_text:
                 try:
@@ -304,26 +331,34 @@ class _Builder:
                     raise errors.AttributeValueError(
                         f"{_where(self.filename, xml)}: {element.path}: {name!r} {error}"
                     ) from None
-        for name in spec.required:
-            if name not in attrib and (not merge or name not in element._attrs):
-                raise errors.AttributeValueError(
-                    f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> requires the "
-                    f"attribute {name!r}"
-                )
         if merge:
             element._attrs.update(attrib)
         else:
             object.__setattr__(element, "_attrs", attrib)
-        for rule in spec.rules:
-            if rule.broken_by(element._attrs):
+        if spec.required or spec.rules:
+            problem = spec.unmet(element._attrs)
+            if problem is not None:
                 raise errors.AttributeValueError(
-                    f"{_where(self.filename, xml)}: {element.path}: {rule.describe()}"
+                    f"{_where(self.filename, xml)}: {element.path}: {problem}"
                 )
+
+    def _reference_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+        if "//" not in text:  # no generated name: the common case
+            return self._name_text(element, attribute, text, xml)
+        items = text.split() if attribute.is_list else [text]
+        generated = [naming.GENERATED.fullmatch(item) is not None for item in items]
+        if not any(generated):
+            return self._name_text(element, attribute, text, xml)
+        self.to_unnamed.append(element)
+        return " ".join(
+            item if is_generated else self._name_text(element, attribute, item, xml)
+            for item, is_generated in zip(items, generated, strict=True)
+        )
 
     def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
         if PREFIX_SEPARATOR in text:
             if not self.escape:
-                raise errors.NameError(
+                raise errors.NameClashError(
                     f"{_where(self.filename, xml)}: {element.path}: {attribute.name!r} is "
                     f"{text!r}, which contains '/', the separator of attached models' names; "
                     "parse with escape_separators=True to keep it"
@@ -331,10 +366,9 @@ class _Builder:
             text = text.replace(PREFIX_SEPARATOR, "\\" + PREFIX_SEPARATOR)
         return text
 
-    def _children(self, parent: Element, xml_parent: etree._Element) -> None:
+    def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
         specs = parent._spec.children
         root = self.root
-        scope = root.namescope
         make = Element._make
         filename = self.filename
         singles: set[str] | None = None  # tags of this XML parent that may appear once
@@ -377,24 +411,34 @@ class _Builder:
                 self._set_attributes(element, dict(attrib), xml)
                 if spec.references and not spec.references.isdisjoint(element._attrs):
                     self.with_references.append(element)
-            elif spec.required or spec.needs_rules:
+            elif spec.checked_on_write:
                 self._set_attributes(element, {}, xml)  # raises: something is missing
             parent._children.append(element)
-            namespace = spec.namespace
-            if namespace is not None:
-                name = element.identifier
-                if name:  # an empty name (kept where required) is no name
-                    if element._implicit():
-                        scope.namespace(namespace).setdefault(name, element)
-                    else:
-                        try:
-                            scope.register(namespace, unescape(name), element)
-                        except errors.NameError as error:
-                            raise errors.NameError(f"{_where(filename, xml)}: {error}") from None
-                        if self.escape and "\\" in name:
-                            object.__setattr__(root, "_escaped_names", True)
+            if spec.namespace is not None:
+                try:
+                    element._register()
+                except errors.NameClashError as error:
+                    raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
                 self._children(element, xml)
+
+    def link_unnamed(self) -> None:
+        """References that name an element by the name mjcf generated for it point at
+        that element, which is read back unnamed."""
+        for element in self.to_unnamed:
+            attrs = element._attrs
+            for name in element._spec.references.intersection(attrs):
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                text = attrs[name]
+                if namespace is None or not isinstance(text, str):
+                    continue
+                items = text.split() if attribute.is_list else [text]
+                targets = [self.unnamed.get((namespace, item), item) for item in items]
+                if attribute.is_list:
+                    attrs[name] = targets
+                elif isinstance(targets[0], Element):
+                    attrs[name] = targets[0]
 
     def _merge(self, element: Element, xml: etree._Element) -> None:
         """Apply a later copy of an element that may appear once (a second `<map>` in a
@@ -425,21 +469,29 @@ class _Builder:
                     _assets.file_path(element, value)
 
     def check_references(self) -> None:
-        """Raise mjcf.ReferenceError for references to elements that do not exist."""
+        """Raise mjcf.InvalidReferenceError for references to elements that do not exist."""
         if self.generated_names:
             return
         scope = self.root.namescope
         dangling = []
         for element in self.with_references:
+            if element._spec.key.startswith("default-"):
+                continue  # resolved where an element uses the class, as MuJoCo does
             attrs = element._attrs
             for name in element._spec.references.intersection(attrs):
                 attribute = element._spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 if namespace is None:
                     continue
-                targets = attrs[name].split() if attribute.is_list else [attrs[name]]
+                value = attrs[name]
+                if isinstance(value, Element):
+                    continue
+                if isinstance(value, list):
+                    targets = value
+                else:
+                    targets = value.split() if attribute.is_list else [value]
                 for target in targets:
-                    if namespace == "default" and target == "main":
+                    if isinstance(target, Element) or (namespace == "default" and target == "main"):
                         continue
                     if not target and namespace != "default":
                         continue  # no reference, as MuJoCo reads an empty one
@@ -451,6 +503,6 @@ class _Builder:
             shown = "; ".join(dangling[:5]) + (
                 f"; and {len(dangling) - 5} more" if len(dangling) > 5 else ""
             )
-            raise errors.ReferenceError(
+            raise errors.InvalidReferenceError(
                 f"{self.filename or '<string>'}: dangling references: {shown}"
             )

@@ -6,16 +6,25 @@
     physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
     hips = physics.bind_names(mujoco.mjtObj.mjOBJ_JOINT, ["right_hip_x", "right_hip_y"])
     hips.qpos = [0.1, 0.2]                              # live views; see mjcf.binding
+    physics.named.data.xpos["torso", "z"]               # forwards first: hips moved
+    physics.set_control(u)
     with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
-        physics.step(10)
+        physics.step(10)                                # positions, sensors: of the new state
+    state = physics.get_state()                         # qpos, qvel, act (+ plugin state)
     frame = physics.render(240, 320, camera_id=-1)      # needs MUJOCO_GL=egl when headless
     clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
 
-`model` and `data` are the raw `mujoco.MjModel` / `MjData`; they stay the same objects for the
-life of the physics (reset works in place), so bindings and views stay valid. `copy()` and
-unpickling give a physics with its own MjData (and MjModel, unless shared). Subclasses (e.g.
-composer's) keep their extra attributes, bindings included, through `copy()` and pickling;
-they override nothing to get that, as long as their attributes are picklable.
+`model` and `data` are the raw `mujoco.MjModel` / `MjData` (with dm_control's `.ptr`,
+`name2id` and `id2name`, see `mjcf.raw_access`); they stay the same objects for the life of
+the physics (reset works in place), so bindings and views stay valid. `copy()` and unpickling
+give a physics with its own MjData (and MjModel, unless shared). Subclasses (e.g. composer's)
+keep their extra attributes, bindings included, through `copy()` and pickling; they override
+nothing to get that, as long as their attributes are picklable.
+
+Fresh values: after `step()`, `forward()` and `reset()`, and after writes through bindings or
+`named` (tracked, see `mjcf.binding`), what bindings and named access read is what
+`mj_forward` would compute for the current state. Writes straight into `data` or `model` are
+MuJoCo's own business: call `forward()` (or `mark_as_dirty()`) after them.
 
 Stepping does not check for divergence (a check costs about two microseconds): call
 `check_invalid_state()` or step inside `check_divergence()` where it matters.
@@ -25,36 +34,42 @@ from __future__ import annotations
 
 import contextlib
 import copy as copy_module
-import ctypes.util
 import difflib
-import math
 import os
-import platform
 import weakref
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
 
 from mjcf import binding as binding_module
-from mjcf import compiler, errors, fields, named, tree_binding
+from mjcf import (
+    compiler,
+    errors,
+    fields,
+    named,
+    raw_access,
+    rendering,
+    tracking,
+    tree_binding,
+    validity,
+)
+from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITTEN
+from mjcf.element import Element as ElementType
+from mjcf.physics_state import STATE_WRITE, StateAccess
 
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
 
-# MuJoCo warnings that mean the state was invalid: non-finite or huge qpos/qvel, bad qacc
-# (the solver or integrator diverged; MuJoCo then resets the data itself), bad controls;
-# each with the array whose index the warning's lastinfo reports.
-_INVALID_STATE_WARNINGS = {
-    mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
-    mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
-    mujoco.mjtWarning.mjWARN_BADQACC: "qvel",
-    mujoco.mjtWarning.mjWARN_BADCTRL: "ctrl",
-}
-_INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
+raw_access.install()
+
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+# As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.
+_RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
+_FWDINV = int(mujoco.mjtEnableBit.mjENBL_FWDINV)
+_VEL = int(mujoco.mjtStage.mjSTAGE_VEL)
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
 _TRANSIENT = (
@@ -66,24 +81,48 @@ _TRANSIENT = (
     "_live_bindings",
     "_named",
     "_renderers",
+    "_stale",
+    "_on_demand",
+    "_scratch",
+    "_opt",
+    "_state_check",
 )
 # Attributes a copy shares with its original instead of copying: the model tree a
 # physics was compiled from (bind(element) needs the user's own element objects).
 _SHARED = ("_compiled",)
 
 
-class Physics:
-    """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name."""
+class Physics(StateAccess):
+    """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name.
+
+    `legacy_step` (dm_control's flag, True by default) picks how `step()` leaves MjData: True,
+    consistent with the new state; False, as a plain `mj_step` leaves it (see `step`). The
+    state accessors (`get_state`, `set_control`, `position` ...) are `StateAccess`'s.
+
+    Internal protocol, for bindings, named access and validity checks (the only mjcf modules
+    that use it; tests/mjcf/test_architecture.py holds them to it): they read `_model`,
+    `_data` and `_stale` (the bits of `mjcf.binding`), set bits of `_stale` after a write,
+    call `_refresh()` before a read `_stale` says is behind, `_compute_on_demand(field)`
+    for a field MuJoCo computes only for sensors, `_update_constants(undo, what)` after
+    writing an input of mj_setConst, and `_raise_if_invalid()`. A binding adds itself to
+    `_live_bindings`, whose `_detach()` the physics calls before it changes MjData.
+    """
+
+    legacy_step: bool = True
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
-        """Wrap `model` and `data` (a new MjData, forwarded, if None)."""
+        """Wrap `model` and `data` (a new MjData, forwarded, if None; a given MjData is
+        forwarded before its derived fields are first read through bindings)."""
+        stale = POS_BEHIND | ACC_BEHIND
         if data is None:
             data = mujoco.MjData(model)
             mujoco.mj_forward(model, data)
-        self._attach(model, data)
+            stale = 0
+        self._attach(model, data, stale)
 
-    def _attach(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        """Hold `model` and `data`, dropping every cache built for the previous ones.
+    def _attach(self, model: mujoco.MjModel, data: mujoco.MjData, stale: int = 0) -> None:
+        """Hold `model` and `data`, dropping every cache built for the previous ones;
+        `stale` says what of `data` is not up to date (bits of `mjcf.binding`).
 
         The one place a physics changes its MjModel/MjData. Bindings made before then read
         the new MjData if the model is the same, else raise BindingError; named views
@@ -96,11 +135,16 @@ class Physics:
             binding._detach()
         self._model = model
         self._data = data
+        self._opt = model.opt  # a live view; cached because each `model.opt` makes one
         self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
+        self._stale = stale
+        self._on_demand: tuple[Any, ...] = ()  # mj_ functions bound fields need run
+        self._scratch: mujoco.MjData | None = None  # for mj_setConst, which clobbers data
         self._bindings: dict[tuple, binding_module.Binding] = {}
         self._element_bindings: dict[object, binding_module.Binding] = {}
         self._named: named.NamedAccess | None = None
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+        self._state_check = validity.StateCheck(self)
 
     # -- construction --------------------------------------------------------------------
 
@@ -137,36 +181,50 @@ class Physics:
         physics._compiled = compiled
         return physics
 
-    def reload_from_mjcf_model(self, mjcf_model: RootElement) -> None:
-        """Recompile `mjcf_model` into this physics, keeping time and the state of the
-        joints, actuators and mocap bodies that still exist; bindings made before must
-        be made again. Raises CompileError (and then changes nothing)."""
+    def reload_from_mjcf_model(self, mjcf_model: RootElement, keep_state: bool = False) -> None:
+        """Recompile `mjcf_model` into this physics, with fresh data (time 0, the model's
+        initial state), as `from_mjcf_model` would give; `keep_state=True` keeps time and
+        the state of the joints, actuators and mocap bodies that still exist instead.
+        Bindings made before must be made again. Raises CompileError (and then changes
+        nothing)."""
         compiled = compiler.compile_composition(mjcf_model)
         data = mujoco.MjData(compiled.model)
-        unnamed = compiler.unnamed_pairs(self.__dict__.get("_compiled"), compiled)
-        tree_binding.transfer_state(self._model, self._data, compiled.model, data, unnamed)
+        if keep_state:
+            unnamed = compiler.unnamed_pairs(self.__dict__.get("_compiled"), compiled)
+            tree_binding.transfer_state(self._model, self._data, compiled.model, data, unnamed)
         mujoco.mj_forward(compiled.model, data)
         self.close()
         self._attach(compiled.model, data)
         self._compiled = compiled
 
-    def bind(self, elements: Element | Sequence[Element]) -> binding_module.Binding:
+    def bind(self, elements: Element | Iterable[Element] | None) -> Any:
         """Live access to the simulation fields of model elements: `bind(joint).qpos`,
-        `bind(bodies).xpos`, `bind(actuators).ctrl = u`. One element gives fields without
-        the leading element axis. The binding is made once and cached. Raises
-        BindingError for elements of another model, removed elements, an empty list or
-        mixed kinds."""
-        key = elements if not isinstance(elements, list | tuple) else tuple(elements)
+        `bind(bodies).xpos`, `bind(actuators).ctrl = u` (see `mjcf.binding`).
+
+        `elements` is one element (fields without the leading element axis), or a list,
+        tuple, numpy object array or any iterable of elements of one kind. No elements give
+        an empty binding whose fields read as empty arrays; None gives None. On a physics
+        compiled from the elements' model they are found by their compiled index, unnamed
+        ones too; otherwise (`from_xml_string(model.to_xml_string())`, `from_xml_path`,
+        `from_model` ...) by their full identifiers, as dm_control does. The binding is
+        made once and cached. Raises BindingError for elements the compiled model does not
+        have (naming them), removed elements, or mixed kinds."""
+        if elements is None:
+            return None
+        single = isinstance(elements, ElementType)
+        try:
+            key = elements if single else tuple(elements)
+        except TypeError:
+            raise errors.BindingError(
+                f"bind() takes an element or an iterable of elements, got {type(elements).__name__}"
+            ) from None
         found = self._element_bindings.get(key)
         if found is not None:
             return found
+        if not key:
+            return binding_module.EMPTY
+        items = [elements] if single else list(key)
         compiled = self.__dict__.get("_compiled")
-        if compiled is None:
-            raise errors.BindingError(
-                "this physics was not compiled from an mjcf model (use Physics.from_mjcf_model)"
-            )
-        single = not isinstance(elements, list | tuple)
-        items = [elements] if single else list(elements)
         kind, ids = tree_binding.element_ids(compiled, self._model, items)
         found = self._binding(kind, int(ids[0]) if single else ids)
         self._element_bindings[key] = found
@@ -176,36 +234,141 @@ class Physics:
 
     @property
     def model(self) -> mujoco.MjModel:
-        """The raw mujoco.MjModel."""
+        """The raw mujoco.MjModel (`.ptr` gives it too, as dm_control's wrapper does)."""
         return self._model
 
     @property
     def data(self) -> mujoco.MjData:
-        """The raw mujoco.MjData."""
+        """The raw mujoco.MjData (`.ptr` gives it too, as dm_control's wrapper does)."""
         return self._data
 
     @property
     def named(self) -> named.NamedAccess:
-        """Named indexing: `physics.named.data.qpos['hip']`, `.model.geom_rgba['floor']`."""
+        """Named indexing: `physics.named.data.qpos['hip']`, `.model.geom_rgba['floor']`,
+        `.data.xpos['torso', 'z']`."""
         if self._named is None:
             self._named = named.NamedAccess(self)
         return self._named
 
-    def timestep(self) -> float:
-        """The simulation timestep in seconds (model.opt.timestep)."""
-        return float(self._model.opt.timestep)
+    @property
+    def is_dirty(self) -> bool:
+        """Whether state or model fields were written through bindings or named access
+        since the last `forward()` or `step()` (derived reads will forward first)."""
+        return bool(self._stale & WRITTEN)
 
-    def time(self) -> float:
-        """The simulation time in seconds (data.time)."""
-        return float(self._data.time)
+    def mark_as_dirty(self) -> None:
+        """Say the state changed behind the physics' back (e.g. written into `data`):
+        derived reads forward first and the next step starts with a full `mj_step`."""
+        self._stale |= STATE_WRITE
 
     def step(self, nstep: int = 1) -> None:
-        """Advance the simulation by `nstep` timesteps (mj_step); does not check divergence."""
-        mujoco.mj_step(self._model, self._data, nstep)
+        """Advance the simulation by `nstep` timesteps; does not check divergence.
+
+        With `legacy_step` True (the default, as in dm_control) the step leaves MjData
+        consistent with the new state: positions, velocities, contacts, tendon lengths and
+        position/velocity sensors are computed after the last integration (mj_step2, then
+        mj_step1, as dm_control splits it; for RK4, the acceleration stage and
+        mj_RungeKutta). This costs nothing over `mj_step`: the next step continues from those
+        stages. Acceleration-dependent fields (qacc, actuator_force, contact forces, touch
+        and accelerometer sensors) are recomputed at the new state when first read through
+        a binding or named access, so they match mj_forward too, where dm_control's are one
+        step old (and its contact forces can belong to other contacts); raw `data` keeps
+        the last step's until then, so call `forward()` before reading those from it. The
+        state itself is bit for bit what `mj_step` gives.
+
+        With `legacy_step` False this is a plain `mj_step`: derived fields describe the state
+        before the last integration, as with `mujoco.mj_step` and Gymnasium's MuJoCo envs.
+
+        Raises StateError for `nstep` below 1.
+        """
+        model, data = self._model, self._data
+        if nstep < 1:
+            raise errors.StateError(f"nstep must be at least 1, got {nstep!r}")
+        if not self.legacy_step:
+            mujoco.mj_step(model, data, nstep)
+            self._stale = LAGGING
+            return
+        if self._stale & (POS_BEHIND | LAGGING):
+            # The position/velocity stages do not describe this state: start from scratch.
+            mujoco.mj_step(model, data, nstep)
+        else:
+            opt = self._opt
+            if opt.integrator != _RK4:
+                mujoco.mj_step2(model, data)
+            elif opt.enableflags & _FWDINV:
+                mujoco.mj_step(model, data)  # mj_step also compares forward and inverse
+            else:
+                # mj_step2 has no RK4: finish this step's forward pass, then integrate.
+                mujoco.mj_forwardSkip(model, data, _VEL, 0)
+                mujoco.mj_checkAcc(model, data)
+                mujoco.mj_RungeKutta(model, data, 4)
+            if nstep > 1:
+                mujoco.mj_step(model, data, nstep - 1)
+        mujoco.mj_step1(model, data)
+        self._stale = ACC_BEHIND
 
     def forward(self) -> None:
-        """Recompute every derived quantity from the state (mj_forward)."""
+        """Recompute every derived quantity from the state (mj_forward); clears is_dirty."""
         mujoco.mj_forward(self._model, self._data)
+        self._computed()
+
+    def after_reset(self) -> None:
+        """dm_control's hook after a reset: forward with actuation disabled, so that no
+        actuator force is computed before a control was given. Acceleration-dependent
+        fields read through bindings are then recomputed with actuation."""
+        opt = self._opt
+        flags = opt.disableflags
+        opt.disableflags = flags | mujoco.mjtDisableBit.mjDSBL_ACTUATION
+        try:
+            mujoco.mj_forward(self._model, self._data)
+        finally:
+            opt.disableflags = flags
+        self._computed()
+        self._stale = ACC_BEHIND
+
+    def _computed(self) -> None:
+        """mj_forward just ran: compute the fields bindings asked for that MuJoCo computes
+        only on demand, and mark everything fresh."""
+        model, data = self._model, self._data
+        for compute in self._on_demand:
+            compute(model, data)
+        self._stale = 0
+
+    def _refresh(self) -> None:
+        """Bring derived fields up to the state: the acceleration stage alone when only it
+        is behind (after a step, or a control write), else a whole mj_forward."""
+        model, data = self._model, self._data
+        if self._stale & (POS_BEHIND | LAGGING):
+            mujoco.mj_forward(model, data)
+        else:
+            mujoco.mj_forwardSkip(model, data, _VEL, 0)
+        self._computed()
+
+    def _compute_on_demand(self, field: str) -> None:
+        """A binding reads `field`, which MuJoCo computes only for sensors that need it:
+        compute it after every forward pass from now on (and now, if the data is fresh)."""
+        compute = getattr(mujoco, tracking.ON_DEMAND[field][1])
+        if compute not in self._on_demand:
+            self._on_demand = (*self._on_demand, compute)
+            if not self._stale & (POS_BEHIND | ACC_BEHIND):
+                compute(self._model, self._data)
+
+    def _update_constants(self, undo: Any, what: str) -> None:
+        """A model field mj_setConst reads was written: recompute the model constants
+        derived from it (sameframe flags, bounding volumes, subtree masses ...). If MuJoCo
+        refuses the new value, call `undo`, restore the constants and raise BindingError."""
+        model = self._model
+        if self._scratch is None:
+            self._scratch = mujoco.MjData(model)
+        try:
+            mujoco.mj_setConst(model, self._scratch)
+        except mujoco.FatalError as e:
+            undo()
+            mujoco.mj_setConst(model, self._scratch)
+            raise errors.BindingError(
+                f"writing {what}: MuJoCo cannot update the model for the new value, so it "
+                f"was not applied: {e}"
+            ) from None
 
     def reset(self, keyframe: int | str | None = None) -> None:
         """Reset the state to qpos0, or to a keyframe (index or name), then forward.
@@ -216,7 +379,7 @@ class Physics:
             mujoco.mj_resetData(self._model, self._data)
         else:
             mujoco.mj_resetDataKeyframe(self._model, self._data, self._keyframe_id(keyframe))
-        mujoco.mj_forward(self._model, self._data)
+        self.forward()
 
     def _keyframe_id(self, keyframe: int | str) -> int:
         nkey = self._model.nkey
@@ -246,52 +409,27 @@ class Physics:
         self.forward()
         self.check_invalid_state()
 
-    def check_invalid_state(self) -> None:
+    def check_invalid_state(self) -> contextlib.AbstractContextManager[Physics]:
         """Raise PhysicsError if the state is invalid: MuJoCo flagged a bad qpos, qvel, qacc or
         ctrl since the last reset, or the last forward pass gave a non-finite qacc.
+
+        Also a context manager, as in dm_control: `with physics.check_invalid_state(): ...`
+        checks now and again when the block ends (like `check_divergence()`).
 
         For bad qpos/qvel/qacc MuJoCo has also reset the state itself, so the simulation did
         not continue from the bad values; the warning counters stay set until `reset()`.
         """
-        warnings = self._warnings
-        # any() over a list first: benign warnings aside, nothing is set, and this is cheapest.
-        if any(warnings.tolist()) and warnings[_INVALID_STATE_IDS].any():
-            found = []
-            for warning, field in _INVALID_STATE_WARNINGS.items():
-                if warnings[warning]:
-                    where = self._locate(field, self._data.warning[warning].lastinfo)
-                    found.append(f"{warning.name} x{warnings[warning]} ({where})")
-            raise errors.PhysicsError(
-                f"physics state is invalid at t={self.time():.6g}: MuJoCo reported "
-                f"{', '.join(found)}; reset the physics to continue"
-            )
-        # MuJoCo checks the state only when stepping; a state set since then and forwarded
-        # (reset_context) shows in qacc. The dot product is not finite if any entry is not,
-        # or above 1e154, far past MuJoCo's own 1e10 bound.
-        qacc = self._data.qacc
-        if not math.isfinite(qacc @ qacc):
-            bad = np.flatnonzero(~np.isfinite(qacc))
-            index = int(bad[0]) if bad.size else int(np.argmax(np.abs(qacc)))
-            raise errors.PhysicsError(
-                f"physics state is invalid at t={self.time():.6g}: qacc is not finite at "
-                f"{self._locate('qvel', index)}; was a NaN or infinite qpos/qvel set?"
-            )
+        self._raise_if_invalid()
+        return self._state_check
 
-    def _locate(self, field: str, index: int) -> str:
-        """'<field> index <i>, joint <name>': the object owning row `index` of qpos/qvel/ctrl."""
-        spec = fields.indexed_field(field)
-        starts, counts = fields.rows(self._model, spec.address)
-        owner = np.flatnonzero((starts <= index) & (index < starts + counts))
-        if owner.size == 0:
-            return f"{field} index {index}"
-        name = fields.names(self._model, spec.kind)[owner[0]] or f"#{owner[0]}"
-        return f"{field} index {index}, {fields.kind_name(spec.kind)} {name!r}"
+    def _raise_if_invalid(self) -> None:
+        validity.raise_if_invalid(self._model, self._data, self._warnings)
 
     @contextlib.contextmanager
     def check_divergence(self) -> Iterator[Physics]:
         """Run the block, then raise PhysicsError if the simulation became invalid in it."""
         yield self
-        self.check_invalid_state()
+        self._raise_if_invalid()
 
     # -- copies and pickling -------------------------------------------------------------
 
@@ -306,7 +444,7 @@ class Physics:
         data = mujoco.MjData(model)
         mujoco.mj_copyData(data, model, self._data)
         new = type(self).__new__(type(self))
-        new._attach(model, data)
+        new._attach(model, data, self._stale)
         memo = {id(self): new, id(self._model): model, id(self._data): data}
         for name in _SHARED:
             if name in self.__dict__:
@@ -389,33 +527,13 @@ class Physics:
         camera_id -1 is the free camera; a camera id or name picks a model camera.
         Raises RenderError when no OpenGL backend can be created or the request is invalid.
         """
-        renderer = self._renderer(int(height), int(width))
-        try:
-            renderer.update_scene(self._data, camera=camera_id, scene_option=scene_option)
-        except ValueError as e:
-            raise errors.RenderError(f"cannot render camera {camera_id!r}: {e}") from e
-        if depth:
-            renderer.enable_depth_rendering()
-        elif segmentation:
-            renderer.enable_segmentation_rendering()
-        try:
-            return renderer.render()
-        finally:
-            renderer.disable_depth_rendering()
-            renderer.disable_segmentation_rendering()
-
-    def _renderer(self, height: int, width: int) -> mujoco.Renderer:
-        renderer = self._renderers.get((height, width))
-        if renderer is not None:
-            return renderer
-        try:
-            renderer = mujoco.Renderer(self._model, height, width)
-        except ValueError as e:  # larger than the model's offscreen framebuffer
-            raise errors.RenderError(str(e)) from e
-        except (ImportError, OSError, RuntimeError, AttributeError, mujoco.FatalError) as e:
-            raise errors.RenderError(_no_backend_message(e)) from e
-        self._renderers[(height, width)] = renderer
-        return renderer
+        if self._stale & POS_BEHIND:
+            self._refresh()  # a picture of the state written, not of the one before
+        size = (int(height), int(width))
+        renderer = self._renderers.get(size)
+        if renderer is None:
+            renderer = self._renderers[size] = rendering.make_renderer(self._model, *size)
+        return rendering.render(renderer, self._data, camera_id, depth, segmentation, scene_option)
 
     def close(self) -> None:
         """Free the renderers' OpenGL resources; the physics itself stays usable."""
@@ -423,6 +541,19 @@ class Physics:
         for renderer in renderers.values():
             renderer.close()
         renderers.clear()
+
+    def free(self) -> None:
+        """Release the simulation: renderers, caches, and this physics' references to its
+        MjModel/MjData (freed when nothing else holds them). The physics must not be used
+        afterwards, as in dm_control."""
+        self.close()
+        for binding in self._live_bindings:
+            binding._detach()
+        for name in ("_compiled", "_named", "_scratch", "_warnings"):
+            self.__dict__.pop(name, None)
+        self._bindings.clear()
+        self._element_bindings.clear()
+        self._model = self._data = self._opt = None
 
     def __del__(self) -> None:
         self.close()
@@ -438,29 +569,3 @@ def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoc
 def _did_you_mean(name: str, names: Sequence[str]) -> str:
     close = difflib.get_close_matches(name, list(names), n=3)
     return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
-
-
-# The system library each MUJOCO_GL backend loads, and the Debian/Ubuntu packages providing it.
-_BACKEND_LIBRARIES = {
-    "egl": ("EGL", "libEGL.so.1", "libegl1 libegl-mesa0 libgl1"),
-    "osmesa": ("OSMesa", "libOSMesa.so", "libosmesa6"),
-    "glfw": ("GL", "libGL.so.1", "libgl1 libglfw3"),
-}
-
-
-def _no_backend_message(cause: BaseException) -> str:
-    """Why no OpenGL context could be made, naming the missing library and the fix."""
-    backend = os.environ.get("MUJOCO_GL", "").strip().lower() or "glfw"
-    lib, soname, packages = _BACKEND_LIBRARIES.get(backend, _BACKEND_LIBRARIES["glfw"])
-    if ctypes.util.find_library(lib) is None:
-        reason = f"{soname} is not installed (apt-get install {packages})"
-    elif backend == "glfw" and platform.system() == "Linux" and not os.environ.get("DISPLAY"):
-        reason = "GLFW needs a display and $DISPLAY is not set"
-    else:
-        reason = f"{type(cause).__name__}: {cause}"
-    return (
-        f"no OpenGL backend could be created with MUJOCO_GL={backend!r}: {reason}. "
-        "For headless rendering set MUJOCO_GL=egl (apt-get install libegl1 libegl-mesa0 "
-        "libgl1) or MUJOCO_GL=osmesa (apt-get install libosmesa6) before Python imports "
-        "mujoco."
-    )

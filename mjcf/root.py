@@ -14,11 +14,12 @@ empty sections are left out of the XML.
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 from mjcf import errors, schema
 from mjcf.element import Element
-from mjcf.namescope import NameScope
+from mjcf.namescope import NameScope, check_model_name
 
 DEFAULT_MODEL_NAME = "unnamed_model"
 
@@ -26,17 +27,24 @@ DEFAULT_MODEL_NAME = "unnamed_model"
 class RootElement(Element):
     """A whole MJCF model. `model` is its name (the scope name of its elements when
     it is attached to another model); `model_dir` is where its relative file names
-    are found; `assets` maps file names to contents for files that are not on disk."""
+    are found; `assets` maps file names to contents for files that are not on disk.
+
+    Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
+    top-level section) and `_version` (see `version`); `_frame` (where this model is
+    attached) and `_attachments` (the frames of the models attached to it) belong to
+    `mjcf.attachment`, which alone links and unlinks models; `_numbering` is
+    `mjcf.naming`'s cache of generated names; `_confine_to` (the folder `strict_paths`
+    confines files to) is set by the parser and read by `mjcf.assets`.
+    """
 
     __slots__ = (
         "_assets",
         "_attachments",
         "_confine_to",
-        "_escaped_names",
         "_frame",
         "_model_dir",
         "_namescope",
-        "_referenced_unnamed",
+        "_numbering",
         "_version",
     )
 
@@ -46,8 +54,7 @@ class RootElement(Element):
     _frame: Any
     _attachments: list[Any]
     _confine_to: str | None
-    _escaped_names: bool
-    _referenced_unnamed: set[Element]
+    _numbering: tuple[int, dict[Element, int]] | None
     _version: int
 
     def __init__(
@@ -69,26 +76,15 @@ class RootElement(Element):
         setter(self, "_attachments", [])
         # With strict_paths, the real folder that every file of the model must be in.
         setter(self, "_confine_to", None)
-        # True once a name with an escaped separator ('a\\/b') is in the model.
-        setter(self, "_escaped_names", False)
-        # Unnamed elements that references point at: they get generated names.
-        setter(self, "_referenced_unnamed", set())
+        # (version, {unnamed element: number}) for generated names (see mjcf.naming).
+        setter(self, "_numbering", None)
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
-            self._attrs["model"] = self._checked_model_name(model)
+            self._attrs["model"] = check_model_name(model)
         for section in schema.MUJOCO.children.values():
             self._children.append(Element._make(section, self, self))
         default = self._single_child("default")
         default._register()
-
-    def _checked_model_name(self, name: object) -> str:
-        if not isinstance(name, str) or not name:
-            raise errors.NameError(f"a model name must be a non-empty string, got {name!r}")
-        if "/" in name:
-            raise errors.NameError(
-                f"model name {name!r} contains '/', which separates the names of attached models"
-            )
-        return name
 
     @property
     def model(self) -> str:
@@ -112,14 +108,11 @@ class RootElement(Element):
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "model":
-            new = self._checked_model_name(value)
+            new = check_model_name(value)
             scope = self._namescope
             parent = scope.parent
             if parent is not None and new != self.model:
-                if parent.child(new) is not None:
-                    raise errors.NameError(
-                        f"a model named {new!r} is already attached to model {parent.name!r}"
-                    )
+                parent.check_child_free(new)
                 parent.remove_child(scope)
                 self._attrs["model"] = new
                 parent.add_child(scope)
@@ -141,7 +134,7 @@ class RootElement(Element):
         it (attributes set, deleted or edited in place, elements added or removed, models
         attached or detached): equal versions mean an unchanged model, so a compiled
         model can be reused."""
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> root
 
         return self._version + sum(m._version for m in attachment.attached_models(self))
 
@@ -157,21 +150,22 @@ class RootElement(Element):
     def detach(self) -> None:
         """Detach this model from the model it is attached to, leaving that model as it
         was before. Raises mjcf.AttachmentError if it is not attached."""
-        from mjcf import attachment
+        from mjcf import attachment  # cycle: attachment -> root
 
         attachment.detach(self)
 
-    def get_assets(self) -> dict[str, bytes]:
+    def get_assets(self, filename_with_hash: bool = False) -> dict[str, bytes]:
         """`{file name: contents}` of every file `to_xml_string()` refers to (meshes,
-        textures, ...), as `mujoco.MjModel.from_xml_string(xml, assets)` takes them.
-        Raises mjcf.AssetError if a file cannot be read."""
-        from mjcf import serializer
+        textures, ...), under the names it writes (unique as MuJoCo needs them), as
+        `mujoco.MjModel.from_xml_string(xml, assets)` takes them; `filename_with_hash`
+        as in `to_xml_string`. Raises mjcf.AssetError if a file cannot be read."""
+        from mjcf import serializer  # cycle: serializer -> attachment -> root
 
-        return serializer.serialize(self)[1]
+        return serializer.serialize(self, filename_with_hash=filename_with_hash)[1]
 
     def compile_model(self):
         """Compile this model (with attached models) into a new `mjcf.Physics`."""
-        from mjcf.physics import Physics
+        from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
 
         return Physics.from_mjcf_model(self)
 
@@ -181,6 +175,11 @@ class RootElement(Element):
         if section is None:
             self._child_spec(tag)  # raises with a suggestion
         return section
+
+    def __copy__(self) -> RootElement:
+        """`copy.copy(model)` is `copy.deepcopy(model)`, as in dm_control: an independent
+        copy, detached, with copies of the models attached to it."""
+        return copy.deepcopy(self)
 
     def __repr__(self) -> str:
         return f"MJCF RootElement: model {self.model!r}"

@@ -1,10 +1,13 @@
 """Writing a model as MJCF text, with its attached models composed in.
 
     xml = model.to_xml_string()                    # what a user saves or reads
-    xml, assets = serializer.serialize(model, for_compile=True)   # what MuJoCo compiles
+    xml, assets = serializer.serialize(model)      # with the files it names (get_assets)
+    xml, assets, composed, owners = serializer.serialize_for_compile(model)  # compiling
 
 Attribute text read from a file is written back unchanged; values set from Python
-are written with `precision` significant digits (17: exactly). Attached models are
+are written with `precision` significant digits (17: exactly). Asked for fewer digits,
+or to write numbers smaller than `zero_threshold` as 0, every real number is written
+so, as dm_control does, read from a file or not. Attached models are
 written where they are attached (`<frame>`, or `<body>` when the attachment frame has
 joints), their names scoped ('arm/shoulder'), their default classes isolated under a
 class named after their scope ('arm/'), their other sections appended after the
@@ -15,6 +18,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from mjcf import assets as _assets
 from mjcf import attachment, composition, errors
 from mjcf.values import escape
@@ -22,7 +27,7 @@ from mjcf.values import escape
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
-    from mjcf.schema import AttributeSpec
+    from mjcf.schema import AttributeSpec, ElementSpec
 
 # Sections in the order they are written: settings first, then what they affect.
 _SECTION_ORDER = (
@@ -37,13 +42,16 @@ _FRAME_SPEC = attachment.FRAME_SPEC
 
 
 def serialize(
-    root: RootElement, flat_assets: bool = False, precision: int = 17, pretty_print: bool = True
+    root: RootElement,
+    precision: int = 17,
+    pretty_print: bool = True,
+    zero_threshold: float = 0.0,
+    filename_with_hash: bool = False,
 ) -> tuple[str, dict[str, bytes]]:
-    """The XML of a whole model and the `{file name: contents}` its file attributes
-    name. `flat_assets` names every asset by a flat, unique file name (for export)
-    instead of a path that loads from disk."""
-    files = _assets.FileNamer(root, flat=flat_assets)
-    writer = _Writer(root, precision, pretty_print, files, for_compile=False)
+    """The XML of a whole model and the `{file name: contents}` of the files it names,
+    as `mujoco.MjModel.from_xml_string` takes them (see `mjcf.assets.FileNamer`)."""
+    files = _assets.FileNamer(root, hashed=filename_with_hash)
+    writer = _Writer(root, precision, pretty_print, files, False, zero_threshold)
     writer.write_root()
     return "".join(writer.parts), files.contents()
 
@@ -55,7 +63,7 @@ def serialize_for_compile(
     absolute path (MuJoCo reads them and caches their meshes) and other assets under a
     flat unique name, those assets, the composition (how elements are named), and the
     element written on each line."""
-    files = _assets.FileNamer(root, flat=True, by_path=True)
+    files = _assets.FileNamer(root, by_path=True)
     writer = _Writer(root, 17, True, files, for_compile=True)
     writer.write_root()
     return "".join(writer.parts), files.contents(), writer.composed, writer.owners
@@ -67,11 +75,13 @@ def to_xml_string(
     self_only: bool,
     pretty_print: bool,
     precision: int,
+    zero_threshold: float = 0.0,
+    filename_with_hash: bool = False,
 ) -> str:
     """XML text of `element` (see `Element.to_xml_string`)."""
     output_root = prefix_root or element.root
-    files = _assets.FileNamer(output_root, flat=False)
-    writer = _Writer(output_root, precision, pretty_print, files, for_compile=False)
+    files = _assets.FileNamer(output_root, hashed=filename_with_hash)
+    writer = _Writer(output_root, precision, pretty_print, files, False, zero_threshold)
     if element is output_root and not self_only:
         writer.write_root()
     else:
@@ -88,7 +98,7 @@ def attribute_text(
 ) -> str:
     """One attribute as it is written to XML."""
     output_root = prefix_root or element.root.namescope.root.model
-    writer = _Writer(output_root, 17, False, _assets.FileNamer(output_root, flat=False), False)
+    writer = _Writer(output_root, 17, False, _assets.FileNamer(output_root), False)
     return writer.value_text(
         element, attribute, element._attrs[attribute.name], writer.context_of(element.root)
     )
@@ -104,18 +114,23 @@ class _Writer:
         pretty_print: bool,
         files: _assets.FileNamer,
         for_compile: bool,
+        zero_threshold: float = 0.0,
     ) -> None:
         self.root = root
         self.precision = precision
+        self.zero_threshold = zero_threshold
+        # Numbers are rewritten from their values, text read from files too, only when
+        # the output asks for fewer digits or for small numbers written as 0.
+        self.reformat = precision < 17 or zero_threshold > 0
         self.pretty = pretty_print
         self.files = files
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.Composition(root, auto_name_all=for_compile)
+        self.composed = composition.Composition(root, for_compile=for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
-        self._plain_writers: dict[composition.ModelContext, object] = {}
+        self._writers: dict[composition.ModelContext, object] = {}
 
     def context_of(self, model: RootElement) -> composition.ModelContext:
         return self.composed.context(model)
@@ -149,7 +164,7 @@ class _Writer:
         root_context = self.context_of(self.root)
         if tag == "compiler" or (tag in _SETTINGS and self.composed.has_attachments):
             merged = self.composed.merged_settings(tag)
-            self._write_merged(tag, merged, 1)
+            self._write_merged(section._spec, merged, 1)
         elif tag == "default":
             mark = self._open(section, 1, root_context)
             for context, default in self.composed.default_roots():
@@ -186,14 +201,22 @@ class _Writer:
         else:
             self._emit(self._indent(2) + "</default>" + self._newline())
 
-    def _write_merged(self, tag: str, merged: composition.MergedSettings, depth: int) -> None:
+    def _write_merged(
+        self, spec: ElementSpec, merged: composition.MergedSettings, depth: int
+    ) -> None:
         """A settings element merged over models, and its once-only children; left out
         when nothing in it is set."""
-        text = "".join(f' {name}="{escape(value)}"' for name, value in merged.attributes.items())
+        tag = spec.tag
+        text = "".join(
+            f' {name}="{escape(self._number_text(spec.attributes[name], value))}"'
+            if self.reformat and spec.attributes[name].kind == "real"
+            else f' {name}="{escape(value)}"'
+            for name, value in merged.attributes.items()
+        )
         self._emit(f"{self._indent(depth)}<{tag}{text}>{self._newline()}")
         start = len(self.parts)
         for child_tag, child in merged.children.items():
-            self._write_merged(child_tag, child, depth + 1)
+            self._write_merged(spec.children[child_tag], child, depth + 1)
         if len(self.parts) > start:
             self._emit(f"{self._indent(depth)}</{tag}>{self._newline()}")
             return
@@ -239,45 +262,60 @@ class _Writer:
         self, children: list[Element], depth: int, context: composition.ModelContext
     ) -> None:
         """Write `children` of one model."""
-        if not context.names_only:
-            for child in children:
-                self.element(child, depth, context)
-            return
-        write = self._plain_writers.get(context)
-        if write is None:
-            write = self._plain_writers[context] = self._plain_writer(context)
+        write = self._writer(context)
         for child in children:
             write(child, depth)
 
-    def _plain_writer(self, context: composition.ModelContext):
-        """A writer of elements for a context that writes names and values as stored (a
-        model written on its own): the common case, kept tight because it dominates.
+    def element(
+        self,
+        element: Element,
+        depth: int,
+        context: composition.ModelContext,
+        override: dict | None = None,
+    ) -> None:
+        """Write `element` and its subtree (empty once-only elements are left out);
+        `override` replaces attributes (see `attributes`)."""
+        self._writer(context)(element, depth, override)
 
-        Its tag writing (self-closing when empty, empty once-only elements left out) is
-        `element`'s, inlined on purpose: a shared helper costs a call per element on the
-        path that decides how close writing stays to lxml."""
+    def _writer(self, context: composition.ModelContext):
+        write = self._writers.get(context)
+        if write is None:
+            write = self._writers[context] = self._element_writer(context)
+        return write
+
+    def _element_writer(self, context: composition.ModelContext):
+        """The function that writes an element of `context`'s model with its subtree: one
+        for every element, kept tight because it decides how close writing stays to lxml.
+
+        Where the context writes names and values as stored (a model written on its own:
+        the common case) an element's attribute text is cached on the element until its
+        model changes, so writing an unchanged model again costs a lookup per element;
+        elsewhere (scoped names, converted values, an override) `attributes` builds it
+        each time. Either way the tag is self-closing when nothing is inside, and an empty
+        once-only element is left out."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
-        general, escaped_value = self.element, self._escaped_value
-        escaped_attributes = self._escaped_attributes
+        escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
+        attributes, frame, check_required = self.attributes, self._frame, self._check_required
+        renamed, own_name = self.files.renamed, self._own_name
         frame_spec = _FRAME_SPEC
-        generated_name = self.composed.generated_name if context.rewrites else None
-        # Cached text is valid for one model version and one number precision.
-        version = (context.model._version, self.precision)
+        generated_name, rewrite = self.composed.generated_name, context.rewrite
+        as_stored = context.names_only and not self.reformat
+        # Cached text is valid for one model version and one number precision, and only
+        # where it is written as stored: elsewhere no cached text matches.
+        version = (context.model._version, self.precision) if as_stored else None
 
-        def write(element: Element, depth: int) -> None:
+        def text_of(element: Element, depth: int, override: dict | None) -> str | None:
+            """The attribute text of `element`'s tag; None for an attachment frame, which
+            is written whole here."""
             spec = element._spec
             attrs = element._attrs
-            if spec is frame_spec or spec.required or spec.needs_rules:
-                if attrs or element._children or not spec.on_demand:
-                    general(element, depth, context)
-                return
-            if attrs:
-                cached = element._text
-                if cached is not None and cached[0] == version:
-                    text = cached[1]
-                else:
-                    special = spec.file_attributes
+            if spec is frame_spec:
+                frame(element, depth, context)
+                return None
+            if as_stored and override is None and not spec.checked_on_write:
+                special = spec.file_attributes
+                if attrs:
                     text = "".join([
                         f' {name}="{value}"' if type(value) is str and name not in special
                         else f' {name}="{escaped_value(element, name, value, context)}"'
@@ -291,15 +329,36 @@ class _Writer:
                         or text.count('"') != 2 * len(attrs)
                     ):
                         text = escaped_attributes(element, context, None)
-                    if not special:  # file names depend on the output; the rest does not
-                        element._text = (version, text)
+                else:
+                    text = ""
+                identifier = spec.identifier
+                if identifier is not None and identifier not in attrs:
+                    name = generated_name(element, context)
+                    if name is not None:  # a name that changes only with the model
+                        text = f' {identifier}="{escape(name)}"' + text
+                    elif element in renamed:  # named after a file written under another name
+                        text += own_name(element, context)
+                if not special:  # file names depend on the output; the rest does not
+                    element._text = (version, text)
+                return text
+            if spec.checked_on_write and (attrs or element._children or not spec.on_demand):
+                check_required(element)
+            if override is None:
+                override = rewrite(element)
+            text = attributes(element, context, override) if attrs or override else ""
+            if element in renamed and not (override and spec.identifier in override):
+                text += own_name(element, context)
+            return text
+
+        def write(element: Element, depth: int, override: dict | None = None) -> None:
+            cached = element._text
+            if cached is not None and cached[0] == version and override is None:
+                text = cached[1]
             else:
-                text = ""
-            identifier = spec.identifier
-            if generated_name is not None and identifier is not None and identifier not in attrs:
-                name = generated_name(element, context)
-                if name is not None:
-                    text += f' {identifier}="{escape(name)}"'
+                text = text_of(element, depth, override)
+                if text is None:
+                    return
+            spec = element._spec
             children = element._children
             indent = indents[depth]
             if not children:
@@ -325,48 +384,6 @@ class _Writer:
 
         return write
 
-    def element(
-        self,
-        element: Element,
-        depth: int,
-        context: composition.ModelContext,
-        override: dict | None = None,
-    ) -> None:
-        """Write `element` and its subtree (empty once-only elements are left out)."""
-        spec = element._spec
-        if spec is attachment.FRAME_SPEC:
-            self._frame(element, depth, context)
-            return
-        if (spec.required or spec.needs_rules) and (
-            element._attrs or element._children or not spec.on_demand
-        ):
-            self._check_required(element)
-        if override is None and context.rewrites:
-            override = context.rewrite(element)
-        text = self.attributes(element, context, override) if element._attrs or override else ""
-        children = element._children
-        indent = self._indents[depth]
-        newline = self._newline_text
-        parts = self.parts
-        owners = self.owners
-        if not children:
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
-                owners.append(element)
-            return
-        start = len(parts)
-        parts.append(f"{indent}<{spec.tag}{text}>{newline}")
-        owners.append(element)
-        self.children(children, depth + 1, context)
-        if len(parts) == start + 1:
-            self._unemit()
-            if text or not spec.on_demand:
-                parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
-                owners.append(element)
-            return
-        parts.append(f"{indent}</{spec.tag}>{newline}")
-        owners.append(None)
-
     def _frame(self, frame: attachment.AttachmentFrame, depth: int, context) -> None:
         """An attachment frame: its own joints, then the attached model's world body."""
         child_context = self.context_of(frame.attached_model)
@@ -381,16 +398,21 @@ class _Writer:
         self.children(frame.attached_model.worldbody._children, depth + 1, child_context)
         self._emit(f"{indent}</{tag}>{newline}")
 
+    def _own_name(self, element: Element, context: composition.ModelContext) -> str:
+        """' name="..."' for an element that MuJoCo names after its file, when its file
+        is written under another name; '' when it has a name of its own."""
+        identifier = element._spec.identifier
+        if identifier is None or identifier in element._attrs:
+            return ""
+        name = element.identifier
+        if name is None:
+            return ""
+        return f' {identifier}="{escape(context.identifier_text(element, name))}"'
+
     def _check_required(self, element: Element) -> None:
-        attrs = element._attrs
-        for name in element._spec.required:
-            if name not in attrs:
-                raise errors.AttributeValueError(
-                    f"{element.path}: <{element._spec.tag}> requires the attribute {name!r}"
-                )
-        for rule in element._spec.needs_rules:
-            if rule.broken_by(attrs):
-                raise errors.AttributeValueError(f"{element.path}: {rule.describe()}")
+        problem = element._spec.unmet(element._attrs)
+        if problem is not None:
+            raise errors.AttributeValueError(f"{element.path}: {problem}")
 
     # -- attributes -----------------------------------------------------------------------
 
@@ -405,18 +427,32 @@ class _Writer:
         plain = context.plain
         scoped = spec.scoped_attributes
         special = spec.file_attributes
+        reformat = self.reformat
         out = []
         for name, value in attrs.items():
             if override and name in override:
                 continue
-            if type(value) is str and (plain or name not in scoped) and name not in special:
+            if (
+                type(value) is str
+                and (plain or name not in scoped)
+                and name not in special
+                and not (reformat and spec.attributes[name].kind == "real")
+            ):
                 out.append(f' {name}="{escape(value)}"')
             else:
                 text = self.value_text(element, spec.attributes[name], value, context)
                 out.append(f' {name}="{escape(text)}"')
         if override:
+            identifier = spec.identifier
             for name, value in override.items():
-                if value is not None:
+                if value is None:
+                    continue
+                if name == identifier and name not in attrs:  # a generated name goes first
+                    out.insert(0, f' {name}="{escape(value)}"')
+                else:
+                    attribute = spec.attributes.get(name)
+                    if reformat and attribute is not None and attribute.kind == "real":
+                        value = self._number_text(attribute, value)
                     out.append(f' {name}="{escape(value)}"')
         return "".join(out)
 
@@ -426,8 +462,8 @@ class _Writer:
     def value_text(self, element: Element, attribute: AttributeSpec, value: object, context) -> str:
         """The text of one attribute value in this output."""
         kind = attribute.kind
-        if value == "":  # an empty name is no name: never scoped
-            return ""
+        if (kind == "reference" or kind == "identifier") and value == "":
+            return ""  # an empty name is no name: never scoped
         if kind == "reference":
             return self._reference_text(element, attribute, value, context)
         if kind == "identifier":
@@ -436,8 +472,23 @@ class _Writer:
             if type(value) is str:  # resolve once, as reading the attribute would
                 value = element._get_value(attribute)
             return self.files.name_for(element, attribute.name, value)
+        if self.reformat and kind == "real":
+            return self._number_text(attribute, value)
         if type(value) is str:
             return value
+        return attribute.converter.to_text(value, self.precision)
+
+    def _number_text(self, attribute: AttributeSpec, value: object) -> str:
+        """Real numbers (a value, or text as read) written with `precision` digits,
+        those smaller in magnitude than `zero_threshold` as 0."""
+        if type(value) is str:
+            value = attribute.converter.from_text(value)
+        threshold = self.zero_threshold
+        if threshold > 0:
+            if isinstance(value, np.ndarray):
+                value = np.where(np.abs(value) < threshold, 0.0, value)
+            elif abs(value) < threshold:
+                value = 0.0
         return attribute.converter.to_text(value, self.precision)
 
     def _reference_text(self, element: Element, attribute: AttributeSpec, value, context) -> str:

@@ -22,7 +22,7 @@ model compiles every model's elements as that model alone would:
 
 `option`, `visual` and `statistic` values merge attribute by attribute, a conflict
 between two explicit values being an `AttachmentError`; `size` values are capacities
-and merge to the largest.
+and merge to the largest (`memory` compared in bytes: '1M' is larger than '1000K').
 """
 
 from __future__ import annotations
@@ -32,9 +32,10 @@ import os
 import re
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
-from mjcf import attachment, errors, schema
+from mjcf import errors, schema
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -140,11 +141,13 @@ def _merge_into(
         value = section._get_value(attribute)
         if same(attribute, other_value, value):
             continue
-        if tag == "size" and isinstance(value, int) and isinstance(other_value, int):
-            if value > other_value:  # capacities: the largest serves every model
-                merged.attributes[name] = text
-                merged.sources[name] = (model, value)
-            continue
+        if tag == "size":
+            mine, theirs = _capacity(name, value), _capacity(name, other_value)
+            if mine is not None and theirs is not None:
+                if mine > theirs:  # capacities: the largest serves every model
+                    merged.attributes[name] = text
+                    merged.sources[name] = (model, value)
+                continue
         raise errors.AttachmentError(
             f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
             f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
@@ -157,6 +160,25 @@ def _merge_into(
         if target is None:
             target = merged.children[child._spec.tag] = MergedSettings()
         _merge_into(target, child, model, frozenset())
+
+
+_BYTE_SUFFIXES = {"k": 10, "m": 20, "g": 30, "t": 40, "p": 50, "e": 60}
+
+
+def _capacity(name: str, value: object) -> int | None:
+    """A `<size>` value as a number to compare (bytes for `memory`, '2M' or '-1'), or
+    None if it is not one."""
+    if isinstance(value, int | np.integer) and not isinstance(value, bool):
+        return int(value)
+    if name != "memory" or not isinstance(value, str):
+        return None
+    text = value.strip().lower()
+    shift = _BYTE_SUFFIXES.get(text[-1:], 0)
+    digits = text[:-1] if shift else text
+    try:
+        return int(digits) << shift if int(digits) >= 0 else int(digits)
+    except ValueError:
+        return None
 
 
 def same(attribute: AttributeSpec, a: object, b: object) -> bool:
@@ -194,9 +216,7 @@ def _inertia_sources(model: RootElement) -> list[tuple[bool, bool]]:
                 inertial = True
             elif tag == "geom":
                 geoms = True
-            elif tag in ("frame", "replicate") and not isinstance(
-                child, attachment.AttachmentFrame
-            ):
+            elif tag in ("frame", "replicate"):  # not attachment frames: another model
                 stack.extend(child._children)
         found.append((inertial, geoms))
     return found
@@ -250,9 +270,7 @@ def unscaled_mass(model: RootElement) -> float:
     """The total body mass of `model` (with the models attached to it) compiled alone
     without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
     element attributes."""
-    import mujoco
-
-    from mjcf import serializer
+    from mjcf import serializer  # cycle: serializer -> composition -> settings
 
     for element in model.iter():
         if element._spec.tag in _UNSCALABLE:

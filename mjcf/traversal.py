@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-from mjcf import errors, schema
+from mjcf import attachment, errors, schema
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -23,10 +23,12 @@ ATTACHMENT_FRAME = "attachment_frame"
 
 def find(element: Element, namespace: str, identifier: str) -> Element | None:
     """The element of `namespace` named `identifier` (scoped names reach into attached
-    models) inside `element`, or None. Raises mjcf.NotFoundError for an unknown
-    namespace."""
-    from mjcf import attachment
-
+    models) inside `element`, or None. Raises mjcf.NamespaceError for an unknown
+    namespace and mjcf.NameClashError for an identifier that is not a string."""
+    if not isinstance(identifier, str):
+        raise errors.NameClashError(
+            f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
+        )
     if namespace == ATTACHMENT_FRAME:
         found = attachment.find_frame(element.root, identifier)
     else:
@@ -41,8 +43,6 @@ def find_all(
     element: Element, namespace: str, immediate_children_only: bool, exclude_attachments: bool
 ) -> list[Element]:
     """Every element of `namespace` (or tag) inside `element`, in MuJoCo's order."""
-    from mjcf import attachment
-
     if namespace == ATTACHMENT_FRAME:
         return [
             e
@@ -69,8 +69,6 @@ def walk(
     """The descendants of `element` in the order MuJoCo compiles them: an attached
     model's world body contents where it is attached, and its other sections after
     those of the model it is attached to."""
-    from mjcf import attachment
-
     if immediate_children_only:
         yield from element._children
         return
@@ -101,8 +99,6 @@ def has_ancestor(element: Element, tag: str) -> bool:
 
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
-    from mjcf import attachment
-
     current = element
     while current is not None:
         if current is ancestor:
@@ -115,13 +111,16 @@ def _is_inside(element: Element, ancestor: Element) -> bool:
 
 
 def _check_namespace(namespace: str, allow_tags: bool) -> bool:
-    """Whether `namespace` is a tag rather than a namespace; raises for neither."""
+    """Whether `namespace` is a tag rather than a namespace; raises
+    mjcf.NamespaceError for neither."""
+    if not isinstance(namespace, str):
+        raise errors.NamespaceError(f"a namespace is a str, such as 'body', got {namespace!r}")
     if namespace in schema.NAMESPACES:
         return False
     if allow_tags and namespace in _TAGS:
         return True
     known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
-    raise errors.NotFoundError(
+    raise errors.NamespaceError(
         f"{namespace!r} is not a namespace"
         + _values.suggest(namespace, known)
         + f"; namespaces: {', '.join(known)}"

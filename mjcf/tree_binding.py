@@ -2,8 +2,9 @@
 compiled model, and carrying simulation state over to a recompiled model.
 
 Used by `Physics.bind(element)` and `Physics.reload_from_mjcf_model(model)`; elements
-map to objects by their compiled index (`compiler.Compiled.id_of`),
-once per element list, so a bound read afterwards costs one numpy index.
+map to objects by their compiled index (`compiler.Compiled.id_of`), or by their full
+identifiers on a physics not compiled from their model, once per element list, so a bound
+read afterwards costs one numpy index.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, errors, fields
+from mjcf import attachment, errors, fields, naming
 
 if TYPE_CHECKING:
     from mjcf.compiler import Compiled
@@ -44,12 +45,14 @@ def kind_of(element: Element) -> mujoco.mjtObj:
 
 
 def element_ids(
-    compiled: Compiled, model: mujoco.MjModel, elements: list[Element]
+    compiled: Compiled | None, model: mujoco.MjModel, elements: list[Element]
 ) -> tuple[mujoco.mjtObj, np.ndarray]:
-    """The kind and compiled ids of `elements` (all of one kind); raises
-    mjcf.BindingError for an empty list, mixed kinds, or elements not in the model."""
-    if not elements:
-        raise errors.BindingError("cannot bind an empty list of elements")
+    """The kind and compiled ids of `elements` (all of one kind, at least one).
+
+    Elements of the model `compiled` was compiled from are found by their compiled index
+    (unnamed ones too); others (or all, when `compiled` is None: a physics made from XML or
+    an MjModel) by their full identifier, as dm_control binds. Raises mjcf.BindingError for
+    mixed kinds, or an element the compiled model does not have, naming it."""
     kinds = {kind_of(element) for element in elements}
     if len(kinds) > 1:
         names = sorted(fields.kind_name(k) for k in kinds)
@@ -57,19 +60,48 @@ def element_ids(
     kind = kinds.pop()
     ids = np.empty(len(elements), dtype=np.intp)
     for i, element in enumerate(elements):
-        if element.tag == "worldbody":
-            if element.root is not compiled.composition.root:
-                compiled.name_of(element)  # raises for a model that is not compiled here
-            ids[i] = 0
-            continue
-        index = compiled.id_of(element, kind)
-        if index < 0:
-            raise errors.BindingError(
-                f"{element.path}: not in the compiled model (was it added after compiling? "
-                "recompile with Physics.from_mjcf_model or physics.reload_from_mjcf_model)"
-            )
-        ids[i] = index
+        if compiled is not None and _compiled_from(compiled, element):
+            index = compiled.id_of(element, kind)
+            if index < 0:
+                raise errors.BindingError(
+                    f"{element.path}: not in the compiled model (was it added after compiling? "
+                    "recompile with Physics.from_mjcf_model or physics.reload_from_mjcf_model)"
+                )
+            ids[i] = index
+        else:
+            ids[i] = _id_by_name(model, kind, element)
     return kind, ids
+
+
+def _compiled_from(compiled: Compiled, element: Element) -> bool:
+    """Whether `element`'s model is part of the composition `compiled` was compiled from."""
+    try:
+        compiled.composition.context(element.root)
+    except errors.InvalidReferenceError:
+        return False
+    return True
+
+
+def _id_by_name(model: mujoco.MjModel, kind: mujoco.mjtObj, element: Element) -> int:
+    """The id of the object of `kind` named as `element` is in its outermost model."""
+    name = element.full_identifier
+    if name is None and isinstance(element, attachment.AttachmentFrame):
+        name = element.attached_model.namescope.prefix()  # the frame body: 'arm/'
+    kind_name = fields.kind_name(kind)
+    if name is None:
+        raise errors.BindingError(
+            f"{element.path}: this physics was not compiled from this element's model, so "
+            f"elements are found by name, and this {kind_name} has none; name it, or bind "
+            "on a physics made with Physics.from_mjcf_model(model)"
+        )
+    index = mujoco.mj_name2id(model, kind, name)
+    if index < 0:
+        raise errors.BindingError(
+            f"{element.path}: the physics' model has no {kind_name} named {name!r} (this "
+            "physics was not compiled from this element's model, so elements are found by "
+            "their full identifiers)"
+        )
+    return index
 
 
 def transfer_state(
@@ -80,8 +112,9 @@ def transfer_state(
     unnamed: dict[tuple[int, int], int] | None = None,
 ) -> None:
     """Copy time and the state of every joint, actuator and mocap body that exists in
-    both models (matched by name, or for unnamed ones by `unnamed`: {(kind, new id):
-    old id}, see `compiler.unnamed_pairs`) from the old simulation to the new one."""
+    both models (matched by name, or for those with generated names by `unnamed`:
+    {(kind, new id): old id}, see `compiler.unnamed_pairs`) from the old simulation to
+    the new one."""
     new_data.time = old_data.time
     pairs = unnamed or {}
     joint = mujoco.mjtObj.mjOBJ_JOINT
@@ -89,7 +122,7 @@ def transfer_state(
         old_id = _same_name(old_model, new_model, joint, new_id, pairs)
         if old_id < 0 or old_model.jnt_type[old_id] != new_model.jnt_type[new_id]:
             continue
-        width_q, width_v = joint_widths(int(new_model.jnt_type[new_id]))
+        width_q, width_v = fields.joint_widths(int(new_model.jnt_type[new_id]))
         new_q, old_q = new_model.jnt_qposadr[new_id], old_model.jnt_qposadr[old_id]
         new_data.qpos[new_q : new_q + width_q] = old_data.qpos[old_q : old_q + width_q]
         new_v, old_v = new_model.jnt_dofadr[new_id], old_model.jnt_dofadr[old_id]
@@ -120,16 +153,10 @@ def _same_name(
     new_id: int,
     unnamed: dict[tuple[int, int], int],
 ) -> int:
+    paired = unnamed.get((int(kind), new_id))
+    if paired is not None:  # a generated name, which can shift: matched by element
+        return paired
     name = mujoco.mj_id2name(new_model, kind, new_id)
-    if not name:
-        return unnamed.get((int(kind), new_id), -1)
+    if not name or naming.GENERATED.search(name):
+        return -1
     return mujoco.mj_name2id(old_model, kind, name)
-
-
-def joint_widths(joint_type: int) -> tuple[int, int]:
-    """(qpos, qvel) entries of a joint of MuJoCo type `joint_type`."""
-    if joint_type == mujoco.mjtJoint.mjJNT_FREE:
-        return 7, 6
-    if joint_type == mujoco.mjtJoint.mjJNT_BALL:
-        return 4, 3
-    return 1, 1

@@ -14,6 +14,7 @@ and writing a model never converts numbers it does not need to.
 
 from __future__ import annotations
 
+import copy
 import difflib
 import numbers
 import re
@@ -21,6 +22,8 @@ import struct
 from collections.abc import Iterable
 
 import numpy as np
+
+from mjcf.assets import Asset
 
 
 class InvalidValue(ValueError):
@@ -53,8 +56,6 @@ class TrackedArray(np.ndarray):
         self._owner = owner
 
     def __deepcopy__(self, memo: dict) -> TrackedArray:
-        import copy
-
         new = np.array(self).view(TrackedArray)
         new._owner = copy.deepcopy(self._owner, memo)
         return new
@@ -446,13 +447,13 @@ class _File(_Converter):
     """File attributes hold a path string or an `mjcf.Asset`."""
 
     def from_python(self, value: object) -> object:
-        if isinstance(value, str) or type(value).__name__ == "Asset":
+        if isinstance(value, str | Asset):
             return value
         raise InvalidValue(f"takes a file name or an mjcf.Asset, got {value!r}")
 
 
 def _is_element(value: object) -> bool:
-    from mjcf.element import Element
+    from mjcf.element import Element  # cycle: element -> values
 
     return isinstance(value, Element)
 

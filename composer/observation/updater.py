@@ -4,7 +4,7 @@
     updater.observation_space                      # spaces.Dict of Boxes (or one Box)
     obs = updater.reset(random_state)              # samples at step 0
     for steps, samples in updater.plan[phase]:     # one control step
-        mujoco.mj_step(model, data, steps)
+        physics.step(steps)
         for sample, offset in samples:
             sample(first_step + offset)
     obs = updater.observation(last_step)           # fresh arrays, safe to keep

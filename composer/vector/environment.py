@@ -13,7 +13,11 @@ What it promises:
   bit, as num_envs single environments reset with seeds seed + i (and, after an episode
   ends, reset without a seed). Their models must share MuJoCo's data layout; each
   simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
-- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads). Actions,
+- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads) and leave
+  derived quantities (xpos, sensordata ...) consistent with the new state, as a single
+  environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
+  acceleration-dependent fields are recomputed when read). With `physics.legacy_step =
+  False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
   observations, rewards, terminations and discounts are numpy arrays over every
   environment, computed at once where the task declares batched methods and its
   observables are batchable (`composer.vector.protocol`, `.observations`); the rest runs
@@ -64,6 +68,8 @@ _INVALID = np.array(
     ]
 )
 _SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | int(mujoco.mjtEnableBit.mjENBL_IPC)
+_VEL = mujoco.mjtStage.mjSTAGE_VEL
+_NONE = mujoco.mjtStage.mjSTAGE_NONE
 _STALE, _SYNCED, _DERIVED = 0, 1, 2
 _OUTCOME = ("get_reward", "should_terminate_episode", "get_discount", "get_info")
 
@@ -125,7 +131,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._build_batch(min(nthread, num_envs), persistent=True)
         self.per_environment = self._per_env_parts()
         if not self.per_environment and not first.physics.model.opt.enableflags & _SLEEP:
-            # Nothing reads a materialized MjData per step: one MjData per thread suffices.
+            # Nothing reads a materialized MjData per step: one MjData per thread suffices
+            # (measured as fast as one per simulation, which continues each step from the
+            # stages computed after the last).
             self._build_batch(self._batch.nthread, persistent=False)
         self._state = self._batch.state
         self._warning = self._batch.warning
@@ -442,12 +450,16 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         """Step simulations `ids` (but those that failed) by nstep physics steps."""
         if failures:
             ids = ids[~np.isin(ids, list(failures))]
+        consistent = self._envs[0].physics.legacy_step
         try:
-            self._batch.step(None if len(ids) == self.num_envs else ids, nstep)
+            self._batch.step(
+                None if len(ids) == self.num_envs else ids, nstep, _VEL if consistent else _NONE
+            )
         except mujoco_batch.SimulationError as e:
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
         self._held[ids] = _STALE
+        self._physics._stepped(ids, consistent)
 
     def _after_step(self, ids: np.ndarray) -> None:
         mode = self._modes["after_step"]
@@ -533,8 +545,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         held = self._held[i]
         if held == _STALE:
             self._batch.get_data(int(i), physics.data)
+            if physics.legacy_step or not self._batch.persistent:
+                # Derived fields a single environment would recompute when read: the
+                # acceleration stage (or all, from a batch that keeps no MjData).
+                physics.mark_as_dirty()
         elif held == _DERIVED:
             mujoco.mj_setState(physics.model, physics.data, self._state[i], _STATE)
+            physics.mark_as_dirty()
         self._held[i] = _SYNCED
         return physics
 
@@ -549,6 +566,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         mujoco.mj_getState(physics.model, physics.data, self._state[i], _STATE)
         self._warning[i, :, 0] = physics.data.warning.lastinfo
         self._warning[i, :, 1] = physics.data.warning.number
+        self._physics._changed(i)
 
     def _read_env(self, i: int, channel: int) -> np.ndarray:
         """Observable `channel` of environment i, read from its own physics."""
@@ -565,5 +583,6 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         """Free every environment's rendering resources."""
-        for env in self._envs:
+        # gymnasium 1.2's VectorEnv.__del__ closes an instance whose __init__ raised too.
+        for env in getattr(self, "_envs", ()):
             env.close()

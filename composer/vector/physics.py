@@ -12,13 +12,18 @@ takes elements of the first environment's model, as `mjcf.Physics.bind` does, an
 their fields with a leading environment axis: `bind(joint).qpos` is (n, 1) for a hinge.
 Reads are copies. MjData fields come from MuJoCo's batch (`mujoco.batch.Batch.bind`):
 state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied ...) are the simulations'
-state and can be assigned; derived fields (xpos, sensordata ...) are read-only and, as
-with `mujoco.mj_step`, describe the state before the last physics step. MjModel fields
-(mass, geom_size ...) are read from each environment's own model, one at a time.
+state and can be assigned; derived fields (xpos, sensordata ...) are read-only and describe
+the current state, as `mjcf.Physics` bindings' do: positions and velocities are computed
+after each step, and acceleration-dependent fields (qacc, touch sensors ...), or anything
+after a write of state, are recomputed for the environments read (`Batch.forward`) when
+first read. Fields MuJoCo computes only for sensors (cfrc_ext, subtree_linvel ...) are
+read per environment. MjModel fields (mass, geom_size ...) are read from each
+environment's own model, one at a time.
 """
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -28,7 +33,9 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer.vector.protocol import BatchError
-from mjcf import fields
+from mjcf import fields, tracking
+
+_ACC = tracking.Stage.ACCELERATION
 
 if TYPE_CHECKING:
     from composer.environment import Environment
@@ -36,17 +43,26 @@ if TYPE_CHECKING:
 
 
 class _Field:
-    """One bound field: where its rows are in the batch, and the per-environment shape."""
+    """One bound field: where its rows are in the batch, the per-environment shape, the
+    stage a read needs fresh and what a write changes."""
 
-    __slots__ = ("model_name", "rows", "shape", "source", "writable")
+    __slots__ = ("effect", "model_name", "rows", "shape", "source", "stage", "writable")
 
     def __init__(
-        self, source: np.ndarray | None, model_name: str, rows: np.ndarray, shape: tuple
+        self,
+        source: np.ndarray | None,
+        model_name: str,
+        rows: np.ndarray,
+        shape: tuple,
+        stage: tracking.Stage,
+        effect: tracking.Effect,
     ) -> None:
         self.source = source  # (num_envs, ...) batch array; None for an MjModel field
         self.model_name = model_name
         self.rows = rows
         self.shape = shape
+        self.stage = stage
+        self.effect = effect
         self.writable = source is not None and source.flags.writeable
 
 
@@ -80,6 +96,27 @@ class BatchBinding:
         return f"<BatchBinding of {self._elements!r}>"
 
 
+class _EmptyBatchBinding:
+    """The binding of no elements: every field reads (n, 0); only empty values write."""
+
+    __slots__ = ("_physics",)
+
+    def __init__(self, physics: BatchPhysics) -> None:
+        object.__setattr__(self, "_physics", physics)
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return np.zeros((self._physics.num_envs, 0))
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if np.size(value) != 0:
+            raise mjcf.BindingError(
+                f"cannot write {np.shape(value)}-shaped values to {name!r} of a binding of no "
+                "elements: only an empty value fits"
+            )
+
+
 class BatchPhysics:
     """Numpy access to the simulations of the environments of one call (see the module)."""
 
@@ -91,6 +128,10 @@ class BatchPhysics:
         self._template = envs[0].physics
         self._ids: np.ndarray | None = None  # None: every environment
         self._bindings: dict[Any, BatchBinding] = {}
+        # Per simulation: whether the batch's derived fields lag its state rows, for the
+        # position/velocity stages and for the acceleration stage.
+        self._pos_stale = np.ones(batch.nsim, dtype=bool)
+        self._acc_stale = np.ones(batch.nsim, dtype=bool)
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -125,25 +166,69 @@ class BatchPhysics:
         """Cover environments `ids` (ascending), or every one with None."""
         self._ids = ids
 
+    def _stepped(self, ids: np.ndarray, consistent: bool) -> None:
+        """Simulations `ids` were stepped: with stage mjSTAGE_VEL (`consistent`), only their
+        acceleration stage lags; after plain steps their fields lag as mj_step leaves them."""
+        self._pos_stale[ids] = False
+        self._acc_stale[ids] = consistent
+
+    def _changed(self, ids: Any) -> None:
+        """The state rows of simulations `ids` were written from outside the batch."""
+        self._pos_stale[ids] = True
+        self._acc_stale[ids] = True
+
+    def _refresh(self, stage: tracking.Stage) -> None:
+        """Recompute the derived fields of the covered simulations that lag for `stage`."""
+        ids = self.ids
+        stale = self._pos_stale[ids]
+        if stage == _ACC:
+            stale = stale | self._acc_stale[ids]
+        if not stale.any():
+            return
+        which = ids[stale]
+        batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
+        # Simulations that raise here failed their step already, and are truncated.
+        with contextlib.suppress(mujoco_batch.SimulationError):
+            self._batch.forward(None if len(which) == self._batch.nsim else which, batch_stage)
+        self._pos_stale[which] = False
+        if stage == _ACC:
+            self._acc_stale[which] = False
+
     # -- access --------------------------------------------------------------------------
 
     def bind(self, elements: Any) -> BatchBinding:
-        """The fields of `elements` (one element or a list of one kind, of the first
-        environment's model), cached. Raises mjcf.BindingError as `mjcf.Physics.bind`."""
-        key = tuple(elements) if isinstance(elements, list | tuple) else elements
+        """The fields of `elements` (one element or an iterable of one kind, of the first
+        environment's model, as `mjcf.Physics.bind` takes them), cached; no elements give
+        fields of shape (n, 0). Raises mjcf.BindingError as `mjcf.Physics.bind`."""
+        key = elements if isinstance(elements, mjcf.Element) else tuple(elements)
         found = self._bindings.get(key)
         if found is None:
-            self._template.bind(elements)  # raises BindingError for foreign elements
-            found = self._bindings[key] = BatchBinding(self, elements)
+            single = isinstance(key, mjcf.Element)
+            template = self._template.bind(key)  # raises BindingError for foreign elements
+            if template is mjcf.binding.EMPTY:
+                return _EmptyBatchBinding(self)
+            found = self._bindings[key] = BatchBinding(self, key if single else list(key))
         return found
 
     def field(self, name: str) -> np.ndarray:
-        """MjData field `name` of every row, (n, ...), a copy. Raises BatchError for a
-        field MuJoCo's batch does not bind (arena arrays such as efc_*)."""
+        """MjData field `name` of every row, (n, ...), a copy (up to date, as a bound
+        field's). Raises BatchError for a field MuJoCo's batch does not bind (arena arrays
+        such as efc_*)."""
         source = self._source(name)
+        stage = tracking.read_stage(name)
+        if name == "sensordata":
+            model = self._template.model
+            stage = tracking.sensor_stage(model, np.arange(model.nsensor))
+        if stage:
+            self._refresh(stage)
         return source.copy() if self._ids is None else source[self._ids]
 
     def _source(self, name: str) -> np.ndarray:
+        if name in tracking.ON_DEMAND:
+            raise BatchError(
+                f"MjData field {name!r} is computed by MuJoCo only for sensors that need it, "
+                "so the batch does not hold it; it is read per environment"
+            )
         if name not in mujoco_batch.DATA_FIELDS:
             raise BatchError(
                 f"MjData field {name!r} is not available from MuJoCo's batch (it binds "
@@ -159,9 +244,16 @@ class BatchPhysics:
         ids = np.atleast_1d(np.asarray(template.ids))
         rows, _ = fields.row_index(self._template.model, spec.address, ids)
         source = self._source(spec.name) if spec.struct == "data" else None
-        return _Field(source, spec.name, rows, np.shape(value))
+        if spec.name == "sensordata":
+            stage = tracking.sensor_stage(self._template.model, ids)
+        else:
+            stage = tracking.field_stage(spec)
+        effect = tracking.write_effect(spec)
+        return _Field(source, spec.name, rows, np.shape(value), stage, effect)
 
     def _read(self, found: _Field) -> np.ndarray:
+        if found.stage:
+            self._refresh(found.stage)
         ids, source = self._ids, found.source
         if source is None:
             envs = self._envs if ids is None else [self._envs[i] for i in ids]
@@ -193,3 +285,7 @@ class BatchPhysics:
             found.source[:, found.rows] = rows
         else:
             found.source[self._ids[:, None], found.rows] = rows
+        written = slice(None) if self._ids is None else self._ids
+        self._acc_stale[written] = True
+        if found.effect != tracking.Effect.STEP_INPUT:
+            self._pos_stale[written] = True

@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 import json
 import warnings
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import mujoco
@@ -191,6 +191,7 @@ class ElementSpec:
 
     __slots__ = (
         "attributes",
+        "checked_on_write",
         "children",
         "file_attributes",
         "identifier",
@@ -232,6 +233,7 @@ class ElementSpec:
         self.rule_names = frozenset(name for rule in self.rules for name in rule.names)
         # Rules that an element being built may break for a while (checked on writing).
         self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")
+        self.checked_on_write = bool(self.required or self.needs_rules)
 
     @classmethod
     def synthesize(
@@ -259,7 +261,28 @@ class ElementSpec:
         )
         spec.rules = spec.needs_rules = ()
         spec.rule_names = frozenset()
+        spec.checked_on_write = bool(spec.required)
         return spec
+
+    def unmet(self, attributes: Mapping[str, object]) -> str | None:
+        """What an element holding `attributes` (name -> value) lacks or breaks, in
+        words: a required attribute, or a rule between attributes; None if nothing."""
+        for name in self.required:
+            if name not in attributes:
+                return f"<{self.tag}> requires the attribute {name!r}"
+        for rule in self.rules:
+            if rule.broken_by(attributes):
+                return rule.describe()
+        return None
+
+    def conflict(self, names: Iterable[str]) -> Rule | None:
+        """The rule that allows only one of some of `names` to be set together (two
+        orientations of a body, say), if they break one."""
+        present = dict.fromkeys(names)
+        for rule in self.rules:
+            if rule.kind == "at_most_one" and rule.broken_by(present):
+                return rule
+        return None
 
     def child(self, tag: str) -> ElementSpec:
         """The spec of child `tag`; raises KeyError when MJCF has no such child here."""

@@ -96,3 +96,91 @@ def test_posing_a_fixed_entity_is_an_error_naming_it():
     physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
     with pytest.raises(composer.EntityError, match="entity 'arm' has no free joint"):
         arm.set_pose(physics, position=[0, 0, 1])
+
+
+# -- standalone model files as entities ------------------------------------------------------
+
+
+class _Stand(composer.Task):
+    """Entities from files, free or attached, in an arena; a reward of the height."""
+
+    def __init__(self, paths, free=True):
+        self._arena = composer.Arena()
+        self.entities = [composer.Entity.from_path(path) for path in paths]
+        for entity in self.entities:
+            if free:
+                self._arena.add_free_entity(entity)
+            else:
+                self._arena.attach(entity)
+        self.set_timesteps(control_timestep=0.02, physics_timestep=0.01)
+
+    @property
+    def root_entity(self):
+        return self._arena
+
+    def get_reward(self, physics):
+        return float(self.entities[0].get_pose(physics)[0][2])
+
+
+@pytest.mark.filterwarnings("ignore:.*infinity:UserWarning")  # gymnasium's too: unbounded
+@pytest.mark.filterwarnings("ignore:.*render modes:UserWarning")
+@pytest.mark.parametrize("name", ["ant", "humanoid"])
+@pytest.mark.parametrize("free", [True, False], ids=["add_free_entity", "attach"])
+def test_gymnasium_robot_files_are_entities_of_an_environment(name, free):
+    """Their top body floats already: it keeps its one free joint, and their own floor
+    stays static beside the arena's."""
+    from gymnasium.utils.env_checker import check_env
+
+    from tests.conftest import gym_model
+
+    task = _Stand([gym_model(name)], free=free)
+    entity = task.entities[0]
+    frame = entity.attachment_frame
+    assert mjcf.get_frame_freejoint(frame) is None and frame.all_children() == []
+    env = composer.Environment(task, time_limit=0.2)
+    check_env(env)
+    obs, _ = env.reset(seed=0)
+    physics = env.physics
+    reference = mujoco.MjModel.from_xml_path(str(gym_model(name)))
+    assert physics.model.nq == reference.nq and physics.model.nu == reference.nu
+    floor = entity.mjcf_model.find("geom", "floor")
+    assert physics.bind(floor).bodyid == 0  # static, in the world body
+    entity.set_pose(physics, position=[0.5, 0, 1.5])
+    assert physics.bind(entity._free_joint()).qpos[0] == 0.5
+    for _ in range(5):
+        obs, reward, *_ = env.step(env.action_space.sample())
+        assert np.isfinite(reward)
+    assert np.all(np.isfinite(obs[f"{entity.name}/joint_positions"]))
+    env.close()
+
+
+def test_two_copies_of_one_robot_file():
+    from tests.conftest import gym_model
+
+    task = _Stand([gym_model("ant"), gym_model("ant")])
+    assert [e.name for e in task.entities] == ["ant", "ant_1"]
+    env = composer.Environment(task, time_limit=0.1)
+    env.reset(seed=1)
+    assert env.physics.model.nu == 16
+
+
+def test_a_file_whose_body_does_not_float_gets_the_free_joint_or_a_clear_error(tmp_path):
+    path = tmp_path / "crate.xml"
+    path.write_text(
+        '<mujoco model="crate"><worldbody><body name="box"><geom type="box" size=".1 .1 .1"/>'
+        "</body></worldbody></mujoco>"
+    )
+    arena = composer.Arena()
+    crate = composer.Entity.from_path(path)
+    frame = arena.add_free_entity(crate)
+    assert mjcf.get_frame_freejoint(frame) is not None
+    physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+    crate.set_pose(physics, position=[0, 0, 1])
+    grounded = tmp_path / "grounded.xml"
+    grounded.write_text(
+        '<mujoco model="grounded"><worldbody><geom name="ground" type="plane" size="1 1 .1"/>'
+        '<body name="box"><geom type="box" size=".1 .1 .1"/></body></worldbody></mujoco>'
+    )
+    with pytest.raises(composer.EntityError, match=r"ground.*a plane.*arena\.attach"):
+        arena.add_free_entity(composer.Entity.from_path(grounded))
+    assert [e.name for e in arena.iter_entities()] == ["arena", "crate"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import warnings
 
 import gymnasium
+import mujoco
 import numpy as np
 import pytest
 from gymnasium import spaces
@@ -173,3 +174,39 @@ def test_render_modes_give_frames_of_the_scene():
 def test_bad_time_limit_is_refused():
     with pytest.raises(composer.TaskError, match="time_limit"):
         make_env(time_limit=0)
+
+
+def test_observations_and_rewards_read_the_state_after_the_step() -> None:
+    """Positions and sensors observed after a step are those of the new state, as mj_forward
+    computes them on a copy, not one physics step behind (and legacy_step=False lags)."""
+    from tests.composer.vector_scenes import SensingSwing
+
+    env = composer.Environment(SensingSwing(substeps=3))
+    env.reset(seed=0)
+    physics = env.physics
+    task = env.task
+    tip = mujoco.mj_name2id(physics.model, mujoco.mjtObj.mjOBJ_SITE, "pendulum/tip")
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        obs, reward, *_ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+        expected = mujoco.MjData(physics.model)
+        mujoco.mj_copyData(expected, physics.model, physics.data)
+        mujoco.mj_forward(physics.model, expected)
+        assert obs["tip_height"][0] == expected.site_xpos[tip, 2]
+        ids = physics.bind(task.sensors).element_id
+        rows = np.concatenate(
+            [
+                np.arange(a, a + n)
+                for a, n in zip(
+                    physics.model.sensor_adr[ids], physics.model.sensor_dim[ids], strict=True
+                )
+            ]
+        )
+        assert np.array_equal(obs["sensed"], expected.sensordata[rows])
+        assert reward == expected.sensordata[physics.model.sensor_adr[ids[0]] + 2]
+    physics.legacy_step = False  # bare mj_step: what it computed before its integration
+    obs, *_ = env.step(np.zeros(env.action_space.shape))
+    fresh = mujoco.MjData(physics.model)
+    mujoco.mj_copyData(fresh, physics.model, physics.data)
+    mujoco.mj_forward(physics.model, fresh)
+    assert obs["tip_height"][0] == physics.data.site_xpos[tip, 2] != fresh.site_xpos[tip, 2]

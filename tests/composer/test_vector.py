@@ -17,7 +17,7 @@ import composer
 import mjcf
 from composer.vector import BatchError, VectorEnvironment, make_vector_environment
 from tests.composer.scenes import Block, SwingTask
-from tests.composer.vector_scenes import BatchedSwing, HookedSwing, TowerTask
+from tests.composer.vector_scenes import BatchedSwing, HookedSwing, SensingSwing, TowerTask
 
 TEST_ID = "composer_tests/BatchedSwing-v0"
 if TEST_ID not in gymnasium.registry:
@@ -33,6 +33,7 @@ TASKS = {
     "batched, scheduled observables": lambda: BatchedSwing(schedule=True, terminate_above=1.0),
     "per-environment fallback": lambda: SwingTask(terminate_above=1.0, substeps=5),
     "entity hooks, per environment": HookedSwing,
+    "acceleration-stage sensors, batched": lambda: SensingSwing(terminate_above=1.0),
 }
 
 
@@ -274,8 +275,11 @@ def test_batch_physics_reads_and_writes_the_simulations():
         physics.field("efc_force")
     with pytest.raises(mjcf.BindingError):
         physics.bind(task.pendulum.hinge).no_such_field  # noqa: B018
-    with pytest.raises(mjcf.BindingError):
-        physics.bind(BatchedSwing().pendulum.hinge)  # an element of another model
+    other = BatchedSwing()  # another model: its elements are found by name, as in dm_control
+    np.testing.assert_array_equal(physics.bind(other.pendulum.hinge).qpos, hinge.qpos)
+    stray = other.pendulum.mjcf_model.worldbody.add("body", name="stray")
+    with pytest.raises(mjcf.BindingError, match="no body named"):
+        physics.bind(stray)
 
 
 def test_render_is_environment_0_as_a_single_environment_renders_it():
@@ -309,3 +313,17 @@ def test_make_vec_of_a_shipped_task():
     reference = gymnasium.make_vec("composer/CartpoleSwingup-v0", num_envs=3)
     assert isinstance(vector, VectorEnvironment)
     assert_same_runs(vector, reference, steps=15)
+
+
+def test_batch_physics_binds_what_mjcf_physics_binds() -> None:
+    """Any iterable of elements, and no elements: (n, 0) fields."""
+    vector = VectorEnvironment(BatchedSwing, 2)
+    vector.reset(seed=0)
+    physics = vector.batch_physics
+    hinge = vector.environments[0].task.pendulum.hinge
+    assert physics.bind(np.array([hinge], dtype=object)).qpos.shape == (2, 1)
+    assert physics.bind(iter([hinge])).qpos.shape == (2, 1)
+    assert physics.bind([]).qpos.shape == (2, 0)
+    physics.bind([]).ctrl = np.zeros((2, 0))
+    with pytest.raises(mjcf.BindingError, match="binding of no elements"):
+        physics.bind([]).ctrl = 1.0

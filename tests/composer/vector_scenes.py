@@ -126,3 +126,30 @@ class HookedSwing(composer.Task):
 
     def get_info(self, physics: mjcf.Physics) -> dict:
         return {"angle": physics.bind(self.pendulum.hinge).qpos.copy()}
+
+
+class SensingSwing(BatchedSwing):
+    """BatchedSwing observing acceleration-dependent sensors (an accelerometer at the tip,
+    the motor's force) and a position sensor, batched, with a reward read from them: values
+    MuJoCo computes in the acceleration stage, which a step leaves for the state before it."""
+
+    def __init__(self, **options) -> None:
+        super().__init__(**options)
+        pendulum = self.pendulum
+        sensor = pendulum.mjcf_model.sensor
+        self.sensors = [
+            sensor.add("accelerometer", name="tip_acc", site=pendulum.tip),
+            sensor.add("actuatorfrc", name="motor_force", actuator=pendulum.motor),
+            sensor.add("framepos", name="tip_pos", objtype="site", objname=pendulum.tip),
+        ]
+        self._sensed = observation.MJCFFeature("sensordata", self.sensors, enabled=True)
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        return {**super().task_observables, "sensed": self._sensed}
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        return float(physics.bind(self.sensors[0]).sensordata[2])
+
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        return physics.bind(self.sensors[0]).sensordata[:, 2]

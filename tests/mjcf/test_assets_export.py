@@ -3,6 +3,7 @@ the model we compile."""
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import zipfile
@@ -12,7 +13,7 @@ import mujoco
 import pytest
 
 import mjcf
-from tests.conftest import MENAGERIE, ROBOTIQ, UR5E
+from tests.conftest import MENAGERIE, MUJOCO_TESTDATA, ROBOTIQ, UR5E
 from tests.mjcf.compare import model_differences
 
 PAD = MENAGERIE / "robotiq_2f85" / "assets" / "pad.stl"
@@ -32,8 +33,6 @@ def _scene() -> mjcf.RootElement:
 
 @pytest.fixture(scope="module")
 def scene_and_model() -> tuple[mjcf.RootElement, mujoco.MjModel]:
-    if not UR5E.exists() or not ROBOTIQ.exists():
-        pytest.skip(f"menagerie robots not found at {MENAGERIE}")
     scene = _scene()
     return scene, mjcf.Physics.from_mjcf_model(scene).model
 
@@ -48,7 +47,7 @@ def test_export_to_a_folder_loads_in_stock_mujoco(scene_and_model, tmp_path: Pat
     path = mjcf.export_with_assets(scene, tmp_path / "out")
     assert Path(path) == tmp_path / "out" / "model.xml"
     files = sorted(os.listdir(tmp_path / "out"))
-    assert "base_0.obj" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
+    assert "base_0.msh" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
     assert len(files) == 1 + 20 + 8  # the model, the arm's meshes, the gripper's: once each
     _identical(compiled, mujoco.MjModel.from_xml_path(path))
     custom = mjcf.export_with_assets(scene, tmp_path / "named", model_filename="two_arms.xml")
@@ -59,9 +58,10 @@ def test_export_to_a_zip_loads_in_stock_mujoco_and_back(scene_and_model, tmp_pat
     scene, compiled = scene_and_model
     zip_path = mjcf.export_with_assets_as_zip(scene, tmp_path / "scene.zip")
     with zipfile.ZipFile(zip_path) as archive:
-        assert archive.namelist()[0] == "model.xml"
+        assert archive.namelist()[0] == "scene/model.xml"  # one folder, named like the zip
         archive.extractall(tmp_path / "extracted")
-    _identical(compiled, mujoco.MjModel.from_xml_path(str(tmp_path / "extracted" / "model.xml")))
+    extracted = tmp_path / "extracted" / "scene" / "model.xml"
+    _identical(compiled, mujoco.MjModel.from_xml_path(str(extracted)))
     _identical(compiled, mujoco.MjSpec.from_zip(str(zip_path)).compile())
     reread = mjcf.from_zip(zip_path)
     _identical(compiled, mjcf.Physics.from_mjcf_model(reread).model)
@@ -78,9 +78,24 @@ def test_zip_export_into_a_folder_as_dm_control_calls_it(scene_and_model, tmp_pa
     named = mjcf.export_with_assets_as_zip(scene, folder, "two_arms")  # dm_control's model_name
     assert Path(named) == folder / "two_arms.zip"
     with zipfile.ZipFile(named) as archive:
-        assert archive.namelist()[0] == "two_arms.xml"
+        assert archive.namelist()[0] == "two_arms/two_arms.xml"  # dm_control's and MJZ's layout
     _identical(compiled, mujoco.MjSpec.from_zip(str(named)).compile())
     _identical(compiled, mjcf.Physics.from_mjcf_model(mjcf.from_zip(named)).model)
+    new_folder = tmp_path / "new" / "exports"  # dm_control's keywords; the folder is created
+    keywords = mjcf.export_with_assets_as_zip(scene, out_dir=new_folder, model_name="arms")
+    assert Path(keywords) == new_folder / "arms.zip"
+    with zipfile.ZipFile(keywords) as archive:
+        names = archive.namelist()
+    assert names[0] == "arms/arms.xml" and {n.split("/")[0] for n in names} == {"arms"}
+    _identical(compiled, mujoco.MjSpec.from_zip(str(keywords)).compile())
+    default_name = mjcf.export_with_assets_as_zip(scene, out_dir=new_folder)
+    assert Path(default_name) == new_folder / "scene.zip"  # the model's name
+    with pytest.raises(TypeError, match="not both"):
+        mjcf.export_with_assets_as_zip(scene, tmp_path / "x.zip", out_dir=folder)
+    with pytest.raises(TypeError, match="not both"):
+        mjcf.export_with_assets_as_zip(
+            scene, out_dir=folder, model_name="a", model_filename="b.xml"
+        )
 
 
 def test_written_model_compiles_in_stock_mujoco_to_ours(scene_and_model) -> None:
@@ -124,7 +139,56 @@ def test_identical_contents_share_a_name_different_ones_get_readable_names(menag
     assert model.mesh_vertnum[driver_mesh] == alone.mesh_vertnum[0]
 
 
-def test_files_on_disk_with_one_base_name(menagerie, tmp_path: Path) -> None:
+def _file_names(xml: str) -> list[str]:
+    return re.findall(r' file="([^"]+)"', xml)
+
+
+def _assert_names_fit_mujoco(model: mjcf.RootElement) -> tuple[str, dict[str, bytes]]:
+    """The XML names exactly the files `get_assets` holds, each once as MuJoCo's asset
+    dict knows files (base name, any case), and stock MuJoCo compiles the pair to the
+    model we compile."""
+    xml, assets = model.to_xml_string(), model.get_assets()
+    assert set(_file_names(xml)) == set(assets)
+    assert len({name.lower() for name in assets}) == len(assets)
+    assert all("/" not in name for name in assets)  # plain names, never paths
+    ours = mjcf.Physics.from_mjcf_model(model).model
+    assert model_differences(ours, mujoco.MjModel.from_xml_string(xml, assets)) == []
+    return xml, assets
+
+
+def _two_folders(tmp_path: Path, named: bool) -> Path:
+    """A model whose two meshes are files named alike (but for case) in two folders;
+    unnamed meshes take MuJoCo's names after their files ('part', 'Part')."""
+    for folder, name, source in (("x", "part.stl", PAD), ("y", "Part.stl", DRIVER)):
+        (tmp_path / folder).mkdir(exist_ok=True)
+        (tmp_path / folder / name).write_bytes(source.read_bytes())
+    first, second = ('name="pad" ', 'name="driver" ') if named else ("", "")
+    path = tmp_path / f"two_{named}.xml"
+    path.write_text(
+        f'<mujoco model="two"><asset><mesh {first}file="x/part.stl" scale=".001 .001 .001"/>'
+        f'<mesh {second}file="y/Part.stl" scale=".001 .001 .001"/></asset><worldbody>'
+        f'<geom type="mesh" mesh="{"pad" if named else "part"}"/>'
+        f'<geom type="mesh" mesh="{"driver" if named else "Part"}"/></worldbody></mujoco>'
+    )
+    return path
+
+
+@pytest.mark.parametrize("named", [True, False], ids=["named", "named_after_files"])
+def test_one_file_name_in_two_folders(menagerie, tmp_path: Path, named: bool) -> None:
+    """MuJoCo's asset dict refuses 'x/part.stl' with 'y/Part.stl' ("Repeated file name"):
+    the second file gets a name of its own, and both meshes keep their own vertices
+    (and an unnamed one the name MuJoCo gives it after its file, written out)."""
+    path = _two_folders(tmp_path, named)
+    model = mjcf.from_path(path)
+    xml, assets = _assert_names_fit_mujoco(model)
+    assert _file_names(xml) == ["part.stl", "Part-2.stl"]
+    stock = mujoco.MjModel.from_xml_path(str(path))
+    reread = mujoco.MjModel.from_xml_string(xml, assets)
+    assert model_differences(stock, reread) == []  # names too, object by object
+    assert stock.mesh_vertnum[0] != stock.mesh_vertnum[1]
+
+
+def test_files_on_disk_with_one_base_name_in_attached_models(menagerie, tmp_path: Path) -> None:
     for folder, source in (("x", PAD), ("y", DRIVER)):
         (tmp_path / folder).mkdir()
         (tmp_path / folder / "part.stl").write_bytes(source.read_bytes())
@@ -135,16 +199,106 @@ def test_files_on_disk_with_one_base_name(menagerie, tmp_path: Path) -> None:
     scene = mjcf.RootElement(model="scene", model_dir=str(tmp_path))
     scene.attach(mjcf.from_path(tmp_path / "x" / "m.xml"))
     scene.attach(mjcf.from_path(tmp_path / "y" / "m.xml"))
-    xml = scene.to_xml_string()
-    assert 'file="x/part.stl"' in xml  # a path that loads from the scene's folder
-    model = mujoco.MjModel.from_xml_string(xml, scene.get_assets())
-    assert sorted(model.mesh_vertnum) == sorted(
-        mujoco.MjModel.from_xml_path(str(tmp_path / d / "m.xml")).mesh_vertnum[0] for d in "xy"
-    )
+    xml, assets = _assert_names_fit_mujoco(scene)
+    assert _file_names(xml) == ["part.stl", "y-part.stl"]  # the second by its model's scope
+    assert assets["y-part.stl"] == DRIVER.read_bytes()
     out = Path(mjcf.export_with_assets(scene, tmp_path / "out")).parent
     assert sorted(os.listdir(out)) == ["model.xml", "part.stl", "y-part.stl"]
-    assert (out / "y-part.stl").read_bytes() == DRIVER.read_bytes()
+    assert (out / "model.xml").read_text() == xml  # export writes what to_xml_string writes
     assert mujoco.MjModel.from_xml_path(str(out / "model.xml")).nmesh == 2
+
+
+def test_a_file_on_disk_is_not_shadowed_by_an_asset_of_its_name(menagerie, tmp_path: Path) -> None:
+    """Compiling passes files on disk to MuJoCo by path, which MuJoCo looks up in the
+    asset dict by base name first: an asset 'part.stl' of another model must not take
+    the place of this model's 'part.stl' on disk."""
+    (tmp_path / "part.stl").write_bytes(PAD.read_bytes())
+    (tmp_path / "b.xml").write_text(
+        '<mujoco model="b"><asset><mesh file="part.stl"/></asset>'
+        '<worldbody><geom type="mesh" mesh="part"/></worldbody></mujoco>'
+    )
+    from_bytes = _part("a", {"part.stl": DRIVER.read_bytes()})
+    scene = mjcf.RootElement(model="scene")
+    scene.attach(from_bytes)
+    scene.attach(mjcf.from_path(tmp_path / "b.xml"))
+    compiled = mjcf.Physics.from_mjcf_model(scene).model
+    on_disk = mujoco.MjModel.from_xml_path(str(tmp_path / "b.xml"))
+    disk_mesh = mujoco.mj_name2id(compiled, mujoco.mjtObj.mjOBJ_MESH, "b/part")
+    assert compiled.mesh_vertnum[disk_mesh] == on_disk.mesh_vertnum[0]
+    _assert_names_fit_mujoco(scene)
+
+
+def test_shipped_and_robot_models_composed_keep_their_files_apart(menagerie) -> None:
+    """Menagerie robots twice, MuJoCo's own test model with meshes in two folders and a
+    texture read twice (through two paths), and a second copy of that model: every
+    file once, under a name MuJoCo's asset dict accepts."""
+    scene = mjcf.RootElement(model="scene")
+    for name in ("left", "right"):
+        arm = mjcf.from_path(UR5E)
+        arm.model = name
+        arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+        scene.attach(arm)
+    for name in ("cubes", "more_cubes"):
+        cubes = mjcf.from_zip(MUJOCO_TESTDATA / "MJCF_Root.zip")
+        cubes.model = name
+        scene.attach(cubes).pos = [0, 2, 0]
+    _, assets = _assert_names_fit_mujoco(scene)
+    assert {"cube.stl", "cube.msh", "deepmind.png", "pad.stl", "base_0.msh"} <= set(assets)
+    assert len(assets) == 28 + 3
+
+
+def test_dm_control_hash_names_on_request(menagerie) -> None:
+    gripper = mjcf.from_path(ROBOTIQ)
+    xml = gripper.to_xml_string(filename_with_hash=True)
+    assets = gripper.get_assets(filename_with_hash=True)
+    pad_hash = hashlib.sha1(PAD.read_bytes()).hexdigest()
+    assert f"pad-{pad_hash}.stl" in assets and f'file="pad-{pad_hash}.stl"' in xml
+    assert set(_file_names(xml)) == set(assets)
+    expected = mjcf.Physics.from_mjcf_model(gripper).model
+    assert model_differences(expected, mujoco.MjModel.from_xml_string(xml, assets)) == []
+    asset = gripper.find("mesh", "pad").file
+    assert asset.get_vfs_filename() == f"pad-{pad_hash}.stl"
+    assert asset.get_vfs_filename(filename_with_hash=False) == "pad.stl"
+    assert 'file="pad.stl"' in gripper.to_xml_string(filename_with_hash=False)
+
+
+# -- export file names --------------------------------------------------------------------------
+
+
+def test_export_names_the_file_after_the_model(menagerie, tmp_path: Path) -> None:
+    gripper = mjcf.from_path(ROBOTIQ)
+    path = mjcf.export_with_assets(gripper, tmp_path / "a", None)
+    assert Path(path) == tmp_path / "a" / "robotiq_2f85.xml"
+    dm_control_style = mjcf.export_with_assets(gripper, tmp_path / "b", out_file_name=None)
+    assert Path(dm_control_style) == tmp_path / "b" / "robotiq_2f85.xml"
+    named = mjcf.export_with_assets(gripper, tmp_path / "c", out_file_name="gripper.xml")
+    assert Path(named) == tmp_path / "c" / "gripper.xml"
+    expected = mjcf.Physics.from_mjcf_model(gripper).model
+    for written in (path, dm_control_style, named):
+        assert Path(written).read_text() == gripper.to_xml_string()
+        assert model_differences(expected, mujoco.MjModel.from_xml_path(written)) == []
+    assert sorted(os.listdir(tmp_path / "a")) == sorted(["robotiq_2f85.xml", *gripper.get_assets()])
+
+
+@pytest.mark.parametrize("name", ["model", "model.stl", "sub/model.xml", "", 3])
+def test_export_refuses_a_model_file_name_it_cannot_use(tmp_path: Path, name) -> None:
+    model = mjcf.RootElement(model="m")
+    with pytest.raises(ValueError, match=r"model_filename|out_file_name"):
+        mjcf.export_with_assets(model, tmp_path / "out", name)
+    with pytest.raises(mjcf.AssetError, match="out_file_name"):
+        mjcf.export_with_assets(model, tmp_path / "out", out_file_name=name)
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(TypeError, match="not both"):
+        mjcf.export_with_assets(model, tmp_path / "out", "a.xml", out_file_name="b.xml")
+
+
+def test_export_keeps_numbers_as_to_xml_string_writes_them(tmp_path: Path) -> None:
+    model = mjcf.RootElement(model="m")
+    model.worldbody.add("geom", size=[1 / 3], pos=[1e-12, 0, 0.5])
+    path = mjcf.export_with_assets(model, tmp_path, precision=3, zero_threshold=1e-9)
+    text = Path(path).read_text()
+    assert text == model.to_xml_string(precision=3, zero_threshold=1e-9)
+    assert 'size="0.333"' in text and 'pos="0 0 0.5"' in text
 
 
 def test_assets_given_as_bytes_need_no_file(

@@ -58,6 +58,73 @@ def test_commit_defaults_of_a_composed_scene(menagerie) -> None:
     _commit_keeps_the_compiled_model(scene)
 
 
+def _compiled(model: mjcf.RootElement) -> mujoco.MjModel:
+    return mjcf.Physics.from_mjcf_model(model).model
+
+
+def test_commit_defaults_of_one_element_as_dm_control(menagerie) -> None:
+    """Given one element, only that element gets its values; classes and the rest of
+    the model stay as they are."""
+    arm = mjcf.from_path(UR5E)
+    before = _compiled(arm)
+    elbow = arm.find("joint", "elbow_joint")  # class size3_limited, inside childclass ur5e
+    shoulder = arm.find("joint", "shoulder_lift_joint")
+    defaults_before = arm.default.to_xml_string()
+    mjcf.commit_defaults(elbow)
+    assert elbow.range.tolist() == [-3.1415, 3.1415]  # its own class
+    assert elbow.armature == 0.1 and elbow.axis.tolist() == [0, 1, 0]  # inherited
+    assert elbow.get_attribute_xml_string("class") == "size3_limited"  # its class stays
+    assert shoulder.armature is None  # the other joints are left alone
+    assert arm.default.to_xml_string() == defaults_before
+    assert model_differences(before, _compiled(arm)) == []
+
+
+def test_commit_defaults_limited_to_attributes(menagerie) -> None:
+    arm = mjcf.from_path(UR5E)
+    before = _compiled(arm)
+    visual = arm.find("body", "base").geom[0]  # class visual: type, contype, conaffinity, group
+    mjcf.commit_defaults(visual, attributes=["group", "contype"])
+    assert (visual.group, visual.contype) == (2, 0)
+    assert visual.type is None and visual.conaffinity is None  # not asked for
+    collision = arm.find("body", "shoulder_link").geom[3]
+    mjcf.commit_defaults(collision, "type")  # one name as a string, as dm_control code does
+    assert collision.type == "capsule" and collision.group is None
+    site = arm.find("site", "attachment_site")  # a name the element lacks is left alone
+    mjcf.commit_defaults(site, ["rgba", "friction"])
+    assert site.rgba.tolist() == [0.5, 0.5, 0.5, 0.3]
+    assert model_differences(before, _compiled(arm)) == []
+
+
+def test_commit_defaults_of_a_model_limited_to_attributes(menagerie) -> None:
+    """Every element of the model and of the models attached to it gets those
+    attributes; the classes stay for the others, and the compiled model is the same
+    (stock MuJoCo agrees)."""
+    arm = mjcf.from_path(UR5E)
+    arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    before = _compiled(arm)
+    classes_before = [d.dclass for d in arm.find_all("default")]
+    mjcf.commit_defaults(arm, attributes=["group", "ctrlrange"])
+    geoms = arm.find_all("geom")
+    assert all(g.group is not None for g in geoms)  # UR5e and gripper geoms all have one
+    assert all(a.ctrlrange is not None for a in arm.find_all("actuator"))
+    assert [d.dclass for d in arm.find_all("default")] == classes_before
+    assert any(g.contype is None and g.dclass is not None for g in geoms)
+    assert model_differences(before, _compiled(arm)) == []
+    stock = mujoco.MjModel.from_xml_string(arm.to_xml_string(), arm.get_assets())
+    assert model_differences(before, stock) == []
+
+
+def test_commit_defaults_refuses_an_attribute_no_class_can_set(menagerie) -> None:
+    arm = mjcf.from_path(UR5E)
+    before = arm.to_xml_string()
+    joint = arm.find("joint", "elbow_joint")
+    with pytest.raises(mjcf.AttributeError, match=r"elbow_joint.*'armatur'.*'armature'"):
+        mjcf.commit_defaults(joint, attributes=["range", "armatur"])
+    with pytest.raises(AttributeError, match="no default class sets an attribute 'nonsense'"):
+        mjcf.commit_defaults(arm, attributes=["nonsense"])
+    assert arm.to_xml_string() == before
+
+
 # -- include_copy -------------------------------------------------------------------------------
 
 

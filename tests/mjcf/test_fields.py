@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 from mujoco.introspect import structs
 
-from mjcf import errors, fields
+from mjcf import errors, fields, tracking
 from mjcf.physics import Physics
+from tests.conftest import MUJOCO_TESTDATA
 
 Obj = mujoco.mjtObj
 
@@ -376,3 +377,65 @@ def test_names_of_unnamed_objects_are_empty():
     names = fields.names(physics.model, Obj.mjOBJ_GEOM)
     assert len(names) == physics.model.ngeom
     assert names[0] == "floor" and "" in names
+
+
+# -- what writes make stale (mjcf.tracking), and column names ----------------------------------
+
+
+def test_state_fields_are_mujocos_state_components() -> None:
+    model = mujoco.MjModel.from_xml_path(str(MUJOCO_TESTDATA / "model.xml"))
+    data = mujoco.MjData(model)
+    for name, component in tracking.STATE_FIELDS.items():
+        size = mujoco.mj_stateSize(model, component)
+        assert np.size(getattr(data, name)) == size, name
+    singles = [c for c in mujoco.mjtState.__members__.values() if bin(int(c)).count("1") == 1]
+    assert sorted(tracking.STATE_FIELDS.values(), key=int) == sorted(singles, key=int)
+    assert {"ctrl", "qfrc_applied", "xfrc_applied"} == tracking.STEP_INPUT_FIELDS
+
+
+def test_every_derived_field_has_a_stage_from_mjdata_h() -> None:
+    assert tracking.read_stage("xpos") == tracking.Stage.POSITION
+    assert tracking.read_stage("cvel") == tracking.Stage.POSITION  # velocity: same half-step
+    assert tracking.read_stage("qacc") == tracking.Stage.ACCELERATION
+    assert tracking.read_stage("actuator_force") == tracking.Stage.ACCELERATION
+    assert tracking.read_stage("qpos") == tracking.Stage.NONE
+    unparsed = [
+        name for name in fields.indexed_fields("data")
+        if name not in tracking.STATE_FIELDS and name not in tracking._DATA_STAGES
+    ]  # fmt: skip
+    assert unparsed == ["sensordata"]  # a stage per sensor: tracking.sensor_stage
+    assert tracking.ON_DEMAND["cfrc_ext"] == ("flg_rnepost", "mj_rnePostConstraint")
+    assert tracking.ON_DEMAND["subtree_linvel"] == ("flg_subtreevel", "mj_subtreeVel")
+
+
+def test_model_write_effects_follow_mj_setconst_inputs() -> None:
+    effect = {name: tracking.write_effect(f) for name, f in fields.indexed_fields("model").items()}
+    constant = tracking.Effect.MODEL_CONSTANT
+    for name in ("body_pos", "body_ipos", "body_mass", "geom_pos", "geom_quat", "geom_size",
+                 "site_pos", "jnt_axis", "qpos0"):  # fmt: skip
+        assert effect[name] == constant, name
+    assert effect["geom_friction"] == effect["dof_damping"] == tracking.Effect.MODEL
+    assert effect["geom_rgba"] == effect["mat_rgba"] == tracking.Effect.VISUAL
+    assert len(tracking.SETCONST_INPUTS) > 50
+
+
+def test_column_names_cover_dm_controls() -> None:
+    dm_control = {
+        ("x", "y", "z"): ["body_pos", "body_ipos", "body_inertia", "jnt_pos", "jnt_axis",
+                          "geom_size", "geom_pos", "site_size", "site_pos", "cam_pos",
+                          "cam_poscom0", "cam_pos0", "light_pos", "light_dir", "light_poscom0",
+                          "light_pos0", "light_dir0", "mesh_vert", "mesh_normal", "mocap_pos",
+                          "xpos", "xipos", "xanchor", "xaxis", "geom_xpos", "site_xpos",
+                          "cam_xpos", "light_xpos", "light_xdir", "subtree_com",
+                          "subtree_linvel", "subtree_angmom"],
+        ("qw", "qx", "qy", "qz"): ["body_quat", "body_iquat", "geom_quat", "site_quat",
+                                   "cam_quat", "mocap_quat", "xquat"],
+        ("xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"): ["cam_mat0", "xmat", "ximat",
+                                                                 "geom_xmat", "site_xmat",
+                                                                 "cam_xmat"],
+        ("r", "g", "b", "a"): ["geom_rgba", "site_rgba", "skin_rgba", "mat_rgba", "tendon_rgba"],
+    }  # fmt: skip
+    for columns, names in dm_control.items():
+        for name in names:
+            assert fields.column_names(name) == columns, name
+    assert fields.column_names("geom_friction") is None and fields.column_names("qpos") is None

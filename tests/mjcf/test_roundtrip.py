@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import textwrap
 from pathlib import Path
 
@@ -14,7 +15,7 @@ from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
 from tests.mjcf.compare import model_differences, trajectories_match
 
 SHIPPED = sorted(GYM_ASSETS.glob("*.xml")) + sorted(MUJOCO_TESTDATA.glob("*.xml"))
-ROBOTS = sorted(MENAGERIE.glob("*/*.xml")) if MENAGERIE.exists() else []
+ROBOTS = sorted(MENAGERIE.glob("*/*.xml"))
 
 
 def _assert_round_trip(path: Path, root: mjcf.RootElement) -> None:
@@ -197,8 +198,185 @@ def test_precision_controls_written_digits() -> None:
     assert 'size="0.333"' in root.to_xml_string(precision=3)
 
 
+def _real_numbers(xml: str) -> list[str]:
+    """Every number written in an attribute of `xml` that has a fraction or exponent."""
+    values = re.findall(r'="([-+0-9.eE ]+)"', xml)
+    return [w for v in values for w in v.split() if "." in w or "e" in w.lower()]
+
+
+def test_precision_applies_to_numbers_read_from_files_too(tmp_path, monkeypatch) -> None:
+    """As in dm_control, `precision` below 17 rewrites every real number, those read
+    from the file included; integers and keywords stay; MuJoCo compiles the result."""
+    monkeypatch.chdir(tmp_path)
+    path = GYM_ASSETS / "humanoid.xml"
+    root = mjcf.from_path(path)
+    xml = root.to_xml_string(precision=3)
+    assert any(len(w.lstrip("-0.").replace(".", "")) > 3 for w in _real_numbers(path.read_text()))
+    assert all(len(w.lstrip("-0.").replace(".", "").split("e")[0]) <= 3 for w in _real_numbers(xml))
+    assert 'condim="3"' in xml and 'type="capsule"' in xml
+    assert root.to_xml_string() == mjcf.from_path(path).to_xml_string()  # nothing changed
+    reference = mujoco.MjModel.from_xml_path(str(path))
+    rounded = mujoco.MjModel.from_xml_string(xml)
+    assert np.allclose(rounded.body_pos, reference.body_pos, rtol=1e-2, atol=1e-3)
+    assert np.allclose(rounded.body_mass, reference.body_mass, rtol=3e-2)
+
+
+def test_zero_threshold_writes_small_numbers_as_zero() -> None:
+    root = mjcf.from_xml_string(
+        '<mujoco><option timestep="0.002"/><worldbody>'
+        '<body name="b" pos="1e-12 -3e-10 0.5"><geom size="0.1"/></body></worldbody></mujoco>'
+    )
+    root.find("body", "b").quat = [1, 1e-17, 0, -2e-16]
+    assert 'pos="1e-12 -3e-10 0.5"' in root.to_xml_string()  # by default, as read
+    xml = root.to_xml_string(zero_threshold=1e-9)
+    assert 'pos="0 0 0.5"' in xml and 'quat="1 0 0 0"' in xml
+    assert 'timestep="0.002"' in xml and 'size="0.1"' in xml
+    assert root.to_xml(zero_threshold=1e-9).find("worldbody/body").get("pos") == "0 0 0.5"
+
+
+def test_precision_reaches_composed_values() -> None:
+    """Values the composition computes (angles converted into the parent's units, merged
+    settings, merged keyframes) are written with the precision asked for too."""
+    parent = mjcf.RootElement(model="parent")
+    parent.compiler.angle = "radian"
+    parent.option.timestep = 1 / 300
+    child = mjcf.RootElement(model="child")  # degrees
+    body = child.worldbody.add("body", name="b", euler=[10, 20, 30])
+    body.add("joint", name="j", range=[-10, 10])
+    body.add("geom", size=[0.1])
+    child.keyframe.add("key", name="k", qpos=[1 / 3])
+    parent.attach(child)
+    exact = parent.to_xml_string()
+    assert 'range="-0.17453292519943295 0.17453292519943295"' in exact
+    short = parent.to_xml_string(precision=3)
+    assert 'range="-0.175 0.175"' in short and 'timestep="0.00333"' in short
+    assert 'qpos="0.333"' in short
+    assert all(len(w.lstrip("-0.").replace(".", "")) <= 3 for w in _real_numbers(short))
+
+
 def test_to_xml_is_lxml_element() -> None:
     root = mjcf.from_path(GYM_ASSETS / "ant.xml")
     xml = root.to_xml()
     assert xml.tag == "mujoco"
     assert xml.find("worldbody/body").get("name") == "torso"
+
+
+def test_repeated_top_level_default_compiles_as_mujoco_reads_it(tmp_path: Path) -> None:
+    """The model's own classes first, then an included file that sets the global
+    defaults: MuJoCo copied the classes before, so they keep the values they had."""
+    _write(
+        tmp_path,
+        "scene_defaults.xml",
+        """
+        <mujoco>
+          <default class="main">
+            <geom friction="0.9 0.02 0.002" margin="0.002" solimp="0.8 0.9" material="grey"/>
+            <joint armature="0.05" damping="0.3"/>
+          </default>
+        </mujoco>
+    """,
+    )
+    main = _write(
+        tmp_path,
+        "model.xml",
+        """
+        <mujoco model="robot_on_scene">
+          <default>
+            <geom rgba="0.2 0.2 0.8 1" friction="0.6"/>
+            <default class="link">
+              <geom friction="0.4 0.01"/>
+              <joint damping="1"/>
+              <default class="pad"><geom margin="0.01"/></default>
+            </default>
+          </default>
+          <include file="scene_defaults.xml"/>
+          <default><default class="late"><geom condim="1"/></default></default>
+          <asset><material name="grey" rgba=".5 .5 .5 1"/></asset>
+          <worldbody>
+            <geom name="floor" type="plane" size="2 2 .1"/>
+            <body name="arm" pos="0 0 .5">
+              <joint name="hinge" class="link"/>
+              <geom name="upper" class="link" type="capsule" size=".05 .2"/>
+              <geom name="pad" class="pad" type="sphere" size=".06" pos="0 0 -.2"/>
+              <geom name="late" class="late" type="sphere" size=".05" pos="0 0 .2"/>
+              <body name="free" pos=".3 0 0"><joint/><geom size=".05"/></body>
+            </body>
+          </worldbody>
+        </mujoco>
+    """,
+    )
+    root = mjcf.from_path(main)
+    _assert_round_trip(main, root)
+    reference = mujoco.MjModel.from_xml_path(str(main))
+    assert model_differences(reference, mjcf.Physics.from_mjcf_model(root).model) == []
+    upper = reference.geom("upper")
+    assert upper.margin[0] == 0 and upper.matid[0] == -1  # what silently changed before
+    reread = mjcf.from_xml_string(root.to_xml_string())
+    _assert_round_trip(main, reread)
+
+
+def test_repeated_top_level_default_with_late_actuator_defaults_is_refused() -> None:
+    xml = """<mujoco><default><default class="a"/></default>
+      <default><motor gear="2"/></default></mujoco>"""
+    with pytest.raises(mjcf.ParseError, match="move the actuator defaults into the first"):
+        mjcf.from_xml_string(xml)
+    two = """<mujoco><default><motor gear="2"/></default><default><position kp="3"/></default>
+      <worldbody><body><joint name="j"/><geom size=".1"/></body></worldbody>
+      <actuator><motor joint="j"/><position joint="j"/></actuator></mujoco>"""
+    reference = mujoco.MjModel.from_xml_string(two)
+    ours = mujoco.MjModel.from_xml_string(mjcf.from_xml_string(two).to_xml_string())
+    assert model_differences(reference, ours) == []
+
+
+def test_defaults_naming_assets_they_do_not_define_load() -> None:
+    """A defaults-only file (included by models that define the materials) loads, as in
+    MuJoCo; a dangling name is an error where an element uses it."""
+    defaults = """<mujoco><default>
+      <default class="red"><geom material="red_mat"/><site material="marker"/></default>
+      <default class="textured"><material texture="wood"/></default>
+    </default></mujoco>"""
+    mujoco.MjModel.from_xml_string(defaults)
+    root = mjcf.from_xml_string(defaults)
+    assert root.find("default", "red").geom.material == "red_mat"
+    mjcf.Physics.from_mjcf_model(root)
+    root.worldbody.add("geom", dclass="red", size=[0.1])
+    with pytest.raises(mjcf.CompileError, match="red_mat"):
+        mjcf.Physics.from_mjcf_model(root)
+    with pytest.raises(mjcf.ReferenceError, match="red_mat"):
+        mjcf.from_xml_string(defaults.replace("</default></mujoco>", "</default>"
+            '<worldbody><geom material="red_mat" size=".1"/></worldbody></mujoco>'))  # fmt: skip
+
+
+_LATE_DEFAULTS = [
+    '<geom solref=".03 2" size=".2" priority="1" condim="4" fluidcoef=".3 .3"/>',
+    '<joint range="-30 30" stiffness="2" springref="10" limited="true"/>',
+    '<site size=".05" rgba="1 0 0 1"/>',
+    '<camera fovy="60" ipd=".1"/>',
+    '<light attenuation="1 .1 0" cutoff="30"/>',
+    '<tendon stiffness="3" width=".01" limited="true" range="0 1"/>',
+    '<equality solref=".05 1" active="false"/>',
+    '<pair margin=".1"/>',
+    '<mesh scale="2 2 2"/>',
+    '<material specular=".1" rgba="1 0 0 1"/>',
+]
+
+
+@pytest.mark.parametrize("late", _LATE_DEFAULTS, ids=lambda text: text.split()[0][1:])
+def test_classes_keep_built_in_values_of_late_global_defaults(late: str) -> None:
+    """Every kind of default element: a class defined before the global defaults set a
+    value keeps MuJoCo's built-in one."""
+    xml = f"""<mujoco><default><default class="a"/></default><default>{late}</default>
+      <asset><mesh name="m" class="a" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/>
+        <material name="mt" class="a"/></asset>
+      <worldbody><camera class="a"/><light class="a"/>
+        <body><joint name="j" class="a"/><joint name="j2" class="a" axis="1 0 0"/>
+          <geom class="a" size=".1"/><geom size=".1" name="g2"/><site class="a"/></body>
+      </worldbody>
+      <tendon><fixed class="a"><joint joint="j" coef="1"/></fixed></tendon>
+      <equality><joint joint1="j" joint2="j2" class="a"/></equality>
+      <contact><pair geom1="g2" geom2="g2" class="a"/></contact>
+    </mujoco>"""
+    reference = mujoco.MjModel.from_xml_string(xml)
+    root = mjcf.from_xml_string(xml)
+    ours = mujoco.MjModel.from_xml_string(root.to_xml_string())
+    assert model_differences(reference, ours) == []

@@ -1,0 +1,67 @@
+"""Lists of child elements, as `body.geom` or `model.actuator.motor` return them.
+
+    body.geom[0], body.geom['tip']                 # by position or by name
+    scene.attach(arm)
+    scene.actuator.motor                           # scene's motors, then arm's
+    scene.actuator.motor['arm/elbow']              # scoped names reach attached models
+    scene.actuator.all_children()                  # the same, for every tag
+
+As in dm_control, the children of a model's top-level sections other than the world
+body and the defaults (actuators, sensors, tendons, assets, contacts, equalities,
+keyframes, ...) include those of the models attached into it, after its own, in the
+order the models were attached; elsewhere a list holds the element's own children. The
+lists are copies: change the model with `add` and `remove`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from mjcf import errors
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+
+# Sections whose children are not merged from attached models: an attached model's
+# world body is where it is attached, and its defaults stay its own.
+_OWN_SECTIONS = frozenset({"worldbody", "default"})
+
+
+class ElementList(list):
+    """The repeated children of one tag: a list that is also indexable by name ('tip',
+    or 'arm/elbow' for an element of an attached model)."""
+
+    def __init__(self, elements=(), root: RootElement | None = None) -> None:
+        super().__init__(elements)
+        self.root = root
+
+    def __getitem__(self, key):  # type: ignore[override]
+        if isinstance(key, str):
+            for element in self:
+                if element.root is self.root or self.root is None:
+                    if element.identifier == key:
+                        return element
+                elif element.prefixed_identifier(self.root) == key:
+                    return element
+            raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
+        return super().__getitem__(key)
+
+    def tags(self) -> str:
+        """The tags of the listed elements, for messages."""
+        return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"
+
+
+def children(element: Element, tag: str | None = None) -> list[Element]:
+    """The children of `element` (with `tag` if given), and for a top-level section
+    those of the same section of every model attached inside its model."""
+    found = [c for c in element._children if tag is None or c._spec.tag == tag]
+    root = element.root
+    if element._parent is not root or element._spec.tag in _OWN_SECTIONS:
+        return found
+    from mjcf import attachment  # cycle: attachment -> element -> element_list
+
+    for model in attachment.attached_models(root):
+        section = model._single_child(element._spec.tag)
+        found.extend(c for c in section._children if tag is None or c._spec.tag == tag)
+    return found

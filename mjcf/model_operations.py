@@ -1,0 +1,215 @@
+"""The methods of `Element` that the layers above the tree carry out: finding elements
+(`mjcf.traversal`), comparing them (`mjcf.sameness`), removing, attaching and copying
+(`mjcf.attachment`, `mjcf.copying`), naming them in an output (`mjcf.naming`) and
+writing them (`mjcf.serializer`).
+
+    model.find('joint', 'arm/shoulder'); model.find_all('geom')
+    body.remove(); site.attach(gripper); scene.include_copy(floor)
+    geom.full_identifier                 # 'arm/tip'
+    geom.to_xml_string(); body.is_same_as(other)
+
+`Element` inherits them from `ModelOperations`, so that `mjcf.element` holds what an
+element is (its attributes, name and children) and this module is where the tree calls
+up into the modules that build on it. Those modules import `mjcf.element`, so each
+method imports its module when it runs.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from lxml import etree
+
+from mjcf import errors
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+
+
+class ModelOperations:
+    """Operations of an element on its model and the models attached to it (see the
+    module docstring); a base of `Element`, not used alone."""
+
+    __slots__ = ()
+
+    # -- names in an output -----------------------------------------------------------------
+
+    @property
+    def full_identifier(self) -> str | None:
+        """The name MuJoCo sees for this element in the outermost model it is attached
+        into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
+        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
+        cannot carry a name, and unnamed ones that are removed or replicated (see
+        `mjcf.naming`)."""
+        return self.prefixed_identifier(None)
+
+    def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
+        """This element's name as model `prefix_root` (default: the outermost model it is
+        attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError
+        if this element's model is not attached inside `prefix_root`."""
+        from mjcf import naming  # cycle: naming -> attachment -> element -> this module
+
+        return naming.scoped_name(self, prefix_root)
+
+    # -- finding and comparing --------------------------------------------------------------
+
+    def find(self, namespace: str, identifier: str) -> Element | None:
+        """The element of `namespace` ('body', 'joint', 'geom', 'actuator', 'default',
+        'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
+        inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
+        unknown namespace."""
+        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
+
+        return traversal.find(self, namespace, identifier)
+
+    def find_all(
+        self,
+        namespace: str,
+        immediate_children_only: bool = False,
+        exclude_attachments: bool = False,
+    ) -> list[Element]:
+        """Every element of `namespace` (or with tag `namespace`) inside this element,
+        in the order MuJoCo will see them, including attached models' unless excluded.
+        Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
+        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
+
+        return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
+
+    def enter_scope(self, scope_identifier: str) -> RootElement | None:
+        """The model attached into this element's model under the scoped name
+        `scope_identifier` ('arm', or 'arm/gripper' for one attached inside it), or None
+        if there is none."""
+        scope = self.root.namescope.descendant(scope_identifier)
+        return None if scope is None else scope.model
+
+    def is_same_as(self, other: object) -> bool:
+        """Whether `other` is structurally the same element: same schema, attribute
+        values (references by what they point to) and children (see `mjcf.sameness`)."""
+        from mjcf import sameness  # cycle: sameness -> element -> this module
+
+        return sameness.is_same_as(self, other)
+
+    # -- removing, attaching, copying -------------------------------------------------------
+
+    def remove(self, affect_attachments: bool = False) -> None:
+        """Remove this element (and its subtree) from the model. Raises mjcf.SchemaError
+        for a model's top-level sections, which always exist, and mjcf.AttachmentError
+        if models are attached inside, unless `affect_attachments` (they are detached
+        then)."""
+        from mjcf import attachment  # cycle: attachment -> element -> this module
+
+        parent = self.parent
+        if parent is None:
+            raise errors.SchemaError(
+                f"{self.path}: a model root or removed element cannot be removed"
+            )
+        if parent.parent is None and parent is self.root:
+            raise errors.SchemaError(
+                f"{self.path}: the <{self.tag}> section always exists; remove its children"
+            )
+        frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
+        if frames and not affect_attachments:
+            models = ", ".join(repr(frame.attached_model.model) for frame in frames)
+            raise errors.AttachmentError(
+                f"{self.path}: models {models} are attached inside; detach them first, or "
+                "call remove(affect_attachments=True)"
+            )
+        for frame in frames:
+            frame.detach()
+        self._cut()._modified()
+
+    def attach(self, child: RootElement) -> Element:
+        """Attach model `child` here (a site, body, frame or the world body) and return
+        its attachment frame; its names become scoped ('child_model/name'). Raises
+        mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
+        from mjcf import attachment  # cycle: attachment -> element -> this module
+
+        return attachment.attach(self, child)
+
+    def include_copy(self, other: Element, override_attributes: bool = False) -> None:
+        """Merge a copy of `other` (an element of the same tag, or another model into
+        this model) into this element, without a name scope, as `<include>` would; see
+        `mjcf.copying`. Nothing changes if it raises."""
+        from mjcf import copying  # cycle: copying -> element -> this module
+
+        copying.include_copy(self, other, override_attributes)
+
+    def __copy__(self) -> Element:
+        raise TypeError(
+            f"{self.path}: an element belongs to its model and cannot be copied alone; copy "
+            "the model with copy.copy(root) or copy.deepcopy(root), or merge a copy into "
+            "another element with include_copy"
+        )
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Element:
+        """A copy of the whole model (detached, with its attached models), sharing the
+        schema; returns this element's copy (see `mjcf.copying`)."""
+        from mjcf import copying  # cycle: copying -> element -> this module
+
+        return copying.deepcopy_element(self, memo)
+
+    # -- XML --------------------------------------------------------------------------------
+
+    def get_attribute_xml_string(
+        self, name: str, prefix_root: RootElement | None = None
+    ) -> str | None:
+        """The attribute as it would be written to XML (scoped names for references)."""
+        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
+
+        attribute = self._attribute_spec(name)
+        if attribute.name not in self._attrs:
+            return None
+        return serializer.attribute_text(self, attribute, prefix_root)
+
+    def to_xml(
+        self,
+        prefix_root: RootElement | None = None,
+        *,
+        precision: int = 17,
+        zero_threshold: float = 0.0,
+        filename_with_hash: bool = False,
+    ):
+        """This element (and its subtree, with attached models) as an lxml element;
+        the keywords are `to_xml_string`'s."""
+        return etree.fromstring(
+            self.to_xml_string(
+                prefix_root,
+                pretty_print=False,
+                precision=precision,
+                zero_threshold=zero_threshold,
+                filename_with_hash=filename_with_hash,
+            )
+        )
+
+    def to_xml_string(
+        self,
+        prefix_root: RootElement | None = None,
+        self_only: bool = False,
+        pretty_print: bool = True,
+        *,
+        precision: int = 17,
+        zero_threshold: float = 0.0,
+        filename_with_hash: bool = False,
+    ) -> str:
+        """XML text of this element (with its subtree and attached models unless
+        `self_only`). Numbers keep their source text, or are written with `precision`
+        significant digits (17: exact); with `precision` below 17 or a `zero_threshold`
+        every real number is rewritten, those smaller in magnitude than `zero_threshold`
+        as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
+        names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
+        mjcf errors for missing required attributes and dangling references."""
+        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
+
+        return serializer.to_xml_string(
+            self,
+            prefix_root,
+            self_only,
+            pretty_print,
+            precision,
+            zero_threshold=zero_threshold,
+            filename_with_hash=filename_with_hash,
+        )
+
+    def __repr__(self) -> str:
+        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"

@@ -1,0 +1,131 @@
+"""Structural equality of elements: `element.is_same_as(other)`, as dm_control defines it.
+
+    copy.deepcopy(model).is_same_as(model)          # True
+    arm_a.find('body', 'hand').is_same_as(arm_b.find('body', 'hand'))
+
+Two elements are the same when they have the same schema (the same tag in the same
+kind of place), the same attribute values, and the same children. Numbers compare by
+value (`pos="0 0 1"` read from a file equals `pos=[0, 0, 1]` set in Python), references
+by what they point to, named relative to each element's own model (`joint=hinge` equals
+`joint="hinge"`). Repeated children compare in order among those of one tag (a body's
+geoms in order, its sites in order, geoms and sites in any interleaving); the children
+of a tendon path compare in strict order, since that order is the path. A model compares
+its sections, not its name. Unlike dm_control, models attached inside are compared too:
+their attachment frames in order, with the models they hold.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from mjcf import attachment
+from mjcf.element import Element
+from mjcf.root import RootElement
+
+if TYPE_CHECKING:
+    from mjcf.schema import AttributeSpec
+
+
+def is_same_as(element: Element, other: object) -> bool:
+    """Whether `other` is an element structurally equal to `element` (see module)."""
+    if not isinstance(other, Element) or other._spec is not element._spec:
+        return False
+    is_root = isinstance(element, RootElement)
+    if is_root != isinstance(other, RootElement):
+        return False
+    if not is_root and not _same_attributes(element, other):
+        return False
+    if isinstance(element, attachment.AttachmentFrame) and not is_same_as(
+        element.attached_model,
+        other.attached_model,  # type: ignore[attr-defined]
+    ):
+        return False
+    if _is_tendon_path(element):
+        return _same_sequence(element._children, other._children)
+    return _same_children(element, other)
+
+
+def _same_attributes(element: Element, other: Element) -> bool:
+    attributes = element._spec.attributes
+    for name in element._attrs.keys() | other._attrs.keys():
+        attribute = attributes[name]
+        if not _same_value(
+            attribute, _comparable(element, attribute), _comparable(other, attribute)
+        ):
+            return False
+    return True
+
+
+def _comparable(element: Element, attribute: AttributeSpec) -> Any:
+    """The value of `attribute` of `element` in a form that compares across models:
+    numbers as numbers, references as the names of their targets in the element's model."""
+    value = element._get_value(attribute)
+    if value is None or attribute.kind != "reference":
+        return value
+    items = value if isinstance(value, list) else [value]
+    names = []
+    for item in items:
+        if isinstance(item, str):
+            names.extend(item.split() if attribute.is_list else [item])
+        else:
+            names.append(_target_name(element, item))
+    return tuple(names)
+
+
+def _target_name(element: Element, target: Element) -> str | None:
+    """The name of reference target `target` as seen from `element`'s model."""
+    if target.root is element.root or _attached_inside(target.root, element.root):
+        return target.prefixed_identifier(element.root)
+    return target.full_identifier
+
+
+def _attached_inside(model: Element, root: Element) -> bool:
+    scope = model.namescope.parent
+    while scope is not None:
+        if scope is root.namescope:
+            return True
+        scope = scope.parent
+    return False
+
+
+def _same_value(attribute: AttributeSpec, a: Any, b: Any) -> bool:
+    if a is None or b is None:
+        return a is None and b is None
+    if attribute.kind in ("int", "real"):
+        first, second = np.asarray(a), np.asarray(b)
+        return first.shape == second.shape and bool(np.array_equal(first, second))
+    return bool(a == b)  # files (mjcf.Asset) compare by path, else by contents
+
+
+def _is_tendon_path(element: Element) -> bool:
+    parent = element._parent
+    return parent is not None and parent._spec.tag == "tendon" and parent._parent is element.root
+
+
+def _same_sequence(children: list[Element], others: list[Element]) -> bool:
+    return len(children) == len(others) and all(
+        is_same_as(child, other) for child, other in zip(children, others, strict=True)
+    )
+
+
+def _same_children(element: Element, other: Element) -> bool:
+    """Children compare tag by tag, in order within a tag; a once-only child that is
+    empty is the same as one that is absent."""
+    mine = _by_tag(element)
+    theirs = _by_tag(other)
+    for tag in mine.keys() | theirs.keys():
+        if not _same_sequence(mine.get(tag, []), theirs.get(tag, [])):
+            return False
+    return True
+
+
+def _by_tag(element: Element) -> dict[str, list[Element]]:
+    groups: dict[str, list[Element]] = {}
+    for child in element._children:
+        spec = child._spec
+        if not spec.repeated and not child._attrs and not child._children:
+            continue
+        groups.setdefault(spec.tag, []).append(child)
+    return groups
