@@ -38,7 +38,7 @@ all three on the real source:
     values:       errors debugging fields assets values schema namescope
     tree:         element_list model_operations element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
-                  copying sameness keyframes composition
+                  copying sameness keyframes sharing composition
     text:         default_sections parser serializer export
     simulation:   tracking binding named validity rendering raw_access tree_binding
                   compiler physics_state physics

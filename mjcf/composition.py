@@ -17,7 +17,9 @@ written:
   `settotalmass` becomes its densities, masses and inertias scaled;
 - unnamed elements are written with the names `mjcf.naming` gives them
   ('child//unnamed_geom_0'), in every output, so the compiled names are the written
-  ones.
+  ones;
+- a mesh or texture that compiles exactly like one of a model written before is
+  written once, references to it naming the first (see `mjcf.sharing`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, defaults, errors, keyframes, naming, settings
+from mjcf import attachment, defaults, errors, keyframes, naming, settings, sharing
 from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 from mjcf.values import format_number
@@ -60,6 +62,7 @@ class ModelContext:
         "names_only",
         "plain",
         "prefix",
+        "shared_names",
     )
 
     def __init__(self, composition: Composition, model: RootElement, prefix: str) -> None:
@@ -74,6 +77,9 @@ class ModelContext:
         self.euler_seq: str | None = None
         self.mass_scale: float | None = None
         self.plain = True
+        # (namespace, name) -> written name, for this model's assets written as another
+        # model's (see mjcf.sharing).
+        self.shared_names: dict[tuple[str, str], str] = {}
 
     def finish(self) -> None:
         """Decide whether names and values can be written as stored."""
@@ -108,6 +114,10 @@ class ModelContext:
             return self.class_text(value)
         if value == WORLD and attribute.namespace in ("body", None):
             return value  # the world body is shared, never scoped
+        if self.shared_names:
+            shared = self.shared_names.get((attribute.namespace, value))
+            if shared is not None:
+                return shared
         return self.prefix + _unescape(value)
 
     # -- per-element changes --------------------------------------------------------------
@@ -250,6 +260,13 @@ class Composition:
             self._scale_masses()
         for context in self._contexts.values():
             context.finish()
+        # Assets of attached models written as an earlier model's (see mjcf.sharing).
+        self.shared = sharing.shared_assets(self._models) if self.has_attachments else {}
+        for element, first in self.shared.items():
+            name = element.identifier
+            if name is not None:
+                context = self._contexts[element.root]
+                context.shared_names[(element._spec.namespace, name)] = self._written_name(first)
 
     def _scale_masses(self) -> None:
         """Give each attached model with a settotalmass (and the models attached inside
@@ -326,18 +343,32 @@ class Composition:
             return naming.frame_name(target, context.prefix)
         if target._spec.tag == "worldbody":
             return WORLD
+        written = self._written_name(self.shared.get(target, target))
+        if written is None:
+            raise errors.InvalidReferenceError(
+                f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
+                "inside a <replicate> and compiles to several unnamed objects; name it"
+            )
+        return written
+
+    def _written_name(self, target: Element) -> str | None:
+        """The name `target` (a named or unnamed element of a model of this output) is
+        written with; None if it is written without one (inside a <replicate>)."""
+        context = self._contexts[target.root]
         name = target.identifier
         if name is None:
-            generated = self.generated_name(target, context)
-            if generated is None:
-                raise errors.InvalidReferenceError(
-                    f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
-                    "inside a <replicate> and compiles to several unnamed objects; name it"
-                )
-            return generated
+            return self.generated_name(target, context)
         if target._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
+
+    def written_assets(self, context: ModelContext) -> list[Element]:
+        """The children of `context`'s model's `<asset>` that this output writes: all
+        but those written as another model's (see mjcf.sharing)."""
+        children = context.model._section("asset")._children
+        if not self.shared or context.is_output:
+            return children
+        return [child for child in children if child not in self.shared]
 
     def generated_name(self, element: Element, context: ModelContext) -> str | None:
         """The name written for an element without a name attribute: its scoped file

@@ -179,7 +179,10 @@ class _Writer:
         else:
             mark = self._open(section, 1, root_context)
             self.children(section._children, 2, root_context)
-            if tag != "worldbody":
+            if tag == "asset":
+                for context in self.composed.attached_contexts():
+                    self.children(self.composed.written_assets(context), 2, context)
+            elif tag != "worldbody":
                 for context in self.composed.attached_contexts():
                     self.children(context.model._section(tag)._children, 2, context)
             self._close(section, 1, mark)
