@@ -33,13 +33,15 @@ class RootElement(Element):
     top-level section) and `_version` (see `version`); `_frame` (where this model is
     attached) and `_attachments` (the frames of the models attached to it) belong to
     `mjcf.attachment`, which alone links and unlinks models; `_numbering` is
-    `mjcf.naming`'s cache of generated names; `_confine_to` (the folder `strict_paths`
-    confines files to) is set by the parser and read by `mjcf.assets`.
+    `mjcf.naming`'s cache of generated names; `_composed` is `mjcf.composition`'s cache
+    of the last composition of each kind of output; `_confine_to` (the folder
+    `strict_paths` confines files to) is set by the parser and read by `mjcf.assets`.
     """
 
     __slots__ = (
         "_assets",
         "_attachments",
+        "_composed",
         "_confine_to",
         "_frame",
         "_model_dir",
@@ -55,6 +57,7 @@ class RootElement(Element):
     _attachments: list[Any]
     _confine_to: str | None
     _numbering: tuple[int, dict[Element, int]] | None
+    _composed: dict[bool, Any] | None
     _version: int
 
     def __init__(
@@ -78,6 +81,8 @@ class RootElement(Element):
         setter(self, "_confine_to", None)
         # (version, {unnamed element: number}) for generated names (see mjcf.naming).
         setter(self, "_numbering", None)
+        # {for compiling: the last composition of this model} (see mjcf.composition).
+        setter(self, "_composed", None)
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)

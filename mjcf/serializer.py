@@ -104,6 +104,21 @@ def attribute_text(
     )
 
 
+def _refers_out(element: Element) -> bool:
+    """Whether a reference of `element` holds an element of another model, whose written
+    name changes with that model (an element of its own model changes with it)."""
+    attrs = element._attrs
+    model = element._root
+    for name in element._spec.references:
+        value = attrs.get(name)
+        if value is None or type(value) is str:
+            continue
+        for item in value if isinstance(value, list) else (value,):
+            if type(item) is not str and item._root is not model:
+                return True
+    return False
+
+
 class _Writer:
     """Accumulates XML fragments in `parts`."""
 
@@ -127,7 +142,7 @@ class _Writer:
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.Composition(root, for_compile=for_compile)
+        self.composed = composition.composition_of(root, for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
         self._writers: dict[composition.ModelContext, object] = {}
@@ -171,7 +186,7 @@ class _Writer:
                 self._default_body(default, context)
             self._close(section, 1, mark)
         elif tag == "keyframe":
-            keys = self.composed.keyframes(for_compile=self.for_compile)
+            keys = self.composed.keyframes()
             mark = self._open(section, 1, root_context)
             for key_element, context, override in keys:
                 self.element(key_element, 2, context, override)
@@ -290,12 +305,16 @@ class _Writer:
         """The function that writes an element of `context`'s model with its subtree: one
         for every element, kept tight because it decides how close writing stays to lxml.
 
+        An element's attribute text is cached on the element until its model changes,
+        for outputs that write the model's elements alike (the context's token, the same
+        number format), so writing an unchanged model again costs a lookup per element.
+        Not cached: text given an override by the caller, and text that depends on more
+        than the element's own model (file names, which depend on the output, and
+        references to elements of other models, whose names change with those models).
         Where the context writes names and values as stored (a model written on its own:
-        the common case) an element's attribute text is cached on the element until its
-        model changes, so writing an unchanged model again costs a lookup per element;
-        elsewhere (scoped names, converted values, an override) `attributes` builds it
-        each time. Either way the tag is self-closing when nothing is inside, and an empty
-        once-only element is left out."""
+        the common case) the text is built in one pass; elsewhere (scoped names,
+        converted values) `attributes` builds it. Either way the tag is self-closing when
+        nothing is inside, and an empty once-only element is left out."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
@@ -304,9 +323,7 @@ class _Writer:
         frame_spec = _FRAME_SPEC
         generated_name, rewrite = self.composed.generated_name, context.rewrite
         as_stored = context.names_only and not self.reformat
-        # Cached text is valid for one model version and one number precision, and only
-        # where it is written as stored: elsewhere no cached text matches.
-        version = (context.model._version, self.precision) if as_stored else None
+        version = (context.model._version, context.token, self.precision, self.zero_threshold)
 
         def text_of(element: Element, depth: int, override: dict | None) -> str | None:
             """The attribute text of `element`'s tag; None for an attachment frame, which
@@ -316,8 +333,8 @@ class _Writer:
             if spec is frame_spec:
                 frame(element, depth, context)
                 return None
+            special = spec.file_attributes
             if as_stored and override is None and not spec.required:
-                special = spec.file_attributes
                 if attrs:
                     text = "".join([
                         f' {name}="{value}"' if type(value) is str and name not in special
@@ -341,16 +358,19 @@ class _Writer:
                         text = f' {identifier}="{escape(name)}"' + text
                     elif element in renamed:  # named after a file written under another name
                         text += own_name(element, context)
-                if not special:  # file names depend on the output; the rest does not
+                if not special and not (spec.references and _refers_out(element)):
                     element._text = (version, text)
                 return text
             if spec.required and (attrs or element._children or not spec.on_demand):
                 check_required(element)
+            cacheable = override is None and not special
             if override is None:
                 override = rewrite(element)
             text = attributes(element, context, override) if attrs or override else ""
             if element in renamed and not (override and spec.identifier in override):
                 text += own_name(element, context)
+            if cacheable and not (spec.references and _refers_out(element)):
+                element._text = (version, text)
             return text
 
         def write(element: Element, depth: int, override: dict | None = None) -> None:

@@ -51,6 +51,7 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_frame": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
     "_attachments": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
     "_numbering": ("root.RootElement", frozenset({"naming"}), frozenset({"naming"})),
+    "_composed": ("root.RootElement", frozenset({"composition"}), frozenset({"composition"})),
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
     "_model": ("physics.Physics", SIMULATION, frozenset()),
     "_data": ("physics.Physics", SIMULATION, frozenset()),
