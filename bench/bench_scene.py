@@ -8,13 +8,21 @@ sensors, no assets) is built 100 times with mjcf and attached to an arena; trace
 counts the Python memory the tree holds, before and after compiling it (mjcf keeps its
 compile caches), against `mujoco.mj_sizeModel` of the compiled model. Target: < 10x.
 
-Compile, per scene (humanoid, ant, UR5e + 2F-85, the 100-robot arena):
+Compile, per scene (humanoid, ant, UR5e + 2F-85, one and 100 synthetic robots in an arena):
   write+compile  `to_xml_string()` then `mujoco.MjModel.from_xml_string` of that text
-  physics        `mjcf.Physics.from_mjcf_model` (what composer.Environment calls)
-  mujoco         `mujoco.MjModel.from_xml_string` of the same text (the floor)
-each the best of alternating rounds with the tree unchanged (mjcf's writer then reuses its
-attribute text); `write cold` is `to_xml_string()` once on a freshly built tree. Target:
-write+compile within 1.3x of mujoco.
+  physics        `mjcf.Physics.from_mjcf_model` (what composer.Environment calls) on the
+                 tree unchanged since the last compile, as when recompiling the same model
+  cold           the same on a tree just built or parsed, never written before
+  mujoco         `mujoco.MjModel.from_xml_string` of the same text (the floor): the text
+                 `to_xml_string()` writes for write+compile; for physics, the text
+                 `from_mjcf_model` compiles, which names files on disk by path (MuJoCo
+                 then reads them itself, and reuses the meshes it has processed before)
+  +step          `from_mjcf_model` and one `physics.step()`, against `from_xml_string`,
+                 `MjData` and one `mj_step`: a physics makes its MjData when first used,
+                 which costs mujoco's bindings about 0.3 ms whatever the model
+each the best of alternating rounds (mjcf's writer reuses its attribute text while the
+tree is unchanged); `write cold` is `to_xml_string()` once on a freshly built tree.
+Targets: write+compile within 1.3x of mujoco, physics within 1.1x.
 """
 
 from __future__ import annotations
@@ -32,6 +40,7 @@ import mujoco
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import mjcf
+from mjcf import serializer
 
 REPO = Path(__file__).resolve().parents[1]
 GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
@@ -95,6 +104,7 @@ def scenes(count: int) -> dict[str, Callable[[], mjcf.RootElement]]:
     found = {
         "humanoid": lambda: mjcf.from_path(GYM / "humanoid.xml"),
         "ant": lambda: mjcf.from_path(GYM / "ant.xml"),
+        "1 robot": lambda: arena(1),
         f"{count} robots": lambda: arena(count),
     }
     if UR5E.exists() and ROBOTIQ.exists():
@@ -117,9 +127,18 @@ def compile_times(build: Callable[[], mjcf.RootElement], rounds: int) -> dict[st
     xml = root.to_xml_string()
     cold = time.perf_counter() - start
     assets = root.get_assets()
-    best = {"write_cold": cold, "write": cold, "write_compile": float("inf"),
-            "physics": float("inf"), "mujoco": float("inf")}  # fmt: skip
+    compiled_xml, compiled_assets = serializer.serialize_for_compile(root)[:2]
+    best = dict.fromkeys(
+        ("write_compile", "mujoco_written", "physics", "physics_cold", "mujoco", "physics_step",
+         "mujoco_step"),
+        float("inf"),
+    )  # fmt: skip
+    best["write_cold"] = best["write"] = cold
     for _ in range(rounds):
+        fresh = build().root
+        start = time.perf_counter()
+        mjcf.Physics.from_mjcf_model(fresh)
+        best["physics_cold"] = min(best["physics_cold"], time.perf_counter() - start)
         start = time.perf_counter()
         text = root.to_xml_string()
         written = time.perf_counter()
@@ -132,7 +151,17 @@ def compile_times(build: Callable[[], mjcf.RootElement], rounds: int) -> dict[st
         best["physics"] = min(best["physics"], time.perf_counter() - start)
         start = time.perf_counter()
         mujoco.MjModel.from_xml_string(xml, assets)
+        best["mujoco_written"] = min(best["mujoco_written"], time.perf_counter() - start)
+        start = time.perf_counter()
+        mujoco.MjModel.from_xml_string(compiled_xml, compiled_assets)
         best["mujoco"] = min(best["mujoco"], time.perf_counter() - start)
+        start = time.perf_counter()
+        mjcf.Physics.from_mjcf_model(root).step()
+        best["physics_step"] = min(best["physics_step"], time.perf_counter() - start)
+        start = time.perf_counter()
+        model = mujoco.MjModel.from_xml_string(compiled_xml, compiled_assets)
+        mujoco.mj_step(model, mujoco.MjData(model))
+        best["mujoco_step"] = min(best["mujoco_step"], time.perf_counter() - start)
     best["build"] = built
     return best
 
@@ -149,18 +178,20 @@ def main(count: int = 100, quick: bool = False) -> dict[str, dict[str, float]]:
           f"{m['mjmodel_mb']:.2f} MB: {m['tree_vs_mjmodel']:.2f}x "
           f"({m['tree_after_compile_vs_mjmodel']:.2f}x) (target < 10x)")  # fmt: skip
     print(f"{'scene':12} {'write ms':>9} {'cold':>8} {'MuJoCo ms':>10} {'write+compile':>14} "
-          f"{'ratio':>6} {'physics':>8} {'ratio':>6}")  # fmt: skip
+          f"{'physics':>8} {'cold':>6} {'+step':>6}   (ratios to MuJoCo)")  # fmt: skip
     for name, build in scenes(count).items():
         if quick and "robots" not in name:
             continue
-        t = compile_times(build, 1 if quick else (3 if "robots" in name else 8))
-        t["write_compile_vs_mujoco"] = t["write_compile"] / t["mujoco"]
+        t = compile_times(build, 1 if quick else (3 if "100" in name else 15))
+        t["write_compile_vs_mujoco"] = t["write_compile"] / t["mujoco_written"]
         t["physics_vs_mujoco"] = t["physics"] / t["mujoco"]
+        t["physics_cold_vs_mujoco"] = t["physics_cold"] / t["mujoco"]
+        t["physics_step_vs_mujoco_step"] = t["physics_step"] / t["mujoco_step"]
         results[name] = t
         print(f"{name:12} {t['write'] * 1e3:9.2f} {t['write_cold'] * 1e3:8.2f} "
-              f"{t['mujoco'] * 1e3:10.2f} {t['write_compile'] * 1e3:14.2f} "
-              f"{t['write_compile_vs_mujoco']:6.2f} {t['physics'] * 1e3:8.2f} "
-              f"{t['physics_vs_mujoco']:6.2f}")  # fmt: skip
+              f"{t['mujoco'] * 1e3:10.2f} {t['write_compile_vs_mujoco']:14.2f} "
+              f"{t['physics_vs_mujoco']:8.2f} {t['physics_cold_vs_mujoco']:6.2f} "
+              f"{t['physics_step_vs_mujoco_step']:6.2f}")  # fmt: skip
     return results
 
 

@@ -91,7 +91,10 @@ def compile_composition(root: RootElement) -> Compiled:
         model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
-    compiled = Compiled(model, composition, xml, assets, _generated_ids(model, composition))
+    ids = composition.compiled_ids  # the same for every compile of one composition
+    if ids is None:
+        ids = composition.compiled_ids = _generated_ids(model, composition)
+    compiled = Compiled(model, composition, xml, assets, ids)
     keyframes.fill(model, composition, compiled.id_of)
     return compiled
 

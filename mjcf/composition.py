@@ -280,6 +280,9 @@ class Composition:
         # with their names, as the assets are renamed.
         self.for_compile = for_compile
         self.versions: list[tuple[RootElement, int]] = []
+        # {element: compiled index} of those written with generated names, which every
+        # compile of this composition gives alike: set by mjcf.compiler.
+        self.compiled_ids: dict[Element, int] | None = None
         self._inertia: str | None = None
         self._checked = False
         self._merged: dict[str, settings.MergedSettings] = {}
