@@ -7,14 +7,15 @@
                                   tcp_site='pinch')
     arena.attach(robot, attach_site=table.mount)
     physics.bind(robot.tcp).xpos                                    # tool centre point
-    robot = robots.ur5e_with_2f85(root=None)                        # the pair above
+    robot = robots.ur5e_with_2f85()                                 # the pair above, shipped
 
 `from_menagerie` looks for the folder `<name>/` in, in order: the `root` given, the
-`MENAGERIE_ROOT` environment variable, `shared/models/menagerie` beside this repository
-(where CI keeps the robots the tests use), and the `mujoco_menagerie` package's download
-cache when that package is installed (`download=True` lets it download). When none has it,
-`RobotNotFoundError` lists every place it looked. In a folder, the robot is the one XML
-file that is not a scene (`scene*.xml`) or an MJX variant (`mjx_*.xml`), else `model=`.
+`MENAGERIE_ROOT` environment variable (a clone of MuJoCo Menagerie, for any of its robots),
+the robots shipped with this package (`entities.menagerie`: the UR5e and the Robotiq
+2F-85), and the `mujoco_menagerie` package's download cache when that package is installed
+(`download=True` lets it download). When none has it, `RobotNotFoundError` lists every
+place it looked. In a folder, the robot is the one XML file that is not a scene
+(`scene*.xml`) or an MJX variant (`mjx_*.xml`), else `model=`.
 
 Robot entities are `composer.ModelEntity`s: observables `joint_positions`,
 `joint_velocities`, `actuator_activations` and `sensors` of their own model (enabled), and
@@ -29,9 +30,9 @@ from pathlib import Path
 
 import composer
 import mjcf
+from entities import menagerie
 
 MENAGERIE_ENV = "MENAGERIE_ROOT"
-REPO_MENAGERIE = Path(__file__).resolve().parents[2] / "shared" / "models" / "menagerie"
 
 
 class RobotError(composer.EntityError):
@@ -53,11 +54,11 @@ def from_path(path: str | os.PathLike[str], name: str | None = None) -> composer
 
 def menagerie_roots(root: str | os.PathLike[str] | None = None) -> list[Path]:
     """The Menagerie folders `from_menagerie` searches without the package, in order:
-    `root`, $MENAGERIE_ROOT, and the repository's shared/models/menagerie."""
+    `root`, $MENAGERIE_ROOT, and the robots shipped with this package (`menagerie.ROOT`)."""
     roots = [Path(root).expanduser()] if root is not None else []
     if os.environ.get(MENAGERIE_ENV):
         roots.append(Path(os.environ[MENAGERIE_ENV]).expanduser())
-    roots.append(REPO_MENAGERIE)
+    roots.append(menagerie.ROOT)
     return roots
 
 
@@ -163,8 +164,10 @@ def _sites(entity: composer.Entity) -> Iterator[mjcf.Element]:
 
 def ur5e_with_2f85(root: str | os.PathLike[str] | None = None) -> ArmWithGripper:
     """A Universal Robots UR5e with a Robotiq 2F-85 at its flange (tcp: the 'pinch' site
-    between the fingers), from Menagerie folders found as `from_menagerie` does. Raises
-    RobotNotFoundError naming where it looked."""
-    arm = from_menagerie("universal_robots_ur5e", root)
-    gripper = from_menagerie("robotiq_2f85", root)
+    between the fingers): the files shipped with this package, or with `root` the
+    Menagerie folders found from there as `from_menagerie` does ($MENAGERIE_ROOT does not
+    replace the shipped files here, so a task built on them is the same everywhere)."""
+    base = menagerie.ROOT if root is None else root
+    arm = from_menagerie("universal_robots_ur5e", base)
+    gripper = from_menagerie("robotiq_2f85", base)
     return ArmWithGripper(arm, gripper, "attachment_site", tcp_site="pinch", name="robot")

@@ -8,7 +8,8 @@ AntRun observes `quadruped/joint_positions` (8), `joint_velocities` (8), `torso_
 (1), `torso_orientation` (4), `torso_upright` (1) and `torso_velocity` (6): 28 numbers;
 acts with 8 torques in [-1, 1]. WalkerRun observes `walker/joint_positions` (6),
 `joint_velocities` (9), `torso_height` (1), `torso_pitch` (2): 18 numbers; acts with 6
-torques in [-1, 1]. Episodes end when the robot falls, or at `time_limit` (20 s).
+torques in [-1, 1]. Episodes end when the robot falls, or at `time_limit` (20 s). Each
+step's `info['forward_velocity']` is the torso's velocity along +x (m/s).
 """
 
 from __future__ import annotations
@@ -77,6 +78,15 @@ class _Run(composer.Task):
         (`squared_norms` sums each row's u^2 as `np.dot` does)."""
         cost = self.control_cost * squared_norms(physics.field("ctrl"))
         return self.forward_velocity_batch(physics) - cost + self.alive_bonus
+
+    def get_info(self, physics: mjcf.Physics) -> dict[str, float]:
+        """{'forward_velocity': `forward_velocity` (m/s)}; `composer eval` averages it over
+        an episode into the forward speed it reports."""
+        return {"forward_velocity": self.forward_velocity(physics)}
+
+    def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
+        """`get_info` of every environment at once: 'forward_velocity', shape (n,)."""
+        return {"forward_velocity": self.forward_velocity_batch(physics)}
 
     def _perturb(
         self,

@@ -3,10 +3,9 @@
     env = gym.make('composer/ArmPushBox-v0', flatten_observations=True)
     env = gym.make('composer/ArmPushBox-v0', menagerie_root='~/mujoco_menagerie')
 
-The robots come from MuJoCo Menagerie folders (`universal_robots_ur5e`, `robotiq_2f85`),
-found as `entities.robots.from_menagerie` says (`menagerie_root`, $MENAGERIE_ROOT, the
-repository's shared/models/menagerie, the mujoco_menagerie package cache); without them
-the task raises `entities.robots.RobotNotFoundError` naming every place it looked.
+The robots are MuJoCo Menagerie's UR5e and Robotiq 2F-85, shipped with the package
+(`entities.menagerie`), so the task needs no download; `menagerie_root` names a Menagerie
+folder to take them from first (searched as `entities.robots.from_menagerie` says).
 
 Action (7 numbers in [-1, 1]): six changes of the arm's joint targets, each scaled by
 `max_joint_step` rad (targets stay within `TARGET_WINDOW` rad of the joint angles, so they
@@ -59,9 +58,8 @@ class ArmPushBox(composer.Task):
         table_height: float = 0.4,
     ) -> None:
         """Build the scene. `randomize` draws the box and target positions each episode
-        (else box at (0.1, -0.1), target at (0.2, 0.1)). Raises RobotNotFoundError when
-        the robot files are absent and composer.TaskError for timesteps that do not
-        divide."""
+        (else box at (0.1, -0.1), target at (0.2, 0.1)). Raises composer.TaskError for
+        timesteps that do not divide."""
         self.robot = robots.ur5e_with_2f85(menagerie_root)
         self.arena = Table(height=table_height)
         self.arena.attach(self.robot, attach_site=self.arena.mount)

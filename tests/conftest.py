@@ -1,4 +1,5 @@
-"""Shared paths to the real models the tests use."""
+"""Shared paths to the real models the tests use: gymnasium's, mujoco's test models, and
+the UR5e and Robotiq 2F-85 shipped with the package (entities/menagerie)."""
 
 from __future__ import annotations
 
@@ -12,13 +13,17 @@ import gymnasium
 import mujoco
 import pytest
 
+from entities import menagerie as shipped
+
 REPO = Path(__file__).resolve().parents[1]
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata"
-SHARED_MODELS = REPO.parent / "shared" / "models"
-MENAGERIE = SHARED_MODELS / "menagerie"
+MENAGERIE = shipped.ROOT
 UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
 ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
+# Menagerie's own files (the UR5e with its OBJ meshes), beside the repository in CI only:
+# the tests that compare the shipped files with them skip elsewhere.
+ORIGINAL_MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
 
 
 def gym_model(name: str) -> Path:
@@ -28,7 +33,5 @@ def gym_model(name: str) -> Path:
 
 @pytest.fixture
 def menagerie() -> Path:
-    """The menagerie robots folder; skips when ../shared/models is not beside the repo."""
-    if not UR5E.exists() or not ROBOTIQ.exists():
-        pytest.skip(f"menagerie robots not found at {MENAGERIE} (they come with ../shared in CI)")
+    """The folder of the robots shipped with the package, laid out as Menagerie's."""
     return MENAGERIE

@@ -5,13 +5,16 @@
     env = catalog.make(info, render_mode='rgb_array')   # observations flattened by default
 
 `find` raises UnknownTaskError with a did-you-mean and the known names. Extra modules that
-register tasks (a user's own) are imported with `catalog.import_modules(['mypkg.tasks'])`.
+register tasks (a user's own) are imported with `catalog.import_modules(['mypkg.tasks'])`,
+from the current folder first, as `python -m` finds them.
 """
 
 from __future__ import annotations
 
 import difflib
 import importlib
+import os
+import sys
 from collections.abc import Iterable
 from typing import Any
 
@@ -26,13 +29,22 @@ SHADOW_SIZE = 1024
 
 
 def import_modules(modules: Iterable[str]) -> None:
-    """Import each module (registering the tasks it defines); raises CliError for one that
+    """Import each module (registering the tasks it defines), looking in the current folder
+    first as `python -m` does (the `composer` script alone would not: Python puts the
+    script's folder on the path, not the current one); raises CliError for a module that
     does not exist."""
+    modules = list(modules)
+    here = os.getcwd()
+    if modules and here not in sys.path:
+        sys.path.insert(0, here)
     for module in modules:
         try:
             importlib.import_module(module)
         except ModuleNotFoundError as e:
-            raise CliError(f"cannot import {module!r} (given with --import): {e}") from e
+            raise CliError(
+                f"cannot import {module!r} (given with --import) from {here} or the "
+                f"installed packages: {e}"
+            ) from e
 
 
 def tasks() -> dict[str, registration.TaskInfo]:

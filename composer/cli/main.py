@@ -3,40 +3,72 @@
     composer list                              # tasks with observation/action sizes
     composer show Reach --out reach.png        # the scene, and a rendered frame
     composer run Reach --episodes 3 --video reach.mp4
+    composer view AntRun                       # MuJoCo's interactive viewer
     composer train                             # the default task with its tuned recipe
     composer eval Reach runs/Reach-ppo
 
-Each command is a module (`composer.cli.listing`, `show`, `run`, `train`, `evaluate`) with a
-`run(args) -> exit status` (`args.info`: the TaskInfo of `args.task`, found first), imported
-only when chosen: `list`, `show` and `run` never import stable-baselines3 or torch.
+Each command is a module (`composer.cli.listing`, `show`, `run`, `view`, `train`,
+`evaluate`) with a `run(args) -> exit status` (`args.info`: the TaskInfo of `args.task`,
+found first), imported only when chosen: `list`, `show`, `run` and `view` never import
+stable-baselines3 or torch unless given a trained policy.
 
-Every `composer.Error` (a mistake such as an unknown task, a missing optional dependency or
-an unwritable output) is printed as one line on stderr with exit status 2; Ctrl-C exits
-with 130. On a Linux machine without a display, commands that render re-run themselves
-with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once, when it is imported.
+Options are matched exactly (argparse's abbreviations are off: `--time` is not
+`--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
+bad value) and every `composer.Error` (an unknown task, a missing optional dependency, an
+unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C exits with
+130. On a Linux machine without a display, commands that render off screen re-run
+themselves with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once, when imported.
 """
 
 from __future__ import annotations
 
 import argparse
+import difflib
 import importlib
 import os
+import re
 import sys
 from collections.abc import Sequence
 
 import mjcf
 from composer import errors
 from composer.cli import catalog, recipes
+from composer.cli.errors import CliError
 
 INTERRUPTED = 130
 USAGE_ERROR = 2
 
 
+class UsageError(CliError):
+    """The command line does not parse: an unknown option, a missing or bad value; `prog`
+    is the command it concerns ('composer train')."""
+
+    def __init__(self, message: str, prog: str = "composer") -> None:
+        super().__init__(message)
+        self.prog = prog
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser that matches options exactly and raises UsageError (one line,
+    with a did-you-mean for an invalid choice) instead of printing usage and exiting."""
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, allow_abbrev=False, **kwargs)
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        """Raise UsageError naming this command; argparse calls it for any mistake."""
+        invalid = re.search(r"invalid choice: '?([^' ]+)'? \(choose from (.*)\)", message)
+        if invalid:
+            choices = [c.strip(" '") for c in invalid.group(2).split(",")]
+            message += _did_you_mean(invalid.group(1), choices, quote="'")
+        raise UsageError(f"{message} (see: {self.prog} --help)", prog=self.prog)
+
+
 def parser() -> argparse.ArgumentParser:
     """The argument parser of every command."""
-    top = argparse.ArgumentParser(
+    top = Parser(
         prog="composer",
-        description="List, show, run, train and evaluate composer's MuJoCo tasks.",
+        description="List, show, run, view, train and evaluate composer's MuJoCo tasks.",
     )
     top.add_argument(
         "--import", dest="imports", action="append", default=[], metavar="MODULE",
@@ -63,6 +95,15 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
     run.set_defaults(renders=lambda args: args.video is not None)
 
+    view = _command(commands, "view", "view", "watch a policy in MuJoCo's interactive viewer")
+    _task(view)
+    view.add_argument(
+        "--policy", default="random",
+        help="'random' (default), or a folder or .zip written by `composer train`",
+    )  # fmt: skip
+    view.add_argument("--episodes", type=positive_int, help="quit after this many episodes")
+    view.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
+
     train = _command(
         commands, "train", "train", "train a policy with stable-baselines3 ([train] extra)",
         epilog=recipe_table(), formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -76,12 +117,21 @@ def parser() -> argparse.ArgumentParser:
     )
     train.add_argument("--seed", type=int, help="seed (default: 0)")
     train.add_argument("--out", help="output folder (default: runs/TASK-ALGO)")
-    train.add_argument("--resume", metavar="DIR", help="continue the checkpoint in DIR")
+    train.add_argument(
+        "--resume", nargs="?", const=True, metavar="DIR",
+        help="continue the run in DIR (default: the output folder), a finished one too",
+    )  # fmt: skip
+    train.add_argument(
+        "--fresh", action="store_true", help="replace an earlier run in the output folder"
+    )
     train.add_argument("--eval-every", type=positive_int, help="timesteps (default: a tenth)")
     train.add_argument(
         "--eval-episodes", type=positive_int, default=10, help="per evaluation (default: 10)"
     )
     train.add_argument("--no-video", action="store_true", help="skip the trained policy's video")
+    train.add_argument(
+        "--tensorboard", metavar="DIR", help="also log to TensorBoard in DIR (stable-baselines3's)"
+    )
     train.set_defaults(renders=lambda args: not args.no_video)
 
     evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")
@@ -94,7 +144,11 @@ def parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line `argv` (default: sys.argv[1:]); returns the exit status."""
-    args = parser().parse_args(argv)
+    try:
+        args = parse(argv)
+    except UsageError as e:
+        print(f"{e.prog}: error: {_one_line(e)}", file=sys.stderr)
+        return USAGE_ERROR
     if argv is None and _needs_headless_gl(args):
         env = {**os.environ, "MUJOCO_GL": "egl"}
         os.execve(sys.executable, [sys.executable, "-m", "composer", *sys.argv[1:]], env)
@@ -113,6 +167,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `composer list | head -1`
         sys.stderr.close()
         return 0
+
+
+def parse(argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """The parsed command line; raises UsageError for anything it does not know, naming
+    the closest option of the command."""
+    top = parser()
+    words = list(sys.argv[1:] if argv is None else argv)
+    known = [o for action in top._actions for o in action.option_strings]
+    for index, word in enumerate(words):  # options before the command are the top's
+        if not word.startswith("-"):
+            if index == 0 or words[index - 1] != "--import":
+                break
+        elif word.partition("=")[0] not in known:
+            top.error(f"unknown option {word}" + _did_you_mean(word.partition("=")[0], known))
+    args, unknown = top.parse_known_args(words)
+    if unknown:
+        command = _subcommands(top).get(getattr(args, "command", None), top)
+        known = [o for action in command._actions for o in action.option_strings]
+        word = unknown[0]
+        if word.startswith("-"):
+            message = f"unknown option {word}" + _did_you_mean(word.partition("=")[0], known)
+        else:
+            message = f"unexpected argument {word!r}"
+        command.error(message)
+    return args
 
 
 def positive_int(text: str) -> int:
@@ -145,6 +224,18 @@ def recipe_table() -> str:
         + "):\n  "
         + "\n  ".join(lines)
     )
+
+
+def _did_you_mean(word: str, known: Sequence[str], quote: str = "") -> str:
+    close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
+    return f"; did you mean {quote}{close[0]}{quote}?" if close else ""
+
+
+def _subcommands(top: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    for action in top._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
 
 
 def _command(

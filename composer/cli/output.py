@@ -2,7 +2,7 @@
 ten minutes of training.
 
     out = output.directory('runs/Reach')      # created; raises OutputError if not writable
-    path = output.file('frame.png')            # its folder exists and is writable
+    path = output.file('frame.png')            # that file can be written (its folder created)
 """
 
 from __future__ import annotations
@@ -27,12 +27,21 @@ def directory(path: str | os.PathLike[str]) -> Path:
 
 
 def file(path: str | os.PathLike[str]) -> Path:
-    """Check that `path` can be written: its folder is created if needed and writable, and
-    it is not a directory."""
+    """Check that the file `path` can be written, by opening it for writing (its folder is
+    created if needed; a file that was not there is removed again, one that was is left
+    unchanged). Raises OutputError naming the file and the reason."""
     path = Path(path)
     if path.is_dir():
         raise OutputError(f"cannot write {path}: it is a directory")
-    directory(path.parent)
+    existed = path.exists()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("ab"):
+            pass
+    except OSError as e:
+        raise OutputError(f"cannot write {path}: {_reason(e)}") from e
+    if not existed:
+        path.unlink()
     return path
 
 

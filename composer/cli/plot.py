@@ -4,8 +4,8 @@ no pyplot global state).
     plot.learning_curve(metrics, 'runs/Reach-ppo/learning_curve.png')
 
 `metrics` is what `composer train` writes to metrics.json: evaluation returns (mean ± std)
-and success rate against timesteps, the mean return of training episodes, and the random
-policy's return as a dashed line.
+and success rate (or, for the runners, forward speed) against timesteps, the mean return
+of training episodes, and the random policy's return as a dashed line.
 """
 
 from __future__ import annotations
@@ -45,14 +45,18 @@ def learning_curve(metrics: dict[str, Any], path: str | os.PathLike[str]) -> Non
     axes.set_xlabel("timesteps")
     axes.set_ylabel("episode return")
     axes.grid(alpha=0.3)
-    successes = [(e["timesteps"], e["success_rate"]) for e in evaluations
-                 if e.get("success_rate") is not None]  # fmt: skip
-    if successes:
-        right = axes.twinx()
-        right.plot(*zip(*successes, strict=True), "s:", color="tab:green", label="success rate")
-        right.set_ylim(-0.02, 1.02)
-        right.set_ylabel("success rate")
-        right.legend(loc="lower right")
+    for key, label in (("success_rate", "success rate"), ("forward_speed", "forward speed (m/s)")):
+        points = [(e["timesteps"], e[key]) for e in evaluations if e.get(key) is not None]
+        if points:
+            right = axes.twinx()
+            right.plot(*zip(*points, strict=True), "s:", color="tab:green", label=label)
+            if key == "success_rate":
+                right.set_ylim(-0.02, 1.02)
+            else:  # from standing still, so the scale shows how far from it
+                right.set_ylim(bottom=min(0.0, *(value for _, value in points)))
+            right.set_ylabel(label)
+            right.legend(loc="lower right")
+            break
     axes.legend(loc="upper left")
     minutes = metrics["wall_time"] / 60
     axes.set_title(

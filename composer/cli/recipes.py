@@ -95,6 +95,12 @@ RECIPES: dict[tuple[str, str], Recipe] = {
                                        normalize=True, n_steps=128, vec="batched"),
     ("CartpoleSwingup", "ppo"): Recipe("ppo", 300_000, 16, (64, 64), 3e-4, 256,
                                        normalize=True, vec="batched"),
+    ("AntRun", "ppo"):          Recipe("ppo", 2_000_000, 16, (64, 64), 3e-4, 256,
+                                       normalize=True, vec="batched"),
+    ("WalkerRun", "ppo"):       Recipe("ppo", 2_000_000, 16, (64, 64), 3e-4, 256,
+                                       normalize=True, vec="batched"),
+    ("ArmPushBox", "ppo"):      Recipe("ppo", 1_200_000, 16, (128, 128), 3e-4, 256,
+                                       gamma=0.98, normalize=True, n_steps=128, vec="batched"),
 }
 # fmt: on
 

@@ -6,7 +6,9 @@
 
 Episode i starts from `env.reset(seed=seed + i)`, so the same seed gives the same episodes.
 An episode succeeded when the `info` of its last step says `is_success`; tasks that never
-report it have no success rate (None).
+report it have no success rate (None). Its forward speed is the mean of the
+`info['forward_velocity']` (m/s) of its steps, for the tasks that report one (the runners):
+their displacement over the time they ran; None for the others.
 """
 
 from __future__ import annotations
@@ -32,6 +34,26 @@ class Episode:
     episode_return: float
     length: int
     success: bool | None
+    forward_speed: float | None = None
+
+
+class Tally:
+    """One episode's running sums, step by step: `add` each step, `episode` at the end."""
+
+    def __init__(self) -> None:
+        self.total, self.distance, self.steps = 0.0, 0.0, 0
+
+    def add(self, reward: float, info: dict[str, Any]) -> None:
+        """Count a step's reward and forward velocity (NaN from then on if it has none)."""
+        self.total += float(reward)
+        self.distance += float(info.get("forward_velocity", math.nan))
+        self.steps += 1
+
+    def episode(self, last_info: dict[str, Any]) -> Episode:
+        """The finished episode, its success read from the last step's `last_info`."""
+        success = last_info.get("is_success")
+        speed = None if math.isnan(self.distance) else self.distance / self.steps
+        return Episode(self.total, self.steps, None if success is None else bool(success), speed)
 
 
 def random_policy(env: gymnasium.Env, seed: int | None = None) -> Policy:
@@ -83,18 +105,16 @@ def run_episodes(
     done: list[Episode] = []
     for index in range(episodes):
         observation, info = env.reset(seed=seed + index)
-        total, steps, finished = 0.0, 0, False
+        tally, finished = Tally(), False
         while not finished:
-            if frames is not None and steps % stride == 0:
+            if frames is not None and tally.steps % stride == 0:
                 frames.append(env.render())
             observation, reward, terminated, truncated, info = env.step(policy(observation))
-            total += float(reward)
-            steps += 1
+            tally.add(reward, info)
             finished = terminated or truncated
         if frames is not None:
             frames.append(env.render())
-        success = info.get("is_success")
-        episode = Episode(total, steps, None if success is None else bool(success))
+        episode = tally.episode(info)
         done.append(episode)
         if on_episode is not None:
             on_episode(index, episode)
@@ -102,15 +122,18 @@ def run_episodes(
 
 
 def summary(episodes: list[Episode]) -> dict[str, Any]:
-    """Mean and std of returns, mean length, and success rate (None if never reported)."""
+    """Mean and std of returns, mean length, success rate and mean forward speed (m/s)
+    (each None if the task never reports it)."""
     returns = np.array([e.episode_return for e in episodes], dtype=np.float64)
     successes = [e.success for e in episodes if e.success is not None]
+    speeds = [e.forward_speed for e in episodes if e.forward_speed is not None]
     return {
         "episodes": len(episodes),
         "mean_return": float(returns.mean()) if len(returns) else math.nan,
         "std_return": float(returns.std()) if len(returns) else math.nan,
         "mean_length": float(np.mean([e.length for e in episodes])) if episodes else math.nan,
         "success_rate": float(np.mean(successes)) if successes else None,
+        "forward_speed": float(np.mean(speeds)) if speeds else None,
     }
 
 
@@ -119,6 +142,8 @@ def describe(episode: Episode) -> str:
     text = f"return {episode.episode_return:.2f} over {episode.length} steps"
     if episode.success is not None:
         text += ", success" if episode.success else ", no success"
+    if episode.forward_speed is not None:
+        text += f", {episode.forward_speed:.2f} m/s"
     return text
 
 
@@ -130,4 +155,6 @@ def describe_summary(stats: dict[str, Any]) -> str:
     )
     if stats["success_rate"] is not None:
         text += f", success rate {stats['success_rate']:.2f}"
+    if stats.get("forward_speed") is not None:
+        text += f", forward speed {stats['forward_speed']:.2f} m/s"
     return text

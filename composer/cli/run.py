@@ -13,6 +13,7 @@ trained by `composer train` (its output folder, its policy.zip, or a checkpoint 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from composer.cli import catalog, output, rollout, video
 
@@ -20,7 +21,7 @@ from composer.cli import catalog, output, rollout, video
 def run(args: argparse.Namespace) -> int:
     """Roll out the policy; returns the exit status."""
     info = args.info
-    path = output.file(args.video) if args.video else None
+    path = output.file(video.target(args.video)) if args.video else None
     env = catalog.make(info, render_mode="rgb_array" if path else None)
     try:
         if args.policy == "random":
@@ -41,6 +42,6 @@ def run(args: argparse.Namespace) -> int:
     print(f"{info.name}, {label}: {rollout.describe_summary(rollout.summary(episodes))}")
     if path is not None and frames:
         written = video.write_video(frames, path, fps)
-        note = "" if written == path else " (ffmpeg not found: GIF instead of MP4)"
+        note = "" if written.suffix == Path(args.video).suffix else " (ffmpeg not found: GIF)"
         print(f"video: {written} ({len(frames) / fps:.1f} s){note}")
     return 0

@@ -5,11 +5,15 @@
 
 Writes into the output folder (default runs/TASK-ALGO): `policy.zip` (for `composer run` and
 `composer eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json`
-(timesteps, wall time, evaluations, final and random-policy returns, success rate where the
-task reports `is_success`) and `checkpoint/`. A folder holding a checkpoint is resumed (also
-with `--resume DIR`) up to `--timesteps` in all; Ctrl-C saves a checkpoint and exits with
-status 130. Evaluations (deterministic actions, fixed seeds) run every `--eval-every`
-timesteps, a tenth of the run by default; each saves a checkpoint.
+(timesteps, wall and CPU time, evaluations, final and random-policy returns, success rate
+where the task reports `is_success`, forward speed where it reports `forward_velocity`)
+and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status 130; the same command
+then resumes it, up to `--timesteps` in all. A folder holding a finished run is refused
+unless `--resume` (train it on to a larger `--timesteps`) or `--fresh` (replace it) says
+what to do (`composer.cli.run_folder`). Evaluations (deterministic actions, fixed seeds)
+run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint.
+`--tensorboard DIR` also logs stable-baselines3's TensorBoard scalars there, with the
+evaluations as `eval/...`.
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from composer.cli import catalog, output, plot, recipes, rollout, training, video
+from composer.cli import catalog, output, plot, recipes, rollout, run_folder, training, video
 from composer.cli.errors import CliError, PolicyError
 from composer.registration import TaskInfo
 
@@ -36,6 +40,9 @@ def run(args: argparse.Namespace) -> int:
     info = args.info
     if not args.no_video:
         video.require()
+    if args.tensorboard:
+        training.require_tensorboard()
+        output.directory(args.tensorboard)
     out, checkpoint = _output(info, args)
     resumed = checkpoint.exists()
     progress, recipe = _start(info, checkpoint, out, args)
@@ -46,10 +53,10 @@ def run(args: argparse.Namespace) -> int:
     eval_env = catalog.make(info)
     try:
         if resumed:
-            model = checkpoint.load(recipe.algo, venv)
+            model = checkpoint.load(recipe.algo, venv, args.tensorboard)
             model.set_random_seed(progress.seed + model.num_timesteps)
         else:
-            model = training.new_model(recipe, venv, progress.seed)
+            model = training.new_model(recipe, venv, progress.seed, args.tensorboard)
         session = training.Session(
             progress, checkpoint, eval_env,
             eval_every=args.eval_every or max(1, recipe.timesteps // 10),
@@ -62,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
                 print("Ctrl-C saves a checkpoint and stops; the same command resumes", flush=True)
                 model.learn(
                     remaining, callback=session.callback(stop, sys.stderr.isatty()),
-                    reset_num_timesteps=not resumed,
+                    reset_num_timesteps=not resumed, tb_log_name=out.name,
                 )  # fmt: skip
         session.save(model)
         if stop.requested:
@@ -80,14 +87,20 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _output(info: TaskInfo, args: argparse.Namespace) -> tuple[Path, training.Checkpoint]:
-    """The output folder (checked writable) and its checkpoint, which --resume requires."""
-    if args.resume and args.out and Path(args.resume) != Path(args.out):
-        raise CliError(f"--resume {args.resume} and --out {args.out} differ; give one of them")
+    """The output folder (checked writable, cleared with --fresh) and its checkpoint, which
+    --resume requires; raises CliError for a finished run without --resume or --fresh."""
+    if args.resume and args.fresh:
+        raise CliError("--resume and --fresh contradict each other; give one of them")
+    resume = args.resume if isinstance(args.resume, str) else None  # --resume alone: True
+    if resume and args.out and Path(resume) != Path(args.out):
+        raise CliError(f"--resume {resume} and --out {args.out} differ; give one of them")
     algo = args.algo or recipes.default_algo(info.name)
-    out = output.directory(args.resume or args.out or Path("runs") / f"{info.name}-{algo}")
+    out = Path(resume or args.out or Path("runs") / f"{info.name}-{algo}")
     checkpoint = training.Checkpoint(out / "checkpoint")
     if args.resume and not checkpoint.exists():
         raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
+    output.directory(out)
+    run_folder.prepare(out, checkpoint, resume=bool(args.resume), fresh=args.fresh)
     return out, checkpoint
 
 
@@ -139,7 +152,13 @@ def _resumed_recipe(
     ):
         if given is not None and given != kept:
             print(f"note: resuming keeps the checkpoint's {option} {kept}")
-    return recipe.replace(timesteps=args.timesteps)
+    recipe = recipe.replace(timesteps=args.timesteps)
+    if recipe.timesteps <= progress.timesteps and (progress.completed or args.timesteps):
+        raise CliError(
+            f"the run in {out} has {progress.timesteps:,} steps already "
+            f"({run_folder.describe(progress)}); give --timesteps above that to train on"
+        )
+    return recipe
 
 
 def _finish(

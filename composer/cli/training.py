@@ -128,12 +128,28 @@ def keep_normalization(model: BaseAlgorithm) -> None:
         }
 
 
-def new_model(recipe: recipes.Recipe, venv: VecEnv, seed: int) -> BaseAlgorithm:
-    """A fresh model of `recipe`'s algorithm on `venv`, on the CPU."""
+def new_model(
+    recipe: recipes.Recipe, venv: VecEnv, seed: int, tensorboard: str | None = None
+) -> BaseAlgorithm:
+    """A fresh model of `recipe`'s algorithm on `venv`, on the CPU, logging to TensorBoard
+    in the folder `tensorboard` if given."""
     kwargs = recipe.algo_kwargs()
     if recipe.algo == "sac":  # a replay buffer larger than the run only costs memory
         kwargs["buffer_size"] = min(kwargs["buffer_size"], recipe.timesteps)
-    return ALGORITHMS[recipe.algo]("MlpPolicy", venv, seed=seed, device="cpu", **kwargs)
+    return ALGORITHMS[recipe.algo](
+        "MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tensorboard, **kwargs
+    )
+
+
+def require_tensorboard() -> None:
+    """Raise MissingExtraError now, before training, if TensorBoard logging cannot work."""
+    try:
+        import torch.utils.tensorboard  # noqa: F401
+    except ImportError as e:
+        raise MissingExtraError(
+            f"--tensorboard needs the tensorboard package ({e.name or e} is missing): "
+            "pip install tensorboard, or pip install -e '.[train]'"
+        ) from e
 
 
 def policy_file(path: str | os.PathLike[str]) -> Path:
@@ -197,6 +213,9 @@ class Progress:
     recipe: dict[str, Any]
     timesteps: int = 0
     wall_time: float = 0.0
+    # CPU seconds of the training process, all its threads (not SubprocVecEnv workers'):
+    # what the run costs apart from what else the machine was doing.
+    cpu_time: float = 0.0
     completed: bool = False
     evaluations: list[dict[str, Any]] = dataclasses.field(default_factory=list)
     # Training episodes by stretches of CURVE_POINTS-th of the run: [timesteps at the last
@@ -264,9 +283,12 @@ class Checkpoint:
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
 
-    def load(self, algo: str, venv: VecEnv) -> BaseAlgorithm:
-        """The checkpointed model of `algo`, training on `venv`, with its replay buffer."""
-        model = ALGORITHMS[algo].load(self.model_path, env=venv, device="cpu")
+    def load(self, algo: str, venv: VecEnv, tensorboard: str | None = None) -> BaseAlgorithm:
+        """The checkpointed model of `algo`, training on `venv`, with its replay buffer,
+        logging to TensorBoard in the folder `tensorboard` if given."""
+        model = ALGORITHMS[algo].load(
+            self.model_path, env=venv, device="cpu", tensorboard_log=tensorboard
+        )
         if isinstance(model, OffPolicyAlgorithm) and self.buffer_path.is_file():
             model.load_replay_buffer(self.buffer_path)
         return model
@@ -319,7 +341,9 @@ class Session:
         self.eval_every = eval_every
         self.eval_episodes = eval_episodes
         self._wall_time_before = progress.wall_time
+        self._cpu_time_before = progress.cpu_time
         self._started = time.monotonic()
+        self._cpu_started = time.process_time()
         last = progress.evaluations[-1]["timesteps"] if progress.evaluations else 0
         self._next_eval = last + eval_every
 
@@ -350,6 +374,9 @@ class Session:
         """Save a checkpoint of `model` with the progress so far."""
         self.progress.timesteps = int(model.num_timesteps)
         self.progress.wall_time = round(self.elapsed(), 2)
+        self.progress.cpu_time = round(
+            self._cpu_time_before + time.process_time() - self._cpu_started, 2
+        )
         self.checkpoint.save(model, self.progress)
 
     def callback(self, stop: StopOnInterrupt, progress_bar: bool) -> BaseCallback:
@@ -384,6 +411,9 @@ class _SessionCallback(BaseCallback):
         if not self.stop.requested and session.due(timesteps):
             result = session.evaluate(self.model)
             print(report(result), flush=True)
+            for key in ("mean_return", "success_rate", "forward_speed"):
+                if result.get(key) is not None:  # TensorBoard's, with --tensorboard
+                    self.logger.record(f"eval/{key}", result[key])
             session.save(self.model)
         return not self.stop.requested
 
@@ -397,6 +427,8 @@ def report(result: dict[str, Any]) -> str:
     )
     if result["success_rate"] is not None:
         text += f"  success {result['success_rate']:.2f}"
+    if result.get("forward_speed") is not None:
+        text += f"  {result['forward_speed']:.2f} m/s"
     return text
 
 

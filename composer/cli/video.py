@@ -1,7 +1,8 @@
 """Frames to files: PNG images (standard library only) and videos (imageio).
 
     video.write_png(env.render(), 'frame.png')
-    written = video.write_video(frames, 'out.mp4', fps=30)   # 'out.gif' when no ffmpeg
+    path = video.target('out.mp4')                           # 'out.gif' when no ffmpeg
+    written = video.write_video(frames, 'out.mp4', fps=30)   # writes that path
 
 MP4 needs ffmpeg, which `imageio-ffmpeg` ships; when it cannot be found the video is
 written as a GIF next to the requested path and the returned path says so. Videos need
@@ -61,6 +62,15 @@ def ffmpeg_available() -> bool:
     return os.path.isfile(exe) and os.access(exe, os.X_OK)
 
 
+def target(path: str | os.PathLike[str]) -> Path:
+    """The file `write_video` writes for `path`: itself, or a .gif beside it (a GIF asked
+    for, or no ffmpeg for an MP4)."""
+    path = Path(path)
+    if path.suffix.lower() != ".gif" and ffmpeg_available():
+        return path
+    return path.with_suffix(".gif")
+
+
 def write_video(frames: Sequence[np.ndarray], path: str | os.PathLike[str], fps: float) -> Path:
     """Write `frames` at `fps` frames a second to `path` (.mp4, or .gif); an MP4 becomes a
     GIF beside it when ffmpeg is missing. Returns the path written. Raises MissingExtraError
@@ -69,14 +79,13 @@ def write_video(frames: Sequence[np.ndarray], path: str | os.PathLike[str], fps:
         import imageio.v3 as iio
     except ImportError as e:
         raise MissingExtraError(f"writing a video needs imageio: {VIDEO_INSTALL}") from e
-    path = Path(path)
+    path = target(path)
     stack = np.stack(frames)
     try:
-        if path.suffix.lower() != ".gif" and ffmpeg_available():
+        if path.suffix.lower() != ".gif":
             iio.imwrite(path, stack, plugin="FFMPEG", fps=fps)
-            return path
-        path = path.with_suffix(".gif")
-        iio.imwrite(path, stack, plugin="pillow", duration=round(1000 / fps), loop=0)
+        else:
+            iio.imwrite(path, stack, plugin="pillow", duration=round(1000 / fps), loop=0)
     except OSError as e:
         raise OutputError(f"cannot write {path}: {e.strerror or e}") from e
     return path

@@ -3,6 +3,8 @@ that need no training extras work without them."""
 
 from __future__ import annotations
 
+import sys
+
 import pytest
 
 from tests.cli.helpers import assert_one_line_error, composer, composer_without
@@ -46,6 +48,44 @@ def test_list_show_and_run_need_neither_torch_nor_stable_baselines3(tmp_path, co
 def test_an_unwritable_output_fails_before_any_work(tmp_path, command):
     (tmp_path / "file").write_text("not a folder")
     assert_one_line_error(composer(*command, cwd=tmp_path), "cannot write", "file")
+
+
+@pytest.mark.parametrize(
+    ("command", "line"),
+    [
+        (["train", "--timestep", "100"], "composer train: error: unknown option --timestep; "
+         "did you mean --timesteps? (see: composer train --help)"),
+        (["train", "--time", "100"], "composer train: error: unknown option --time; did you "
+         "mean --timesteps? (see: composer train --help)"),
+        (["run", "Reach", "--episode=3"], "composer run: error: unknown option --episode=3; "
+         "did you mean --episodes? (see: composer run --help)"),
+        (["--imprt", "x", "list"], "composer: error: unknown option --imprt; did you mean "
+         "--import? (see: composer --help)"),
+        (["trian"], "composer: error: argument COMMAND: invalid choice: 'trian' (choose from "
+         "'list', 'show', 'run', 'view', 'train', 'eval'); did you mean 'train'? (see: "
+         "composer --help)"),
+        (["train", "--algo", "ppo2"], "composer train: error: argument --algo: invalid "
+         "choice: 'ppo2' (choose from 'ppo', 'sac'); did you mean 'ppo'? (see: composer "
+         "train --help)"),
+        (["show", "Reach", "extra"], "composer show: error: unexpected argument 'extra' "
+         "(see: composer show --help)"),
+        (["run", "Reach", "--episodes", "0"], "composer run: error: argument --episodes: must "
+         "be at least 1, got 0 (see: composer run --help)"),
+    ],
+)  # fmt: skip
+def test_options_are_matched_exactly_and_mistakes_are_one_line(tmp_path, command, line):
+    assert assert_one_line_error(composer(*command, cwd=tmp_path)) == line
+
+
+def test_a_video_that_cannot_be_written_is_named_before_the_episodes_run(tmp_path):
+    if not sys.platform.startswith("linux"):
+        pytest.skip("/proc refuses new files on Linux, even to root")
+    result = composer("run", "Reach", "--video", "/proc/reach.mp4", cwd=tmp_path)
+    assert_one_line_error(result, "cannot write /proc/reach.mp4")
+    assert "episode 1" not in result.stdout
+    (tmp_path / "taken.mp4").mkdir()
+    result = composer("run", "Reach", "--video", "taken.mp4", cwd=tmp_path)
+    assert_one_line_error(result, "cannot write taken.mp4: it is a directory")
 
 
 def test_missing_policies_and_checkpoints_are_named(tmp_path):

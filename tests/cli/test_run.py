@@ -7,7 +7,7 @@ import re
 import imageio.v3 as iio
 import numpy as np
 
-from composer.cli import video
+from composer.cli import catalog, rollout, video
 from tests.cli.helpers import composer
 
 EPISODE = re.compile(r"^episode (\d): return (-?[\d.]+) over 75 steps, (?:no )?success$", re.M)
@@ -53,3 +53,27 @@ def test_a_png_frame_round_trips(tmp_path):
     frame = np.random.default_rng(0).integers(0, 256, (5, 7, 3), dtype=np.uint8)
     path = video.write_png(frame, tmp_path / "f.png")
     np.testing.assert_array_equal(iio.imread(path), frame)
+
+
+def test_runners_report_their_forward_speed(tmp_path):
+    result = composer("run", "WalkerRun", "--episodes", "2", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    speeds = re.findall(r"^episode \d: return -?[\d.]+ over \d+ steps, (-?[\d.]+) m/s$",
+                        result.stdout, re.M)  # fmt: skip
+    assert len(speeds) == 2
+    summary = re.search(r"forward speed (-?[\d.]+) m/s$", result.stdout, re.M)
+    assert abs(float(summary[1]) - np.mean([float(s) for s in speeds])) <= 0.01
+
+
+def test_forward_speed_is_the_mean_of_the_torso_s_forward_velocity_over_the_steps():
+    env = catalog.make(catalog.find("WalkerRun"))
+    (episode,) = rollout.run_episodes(env, rollout.random_policy(env, 5), 1, seed=5)
+    env.reset(seed=5)
+    policy, root_x = rollout.random_policy(env, 5), env.physics.bind(env.task.robot.root_x)
+    velocities, finished = [], False
+    while not finished:
+        *_, terminated, truncated, _ = env.step(policy(None))
+        velocities.append(float(root_x.qvel[0]))
+        finished = terminated or truncated
+    assert episode.length == len(velocities)
+    assert episode.forward_speed == sum(velocities) / len(velocities)

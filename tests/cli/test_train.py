@@ -11,7 +11,7 @@ import sys
 
 import imageio.v3 as iio
 
-from tests.cli.helpers import assert_one_line_error, composer, environment
+from tests.cli.helpers import assert_one_line_error, composer, composer_without, environment
 
 EVALS = ("--eval-every", "1024", "--eval-episodes", "2")
 TINY = ("--algo", "ppo", "--n-envs", "2", *EVALS)
@@ -27,7 +27,7 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("Reach", "ppo", 2048)
-    assert metrics["completed"] and metrics["wall_time"] > 0
+    assert metrics["completed"] and metrics["wall_time"] > 0 and metrics["cpu_time"] > 0
     assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
     assert metrics["final"] == metrics["evaluations"][-1]
     assert metrics["final"]["success_rate"] is not None  # Reach reports is_success
@@ -57,12 +57,21 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     assert_one_line_error(elsewhere, "observations of shape (10,)", "this task has (5,)")
 
 
-def test_train_resumes_from_the_checkpoint_in_its_folder(tmp_path):
+def test_a_finished_run_is_kept_unless_resume_or_fresh_says_what_to_do(tmp_path):
     first = composer("train", "Reach", "--timesteps", "1024", "--out", "run", "--no-video",
                      *TINY, cwd=tmp_path)  # fmt: skip
     assert first.returncode == 0, first.stderr
-    resumed = composer("train", "Reach", "--timesteps", "2048", "--out", "run", "--no-video",
-                       "--n-envs", "4", *EVALS, cwd=tmp_path)  # fmt: skip
+    policy = (tmp_path / "run" / "policy.zip").read_bytes()
+    again = composer("train", "Reach", "--timesteps", "2048", "--out", "run", cwd=tmp_path)
+    line = assert_one_line_error(again, "run holds a finished run: Reach with PPO, 1,024 steps")
+    assert line.endswith("--resume continues it (to a larger --timesteps), --fresh replaces "
+                         "it, --out DIR trains elsewhere")  # fmt: skip
+    smaller = composer("train", "Reach", "--timesteps", "512", "--resume", "run", cwd=tmp_path)
+    assert_one_line_error(smaller, "has 1,024 steps already", "give --timesteps above that")
+    assert (tmp_path / "run" / "policy.zip").read_bytes() == policy  # nothing overwritten
+
+    resumed = composer("train", "Reach", "--timesteps", "2048", "--out", "run", "--resume",
+                       "--no-video", "--n-envs", "4", *EVALS, cwd=tmp_path)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
     assert "note: resuming keeps the checkpoint's --n-envs 2" in resumed.stdout
     assert "resuming at 1,024 steps: Reach with PPO to 2,048 steps" in resumed.stdout
@@ -72,6 +81,48 @@ def test_train_resumes_from_the_checkpoint_in_its_folder(tmp_path):
     assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
     # 512 steps per environment in each session; the episodes the resume cut are not counted.
     assert sum(row[2] for row in metrics["train_curve"]) == 2 * 2 * (512 // 75)
+
+    fresh = composer("train", "Reach", "--timesteps", "1024", "--out", "run", "--fresh",
+                     "--no-video", *TINY, cwd=tmp_path)  # fmt: skip
+    assert fresh.returncode == 0, fresh.stderr
+    assert fresh.stdout.startswith(
+        "--fresh: removed the earlier run in run: checkpoint/model.zip, "
+        "checkpoint/vecnormalize.pkl, checkpoint/state.json, policy.zip, metrics.json, "
+        "learning_curve.png\ntraining Reach with PPO to 1,024 steps"
+    )
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["timesteps"] == 1024 and len(metrics["evaluations"]) == 1
+
+
+def test_results_without_a_checkpoint_are_not_overwritten(tmp_path):
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "metrics.json").write_text("{}")
+    result = composer("train", "Reach", "--out", "run", cwd=tmp_path)
+    assert_one_line_error(result, "run holds results of an earlier run (metrics.json)")
+    both = composer("train", "Reach", "--out", "run", "--fresh", "--resume", cwd=tmp_path)
+    assert_one_line_error(both, "--resume and --fresh contradict each other")
+
+
+def test_tensorboard_gets_the_training_and_evaluation_scalars(tmp_path):
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    result = composer("train", "Reach", "--timesteps", "1024", "--out", "run", "--no-video",
+                      "--tensorboard", "tb", *TINY, cwd=tmp_path)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    (log,) = (tmp_path / "tb").iterdir()
+    assert log.name == "run_1"  # the output folder's name, numbered by stable-baselines3
+    events = EventAccumulator(str(log))
+    events.Reload()
+    tags = set(events.Tags()["scalars"])
+    assert {"eval/mean_return", "eval/success_rate", "train/value_loss"} <= tags
+    assert [e.step for e in events.Scalars("eval/mean_return")] == [1024]
+
+
+def test_tensorboard_without_the_package_says_how_to_install_it(tmp_path):
+    result = composer_without(("tensorboard",), "train", "Reach", "--tensorboard", "tb",
+                              cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(result, "--tensorboard needs the tensorboard package",
+                          "pip install tensorboard")  # fmt: skip
 
 
 def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import composer
-from entities import robots
+from entities import menagerie, robots
 
 TINY_ROBOT = """<mujoco model="tiny">
   <worldbody><body name="link"><joint name="hinge"/><geom size="0.1"/>
@@ -21,9 +21,9 @@ TINY_ROBOT = """<mujoco model="tiny">
 
 @pytest.fixture
 def no_search_paths(monkeypatch, tmp_path):
-    """Nothing to find: no $MENAGERIE_ROOT, no repository folder, no package."""
+    """Nothing to find: no $MENAGERIE_ROOT, no shipped robots, no package."""
     monkeypatch.delenv(robots.MENAGERIE_ENV, raising=False)
-    monkeypatch.setattr(robots, "REPO_MENAGERIE", tmp_path / "repo_menagerie")
+    monkeypatch.setattr(robots.menagerie, "ROOT", tmp_path / "shipped")
     monkeypatch.setitem(sys.modules, "mujoco_menagerie", None)  # import fails
     return tmp_path
 
@@ -70,7 +70,7 @@ def test_missing_robot_error_lists_every_place_looked(no_search_paths):
         robots.from_menagerie("tiny_robot", root=no_search_paths / "given")
     message = str(caught.value)
     assert str(no_search_paths / "given" / "tiny_robot") in message
-    assert str(no_search_paths / "repo_menagerie" / "tiny_robot") in message
+    assert str(no_search_paths / "shipped" / "tiny_robot") in message
     assert "pip install mujoco-menagerie" in message
     assert isinstance(caught.value, composer.Error)
 
@@ -128,8 +128,20 @@ def test_arm_with_gripper_attaches_at_the_named_site(tmp_path):
     assert hand.parent is arm and pair.tcp.name == "flange"
 
 
-def test_real_ur5e_with_robotiq_2f85(menagerie):
-    robot = robots.ur5e_with_2f85(menagerie)
+def test_the_shipped_robots_come_before_the_package_and_after_menagerie_root(monkeypatch, tmp_path):
+    monkeypatch.setenv(robots.MENAGERIE_ENV, str(tmp_path))
+    assert robots.menagerie_roots() == [tmp_path, menagerie.ROOT]
+    mine = robot_folder(tmp_path, "universal_robots_ur5e")
+    assert robots.from_menagerie("universal_robots_ur5e").name == "tiny"  # $MENAGERIE_ROOT's
+    # The pair is the shipped files unless a root is given, so tasks are the same everywhere.
+    shipped = robots.ur5e_with_2f85()
+    assert shipped.arm.name == "ur5e"
+    with pytest.raises(robots.RobotError, match="entity 'tiny' has no site 'attachment_site'"):
+        robots.ur5e_with_2f85(root=mine.parent)  # the tiny arm in the given root is used
+
+
+def test_real_ur5e_with_robotiq_2f85():
+    robot = robots.ur5e_with_2f85()
     arena = composer.Arena()
     arena.attach(robot)
     env = composer.Environment(composer.NullTask(arena))

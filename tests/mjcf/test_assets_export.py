@@ -33,8 +33,6 @@ def _scene() -> mjcf.RootElement:
 
 @pytest.fixture(scope="module")
 def scene_and_model() -> tuple[mjcf.RootElement, mujoco.MjModel]:
-    if not UR5E.exists() or not ROBOTIQ.exists():
-        pytest.skip(f"menagerie robots not found at {MENAGERIE}")
     scene = _scene()
     return scene, mjcf.Physics.from_mjcf_model(scene).model
 
@@ -49,7 +47,7 @@ def test_export_to_a_folder_loads_in_stock_mujoco(scene_and_model, tmp_path: Pat
     path = mjcf.export_with_assets(scene, tmp_path / "out")
     assert Path(path) == tmp_path / "out" / "model.xml"
     files = sorted(os.listdir(tmp_path / "out"))
-    assert "base_0.obj" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
+    assert "base_0.msh" in files and "pad.stl" in files  # readable, not name-<sha1>.stl
     assert len(files) == 1 + 20 + 8  # the model, the arm's meshes, the gripper's: once each
     _identical(compiled, mujoco.MjModel.from_xml_path(path))
     custom = mjcf.export_with_assets(scene, tmp_path / "named", model_filename="two_arms.xml")
@@ -247,7 +245,7 @@ def test_shipped_and_robot_models_composed_keep_their_files_apart(menagerie) -> 
         cubes.model = name
         scene.attach(cubes).pos = [0, 2, 0]
     _, assets = _assert_names_fit_mujoco(scene)
-    assert {"cube.stl", "cube.msh", "deepmind.png", "pad.stl", "base_0.obj"} <= set(assets)
+    assert {"cube.stl", "cube.msh", "deepmind.png", "pad.stl", "base_0.msh"} <= set(assets)
     assert len(assets) == 28 + 3
 
 

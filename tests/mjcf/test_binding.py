@@ -13,18 +13,12 @@ import pytest
 from mjcf import errors, fields
 from mjcf.binding import Binding, WriteThrough
 from mjcf.physics import Physics
+from tests.conftest import ROBOTIQ as GRIPPER
+from tests.conftest import UR5E
 
 Obj = mujoco.mjtObj
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata" / "model.xml"
-MENAGERIE = Path(__file__).parents[2] / ".." / "shared" / "models" / "menagerie"
-UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
-GRIPPER = MENAGERIE / "robotiq_2f85" / "2f85.xml"
-
-needs_menagerie = pytest.mark.skipif(
-    not (UR5E.exists() and GRIPPER.exists()),
-    reason=f"menagerie models not found at {MENAGERIE.resolve()}",
-)
 
 
 def load(path: Path) -> Physics:
@@ -41,8 +35,8 @@ MODELS = {
     "humanoid": lambda: load(GYM_ASSETS / "humanoid.xml"),
     "ant": lambda: load(GYM_ASSETS / "ant.xml"),
     "mujoco testdata": lambda: load(MUJOCO_TESTDATA),
-    "ur5e": pytest.param(lambda: load(UR5E), marks=needs_menagerie),
-    "robotiq 2f85": pytest.param(lambda: load(GRIPPER), marks=needs_menagerie),
+    "ur5e": lambda: load(UR5E),
+    "robotiq 2f85": lambda: load(GRIPPER),
 }
 
 
@@ -120,7 +114,6 @@ def test_sensors_read_their_sensordata_slices():
     assert np.array_equal(every.sensordata, data.sensordata)
 
 
-@needs_menagerie
 def test_actuator_ctrl_writes_move_the_ur5e():
     physics = Physics.from_xml_path(UR5E)
     arm = physics.bind_names(Obj.mjOBJ_ACTUATOR, fields.names(physics.model, Obj.mjOBJ_ACTUATOR))
@@ -135,7 +128,6 @@ def test_actuator_ctrl_writes_move_the_ur5e():
     assert np.abs(arm.force).max() > 0
 
 
-@needs_menagerie
 def test_gripper_tendon_and_equality_rows():
     physics = load(GRIPPER)
     model, data = physics.model, physics.data

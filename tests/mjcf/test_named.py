@@ -11,12 +11,11 @@ import pytest
 
 from mjcf import errors
 from mjcf.physics import Physics
+from tests.conftest import UR5E
 
 Obj = mujoco.mjtObj
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata" / "model.xml"
-UR5E = Path(__file__).parents[2] / ".." / "shared" / "models" / "menagerie"
-UR5E = UR5E / "universal_robots_ur5e" / "ur5e.xml"
 
 
 def load(path: Path) -> Physics:
@@ -32,9 +31,7 @@ def load(path: Path) -> Physics:
     params=[
         GYM_ASSETS / "humanoid.xml",
         MUJOCO_TESTDATA,
-        pytest.param(
-            UR5E, marks=pytest.mark.skipif(not UR5E.exists(), reason=f"no menagerie at {UR5E}")
-        ),
+        UR5E,
     ],
     ids=["humanoid", "mujoco testdata", "ur5e"],
 )

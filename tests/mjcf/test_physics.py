@@ -19,14 +19,13 @@ import pytest
 
 from mjcf import errors
 from mjcf.physics import Physics
+from tests.conftest import UR5E
 
 Obj = mujoco.mjtObj
 REPO = Path(__file__).resolve().parents[2]
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 HUMANOID = GYM_ASSETS / "humanoid.xml"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata" / "model.xml"
-UR5E = Path(__file__).parents[2] / ".." / "shared" / "models" / "menagerie"
-UR5E = UR5E / "universal_robots_ur5e" / "ur5e.xml"
 
 TWO_KEYS = """
 <mujoco>
@@ -120,7 +119,6 @@ def test_reset_to_qpos0_and_to_keyframes():
         physics.reset(keyframe=2)
 
 
-@pytest.mark.skipif(not UR5E.exists(), reason=f"menagerie models not found at {UR5E}")
 def test_reset_ur5e_home_keyframe():
     physics = Physics.from_xml_path(UR5E)
     physics.reset(keyframe="home")

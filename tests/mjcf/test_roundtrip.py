@@ -15,7 +15,7 @@ from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
 from tests.mjcf.compare import model_differences, trajectories_match
 
 SHIPPED = sorted(GYM_ASSETS.glob("*.xml")) + sorted(MUJOCO_TESTDATA.glob("*.xml"))
-ROBOTS = sorted(MENAGERIE.glob("*/*.xml")) if MENAGERIE.exists() else []
+ROBOTS = sorted(MENAGERIE.glob("*/*.xml"))
 
 
 def _assert_round_trip(path: Path, root: mjcf.RootElement) -> None:

@@ -13,12 +13,12 @@ import pytest
 from lxml import etree
 
 from mjcf.schema import _annotations, _docs, generate
+from tests.conftest import MENAGERIE
 
 SCHEMA_FILE = generate.OUTPUT
 DOCS = _docs.doc_dir()
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MUJOCO_TESTDATA = Path(mujoco.__file__).parent / "testdata"
-MENAGERIE = Path(__file__).parents[2] / ".." / "shared" / "models" / "menagerie"
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,6 @@ from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 from tasks.rewards import squared_norms
-from tests.tasks.helpers import NEEDS_MENAGERIE, has_menagerie
 
 NUM_ENVS = 4
 TIME_LIMIT = 0.4  # s: 8 to 16 steps, so a run goes through several autoresets
@@ -29,15 +28,6 @@ CASES = {
 # tasks.rewards.tolerance computes one number with math.exp and an array with np.exp, by
 # formulas equal in exact arithmetic, so the last bits differ.
 ROUNDED_REWARDS = {"CartpoleSwingup"}
-
-
-def cases() -> list:
-    """CASES' names as pytest params; the robot task skips without the Menagerie files."""
-    skip = pytest.mark.skipif(not has_menagerie(), reason="menagerie robots not found")
-    return [
-        pytest.param(name, marks=skip) if env_id in NEEDS_MENAGERIE else name
-        for name, (env_id, _) in CASES.items()
-    ]
 
 
 def make_pair(name: str, **options) -> tuple[VectorEnv, VectorEnv]:
@@ -72,7 +62,7 @@ def assert_same_runs(name: str, vector: VectorEnv, reference: VectorEnv, seed: i
     return ended
 
 
-@pytest.mark.parametrize("name", cases())
+@pytest.mark.parametrize("name", list(CASES))
 def test_shipped_task_runs_fully_batched_as_single_environments_would(name):
     vector, reference = make_pair(name)
     assert vector.per_environment == []

@@ -13,9 +13,9 @@ from gymnasium.utils.env_checker import check_env
 
 import tasks
 from composer import registration
-from tests.tasks.helpers import SIZES, ids, make
+from tests.tasks.helpers import SIZES, make
 
-IDS = ids()
+IDS = list(tasks.IDS)
 
 
 def test_import_tasks_registers_every_documented_id():

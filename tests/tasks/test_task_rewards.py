@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import gymnasium
 import numpy as np
 import pytest
 
 import composer
 import tasks
-from entities import robots
+from entities import menagerie, robots
 from tasks.rewards import tolerance
 
 
@@ -114,8 +116,8 @@ def test_walker_terminates_when_it_falls_and_control_timestep_sets_the_step():
 
 
 @pytest.fixture
-def push_task(menagerie):
-    return tasks.ArmPushBox(menagerie_root=menagerie, randomize=False)
+def push_task():
+    return tasks.ArmPushBox(randomize=False)
 
 
 def test_arm_push_box_composes_the_real_ur5e_and_2f85(push_task):
@@ -146,11 +148,14 @@ def test_arm_push_box_succeeds_with_the_box_on_the_target_and_ends_when_it_falls
     assert terminated and info["is_success"] is False
 
 
-def test_arm_push_box_without_the_robot_files_names_where_it_looked(monkeypatch, tmp_path):
-    monkeypatch.delenv(robots.MENAGERIE_ENV, raising=False)
-    monkeypatch.setattr(robots, "REPO_MENAGERIE", tmp_path / "shared")
+def test_arm_push_box_uses_the_robot_files_shipped_with_the_package(monkeypatch, tmp_path):
+    """No $MENAGERIE_ROOT, no Menagerie package, run from elsewhere: as on a fresh install."""
+    monkeypatch.setenv(robots.MENAGERIE_ENV, str(tmp_path / "empty"))
     monkeypatch.setitem(__import__("sys").modules, "mujoco_menagerie", None)
-    with pytest.raises(robots.RobotNotFoundError) as caught:
-        gymnasium.make("composer/ArmPushBox-v0", menagerie_root=tmp_path / "mine")
-    assert str(tmp_path / "mine" / "universal_robots_ur5e") in str(caught.value)
-    assert str(tmp_path / "shared" / "universal_robots_ur5e") in str(caught.value)
+    monkeypatch.chdir(tmp_path)
+    env = gymnasium.make("composer/ArmPushBox-v0")
+    env.reset(seed=0)
+    robot = env.unwrapped.task.robot.mjcf_model
+    folders = [Path(mesh.file.path).parents[1] for mesh in robot.find_all("mesh")]
+    assert len(folders) == 20 + 8  # the arm's meshes and the gripper's
+    assert set(folders) == {menagerie.ROOT / name for name in menagerie.ROBOTS}
