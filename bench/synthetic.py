@@ -26,14 +26,15 @@ class Creature(NamedTuple):
     segments: int  # bodies per limb
     joints_per_body: int  # hinges per limb body (1 to 3)
     class_groups: int  # default classes: this many groups of nested classes
+    joint_sensors: int  # joints (from the first) with a position and a velocity sensor
 
 
 # About dm_control's CMU humanoid (31 bodies, 56 hinges, 56 motors) and rodent (about
 # 60 bodies, 100 hinges, tens of nested classes and a hundred sensors), by shape.
 CMU_HUMANOID = Creature("cmu_like", spine=7, tail=0, limbs=4, segments=6, joints_per_body=2,
-                        class_groups=4)  # fmt: skip
+                        class_groups=4, joint_sensors=0)  # fmt: skip
 RODENT = Creature("rodent_like", spine=9, tail=14, limbs=4, segments=8, joints_per_body=2,
-                  class_groups=12)  # fmt: skip
+                  class_groups=12, joint_sensors=30)  # fmt: skip
 
 _AXES = ("1 0 0", "0 1 0", "0 0 1")
 
@@ -143,12 +144,12 @@ def creature_xml(shape: Creature) -> str:
     out.append("  <sensor>")
     for kind in ("accelerometer", "velocimeter", "gyro"):
         out.append(f'    <{kind} name="{kind}" site="imu"/>')
-    for joint in joints:
+    for joint in joints[: shape.joint_sensors]:
         out.append(f'    <jointpos name="{joint}_pos" joint="{joint}"/>')
         out.append(f'    <jointvel name="{joint}_vel" joint="{joint}"/>')
-    for site in touch:
+    for site in touch[::4]:
         out.append(f'    <touch name="{site}" site="{site}"/>')
-    for name in bodies[::3]:
+    for name in bodies[::6]:
         out.append(f'    <framepos name="{name}_pos" objtype="body" objname="{name}"/>')
     out.append("  </sensor>")
     out.append("</mujoco>")

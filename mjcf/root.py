@@ -30,12 +30,14 @@ class RootElement(Element):
     are found; `assets` maps file names to contents for files that are not on disk.
 
     Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
-    top-level section) and `_version` (see `version`); `_frame` (where this model is
-    attached) and `_attachments` (the frames of the models attached to it) belong to
-    `mjcf.attachment`, which alone links and unlinks models; `_numbering` is
-    `mjcf.naming`'s cache of generated names; `_composed` is `mjcf.composition`'s cache
-    of the last composition of each kind of output; `_confine_to` (the folder
-    `strict_paths` confines files to) is set by the parser and read by `mjcf.assets`.
+    top-level section) and `_version` (see `version`); `mjcf.namescope` asks
+    `_resolve(xml)` for an element not built yet (see `Element._defer`); `_frame`
+    (where this model is attached) and `_attachments` (the frames of the models
+    attached to it) belong to `mjcf.attachment`, which alone links and unlinks models;
+    `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
+    `mjcf.composition`'s cache of the last composition of each kind of output;
+    `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
+    read by `mjcf.assets`.
     """
 
     __slots__ = (
@@ -71,6 +73,7 @@ class RootElement(Element):
         setter(self, "_children", [])
         setter(self, "_source", None)
         setter(self, "_text", None)
+        setter(self, "_xml", None)
         setter(self, "_namescope", NameScope(self))
         setter(self, "_model_dir", str(model_dir) if model_dir else "")
         setter(self, "_assets", dict(assets) if assets else {})
@@ -173,6 +176,28 @@ class RootElement(Element):
         from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
 
         return Physics.from_mjcf_model(self)
+
+    def _resolve(self, xml: Any) -> Element | None:
+        """The element built from lxml element `xml` of the file this model was read
+        from, built now with the elements above it if they are not yet (see
+        `Element._defer`); None if it is no longer in the model."""
+        path = [xml, *xml.iterancestors()]
+        path.pop()  # the <mujoco> element
+        element: Element = self
+        for step in reversed(path):
+            for child in element._children:
+                if child._xml is step:
+                    element = child
+                    break
+            else:
+                return None
+        return element
+
+    def __getstate__(self) -> tuple[None, dict[str, Any]]:
+        """Pickled with every element built (see `Element._defer`)."""
+        for _ in self.iter():
+            pass
+        return super().__getstate__()
 
     def _section(self, tag: str) -> Element:
         """The top-level section `tag`; raises mjcf.SchemaError for unknown sections."""

@@ -359,7 +359,7 @@ class _Writer:
                     elif element in renamed:  # named after a file written under another name
                         text += own_name(element, context)
                 if not special and not (spec.references and _refers_out(element)):
-                    element._text = (version, text)
+                    object.__setattr__(element, "_text", (version, text))
                 return text
             if spec.required and (attrs or element._children or not spec.on_demand):
                 check_required(element)
@@ -370,7 +370,7 @@ class _Writer:
             if element in renamed and not (override and spec.identifier in override):
                 text += own_name(element, context)
             if cacheable and not (spec.references and _refers_out(element)):
-                element._text = (version, text)
+                object.__setattr__(element, "_text", (version, text))
             return text
 
         def write(element: Element, depth: int, override: dict | None = None) -> None:
