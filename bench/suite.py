@@ -35,6 +35,8 @@ BENCHMARKS = {
     "attach": "bench.bench_attach",
     "scene": "bench.bench_scene",
     "vector": "bench.bench_vector",
+    "ray": "bench.bench_ray",
+    "ray_learning": "bench.bench_ray_learning",
 }
 
 

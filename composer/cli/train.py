@@ -14,6 +14,7 @@ what to do (`composer.cli.run_folder`). Evaluations (deterministic actions, fixe
 run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint.
 `--tensorboard DIR` also logs stable-baselines3's TensorBoard scalars there, with the
 evaluations as `eval/...`.
+`--engine ray` trains with RLlib on Ray instead (`composer.cli.ray_training`).
 """
 
 from __future__ import annotations
@@ -37,6 +38,11 @@ VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this
 
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
+    from composer.cli import ray_training  # imports Ray only when it trains
+
+    if args.engine == ray_training.ENGINE:
+        return ray_training.run(args)
+    ray_training.check_options(args)
     info = args.info
     if not args.no_video:
         video.require()

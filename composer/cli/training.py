@@ -36,8 +36,9 @@ from typing import Any
 
 import gymnasium
 
-from composer.cli import catalog, recipes, rollout
+from composer.cli import catalog, ray_files, recipes, rollout
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError, PolicyError
+from composer.cli.ray_files import RayPolicy
 from composer.registration import TaskInfo, make_environment
 
 try:
@@ -183,8 +184,12 @@ def algo_of(path: Path) -> str:
     return algo
 
 
-def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm:
-    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces."""
+def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm | RayPolicy:
+    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces; one
+    trained with `--engine ray` loads as a RayPolicy (`composer.cli.ray_files`)."""
+    ray_policy = ray_files.find_policy(path)
+    if ray_policy is not None:
+        return ray_files.load_policy(ray_policy, env)
     file = policy_file(path)
     model = ALGORITHMS[algo_of(file)].load(file, device="cpu")
     for label, theirs, ours in (

@@ -597,7 +597,7 @@ def test_bad_attachments_are_refused_and_change_nothing(menagerie) -> None:
     renamed = mjcf.from_path(ROBOTIQ)
     renamed.model = "second"
     arm.attach(renamed)
-    _refused(arm, lambda: setattr(renamed, "model", "robotiq_2f85"), mjcf.NameError,
+    _refused(arm, lambda: setattr(renamed, "model", "robotiq_2f85"), mjcf.NameClashError,
              "already attached")  # fmt: skip
-    with pytest.raises(mjcf.NameError, match="separates"):
+    with pytest.raises(mjcf.NameClashError, match="separates"):
         mjcf.RootElement(model="a/b")
