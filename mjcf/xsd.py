@@ -106,8 +106,18 @@ def schema_text() -> str:
         out.append("</xs:complexType>")
     for kind, name in simple_names.items():
         out.append(_simple_type_text(name, kind))
+    out.append(_DOUBLE)
     out.append("</xs:schema>")
     return "".join(out)
+
+
+# libxml2 takes '1e' and '1e+' for doubles, which Python's float() refuses: a double is
+# also held to the pattern of the ones it takes.
+_DOUBLE = (
+    '<xs:simpleType name="double"><xs:restriction base="xs:double"><xs:pattern value='
+    '"[+\\-]?([0-9]+(\\.[0-9]*)?|\\.[0-9]+)([eE][+\\-]?[0-9]+)?|-?INF|NaN"/>'
+    "</xs:restriction></xs:simpleType>"
+)
 
 
 def _simple_type_text(name: str, kind: tuple) -> str:
@@ -119,13 +129,14 @@ def _simple_type_text(name: str, kind: tuple) -> str:
             words = f"<xs:list><xs:simpleType>{words}</xs:simpleType></xs:list>"
         return f'<xs:simpleType name="{name}">{words}</xs:simpleType>'
     _, item, least, most = kind
+    item = "double" if item == "double" else "xs:integer"
     if least == most == 1:
-        return f'<xs:simpleType name="{name}"><xs:restriction base="xs:{item}"/></xs:simpleType>'
+        return f'<xs:simpleType name="{name}"><xs:restriction base="{item}"/></xs:simpleType>'
     facets = f'<xs:minLength value="{least}"/>'
     if most is not None:
         facets += f'<xs:maxLength value="{most}"/>'
     return (
         f'<xs:simpleType name="{name}"><xs:restriction><xs:simpleType>'
-        f'<xs:list itemType="xs:{item}"/></xs:simpleType>{facets}</xs:restriction>'
+        f'<xs:list itemType="{item}"/></xs:simpleType>{facets}</xs:restriction>'
         "</xs:simpleType>"
     )

@@ -35,8 +35,12 @@ def test_unknown_element_suggests(model: mjcf.RootElement) -> None:
 def test_unknown_attribute_suggests(model: mjcf.RootElement) -> None:
     tip = model.find("geom", "tip")
     message = r"<geom name=\"tip\">: <geom> has no attribute 'rgab' \(did you mean 'rgba'\?\)"
-    _unchanged(model, lambda: setattr(tip, "rgab", [1, 0, 0, 1]), mjcf.UnknownAttributeError, message)
-    _unchanged(model, lambda: model.worldbody.add("geom", sise=[1]), mjcf.UnknownAttributeError, "sise")
+    _unchanged(
+        model, lambda: setattr(tip, "rgab", [1, 0, 0, 1]), mjcf.UnknownAttributeError, message
+    )
+    _unchanged(
+        model, lambda: model.worldbody.add("geom", sise=[1]), mjcf.UnknownAttributeError, "sise"
+    )
     with pytest.raises(AttributeError):  # still the builtin meaning
         tip.rgab  # noqa: B018
     assert getattr(tip, "rgab", None) is None
