@@ -21,7 +21,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, default_sections, errors, indexer, naming, xsd
+from mjcf import bulk, debugging, default_sections, errors, indexer, naming, xsd
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -104,6 +104,7 @@ def from_file(
     )
 
 
+@bulk.whole_tree
 def _parse(
     data: str | bytes,
     escape_separators: bool,

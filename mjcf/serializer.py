@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mjcf import assets as _assets
-from mjcf import attachment, composition, errors
+from mjcf import attachment, bulk, composition, errors
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -41,6 +41,7 @@ _NO_INDENTS = ("",) * 512
 _FRAME_SPEC = attachment.FRAME_SPEC
 
 
+@bulk.whole_tree
 def serialize(
     root: RootElement,
     precision: int = 17,
@@ -56,6 +57,7 @@ def serialize(
     return "".join(writer.parts), files.contents()
 
 
+@bulk.whole_tree
 def serialize_for_compile(
     root: RootElement,
 ) -> tuple[str, dict[str, bytes], composition.Composition, list[Element | None]]:
@@ -69,6 +71,7 @@ def serialize_for_compile(
     return "".join(writer.parts), files.contents(), writer.composed, writer.owners
 
 
+@bulk.whole_tree
 def to_xml_string(
     element: Element,
     prefix_root: RootElement | None,
