@@ -58,8 +58,9 @@ class Element(ModelOperations):
     theirs, level by level) are made from it when `_children` is first read, each with
     its `_xml`, the lxml element it is made from (None for elements made otherwise). A
     model's name scope holds the lxml elements of names not built yet, which
-    `RootElement._resolve` builds. Reading `_children` (as every walk of the tree does)
-    is all it takes: nothing else changes.
+    `RootElement._resolve` builds (with `_child_built_from`, only the elements on the
+    way). Reading `_children` (as every walk of the tree does) is all it takes: nothing
+    else changes.
     """
 
     __slots__ = (
@@ -110,38 +111,39 @@ class Element(ModelOperations):
     def _build_children(self) -> list[Element]:
         """This element's children, made now from its lxml element (see `_defer`): each
         with its attributes as read, its own children deferred, its name's lxml element
-        in the name scope replaced by it."""
-        specs = self._spec.children
-        root = self._root
-        children = []
-        named = []
-        for xml in self._xml:
-            spec = specs[xml.tag]
-            # A _Fresh takes plain slot assignments (an Element's go through its
-            # __setattr__, several times slower), then becomes the Element it is.
-            child = _Fresh()
-            child._spec = spec
-            child._parent = self
-            child._root = root
-            child._attrs = attrs = dict(xml.items())
-            child._source = None
-            child._text = None
-            child._xml = xml
-            if not len(xml):
-                child._children = []
-            child.__class__ = Element
-            namespace = spec.namespace
-            if namespace is not None:
-                name = attrs.get(spec.identifier) if spec.identifier else None
-                if name is None and spec.tag in NAMED_AFTER_FILE:
-                    name = name_from_file(attrs.get("file"))
-                if name is not None:
-                    named.append((namespace, name, child))
-            children.append(child)
+        in the name scope replaced by it; children built early (`_child_built_from`)
+        take their places."""
+        early = self._root._early
+        named: list[tuple[str, str, Element]] = []
+        if early:
+            children = [early.pop(xml, None) or _from_xml(self, xml, named) for xml in self._xml]
+        else:
+            children = [_from_xml(self, xml, named) for xml in self._xml]
         object.__setattr__(self, "_children", children)
         if named:
-            root.namescope.adopt(named)
+            self._root.namescope.adopt(named)
         return children
+
+    def _child_built_from(self, xml: Any) -> Element | None:
+        """The child of this element built from lxml element `xml` (a child of its own
+        lxml element), built now if it is not yet: alone, its siblings left for when
+        `_children` is first read, so that finding one element deep in a model just
+        read builds only the elements above it."""
+        try:
+            children = object.__getattribute__(self, "_children")
+        except AttributeError:  # not built: build that one child early
+            early = self._root._early
+            child = early.get(xml)
+            if child is None:
+                named: list[tuple[str, str, Element]] = []
+                child = early[xml] = _from_xml(self, xml, named)
+                if named:
+                    self._root.namescope.adopt(named)
+            return child
+        for child in children:
+            if child._xml is xml:
+                return child
+        return None
 
     def __getstate__(self) -> tuple[None, dict[str, Any]]:
         """Pickled: every slot, the children built first, without the lxml element."""
@@ -530,8 +532,35 @@ class Element(ModelOperations):
         return sorted(n for n in names if n.isidentifier())
 
 
+def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:
+    """A new element, a child of `parent`, built from its lxml element `xml` (see
+    `Element._defer`); (namespace, name, element) appended to `named` if it has a name."""
+    spec = parent._spec.children[xml.tag]
+    # A _Fresh takes plain slot assignments (an Element's go through its __setattr__,
+    # several times slower), then becomes the Element it is.
+    child = _Fresh()
+    child._spec = spec
+    child._parent = parent
+    child._root = parent._root
+    child._attrs = attrs = dict(xml.items())
+    child._source = None
+    child._text = None
+    child._xml = xml
+    if not len(xml):
+        child._children = []
+    child.__class__ = Element
+    namespace = spec.namespace
+    if namespace is not None:
+        name = attrs.get(spec.identifier) if spec.identifier else None
+        if name is None and spec.tag in NAMED_AFTER_FILE:
+            name = name_from_file(attrs.get("file"))
+        if name is not None:
+            named.append((namespace, name, child))
+    return child
+
+
 class _Fresh(ModelOperations):
     """An element being built from its lxml element: the slots of `Element`, set as
-    plain attributes (see `Element._build_children`)."""
+    plain attributes (see `_from_xml`)."""
 
     __slots__ = Element.__slots__

@@ -31,7 +31,8 @@ class RootElement(Element):
 
     Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
     top-level section) and `_version` (see `version`); `mjcf.namescope` asks
-    `_resolve(xml)` for an element not built yet (see `Element._defer`); `_frame`
+    `_resolve(xml)` for an element not built yet (see `Element._defer`), and `_early`
+    holds the elements built before their siblings, for `mjcf.element`; `_frame`
     (where this model is attached) and `_attachments` (the frames of the models
     attached to it) belong to `mjcf.attachment`, which alone links and unlinks models;
     `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
@@ -45,6 +46,7 @@ class RootElement(Element):
         "_attachments",
         "_composed",
         "_confine_to",
+        "_early",
         "_frame",
         "_model_dir",
         "_namescope",
@@ -60,6 +62,7 @@ class RootElement(Element):
     _confine_to: str | None
     _numbering: tuple[int, dict[Element, int]] | None
     _composed: dict[bool, Any] | None
+    _early: dict[Any, Element]
     _version: int
 
     def __init__(
@@ -86,6 +89,8 @@ class RootElement(Element):
         setter(self, "_numbering", None)
         # {for compiling: the last composition of this model} (see mjcf.composition).
         setter(self, "_composed", None)
+        # {lxml element: element built from it before its siblings} (see Element._defer).
+        setter(self, "_early", {})
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)
@@ -183,13 +188,10 @@ class RootElement(Element):
         `Element._defer`); None if it is no longer in the model."""
         path = [xml, *xml.iterancestors()]
         path.pop()  # the <mujoco> element
-        element: Element = self
+        element: Element | None = self
         for step in reversed(path):
-            for child in element._children:
-                if child._xml is step:
-                    element = child
-                    break
-            else:
+            element = element._child_built_from(step)
+            if element is None:
                 return None
         return element
 

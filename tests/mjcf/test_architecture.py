@@ -49,6 +49,8 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_xml": ("element.Element", frozenset({"namescope", "root"}), frozenset()),
     "_defer": ("element.Element", TREE_BUILDERS, frozenset()),
     "_resolve": ("root.RootElement", frozenset({"namescope"}), frozenset()),
+    "_early": ("root.RootElement", frozenset({"element"}), frozenset({"element"})),
+    "_child_built_from": ("element.Element", frozenset({"root"}), frozenset()),
     "_section": ("root.RootElement", ANY, frozenset()),
     "_version": ("root.RootElement", ANY, frozenset({"element", "copying"})),
     "_frame": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
