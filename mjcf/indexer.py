@@ -10,8 +10,8 @@ After the XML Schema (`mjcf.xsd`) has accepted the document, this pass checks in
 what reading element by element checks beyond it: names unique in their namespace,
 references naming elements that exist, elements that may appear once appearing once,
 and the values the schema leaves to the converters. It handles the common document;
-for anything else (a name with a '/', generated or clashing names, a `<replicate>`,
-any error ...) it returns None and the element-by-element reader reads the document,
+for anything else (an empty name or one with a '/', generated or clashing names, a
+`<replicate>`, any error ...) it returns None and the element-by-element reader reads the document,
 which raises the error naming the element, or reads what this pass does not handle.
 The elements themselves are built when first used (see `Element._defer`).
 """
@@ -112,7 +112,7 @@ def index(
                 name = xml.get(identifier)
                 if name is not None:
                     table = names[plan.namespace]
-                    if name in table or PREFIX_SEPARATOR in name:
+                    if name in table or PREFIX_SEPARATOR in name or not name:
                         raise _Fallback
                     table[name] = xml
                 elif plan.implicit:
