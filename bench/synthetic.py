@@ -88,8 +88,15 @@ def creature_xml(shape: Creature) -> str:
         for j in range(joint_count):
             joint = f"{name}_j{j}"
             joints.append(joint)
-            lines.append(f'{indent}  <joint name="{joint}" axis="{_AXES[j % 3]}"/>')
-        lines.append(f'{indent}  <geom name="{name}_geom" fromto="0 0 0 0 0 0.08"/>')
+            low, high = -30 - 5 * j - len(joints) % 7, 45 + 10 * j + len(joints) % 5
+            lines.append(
+                f'{indent}  <joint name="{joint}" axis="{_AXES[j % 3]}" range="{low} {high}"/>'
+            )
+        k = len(bodies)
+        lines.append(
+            f'{indent}  <geom name="{name}_geom" size="0.0{2 + k % 5} 0.0{4 + k % 4}" '
+            f'pos="0 0.00{k % 9} 0.04" quat="0.{7 + k % 3} 0 0.0{k % 8} 0.1"/>'
+        )
         site = f"{name}_touch"
         touch.append(site)
         lines.append(f'{indent}  <site name="{site}" class="{cls}_touch" size="0.02 0.02 0.01"/>')

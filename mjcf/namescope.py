@@ -88,7 +88,11 @@ class NameScope:
         {namespace: {name: the lxml element of the element that has it}}, checked unique
         by the parser."""
         for namespace, table in names.items():
-            self._namespaces.setdefault(namespace, {}).update(table)
+            held = self._namespaces.get(namespace)
+            if held is None:
+                self._namespaces[namespace] = table  # the parser's own: taken, not copied
+            else:
+                held.update(table)
 
     def adopt(self, named: list[tuple[str, str, Element]]) -> None:
         """Each element of (namespace, name, element), just built from its lxml element,

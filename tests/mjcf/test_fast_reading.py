@@ -100,7 +100,8 @@ def test_errors_are_raised_at_parse_time_as_element_by_element(case: str, monkey
 # Texts for numbers and keywords in the forms a model might hold, well formed or not.
 _WORDS = ["1", "-2", "+3", "0.5", ".5", "5.", "1e3", "1E-3", "-1.5e+2", "inf", "INF", "-INF",
           "+INF", "NaN", "nan", "0x10", "1_0", "1.0", "1,2", "true", "hinge", "", "1d", "--1",
-          "1e", "1e+", "1.5E", ".e1", "5.e3", "1e5.5", "0b1", "\u0661"]  # fmt: skip
+          "1e", "1e+", "1.5E", ".e1", "5.e3", "1e5.5", "0b1", "\u0661", ".", "+", "-", "+.",
+          "-.", "1e5e5", "1.2.3", "INFINITY", "Infinity", "-NaN", "e5", "E"]  # fmt: skip
 
 
 def _texts() -> list[str]:
