@@ -110,12 +110,11 @@ def attribute_text(
 def _refers_out(element: Element) -> bool:
     """Whether a reference of `element` holds an element of another model, whose written
     name changes with that model (an element of its own model changes with it)."""
-    attrs = element._attrs
     model = element._root
-    for name in element._spec.references:
-        value = attrs.get(name)
-        if value is None or type(value) is str:
-            continue
+    references = element._spec.references
+    for name, value in element._attrs.items():
+        if type(value) is str or name not in references:
+            continue  # names as text (all of them, in a model read from a file)
         for item in value if isinstance(value, list) else (value,):
             if type(item) is not str and item._root is not model:
                 return True
