@@ -5,7 +5,9 @@ tree holds a few times the memory of the compiled model.
 
 The model is `chains` chains of 200 nested bodies (each with a hinge and a capsule) side
 by side: 500 chains are 100,000 bodies, 300,000 elements, nested 200 deep. For each size,
-in a process of its own (so that memory figures start from the same point):
+in a process of its own (so that memory figures start from the same point), in seconds
+of the process' CPU time (one run each: on a machine others use, wall time would
+measure them):
   parse   `mjcf.from_path` of the file
   write   the first `to_xml_string()` of the model just read (which builds every element)
   memory  what the process holds after both (resident set growth: Python objects and the
@@ -50,11 +52,11 @@ def _measure_once(path: str) -> dict[str, float]:
     mjcf.from_xml_string("<mujoco/>").to_xml_string()  # imports, the XML Schema
     gc.collect()
     before = rss_bytes()
-    start = time.perf_counter()
+    start = time.process_time()
     model = mjcf.from_path(path)
-    parsed = time.perf_counter()
+    parsed = time.process_time()
     text = model.to_xml_string()
-    written = time.perf_counter()
+    written = time.process_time()
     del text
     gc.collect()
     return {"parse_s": parsed - start, "write_s": written - parsed,

@@ -283,6 +283,9 @@ class Composition:
         # {element: compiled index} of those written with generated names, which every
         # compile of this composition gives alike: set by mjcf.compiler.
         self.compiled_ids: dict[Element, int] | None = None
+        # (XML, assets, element of each line) of the output compiled, which is the same
+        # for every compile of this composition: set by mjcf.serializer.
+        self.compiled_text: tuple[str, dict[str, bytes], list] | None = None
         self._inertia: str | None = None
         self._checked = False
         self._merged: dict[str, settings.MergedSettings] = {}

@@ -64,11 +64,16 @@ def serialize_for_compile(
     """What MuJoCo compiles: the XML with every element named, files on disk by their
     absolute path (MuJoCo reads them and caches their meshes) and other assets under a
     flat unique name, those assets, the composition (how elements are named), and the
-    element written on each line."""
-    files = _assets.FileNamer(root, by_path=True)
-    writer = _Writer(root, 17, True, files, for_compile=True)
-    writer.write_root()
-    return "".join(writer.parts), files.contents(), writer.composed, writer.owners
+    element written on each line. Written once for each composition: compiling a model
+    again while no model changed writes nothing."""
+    composed = composition.composition_of(root, for_compile=True)
+    if composed.compiled_text is None:
+        files = _assets.FileNamer(root, by_path=True)
+        writer = _Writer(root, 17, True, files, for_compile=True)
+        writer.write_root()
+        composed.compiled_text = ("".join(writer.parts), files.contents(), writer.owners)
+    xml, assets, owners = composed.compiled_text
+    return xml, dict(assets), composed, owners
 
 
 @bulk.whole_tree
