@@ -10,10 +10,10 @@ The schema is conservative: it accepts a document only if the element-by-element
 checks (`mjcf.values` converters, `mjcf.schema` specs) accept it too, never the other
 way round. Elements and attributes are those of `mjcf.schema` in their places; numbers
 are XML Schema doubles or integers, as many as the attribute takes; keywords are the
-keywords. Whatever it cannot say as simply (numbers counted in multiples, blank values,
-integers written as '1.0', namespaced attributes ...) it refuses or leaves to
-`unchecked` attributes, and the element-by-element checks decide. It is built once per
-process, when a document is first read (about 10 ms).
+keywords; attributes an element requires are required. Whatever it cannot say as simply
+(numbers counted in multiples, blank values, integers written as '1.0', namespaced
+attributes ...) it refuses or leaves to `unchecked` attributes, and the element-by-element
+checks decide. It is built once per process, when a document is first read (about 10 ms).
 """
 
 from __future__ import annotations
@@ -100,7 +100,8 @@ def schema_text() -> str:
             )
             out.append("</xs:choice>")
         out.extend(
-            f'<xs:attribute name="{name}" type="{simple_name(attribute)}"/>'
+            f'<xs:attribute name="{name}" type="{simple_name(attribute)}"'
+            + (' use="required"/>' if attribute.required else "/>")
             for name, attribute in spec.attributes.items()
         )
         out.append("</xs:complexType>")
