@@ -136,7 +136,9 @@ def _parse(
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
     object.__setattr__(root, "_confine_to", confine)
-    if not strict_paths and _read_fast(root, xml_root, filename, resolve_references):
+    if not strict_paths and _read_fast(
+        root, xml_root, filename, escape_separators, resolve_references
+    ):
         return root
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
@@ -149,7 +151,11 @@ def _parse(
 
 
 def _read_fast(
-    root: RootElement, xml_root: etree._Element, filename: str | None, check_references: bool
+    root: RootElement,
+    xml_root: etree._Element,
+    filename: str | None,
+    escape_separators: bool,
+    check_references: bool,
 ) -> bool:
     """Read the document under `xml_root` into the new model `root` the fast way: checked
     whole by the XML Schema and the indexer, its sections' contents built when first
@@ -167,7 +173,7 @@ def _read_fast(
     names = indexer.index(xml_root, root._spec.children, check_references)
     if names is None:
         return False
-    builder = _Builder(root, filename, escape_separators=False)
+    builder = _Builder(root, filename, escape_separators)
     for xml_section in xml_root:
         section = root._section(xml_section.tag)
         attrib = dict(xml_section.attrib)
