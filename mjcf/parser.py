@@ -7,7 +7,12 @@
 Every element and attribute is checked against MuJoCo's schema while reading (unknown
 names with a "did you mean", wrong numbers, bad keywords, duplicate names, and
 references to elements that do not exist); errors name the file, line and element.
-Attribute text is kept as read until used, so reading stays close to lxml's speed.
+A document is first checked whole, in C against an XML Schema generated from MuJoCo's
+(`mjcf.xsd`), then for names and references (`mjcf.indexer`), and its elements are built
+when first used (`Element._defer`): reading a model takes about as long as MuJoCo's own
+`MjSpec.from_file`. A document that check does not accept is read element by element,
+which raises the error naming the element (or reads what the fast way leaves to it).
+Attribute text is kept as read until used.
 
 The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
 never touches the network, and limits nesting depth.
