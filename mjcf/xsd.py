@@ -13,12 +13,13 @@ are XML Schema doubles or integers, as many as the attribute takes; keywords are
 keywords; attributes an element requires are required. Whatever it cannot say as simply
 (numbers counted in multiples, blank values, integers written as '1.0', namespaced
 attributes ...) it refuses or leaves to `unchecked` attributes, and the element-by-element
-checks decide. It is built once per process, when a document is first read (about 10 ms).
+checks decide. It is built once per thread, when it first reads a document (about 10 ms).
 """
 
 from __future__ import annotations
 
 import functools
+import threading
 from xml.sax.saxutils import quoteattr
 
 from lxml import etree
@@ -60,9 +61,19 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
     return None
 
 
-@functools.cache
+_per_thread = threading.local()  # lxml's validators are not for concurrent use
+
+
 def _schema() -> etree.XMLSchema:
-    return etree.XMLSchema(etree.fromstring(schema_text().encode()))
+    found = getattr(_per_thread, "schema", None)
+    if found is None:
+        found = _per_thread.schema = etree.XMLSchema(etree.fromstring(_text().encode()))
+    return found
+
+
+@functools.cache
+def _text() -> str:
+    return schema_text()
 
 
 def schema_text() -> str:
