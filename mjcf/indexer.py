@@ -47,6 +47,7 @@ class _Plan:
         "implicit",
         "many_references",
         "namespace",
+        "rare",
         "reference_items",
         "references",
         "single",
@@ -70,10 +71,11 @@ class _Plan:
                     dynamic.append(attribute)
         self.references = dict(static)  # attribute -> namespace
         self.reference_items = tuple(static)
-        self.many_references = len(static) > 2
+        self.many_references = len(static) > 5
         self.dynamic = tuple(dynamic)
         self.unchecked = xsd.unchecked(spec)
         self.single = not spec.repeated
+        self.rare = bool(self.dynamic or self.unchecked or self.single)
         self.children: dict[str, _Plan] = {}
 
 
@@ -134,16 +136,17 @@ def index(
                         if PREFIX_SEPARATOR in text:
                             raise _Fallback
                         references[namespace].append(text)
-            if plan.dynamic:
-                _dynamic_references(xml, plan.dynamic, references)
-            if plan.unchecked:
-                _check_values(xml, plan.unchecked)
-            if plan.single:
-                if singles is None:
-                    singles = set()
-                elif tag in singles:
-                    raise _Fallback
-                singles.add(tag)
+            if plan.rare:  # few elements need any of these
+                if plan.dynamic:
+                    _dynamic_references(xml, plan.dynamic, references)
+                if plan.unchecked:
+                    _check_values(xml, plan.unchecked)
+                if plan.single:
+                    if singles is None:
+                        singles = set()
+                    elif tag in singles:
+                        raise _Fallback
+                    singles.add(tag)
             if len(xml):
                 walk(plan.children, xml)
 
