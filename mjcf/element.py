@@ -88,6 +88,18 @@ class Element(ModelOperations):
 
     @classmethod
     def _make(cls, spec: ElementSpec, parent: Element | None, root: RootElement) -> Element:
+        if cls is Element:  # the common case, made the fast way (see _from_xml)
+            fresh = _Fresh()
+            fresh._spec = spec
+            fresh._parent = parent
+            fresh._root = root
+            fresh._attrs = {}
+            fresh._children = []
+            fresh._source = debugging.creation_site()
+            fresh._text = None
+            fresh._xml = None
+            fresh.__class__ = Element
+            return fresh
         element = object.__new__(cls)
         setter = object.__setattr__
         setter(element, "_spec", spec)
