@@ -128,6 +128,10 @@ def trainer(
             yield Trainer(model, progress, recipe, layout)
         finally:
             algo.stop()
+            # The Algorithm made itself a log folder in ~/ray_results that only Ray Tune
+            # fills: an empty folder per run otherwise.
+            with contextlib.suppress(OSError):
+                Path(algo.logdir).rmdir()
 
 
 # -- the Ray instance and the algorithm -------------------------------------------------------

@@ -125,10 +125,12 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     (saved,) = (p.name for p in (out / "checkpoint").iterdir() if p.is_dir())
 
     # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
-    # PPO's minibatch of 256).
+    # PPO's minibatch of 256), and leaves nothing in ~/ray_results.
+    home = tmp_path / "home"
     fresh = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--envs-per-worker",
                      "2", "--timesteps", "256", "--eval-episodes", "1", "--out", "run",
-                     "--fresh", "--no-video", cwd=tmp_path, timeout=TIMEOUT)  # fmt: skip
+                     "--fresh", "--no-video", cwd=tmp_path, env=environment(HOME=str(home)),
+                     timeout=TIMEOUT)  # fmt: skip
     assert fresh.returncode == 0, fresh.stderr
     assert fresh.stdout.startswith(
         f"--fresh: removed the earlier run in run: checkpoint/{saved}/, checkpoint/state.json, "
@@ -138,6 +140,7 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["timesteps"], len(metrics["evaluations"])) == (256, 1)
     assert not (out / "video.mp4").exists()
+    assert (home / "ray_results").is_dir() and not any((home / "ray_results").iterdir())
 
 
 @needs_ray
