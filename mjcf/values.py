@@ -297,7 +297,9 @@ class _Numbers(_Converter):
         if self.spec.float32:
             finite = converted[np.isfinite(converted)]
             if finite.size and np.abs(finite).max() >= self.limit:
-                raise InvalidValue(f"takes {self.noun} MuJoCo can hold, got one too large: {shown!r}")
+                raise InvalidValue(
+                    f"takes {self.noun} MuJoCo can hold, got one too large: {shown!r}"
+                )
         return converted
 
     def to_text(self, value: object, precision: int = 17) -> str:
@@ -381,7 +383,11 @@ class _Keyword(_Converter):
                 return
         if spec.integers is not None and _integer_text(text, spec.integers):
             return
-        numbers = f", or an integer from {spec.integers[0]} to {spec.integers[1]}" if spec.integers else ""
+        numbers = (
+            f", or an integer from {spec.integers[0]} to {spec.integers[1]}"
+            if spec.integers
+            else ""
+        )
         raise InvalidValue(
             f"takes one of {list(spec.values)}{numbers}, got {text!r}" + suggest(text, spec.values)
         )

@@ -28,6 +28,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 import secrets
 import shutil
 from pathlib import Path
@@ -36,6 +37,7 @@ from typing import Any
 import gymnasium
 import numpy as np
 
+from composer.cli import engine
 from composer.cli.errors import MissingExtraError, OutputError, PolicyError
 
 RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
@@ -44,6 +46,9 @@ POLICY_FORMAT = "composer-rllib-policy"
 ENGINE = "ray"
 # RLlib's MeanStdFilter divides by std + this (ray.rllib.utils.filter.SMALL_NUMBER).
 _FILTER_EPSILON = 1e-8
+# A checkpoint's saves, '000000020480-3fa9c1' (timesteps, then a random tag), and those
+# being written ('.000000020480-3fa9c1.partial').
+_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
 
 
 def require_ray(needs: str = "--engine ray needs") -> None:
@@ -209,15 +214,7 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
         raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
     module.eval()
     policy = RayPolicy(module, spec)
-    for label, theirs, ours in (
-        ("observations", policy.observation_space, env.observation_space),
-        ("actions", policy.action_space, env.action_space),
-    ):
-        if theirs.shape != ours.shape:
-            raise PolicyError(
-                f"{folder} was trained with {label} of shape {theirs.shape}, but this task "
-                f"has {ours.shape}: was it trained on another task?"
-            )
+    engine.check_spaces(folder, policy, env)
     return policy
 
 
@@ -229,61 +226,54 @@ def _uri(path: Path) -> str:
 # -- checkpoints ----------------------------------------------------------------------------
 
 
-class Checkpoint:
+class Checkpoint(engine.Checkpoint):
     """A Ray training checkpoint in a folder (see the module docstring)."""
 
-    def __init__(self, folder: str | os.PathLike[str]) -> None:
-        """A checkpoint at `folder` (which need not exist yet)."""
-        self.folder = Path(folder)
-        self.state_path = self.folder / "state.json"
-
-    def exists(self) -> bool:
-        """Whether a complete Ray checkpoint is there."""
-        if not self.state_path.is_file():
-            return False
-        state = self.state()
-        return state.get("engine") == ENGINE and (self.folder / str(state.get("saved"))).is_dir()
-
-    def state(self) -> dict[str, Any]:
-        """The contents of state.json; raises PolicyError if unreadable."""
-        try:
-            return json.loads(self.state_path.read_text())
-        except (OSError, ValueError) as e:
-            raise PolicyError(f"cannot read checkpoint {self.state_path}: {e}") from e
+    engine = ENGINE
+    policy = "policy"
 
     def current(self) -> Path:
         """The subfolder of the last complete save."""
-        return self.folder / self.state()["saved"]
+        return self.folder / str(self.state().get("saved"))
 
     def algorithm_path(self) -> Path:
         """The RLlib Algorithm checkpoint of the last complete save."""
         return self.current() / "algorithm"
 
-    def save(self, model: RayModel, progress: Any) -> None:
-        """Save `model`'s algorithm and policy, then `progress` (a training.Progress) with
-        the model's layout as current; raises OutputError."""
-        state = {**progress.to_json(), **model.layout}
-        name = f"{int(state['timesteps']):012d}-{secrets.token_hex(3)}"
-        partial = self.folder / f".{name}.partial"
+    def save(self, model: RayModel, progress: engine.Progress) -> None:
+        """Save `model`'s algorithm and policy into a new subfolder, then `progress` with
+        the model's layout, naming that subfolder current; then remove the older ones.
+        Raises OutputError."""
+        name = f"{int(progress.timesteps):012d}-{secrets.token_hex(3)}"
+        saved = self.folder / name
+
+        def write(folder: Path) -> None:
+            model.algo.save_to_path(_uri(folder / "algorithm"))
+            save_policy(model.algo, folder / "policy", model.info)
+
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
-            model.algo.save_to_path(_uri(partial / "algorithm"))
-            save_policy(model.algo, partial / "policy", model.info)
-            os.replace(partial, self.folder / name)
-            written = self.state_path.with_name(".state.partial.json")
-            written.write_text(json.dumps({**state, "engine": ENGINE, "saved": name}))
-            os.replace(written, self.state_path)
+            engine.replace(saved, write)
+            self._save_state({**progress.to_json(), **model.layout, "saved": name})
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
-        for old in self.folder.iterdir():
-            if old.is_dir() and old.name != name:
+        for old in self._saved_files():
+            if old != saved:
                 shutil.rmtree(old, ignore_errors=True)
+
+    def _complete(self) -> bool:
+        return self.current().is_dir()
+
+    def _saved_files(self) -> list[Path]:
+        if not self.folder.is_dir():
+            return []
+        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
 
 
 class RayModel:
     """An RLlib Algorithm as `composer.cli.training.Session` sees a model: its timesteps,
-    `predict` by its current policy (call `sync()` after training changed it), and no
-    stable-baselines3 normalization (the policy applies its own)."""
+    and `predict` by its current policy (call `sync()` after training changed it), which
+    normalizes observations itself."""
 
     def __init__(self, algo: Any, info: dict[str, Any], layout: dict[str, Any]) -> None:
         """Wrap `algo`; `info` (task, env_id, algo) goes into policy files, `layout`
@@ -309,7 +299,3 @@ class RayModel:
     def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
         """The policy's action (see RayPolicy.predict)."""
         return self.policy.predict(observation, deterministic)
-
-    def get_vec_normalize_env(self) -> None:
-        """None: observations are normalized by the policy itself."""
-        return None

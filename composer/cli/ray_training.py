@@ -1,5 +1,5 @@
 """`composer train TASK --engine ray`: train with RLlib on Ray, on this machine or a cluster,
-with the outputs of the stable-baselines3 engine.
+with the outputs and the rules of the stable-baselines3 engine.
 
     $ composer train CartpoleSwingup --engine ray --workers 2 --timesteps 300000
     $ composer train AntRun --engine ray --address 10.0.0.1:6379 --workers 32
@@ -14,13 +14,14 @@ Ray has, `--envs-per-worker` to the recipe's environments divided among them.
 The recipe is the task's stable-baselines3 recipe (`composer train --help`), adapted and
 translated to RLlib as `composer.cli.ray_algorithm` says.
 
-Writes into the output folder (default runs/TASK-ALGO-ray) what the stable-baselines3
-engine writes, the policy being a folder: `policy/` (an RLlib RLModule with its
-observation filter; `composer eval` and `composer run --policy` read it and the output
-folder), `learning_curve.png`, `video.mp4`, `metrics.json` (the same keys, plus engine,
-workers, envs_per_worker, env_steps_per_second, env_runner_restarts and ray) and
-`checkpoint/` (see `composer.cli.ray_files`). A folder holding a checkpoint is resumed,
-on as many workers as given now; Ctrl-C saves a checkpoint and exits with status 130.
+`composer.cli.train` drives the run through `trainer(info, folder, args)`, this engine's
+`engine.Trainer`, as it drives stable-baselines3's: the same output folder rules
+(`composer.cli.run_folder`: resuming, --resume, --fresh, a finished run refused), and the
+same files, the policy being a folder: `policy/` (an RLlib RLModule with its observation
+filter; `composer eval` and `composer run --policy` read it and the output folder),
+`learning_curve.png`, `video.mp4`, `metrics.json` (the same keys, plus workers,
+envs_per_worker, env_runner_restarts and ray) and `checkpoint/` (see
+`composer.cli.ray_files`). A checkpoint resumes on as many workers as given now.
 
 An env runner that dies (killed, out of memory, its machine gone) is restarted by Ray and
 rejoins with the current weights; meanwhile the others sample the whole batch, so no
@@ -31,12 +32,8 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import logging
-import math
 import os
-import platform
-import shutil
 import socket
 import sys
 from collections.abc import Iterator
@@ -46,8 +43,8 @@ from typing import Any
 import numpy as np
 from tqdm import tqdm
 
-from composer.cli import catalog, output, plot, recipes, rollout, train, training, video
-from composer.cli.errors import CliError, PolicyError
+from composer.cli import engine, recipes, training
+from composer.cli.errors import CliError
 from composer.cli.ray_algorithm import (
     EPISODES,
     Layout,
@@ -55,95 +52,86 @@ from composer.cli.ray_algorithm import (
     describe_runners,
     ray_recipe,
 )
-from composer.cli.ray_files import (
-    ENGINE,
-    Checkpoint,
-    RayModel,
-    quiet_ray,
-    require_ray,
-    save_policy,
-)
+from composer.cli.ray_files import Checkpoint, RayModel, quiet_ray, save_policy
+from composer.cli.run_folder import RunFolder
 from composer.registration import TaskInfo
 
-INTERRUPTED = 130
-# The stable-baselines3 options that have no meaning here, and ours that have none there.
-SB3_ONLY = ("n_envs", "vec")
-RAY_ONLY = ("workers", "envs_per_worker", "address")
 # Seconds to wait for a cluster's address to accept a connection.
 CONNECT_SECONDS = 5.0
 # Object store of a local instance: RLlib only passes episodes and weights through it.
 LOCAL_OBJECT_STORE_BYTES = 256 * 1024**2
 
 
-def run(args: argparse.Namespace) -> int:
-    """Train on Ray, then write the policy, curve, video and metrics; the exit status."""
-    check_options(args)
-    require_ray()
-    info = args.info
-    if not args.no_video:
-        video.require()
-    out, checkpoint = _output(info, args)
-    resumed = checkpoint.exists()
-    saved = checkpoint.state() if resumed else {}
+class Trainer(engine.Trainer):
+    """An RLlib Algorithm training on its env runners (`trainer` opens one)."""
+
+    library = "RLlib"
+
+    def __init__(
+        self, model: RayModel, progress: engine.Progress, recipe: recipes.Recipe, layout: Layout
+    ) -> None:
+        """Train `model` on from `progress` as `recipe` says, sampling on `layout`'s env
+        runners."""
+        super().__init__(model, progress, recipe)
+        self.layout = layout
+
+    @property
+    def where(self) -> str:
+        """'2 env runners x 16 environments'."""
+        layout = self.layout
+        return (f"{engine.plural(layout.workers, 'env runner')} x "
+                f"{engine.plural(layout.envs_per_worker, 'environment')}")  # fmt: skip
+
+    def learn(self, session: training.Session, stop: training.StopOnInterrupt) -> None:
+        """Iterate the algorithm (see `_train`), then take its policy for evaluation."""
+        print(f"env runners: {describe_runners(self.model.algo)}", flush=True)
+        _train(self.model, session, self.recipe, stop, self.layout)
+        self.model.sync()
+
+    def save_policy(self, path: Path) -> None:
+        """The algorithm's current policy, as `ray_files.save_policy` writes it."""
+        model = self.model
+        engine.replace(path, lambda folder: save_policy(model.algo, folder, model.info))
+
+    def metrics(self) -> dict[str, Any]:
+        """The layout, the env runners restarted and the Ray cluster."""
+        return dict(self.model.layout)
+
+
+@contextlib.contextmanager
+def trainer(
+    info: TaskInfo, folder: RunFolder[Checkpoint], args: argparse.Namespace
+) -> Iterator[Trainer]:
+    """Within `with`: Ray running (see `ray_instance`) and the run in `folder` (resumed
+    from its checkpoint, on the workers given now or else those it had, or new with the
+    Ray engine's recipe) as an RLlib Algorithm, which is stopped after. Raises CliError
+    when Ray cannot start, the cluster cannot be reached or is too small, or RLlib cannot
+    build the algorithm."""
+    checkpoint = folder.checkpoint
+    saved = checkpoint.state() if folder.resumes else {}
     with ray_instance(args.address, args.workers or saved.get("workers")) as cpus:
         layout = _layout(args, saved, cpus)
         check_capacity(layout, cpus)
-        progress, recipe = _start(info, checkpoint, out, args, layout)
+        progress, recipe = folder.start(
+            args,
+            lambda algo: ray_recipe(info.name, algo).replace(
+                timesteps=args.timesteps, n_envs=layout.n_envs, vec="batched"
+            ),
+        )
         algo = build_algorithm(info, recipe, layout, progress.seed)
-        eval_env = catalog.make(info)
         try:
-            if resumed:
+            if folder.resumes:
                 algo.restore_from_path(str(checkpoint.algorithm_path().resolve()))
             restarts = saved.get("env_runner_restarts", 0)
             model = RayModel(algo, _policy_info(info, recipe), _layout_json(layout, restarts))
             model.num_timesteps = progress.timesteps
-            session = training.Session(
-                progress, checkpoint, eval_env,  # type: ignore[arg-type]
-                eval_every=args.eval_every or max(1, recipe.timesteps // 10),
-                eval_episodes=args.eval_episodes,
-            )  # fmt: skip
-            _announce(info, recipe, layout, out, progress.timesteps if resumed else None)
-            print(f"env runners: {describe_runners(algo)}", flush=True)
-            with training.StopOnInterrupt() as stop:
-                if progress.timesteps < recipe.timesteps:
-                    print("Ctrl-C saves a checkpoint and stops; the same command resumes",
-                          flush=True)  # fmt: skip
-                    _train(model, session, recipe, stop, layout)
-            model.sync()
-            session.save(model)
-            if stop.requested:
-                print(
-                    f"stopped at {progress.timesteps:,} steps after "
-                    f"{training.duration(session.elapsed())}; checkpoint saved in "
-                    f"{checkpoint.folder}; run the same command to resume"
-                )
-                return INTERRUPTED
-            _finish(info, model, session, out, args.eval_episodes, not args.no_video)
+            yield Trainer(model, progress, recipe, layout)
         finally:
-            eval_env.close()
             algo.stop()
-    return 0
-
-
-def check_options(args: argparse.Namespace) -> None:
-    """Raise CliError for options of the other engine."""
-    if args.engine == ENGINE:
-        given = [name for name in SB3_ONLY if getattr(args, name, None) is not None]
-        if given:
-            flags = " and ".join(_flag(name) for name in given)
-            raise CliError(
-                f"{flags} belong to the stable-baselines3 engine; with --engine ray give "
-                "--workers and --envs-per-worker"
-            )
-    else:
-        given = [name for name in RAY_ONLY if getattr(args, name, None) is not None]
-        if given:
-            flags = " and ".join(_flag(name) for name in given)
-            raise CliError(f"{flags} need --engine ray")
-
-
-def _flag(name: str) -> str:
-    return "--" + name.replace("_", "-")
+            # The Algorithm made itself a log folder in ~/ray_results that only Ray Tune
+            # fills: an empty folder per run otherwise.
+            with contextlib.suppress(OSError):
+                Path(algo.logdir).rmdir()
 
 
 # -- the Ray instance and the algorithm -------------------------------------------------------
@@ -224,23 +212,6 @@ def check_capacity(layout: Layout, cpus: int) -> None:
 # -- the run ---------------------------------------------------------------------------------
 
 
-def _output(info: TaskInfo, args: argparse.Namespace) -> tuple[Path, Checkpoint]:
-    """The output folder (checked writable) and its checkpoint, which --resume requires;
-    PolicyError for a folder holding a stable-baselines3 checkpoint."""
-    if args.resume and args.out and Path(args.resume) != Path(args.out):
-        raise CliError(f"--resume {args.resume} and --out {args.out} differ; give one of them")
-    algo = args.algo or recipes.default_algo(info.name)
-    out = output.directory(args.resume or args.out or Path("runs") / f"{info.name}-{algo}-ray")
-    checkpoint = Checkpoint(out / "checkpoint")
-    if checkpoint.state_path.is_file() and not checkpoint.exists():
-        raise PolicyError(
-            f"the checkpoint in {out} was not written by --engine ray; choose another --out folder"
-        )
-    if args.resume and not checkpoint.exists():
-        raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
-    return out, checkpoint
-
-
 def _layout(args: argparse.Namespace, saved: dict[str, Any], cpus: int) -> Layout:
     """The workers and environments of this session: as given, else those of the
     checkpoint's state `saved`, else as many workers as Ray has CPUs and the recipe's
@@ -250,37 +221,6 @@ def _layout(args: argparse.Namespace, saved: dict[str, Any], cpus: int) -> Layou
     default_envs = max(1, ray_recipe(args.info.name, algo).n_envs // workers)
     envs = args.envs_per_worker or saved.get("envs_per_worker") or default_envs
     return Layout(int(workers), int(envs), args.address)
-
-
-def _start(
-    info: TaskInfo, checkpoint: Checkpoint, out: Path, args: argparse.Namespace, layout: Layout
-) -> tuple[training.Progress, recipes.Recipe]:
-    """The progress and recipe to train with: the checkpoint's, or fresh ones."""
-    if checkpoint.exists():
-        progress = training.Progress.from_json(checkpoint.state())
-        if progress.task != info.name:
-            raise PolicyError(
-                f"the checkpoint in {out} is of task {progress.task!r}, not {info.name!r}; "
-                "choose another --out folder"
-            )
-        if args.algo and args.algo != progress.algo:
-            raise PolicyError(
-                f"the checkpoint in {out} was trained with {progress.algo}, not {args.algo}; "
-                "choose another --out folder"
-            )
-        if args.seed is not None and args.seed != progress.seed:
-            print(f"note: resuming keeps the checkpoint's --seed {progress.seed}")
-        saved = recipes.Recipe(**{**progress.recipe, "net": tuple(progress.recipe["net"])})
-        recipe = saved.replace(timesteps=args.timesteps)
-    else:
-        algo = args.algo or recipes.default_algo(info.name)
-        recipe = ray_recipe(info.name, algo).replace(
-            timesteps=args.timesteps, n_envs=layout.n_envs, vec="batched"
-        )
-        progress = training.Progress(info.name, info.env_id, algo, args.seed or 0, {})
-    progress.recipe = recipe.table()
-    progress.completed = False
-    return progress, recipe
 
 
 def _policy_info(info: TaskInfo, recipe: recipes.Recipe) -> dict[str, Any]:
@@ -293,7 +233,6 @@ def _layout_json(layout: Layout, restarts: int) -> dict[str, Any]:
     import ray  # only when training on Ray: `composer train` imports this module
 
     return {
-        "engine": ENGINE,
         "workers": layout.workers,
         "envs_per_worker": layout.envs_per_worker,
         "env_runner_restarts": int(restarts),
@@ -304,17 +243,6 @@ def _layout_json(layout: Layout, restarts: int) -> dict[str, Any]:
             "cpus": int(ray.cluster_resources().get("CPU", 0)),
         },
     }
-
-
-def _announce(
-    info: TaskInfo, recipe: recipes.Recipe, layout: Layout, out: Path, resumed_at: int | None
-) -> None:
-    verb = "training" if resumed_at is None else f"resuming at {resumed_at:,} steps:"
-    envs = f"{layout.envs_per_worker} environment{'s' if layout.envs_per_worker > 1 else ''}"
-    runners = f"{layout.workers} env runner{'s' if layout.workers > 1 else ''}"
-    print(f"{verb} {info.name} with RLlib {recipe.algo.upper()} to {recipe.timesteps:,} steps "
-          f"on {runners} x {envs} -> {out}")  # fmt: skip
-    print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
 
 
 def _train(
@@ -364,7 +292,7 @@ def _watch_runners(
     if now_restarts > restarts:
         total = model.layout["env_runner_restarts"] + now_restarts - restarts
         model.layout["env_runner_restarts"] = total
-        say(f"env runner restarted ({total} restart{'s' if total > 1 else ''} in this run); "
+        say(f"env runner restarted ({engine.plural(total, 'restart')} in this run); "
             f"env runners: {describe_runners(model.algo)}")  # fmt: skip
     elif now_healthy < healthy:
         left = (f"{now_healthy} of {layout.workers} left sample the whole batch" if now_healthy
@@ -378,68 +306,3 @@ def _progress_bar(total: int, done: int) -> Any:
     if not sys.stderr.isatty():
         return None
     return tqdm(total=total, initial=min(done, total), unit="steps", unit_scale=True)
-
-
-def _finish(
-    info: TaskInfo, model: RayModel, session: training.Session, out: Path, episodes: int,
-    record: bool,
-) -> None:  # fmt: skip
-    """After training: a final evaluation beside a random policy, then the output files."""
-    progress = session.progress
-    final = session.evaluate(model)
-    env = session.eval_env
-    random = rollout.summary(
-        rollout.run_episodes(env, rollout.random_policy(env, 0), episodes, training.EVAL_SEED)
-    )
-    progress.completed = True
-    session.save(model)
-    policy = out / "policy"
-    _replace_folder(policy, lambda folder: _save_policy(model, folder))
-    metrics = {
-        **progress.to_json(),
-        "final": final,
-        "random_policy": random,
-        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
-                    "host": socket.gethostname()},
-        **model.layout,
-        "env_steps_per_second": round(progress.timesteps / max(progress.wall_time, 1e-9)),
-    }  # fmt: skip
-    lines = [f" {json.dumps(key)}: {json.dumps(value)}" for key, value in metrics.items()]
-    (out / "metrics.json").write_text("{\n" + ",\n".join(lines) + "\n}\n")
-    plot.learning_curve(metrics, out / "learning_curve.png")
-    written = ["policy/", "learning_curve.png", "metrics.json"]
-    if record:
-        written.append(_record(info, model, out / "video.mp4").name)
-    print(f"{info.name}, trained policy: {rollout.describe_summary(final)}")
-    print(f"{info.name}, random policy:  {rollout.describe_summary(random)}")
-    print(
-        f"trained {progress.timesteps:,} steps in {training.duration(progress.wall_time)} "
-        f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
-    )
-    print(f"watch it: composer run {info.name} --policy {out} --video {info.name}.mp4")
-
-
-def _save_policy(model: RayModel, folder: Path) -> None:
-    save_policy(model.algo, folder, model.info)
-
-
-def _replace_folder(folder: Path, write: Any) -> None:
-    """Write a folder through `write(path)` beside it, then swap it in."""
-    partial = folder.with_name(f".{folder.name}.partial")
-    shutil.rmtree(partial, ignore_errors=True)
-    write(partial)
-    shutil.rmtree(folder, ignore_errors=True)
-    os.replace(partial, folder)
-
-
-def _record(info: TaskInfo, model: RayModel, path: Path) -> Path:
-    """A video of the model's episodes, at least train.VIDEO_SECONDS long."""
-    env = catalog.make(info, render_mode="rgb_array")
-    try:
-        seconds = info.default_kwargs.get("time_limit") or train.VIDEO_SECONDS
-        episodes = math.ceil(train.VIDEO_SECONDS / seconds)
-        frames: list[Any] = []
-        rollout.run_episodes(env, rollout.model_policy(model), episodes, training.EVAL_SEED, frames)
-        return video.write_video(frames, path, rollout.video_fps(env))
-    finally:
-        env.close()

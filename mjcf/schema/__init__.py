@@ -45,6 +45,8 @@ class AttributeSpec:
     namespace a reference points into, a grammar for text, and MuJoCo's default."""
 
     __slots__ = (
+        "alone",
+        "blank",
         "case_insensitive",
         "checks_text",
         "converter",
@@ -54,6 +56,7 @@ class AttributeSpec:
         "is_list",
         "kind",
         "max",
+        "max_exclusive",
         "max_value",
         "min",
         "min_exclusive",
@@ -63,9 +66,6 @@ class AttributeSpec:
         "namespace",
         "namespace_from",
         "namespace_map",
-        "alone",
-        "blank",
-        "max_exclusive",
         "ordered",
         "required",
         "scalar",

@@ -18,6 +18,7 @@ the document without the change is parsed, and the change is made with
 
 from __future__ import annotations
 
+import re
 import struct
 import zlib
 from collections.abc import Iterator
@@ -100,7 +101,9 @@ def _png() -> bytes:
 
     header = struct.pack(">IIBBBBB", 2, 2, 8, 0, 0, 0, 0)
     pixels = zlib.compress(b"\x00\x80\x80" * 2)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", pixels) + chunk(b"IEND", b"")
+    return (
+        b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", pixels) + chunk(b"IEND", b"")
+    )
 
 
 def _stl() -> bytes:
@@ -254,14 +257,17 @@ class CaseMaker:
     def value_case(self, key: str, name: str, text: str) -> Case:
         """Element ``key`` with attribute ``name`` set to ``text``."""
         chosen = {name: text}
-        baseline = None if key == self.root else self._document(Probe(key, chosen, omit=(name,)))
+        baseline = None
+        if key != self.root:
+            baseline = self._document(Probe(key, chosen, omit=(name,)))
         edit = Edit(self.path(key), attribute=name, text=text)
+        document = self._document(Probe(key, chosen))
         return Case(
             "value",
             key,
             f"{key}/{name}={text!r}",
-            self._document(Probe(key, chosen)),
-            baseline,
+            document,
+            _same_names(baseline, document),
             edit if baseline is not None else None,
             coverage=(f"{key}/{name}",),
         )
@@ -271,7 +277,12 @@ class CaseMaker:
         for key, element in self.elements.items():
             for name, attribute in element.attributes.items():
                 if attribute.required:
-                    yield Case("omit", key, f"{key} without {name}", self._document(Probe(key, omit=(name,))))
+                    yield Case(
+                        "omit",
+                        key,
+                        f"{key} without {name}",
+                        self._document(Probe(key, omit=(name,))),
+                    )
 
     def child_cases(self, sample: bool = False) -> Iterator[Case]:
         """Under each element, every tag of the schema (and one it does not have)
@@ -296,7 +307,7 @@ class CaseMaker:
             document, baseline = self.prober.document([inner]), self.prober.document([])
         else:
             document = self._document(Probe(parent, inner=inner))
-            baseline = self._document(Probe(parent))
+            baseline = _same_names(self._document(Probe(parent)), document)
         edit = Edit(self.path(parent), child=tag, child_attributes=tuple(values.items()))
         return Case("child", parent, f"<{tag}> in {parent}", document, baseline, edit)
 
@@ -356,6 +367,22 @@ class CaseMaker:
                 seed = zlib.crc32(f"{key}/{name}".encode())
                 for index in sorted({seed % len(texts), (seed // 7 + 1) % len(texts)}):
                     yield self.value_case(key, name, texts[index])
+
+
+_PROBE_NAME = re.compile(r"probe\d+_")
+
+
+def _same_names(baseline: str | None, document: str) -> str | None:
+    """``baseline`` with the probes' names of ``document`` (each document the prober
+    makes numbers its names anew), so that the models both compile to compare."""
+    if baseline is None:
+        return None
+    ours = list(dict.fromkeys(_PROBE_NAME.findall(baseline)))
+    theirs = list(dict.fromkeys(_PROBE_NAME.findall(document)))
+    if len(ours) != len(theirs):
+        return baseline
+    renamed = dict(zip(ours, theirs, strict=True))
+    return _PROBE_NAME.sub(lambda match: renamed[match.group()], baseline)
 
 
 def _two_values(attribute: Attribute) -> tuple[str, str] | None:

@@ -19,8 +19,8 @@ import numpy as np
 import mjcf
 from mjcf.schema._cases import FILES, Case, Edit
 
-# Fields that say where files were found, not what the model is.
-_PATH_FIELDS = frozenset({"paths", "name_pathadr", "npaths", "nbuffer"})
+# Fields that say where files were found or where the model is in memory, not what it is.
+_PATH_FIELDS = frozenset({"paths", "name_pathadr", "npaths", "nbuffer", "ptr"})
 
 
 @dataclass(frozen=True)
@@ -166,30 +166,55 @@ def compiled(document: str, assets: dict[str, bytes]) -> mujoco.MjModel | str:
 
 
 def model_differences(a: mujoco.MjModel, b: mujoco.MjModel) -> list[str]:
-    """The names of the sizes and arrays of MjModel (and its options) that differ."""
-    differences = []
+    """The names of the sizes and arrays of MjModel (and its options) that differ; the
+    names of objects are compared as lists per kind of object, the names mjcf gives
+    elements nobody named (as dm_control does, '//unnamed_camera_1') counting as none."""
+    differences = [
+        f"names of {kind}" for kind, names in _names(a).items() if _names(b).get(kind) != names
+    ]
     for owner, prefix in ((a, ""), (a.opt, "opt."), (a.vis, "vis."), (a.stat, "stat.")):
         other = b if owner is a else getattr(b, prefix[:-1])
         differences += _object_differences(owner, other, prefix)
     return differences
 
 
+def _names(model: mujoco.MjModel) -> dict[str, list[bytes]]:
+    """{'cam': [name of camera 0, ...], ...}, generated names as b''."""
+    buffer = model.names
+    found = {}
+    for field in dir(model):
+        if field.startswith("name_") and field.endswith("adr") and field not in _PATH_FIELDS:
+            names = [buffer[start : buffer.index(b"\0", start)] for start in getattr(model, field)]
+            found[field[5:-3]] = [b"" if _GENERATED.fullmatch(n) else n for n in names]
+    return found
+
+
+_GENERATED = re.compile(rb"//unnamed_[a-z_]+_\d+")
+
+
 def _object_differences(a: object, b: object, prefix: str) -> list[str]:
     differences = []
     for name in dir(a):
-        if name.startswith("_") or name in _PATH_FIELDS or name.endswith("_pathadr"):
+        if (
+            name.startswith("_")
+            or name in _PATH_FIELDS
+            or name.endswith("_pathadr")
+            or name in ("names", "names_map", "nnames", "nnames_map")
+            or (name.startswith("name_") and name.endswith("adr"))
+        ):
             continue
         first = getattr(a, name)
-        if callable(first) or name in ("opt", "vis", "stat"):
+        if isinstance(first, type) or callable(first) or name in ("opt", "vis", "stat"):
             continue
         second = getattr(b, name)
-        if hasattr(first, "__dict__") or type(first).__module__.startswith("mujoco"):
-            differences += _object_differences(first, second, f"{prefix}{name}.")
-        elif isinstance(first, np.ndarray):
+        if isinstance(first, np.ndarray):
             if first.shape != second.shape or not np.array_equal(first, second, equal_nan=True):
                 differences.append(prefix + name)
-        elif first != second and not (first != first and second != second):
-            differences.append(prefix + name)
+        elif isinstance(first, bool | int | float | bytes | str):
+            if first != second and not (first != first and second != second):
+                differences.append(prefix + name)
+        elif type(first).__module__.startswith("mujoco"):  # a struct of MjVisual
+            differences += _object_differences(first, second, f"{prefix}{name}.")
     return differences
 
 
@@ -313,5 +338,7 @@ class Judge:
         differences = model_differences(reference, ours)
         if differences:
             self.findings.append(
-                Finding(case, stage, "compiles", "compiles differently: " + ", ".join(differences[:8]))
+                Finding(
+                    case, stage, "compiles", "compiles differently: " + ", ".join(differences[:8])
+                )
             )

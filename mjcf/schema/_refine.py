@@ -72,7 +72,8 @@ def repetition(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         every = [p for p, c in edges if c == child]
         repeated = len(parents) == len(every)
         if repeated != element.repeated:
-            _note(f"{child}: documented {'once' if element.repeated else 'repeated'}, the reader disagrees")
+            documented = "repeated" if element.repeated else "once"
+            _note(f"{child}: documented {documented}, the reader disagrees")
         element.repeated = repeated
         element.repeated_in = [] if repeated else parents
 
@@ -236,7 +237,9 @@ def _intrinsic(
     places, others = [], []
     for value in outside:
         word = _word(attribute, value)
-        places += [Probe(key, {name: _text(attribute, word, p)}) for p in {0, _count(attribute) - 1}]
+        places += [
+            Probe(key, {name: _text(attribute, word, p)}) for p in {0, _count(attribute) - 1}
+        ]
         for other in element.attributes.values():
             if other is attribute or other.kind not in ("int", "real"):
                 continue
@@ -269,7 +272,10 @@ def keyword_forms(prober: _probe.Prober, elements: dict[str, Element]) -> None:
 
 def _accepts(prober: _probe.Prober, key: str, name: str, texts: list[str]) -> list[bool]:
     errors = prober.errors([Probe(key, {name: text}) for text in texts])
-    return [error is None or not _probe.bad_keyword(error, text, name) for text, error in zip(texts, errors, strict=True)]
+    return [
+        error is None or not _probe.bad_keyword(error, text, name)
+        for text, error in zip(texts, errors, strict=True)
+    ]
 
 
 def _case(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
@@ -306,7 +312,9 @@ def _list_order(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
     accepted = {pair: error is None for pair, error in zip(pairs, errors, strict=True)}
     if all(accepted.values()):
         return
-    alone = [v for v in values if not any(accepted[v, w] or accepted[w, v] for w in values if w != v)]
+    alone = [
+        v for v in values if not any(accepted[v, w] or accepted[w, v] for w in values if w != v)
+    ]
     words = [v for v in values if v not in alone]
     rest = sorted(words, key=lambda a: -sum(accepted[a, b] for b in words if b != a))
     ordered = all(accepted[a, b] and not accepted[b, a] for a, b in itertools.combinations(rest, 2))
@@ -371,7 +379,9 @@ def rules(prober: _probe.Prober, elements: dict[str, Element]) -> None:
 def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
     names = [a.name for a in element.attributes.values() if a.kind != "identifier"]
     values = {name: prober.value(element.attributes[name]) for name in names}
-    alone = dict(zip(names, prober.errors([Probe(key, {n: values[n]}) for n in names]), strict=True))
+    alone = dict(
+        zip(names, prober.errors([Probe(key, {n: values[n]}) for n in names]), strict=True)
+    )
     found: list[dict] = []
     for name, error in alone.items():
         missing = re.search(r"required attribute missing: '(\w+)'", error or "")
@@ -402,7 +412,9 @@ def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
 
 
 # Errors of the reader that state a rule between attributes rather than a meaning.
-_RULE_MESSAGE = re.compile(r"at most one of|cannot both be|can only be used|multiple \w+ specifiers")
+_RULE_MESSAGE = re.compile(
+    r"at most one of|cannot both be|can only be used|multiple \w+ specifiers"
+)
 
 
 def _message(error: str) -> str:

@@ -20,8 +20,8 @@ import itertools
 import json
 import sys
 import time
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
@@ -80,7 +80,9 @@ def run(
 
     report.findings, report.counts, report.crashes = _workers.judge_all(cases, workers, judged)
     report.attributes = {
-        f"{key}/{name}" for key, element in data["elements"].items() for name in element["attributes"]
+        f"{key}/{name}"
+        for key, element in data["elements"].items()
+        for name in element["attributes"]
     }
     report.seconds = time.perf_counter() - start
     return report

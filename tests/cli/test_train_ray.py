@@ -18,7 +18,13 @@ import threading
 import imageio.v3 as iio
 import pytest
 
-from tests.cli.helpers import assert_one_line_error, composer, composer_without, environment
+from tests.cli.helpers import (
+    FINISHED_CHOICES,
+    assert_one_line_error,
+    composer,
+    composer_without,
+    environment,
+)
 
 try:
     import ray.rllib  # noqa: F401
@@ -45,6 +51,7 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 16)
+    assert metrics["env_steps_per_second"] > 0
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("CartpoleSwingup", "ppo",
                                                                         20480)  # fmt: skip
     assert metrics["completed"] and metrics["env_steps_per_second"] > 0
@@ -75,8 +82,37 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     elsewhere = composer("eval", "Reach", "run", cwd=tmp_path)
     assert_one_line_error(elsewhere, "observations of shape (5,)", "this task has (10,)")
 
+    # The rules of the output folder are the stable-baselines3 engine's, checked before
+    # Ray starts: a finished run is kept unless --resume or --fresh says what to do, ...
+    files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "28000", "--out", "run",
+                     cwd=tmp_path)  # fmt: skip
+    line = assert_one_line_error(again, "run holds a finished run: CartpoleSwingup with PPO, "
+                                 "20,480 steps")  # fmt: skip
+    assert line.endswith(FINISHED_CHOICES)
+    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "20480", "--resume",
+                       "run", cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(smaller, "the run in run has 20,480 steps already",
+                          "give --timesteps above that")  # fmt: skip
+    # ... the stable-baselines3 engine neither resumes nor replaces it ...
+    for flag in ("--resume", "--fresh"):
+        sb3 = composer("train", "CartpoleSwingup", "--out", "run", flag, cwd=tmp_path)
+        assert_one_line_error(sb3, "run holds a run of --engine ray (CartpoleSwingup with PPO, "
+                              "20,480 steps", "--engine sb3 can neither resume nor replace it; "
+                              "give --engine ray, or --out DIR")  # fmt: skip
+    shutil.copytree(out / "policy", tmp_path / "policy-only" / "policy")
+    sb3 = composer("train", "CartpoleSwingup", "--out", "policy-only", cwd=tmp_path)
+    assert_one_line_error(sb3, "policy-only holds a policy of --engine ray (policy): --engine "
+                          "sb3 can neither resume nor replace it")  # fmt: skip
+    # ... and --fresh removes the earlier run only once the new one can train.
+    port = free_port()
+    unreachable = composer("train", "CartpoleSwingup", *RAY, "--out", "run", "--fresh",
+                           "--address", f"127.0.0.1:{port}", cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(unreachable, f"cannot reach the Ray cluster at 127.0.0.1:{port}")
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
+
     resumed = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--timesteps",
-                       "28000", "--out", "run", "--no-video", cwd=tmp_path,
+                       "28000", "--resume", "--out", "run", "--no-video", cwd=tmp_path,
                        timeout=TIMEOUT)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
     assert ("resuming at 20,480 steps: CartpoleSwingup with RLlib PPO to 28,000 steps on "
@@ -86,6 +122,25 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert [e["timesteps"] for e in metrics["evaluations"]][5:] == [24576, 28672]
     # Resumed environments start new episodes: 16 of 512 steps each, 2 episodes each.
     assert sum(row[2] for row in metrics["train_curve"]) == 96 + 16 * 2
+    (saved,) = (p.name for p in (out / "checkpoint").iterdir() if p.is_dir())
+
+    # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
+    # PPO's minibatch of 256), and leaves nothing in ~/ray_results.
+    home = tmp_path / "home"
+    fresh = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--envs-per-worker",
+                     "2", "--timesteps", "256", "--eval-episodes", "1", "--out", "run",
+                     "--fresh", "--no-video", cwd=tmp_path, env=environment(HOME=str(home)),
+                     timeout=TIMEOUT)  # fmt: skip
+    assert fresh.returncode == 0, fresh.stderr
+    assert fresh.stdout.startswith(
+        f"--fresh: removed the earlier run in run: checkpoint/{saved}/, checkpoint/state.json, "
+        "policy/, metrics.json, learning_curve.png, video.mp4\ntraining CartpoleSwingup with "
+        "RLlib PPO to 256 steps on 1 env runner x 2 environments -> run\n"
+    )
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["timesteps"], len(metrics["evaluations"])) == (256, 1)
+    assert not (out / "video.mp4").exists()
+    assert (home / "ray_results").is_dir() and not any((home / "ray_results").iterdir())
 
 
 @needs_ray
@@ -141,18 +196,23 @@ def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
     assert state["timesteps"] >= steps[-1]
 
     evaluated = composer("eval", "CartpoleSwingup", "run/checkpoint", "--episodes", "1",
-                         "--seed", "1000000", cwd=tmp_path)  # fmt: skip
+                         cwd=tmp_path)  # fmt: skip
     assert evaluated.returncode == 0, evaluated.stderr
-    # The same command resumes; a total already reached only evaluates and writes the
-    # outputs, and the restored policy is the checkpoint's.
-    same = [("1024" if word == "10000000" else word) for word in command]
-    finished = composer(*same, cwd=tmp_path, timeout=TIMEOUT)
+    # A total below what the stopped run has is refused; above it, the run resumes with no
+    # flag (here for one more iteration) and finishes, its evaluations and restarts kept.
+    done = state["timesteps"]
+    smaller = [("1024" if word == "10000000" else word) for word in command]
+    assert_one_line_error(composer(*smaller, cwd=tmp_path),
+                          f"the run in run has {done:,} steps already")  # fmt: skip
+    more = [(str(done + 1) if word == "10000000" else word) for word in command]
+    finished = composer(*more, cwd=tmp_path, timeout=TIMEOUT)
     assert finished.returncode == 0, finished.stderr
-    assert f"resuming at {state['timesteps']:,} steps" in finished.stdout
+    assert f"resuming at {done:,} steps: CartpoleSwingup with RLlib PPO" in finished.stdout
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert metrics["completed"] and metrics["env_runner_restarts"] == 1
-    returned = evaluated.stdout.partition(": ")[2]
-    assert finished.stdout.count(f"trained policy: {returned.strip()}") == 1, finished.stdout
+    assert metrics["evaluations"][: len(steps)] == state["evaluations"]
+    # One iteration: 2 runners x 2 environments x 128 steps.
+    assert metrics["timesteps"] == metrics["evaluations"][-1]["timesteps"] == done + 512
 
 
 def free_port() -> int:
@@ -218,7 +278,14 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
 
 def test_options_of_the_other_engine_are_refused(tmp_path):
     mixed = composer("train", "Reach", *RAY, "--n-envs", "4", cwd=tmp_path)
-    assert_one_line_error(mixed, "--n-envs belong to the stable-baselines3 engine")
+    assert_one_line_error(mixed, "--n-envs belongs to the stable-baselines3 engine; with "
+                          "--engine ray give --workers and --envs-per-worker")  # fmt: skip
+    # RLlib writes TensorBoard files only under Ray Tune, which the engine does not run.
+    logged = composer("train", "Reach", *RAY, "--vec", "dummy", "--tensorboard", "tb",
+                      cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(logged, "--vec and --tensorboard belong to the stable-baselines3 "
+                          "engine", "--engine ray logs no TensorBoard scalars")  # fmt: skip
+    assert not (tmp_path / "tb").exists()
     sb3 = composer("train", "Reach", "--workers", "2", "--address", "auto", cwd=tmp_path)
     assert_one_line_error(sb3, "--workers and --address need --engine ray")
 
@@ -231,15 +298,6 @@ def test_an_unreachable_cluster_fails_at_once(tmp_path):
                           "ray start --head")  # fmt: skip
     malformed = composer("train", "Reach", *RAY, "--address", "headnode", cwd=tmp_path)
     assert_one_line_error(malformed, "--address 'headnode': expected HOST:PORT")
-
-
-@needs_ray
-def test_a_stable_baselines3_checkpoint_is_not_resumed_by_ray(tmp_path):
-    checkpoint = tmp_path / "run" / "checkpoint"
-    checkpoint.mkdir(parents=True)
-    (checkpoint / "state.json").write_text(json.dumps({"task": "Reach", "algo": "ppo"}))
-    result = composer("train", "Reach", *RAY, "--out", "run", cwd=tmp_path)
-    assert_one_line_error(result, "was not written by --engine ray", "choose another --out")
 
 
 def test_without_ray_the_engine_names_the_extra_to_install(tmp_path):
