@@ -19,9 +19,12 @@ environments of a task on MuJoCo's batch (`composer.vector`). Every error is a
 
 from composer import observation, variation, vector
 from composer.arena import Arena
+from composer.batch_of_one import BatchOfOne
+from composer.batched import BatchedTask, BatchPhysics
 from composer.entity import Entity, ModelEntity, Observables, observable
 from composer.environment import Environment
 from composer.errors import (
+    BatchError,
     DivergenceWarning,
     EntityError,
     EpisodeError,
@@ -40,6 +43,10 @@ from composer.vector import VectorEnvironment
 __all__ = [
     "HOOK_NAMES",
     "Arena",
+    "BatchError",
+    "BatchOfOne",
+    "BatchPhysics",
+    "BatchedTask",
     "DivergenceWarning",
     "Entity",
     "EntityError",
