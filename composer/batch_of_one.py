@@ -214,7 +214,9 @@ class BatchOfOne(batched.BatchPhysics):
             def read() -> np.ndarray:
                 if stage == tracking.Stage.ACCELERATION or physics.is_dirty:
                     physics.forward()
-                return np.array(getattr(physics.data, name))[None]
+                value = getattr(physics.data, name)
+                # MjData's counts (ncon, nefc ...) are C ints, as MuJoCo's batch gives them.
+                return np.array(value, dtype=np.intc if isinstance(value, int) else None)[None]
 
             return read
         return lambda: np.array(getattr(physics.named.data, name).array)[None]

@@ -110,6 +110,7 @@ class VectorPhysics(batched.BatchPhysics):
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
+        self._registered: set[str] = set()  # the MjData fields bound from the batch
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -202,7 +203,15 @@ class VectorPhysics(batched.BatchPhysics):
 
     def _source(self, name: str) -> np.ndarray:
         batched.check_source(name)
-        return self._batch.bind(name)
+        source = self._batch.bind(name)
+        if name not in self._registered:
+            self._registered.add(name)
+            if name not in batched.STATE_FIELDS:
+                # MuJoCo's batch copies an output out at each call from its first bind on:
+                # until the next call it holds nothing, whatever the stages say.
+                self._pos_stale[:] = True
+                self._acc_stale[:] = True
+        return source
 
     def _resolve(self, elements: Any, name: str) -> _Field:
         template = self._template.bind(elements)
