@@ -1,5 +1,6 @@
-"""The shipped tasks on composer.VectorEnvironment: nothing runs per environment, and the
-trajectories equal those of single environments with the same seeds and actions."""
+"""The shipped tasks on composer.VectorEnvironment: nothing runs per environment, the
+trajectories equal those of single environments with the same seeds and actions to the
+last bit (one formula for both: each step function is written once, batched)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,9 @@ import pytest
 from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.vector import AutoresetMode, VectorEnv
 
+import composer
+from composer.batched import BATCHABLE
+from composer.observation import Observable
 from tasks.rewards import squared_norms
 
 NUM_ENVS = 4
@@ -81,3 +85,20 @@ def test_squared_norms_are_np_dot_of_each_row_to_the_last_bit(size):
     rows = np.random.default_rng(size).normal(size=(500, size))
     assert np.array_equal(squared_norms(rows), [np.dot(row, row) for row in rows])
     assert squared_norms(rows[0]) == np.dot(rows[0], rows[0])
+
+
+def defined_below(cls: type, base: type, name: str) -> bool:
+    """Whether a class of `cls`'s MRO below `base` defines `name`."""
+    return any(name in vars(klass) for klass in cls.__mro__ if klass not in base.__mro__)
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_shipped_tasks_define_each_step_function_once(name):
+    env_id, kwargs = CASES[name]
+    task = gymnasium.make(env_id, **kwargs).unwrapped.task
+    for method in BATCHABLE:
+        forms = [defined_below(type(task), composer.Task, f) for f in (method, f"{method}_batch")]
+        assert forms != [True, True], f"{type(task).__name__} defines {method} twice"
+    for key, item in task.observables.items():
+        forms = [defined_below(type(item), Observable, f) for f in ("reader", "batch_reader")]
+        assert forms != [True, True], f"observable {key} is read by two readers"
