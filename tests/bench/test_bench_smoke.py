@@ -13,16 +13,18 @@ from bench.__main__ import main
 
 def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
     path = tmp_path / "results.json"
-    assert main(["bind", "scene", "vector", "--quick", "--json", str(path)]) == 0
+    assert main(["bind", "scene", "vector", "task_step", "--quick", "--json", str(path)]) == 0
     report = json.loads(path.read_text())
     assert report["quick"] and report["machine"]["mujoco"]
-    assert list(report["benchmarks"]) == ["bind", "scene", "vector"]
+    assert list(report["benchmarks"]) == ["bind", "scene", "vector", "task_step"]
     vector = report["benchmarks"]["vector"]
     assert vector["error"] is None and "env-steps/s" in vector["output"]
     assert {"vector_vs_raw_batch", "vector_vs_sync"} <= set(vector["results"])
     scene = report["benchmarks"]["scene"]["results"]
     assert scene["memory"]["tree_mb"] > 0 and scene["memory"]["mjmodel_mb"] > 0
     assert "memory.tree_vs_mjmodel" in suite.ratios(scene)
+    task_step = report["benchmarks"]["task_step"]["results"]
+    assert "CartpoleSwingup.env_vs_raw" in suite.ratios(task_step)
 
 
 def test_a_failing_benchmark_is_recorded_and_the_rest_run(tmp_path, monkeypatch):
