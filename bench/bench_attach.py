@@ -9,12 +9,21 @@ For each robot and N, both sides start from one loaded model (not timed) and tim
   copy     N copies of it (`copy.deepcopy(model)` / `spec.copy()`)
   attach   each copy attached to a frame of an arena (`arena.attach(copy)` with a pose
            / `arena.attach(copy_spec, frame=..., prefix=...)`)
-  compile  the arena, ready to step (`mjcf.Physics.from_mjcf_model` / `spec.compile()`,
-           MjData and mj_forward)
-and prints ms per copy for each step, the total, and our total over MjSpec's. Targets:
-our per-copy times stay flat as N grows (linear totals), and our total is within 5x
-of MjSpec's. The two sides run in alternating rounds and each figure is the best round;
-one warm-up round fills MuJoCo's mesh cache for both. Compiled sizes are checked equal.
+  compile  the arena, ready to step (`mjcf.Physics.from_mjcf_model` and a first step /
+           `spec.compile()`, MjData and a first step)
+and prints ms per copy for each step, the total, and our total over MjSpec's, with each
+side's compiled size (`mj_sizeModel`). Targets: our per-copy times stay flat as N grows
+(linear totals), our total is within 5x of MjSpec's, and at most 0.8x at N = 100 arms.
+The two sides run in alternating rounds and each figure is the best round of the process'
+CPU time (MuJoCo's threads, which process meshes, included on both sides); one warm-up
+round fills MuJoCo's mesh cache for both. Compiled sizes (bodies, joints, geoms ...) are
+checked equal.
+
+The copies of the UR5e + 2F-85 share their meshes in our scene (see `mjcf.sharing`), and
+not in MjSpec's, where each copy compiles to about 43 MB of mesh data and needs about
+135 MB while compiling: from N = 30 on, the MjSpec side runs once, in a process of its own
+limited in memory, and only when the machine has the memory free (100 copies took
+13.5 GB); otherwise it is reported as skipped.
 """
 
 from __future__ import annotations
@@ -22,8 +31,11 @@ from __future__ import annotations
 import contextlib
 import copy
 import cProfile
+import json
 import os
 import pstats
+import resource
+import subprocess
 import sys
 import time
 import warnings
@@ -41,10 +53,11 @@ ANT = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "ant.xml"
 MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
 UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
 ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
+clock = time.process_time  # CPU time: what other processes take is not counted
 ROUNDS = {1: 7, 10: 5}  # rounds per N (2 for larger N)
-# Each UR5e + 2F-85 copy compiles to about 41 MB of mesh data on both sides, and compiling
-# 100 of them took over 20 GB (the run was killed for memory): arms stop at this N.
-MAX_ARM_COPIES = 20
+# MjSpec's arms: above this N in a process of its own, one round, if memory allows.
+ARMS_IN_PROCESS = 20
+ARM_BYTES = 140e6  # what MjSpec needs per UR5e + 2F-85 copy while compiling
 
 
 # -- the two sides ---------------------------------------------------------------------------
@@ -60,20 +73,21 @@ def ours_load(robot: str) -> mjcf.RootElement:
 
 def ours_run(model: mjcf.RootElement, count: int) -> tuple[dict[str, float], mujoco.MjModel]:
     times = {}
-    start = time.perf_counter()
+    start = clock()
     copies = [copy.deepcopy(model) for _ in range(count)]
-    times["copy"] = time.perf_counter() - start
+    times["copy"] = clock() - start
     arena = mjcf.RootElement(model="arena")
     arena.worldbody.add("geom", type="plane", size=[100, 100, 0.1])
-    start = time.perf_counter()
+    start = clock()
     for i, robot in enumerate(copies):
         robot.model = f"r{i}"
         arena.attach(robot).pos = [2.0 * i, 0, 0]
-    times["attach"] = time.perf_counter() - start
-    start = time.perf_counter()
-    compiled = mjcf.Physics.from_mjcf_model(arena).model
-    times["compile"] = time.perf_counter() - start
-    return times, compiled
+    times["attach"] = clock() - start
+    start = clock()
+    physics = mjcf.Physics.from_mjcf_model(arena)
+    physics.step()
+    times["compile"] = clock() - start
+    return times, physics.model
 
 
 def spec_load(robot: str) -> mujoco.MjSpec:
@@ -88,22 +102,22 @@ def spec_load(robot: str) -> mujoco.MjSpec:
 
 def spec_run(spec: mujoco.MjSpec, count: int) -> tuple[dict[str, float], mujoco.MjModel]:
     times = {}
-    start = time.perf_counter()
+    start = clock()
     copies = [spec.copy() for _ in range(count)]
-    times["copy"] = time.perf_counter() - start
+    times["copy"] = clock() - start
     arena = mujoco.MjSpec()
     arena.modelname = "arena"
     arena.compiler.conflict = mujoco.mjtConflict.mjCONFLICT_MERGE  # adopt the copies' options
     arena.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[100, 100, 0.1])
-    start = time.perf_counter()
+    start = clock()
     for i, robot in enumerate(copies):
         frame = arena.worldbody.add_frame(pos=[2.0 * i, 0, 0])
         arena.attach(robot, frame=frame, prefix=f"r{i}/")
-    times["attach"] = time.perf_counter() - start
-    start = time.perf_counter()
+    times["attach"] = clock() - start
+    start = clock()
     compiled = arena.compile()
-    mujoco.mj_forward(compiled, mujoco.MjData(compiled))  # as Physics does: ready to step
-    times["compile"] = time.perf_counter() - start
+    mujoco.mj_step(compiled, mujoco.MjData(compiled))
+    times["compile"] = clock() - start
     return times, compiled
 
 
@@ -132,20 +146,78 @@ def quiet_stderr():
             os.close(saved)
 
 
-def measure(robot: str, count: int) -> tuple[dict[str, float], dict[str, float]]:
+_SIZES = ("nbody", "njnt", "ngeom", "nu", "nq")
+
+
+def measure(robot: str, count: int) -> tuple[dict[str, float], dict[str, float] | None]:
+    """Best times of both sides (MjSpec's None when skipped, for memory), each with the
+    compiled model's size in bytes under 'bytes'."""
     model = ours_load(robot)
-    with quiet_stderr():
-        spec = spec_load(robot)
-    ours_runs, spec_runs = [], []
-    for _ in range(ROUNDS.get(count, 2)):
-        ours_times, ours_model = ours_run(model, count)
+    separate = robot != "ant" and count > ARMS_IN_PROCESS
+    if not separate:
         with quiet_stderr():
-            spec_times, spec_model = spec_run(spec, count)
+            spec = spec_load(robot)
+    ours_runs, spec_runs = [], []
+    for _ in range(1 if separate else ROUNDS.get(count, 2)):
+        ours_times, ours_model = ours_run(model, count)
         ours_runs.append(ours_times)
-        spec_runs.append(spec_times)
-    for size in ("nbody", "njnt", "ngeom", "nu", "nq", "nmesh"):
-        assert getattr(ours_model, size) == getattr(spec_model, size), size
-    return best(ours_runs), best(spec_runs)
+        if not separate:
+            with quiet_stderr():
+                spec_times, spec_model = spec_run(spec, count)
+            spec_runs.append(spec_times)
+    ours = {**best(ours_runs), "bytes": mujoco.mj_sizeModel(ours_model)}
+    if separate:
+        spec_best = spec_in_own_process(robot, count)
+        if spec_best is None:
+            return ours, None
+    else:
+        spec_best = {**best(spec_runs), "bytes": mujoco.mj_sizeModel(spec_model)}
+        spec_best.update({size: getattr(spec_model, size) for size in _SIZES})
+    for size in _SIZES:
+        assert getattr(ours_model, size) == spec_best[size], size
+    return ours, spec_best
+
+
+def spec_in_own_process(robot: str, count: int) -> dict[str, float] | None:
+    """MjSpec's attach + compile of `count` copies, run once in a process limited to the
+    memory free now; None (and why, printed) if that is not enough."""
+    needed = count * ARM_BYTES + 1e9
+    free = _available_memory()
+    if free < 1.2 * needed:
+        print(f"{count:>5}  MjSpec  skipped: needs about {needed / 1e9:.1f} GB, "
+              f"{free / 1e9:.1f} GB free")  # fmt: skip
+        return None
+    command = [sys.executable, __file__, "--mjspec-once", robot, str(count)]
+    limit = int(min(free * 0.9, 2 * needed))
+    done = subprocess.run(
+        command, capture_output=True, text=True,
+        preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit)),
+    )  # fmt: skip
+    if done.returncode != 0:
+        print(f"{count:>5}  MjSpec  failed: {done.stderr.strip().splitlines()[-1:]}")
+        return None
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _mjspec_once(robot: str, count: int) -> None:
+    """The MjSpec side once, its figures printed as JSON (for spec_in_own_process)."""
+    with quiet_stderr():
+        times, compiled = spec_run(spec_load(robot), count)
+    times = {**best([times]), "bytes": mujoco.mj_sizeModel(compiled)}
+    times.update({size: getattr(compiled, size) for size in _SIZES})
+    print(json.dumps(times))
+
+
+def _available_memory() -> float:
+    """Bytes of memory available now (Linux' MemAvailable; 0 elsewhere)."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0.0
 
 
 def report(robot: str, counts: list[int]) -> dict[str, dict[str, float]]:
@@ -153,25 +225,29 @@ def report(robot: str, counts: list[int]) -> dict[str, dict[str, float]]:
     ours_run(ours_load(robot), 2)  # warm-up: imports, MuJoCo's mesh cache
     with quiet_stderr():
         spec_run(spec_load(robot), 2)
-    print(f"\n{robot}: ms per copy (best of rounds)")
+    print(f"\n{robot}: ms per copy (best of rounds), compiled size")
     header = f"{'N':>5}  {'side':<7}" + "".join(
         f"{s:>10}" for s in ("copy", "attach", "compile", "total")
     )
-    print(header + f"{'total/MjSpec':>14}")
+    print(header + f"{'MB':>10}{'total/MjSpec':>14}")
     results = {}
     for count in counts:
         ours, spec = measure(robot, count)
-        results[f"N={count}"] = {
-            **{f"mjcf_{step}_s": value for step, value in ours.items()},
-            **{f"mjspec_{step}_s": value for step, value in spec.items()},
-            "total_vs_mjspec": ours["total"] / spec["total"],
-        }
-        for side, times in (("mjcf", ours), ("MjSpec", spec)):
+        entry = {f"mjcf_{step}_s": value for step, value in ours.items() if step != "bytes"}
+        entry["mjcf_model_mb"] = ours["bytes"] / 1e6
+        sides = [("mjcf", ours)]
+        if spec is not None:
+            entry.update({f"mjspec_{s}_s": spec[s] for s in ("copy", "attach", "compile", "total")})
+            entry["mjspec_model_mb"] = spec["bytes"] / 1e6
+            entry["total_vs_mjspec"] = ours["total"] / spec["total"]
+            sides.append(("MjSpec", spec))
+        results[f"N={count}"] = entry
+        for side, times in sides:
             cells = "".join(
                 f"{1e3 * times[s] / count:10.3f}" for s in ("copy", "attach", "compile", "total")
             )
-            ratio = f"{ours['total'] / spec['total']:14.2f}" if side == "mjcf" else ""
-            print(f"{count:>5}  {side:<7}{cells}{ratio}")
+            ratio = f"{entry['total_vs_mjspec']:14.2f}" if side == "mjcf" and spec else ""
+            print(f"{count:>5}  {side:<7}{cells}{times['bytes'] / 1e6:10.1f}{ratio}")
     return results
 
 
@@ -193,6 +269,9 @@ def main(argv: list[str] | None = None, quick: bool = False) -> dict[str, dict]:
     """Run as the command line says (N values, or --profile N); returns the figures by
     robot and N. `quick`: N = 1 only."""
     argv = argv or []
+    if argv[:1] == ["--mjspec-once"]:
+        _mjspec_once(argv[1], int(argv[2]))
+        return {}
     if argv[:1] == ["--profile"]:
         profile(int(argv[1]) if len(argv) > 1 else 100)
         return {}
@@ -200,7 +279,7 @@ def main(argv: list[str] | None = None, quick: bool = False) -> dict[str, dict]:
     print(f"mujoco {mujoco.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} cpus")
     results = {"ant": report("ant", counts)}
     if UR5E.exists() and ROBOTIQ.exists():
-        results["ur5e+2f85"] = report("ur5e+2f85", [n for n in counts if n <= MAX_ARM_COPIES])
+        results["ur5e+2f85"] = report("ur5e+2f85", counts)
     else:
         print(f"\nur5e+2f85: skipped, menagerie robots not found at {MENAGERIE}")
     return results

@@ -8,13 +8,24 @@ sensors, no assets) is built 100 times with mjcf and attached to an arena; trace
 counts the Python memory the tree holds, before and after compiling it (mjcf keeps its
 compile caches), against `mujoco.mj_sizeModel` of the compiled model. Target: < 10x.
 
-Compile, per scene (humanoid, ant, UR5e + 2F-85, the 100-robot arena):
+Compile, per scene (humanoid, ant, UR5e + 2F-85, one and 100 synthetic robots in an arena):
   write+compile  `to_xml_string()` then `mujoco.MjModel.from_xml_string` of that text
-  physics        `mjcf.Physics.from_mjcf_model` (what composer.Environment calls)
-  mujoco         `mujoco.MjModel.from_xml_string` of the same text (the floor)
-each the best of alternating rounds with the tree unchanged (mjcf's writer then reuses its
-attribute text); `write cold` is `to_xml_string()` once on a freshly built tree. Target:
-write+compile within 1.3x of mujoco.
+  physics        `mjcf.Physics.from_mjcf_model` (what composer.Environment calls) on the
+                 tree unchanged since the last compile, as when recompiling the same model
+  changed        the same after one attribute of the scene changed (as composer recompiles
+                 after `initialize_episode_mjcf` changes the model)
+  cold           the same on a tree just built or parsed, never written before
+  mujoco         `mujoco.MjModel.from_xml_string` of the same text (the floor): the text
+                 `to_xml_string()` writes for write+compile; for physics, the text
+                 `from_mjcf_model` compiles, which names files on disk by path (MuJoCo
+                 then reads them itself, and reuses the meshes it has processed before)
+  +step          `from_mjcf_model` and one `physics.step()`, against `from_xml_string`,
+                 `MjData` and one `mj_step`: a physics makes its MjData when first used,
+                 which costs mujoco's bindings about 0.3 ms whatever the model
+each the best of alternating rounds, in the process' CPU time (`time.process_time`:
+time other processes take is not counted; mjcf's writer reuses its attribute text while the
+tree is unchanged); `write cold` is `to_xml_string()` once on a freshly built tree.
+Targets: write+compile within 1.3x of mujoco, physics within 1.1x.
 """
 
 from __future__ import annotations
@@ -32,8 +43,10 @@ import mujoco
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import mjcf
+from mjcf import serializer
 
 REPO = Path(__file__).resolve().parents[1]
+clock = time.process_time
 GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
 MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
 UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
@@ -95,6 +108,7 @@ def scenes(count: int) -> dict[str, Callable[[], mjcf.RootElement]]:
     found = {
         "humanoid": lambda: mjcf.from_path(GYM / "humanoid.xml"),
         "ant": lambda: mjcf.from_path(GYM / "ant.xml"),
+        "1 robot": lambda: arena(1),
         f"{count} robots": lambda: arena(count),
     }
     if UR5E.exists() and ROBOTIQ.exists():
@@ -110,29 +124,53 @@ def scenes(count: int) -> dict[str, Callable[[], mjcf.RootElement]]:
 
 def compile_times(build: Callable[[], mjcf.RootElement], rounds: int) -> dict[str, float]:
     """Best seconds of each way to compile the scene `build` makes."""
-    start = time.perf_counter()
+    start = clock()
     root = build().root
-    built = time.perf_counter() - start
-    start = time.perf_counter()
+    built = clock() - start
+    light = root.worldbody.add("light", name="bench_light", pos=[0, 0, 3])
+    start = clock()
     xml = root.to_xml_string()
-    cold = time.perf_counter() - start
+    cold = clock() - start
     assets = root.get_assets()
-    best = {"write_cold": cold, "write": cold, "write_compile": float("inf"),
-            "physics": float("inf"), "mujoco": float("inf")}  # fmt: skip
-    for _ in range(rounds):
-        start = time.perf_counter()
+    compiled_xml, compiled_assets = serializer.serialize_for_compile(root)[:2]
+    best = dict.fromkeys(
+        ("write_compile", "mujoco_written", "physics", "physics_changed", "physics_cold",
+         "mujoco", "physics_step", "mujoco_step"),
+        float("inf"),
+    )  # fmt: skip
+    best["write_cold"] = best["write"] = cold
+    for round_index in range(rounds):
+        fresh = build().root
+        start = clock()
+        mjcf.Physics.from_mjcf_model(fresh)
+        best["physics_cold"] = min(best["physics_cold"], clock() - start)
+        start = clock()
         text = root.to_xml_string()
-        written = time.perf_counter()
+        written = clock()
         mujoco.MjModel.from_xml_string(text, assets)
-        done = time.perf_counter()
+        done = clock()
         best["write"] = min(best["write"], written - start)
         best["write_compile"] = min(best["write_compile"], done - start)
-        start = time.perf_counter()
+        start = clock()
         mjcf.Physics.from_mjcf_model(root)
-        best["physics"] = min(best["physics"], time.perf_counter() - start)
-        start = time.perf_counter()
+        best["physics"] = min(best["physics"], clock() - start)
+        light.pos = [0, 0, 3 + 0.1 * (round_index + 1)]  # a change: its version moves on
+        start = clock()
+        mjcf.Physics.from_mjcf_model(root)
+        best["physics_changed"] = min(best["physics_changed"], clock() - start)
+        start = clock()
         mujoco.MjModel.from_xml_string(xml, assets)
-        best["mujoco"] = min(best["mujoco"], time.perf_counter() - start)
+        best["mujoco_written"] = min(best["mujoco_written"], clock() - start)
+        start = clock()
+        mujoco.MjModel.from_xml_string(compiled_xml, compiled_assets)
+        best["mujoco"] = min(best["mujoco"], clock() - start)
+        start = clock()
+        mjcf.Physics.from_mjcf_model(root).step()
+        best["physics_step"] = min(best["physics_step"], clock() - start)
+        start = clock()
+        model = mujoco.MjModel.from_xml_string(compiled_xml, compiled_assets)
+        mujoco.mj_step(model, mujoco.MjData(model))
+        best["mujoco_step"] = min(best["mujoco_step"], clock() - start)
     best["build"] = built
     return best
 
@@ -149,18 +187,22 @@ def main(count: int = 100, quick: bool = False) -> dict[str, dict[str, float]]:
           f"{m['mjmodel_mb']:.2f} MB: {m['tree_vs_mjmodel']:.2f}x "
           f"({m['tree_after_compile_vs_mjmodel']:.2f}x) (target < 10x)")  # fmt: skip
     print(f"{'scene':12} {'write ms':>9} {'cold':>8} {'MuJoCo ms':>10} {'write+compile':>14} "
-          f"{'ratio':>6} {'physics':>8} {'ratio':>6}")  # fmt: skip
+          f"{'physics':>8} {'changed':>8} {'cold':>6} {'+step':>6}   (to MuJoCo)")  # fmt: skip
     for name, build in scenes(count).items():
         if quick and "robots" not in name:
             continue
-        t = compile_times(build, 1 if quick else (3 if "robots" in name else 8))
-        t["write_compile_vs_mujoco"] = t["write_compile"] / t["mujoco"]
+        t = compile_times(build, 1 if quick else (5 if "100" in name else 40))
+        t["write_compile_vs_mujoco"] = t["write_compile"] / t["mujoco_written"]
         t["physics_vs_mujoco"] = t["physics"] / t["mujoco"]
+        t["physics_changed_vs_mujoco"] = t["physics_changed"] / t["mujoco"]
+        t["physics_cold_vs_mujoco"] = t["physics_cold"] / t["mujoco"]
+        t["physics_step_vs_mujoco_step"] = t["physics_step"] / t["mujoco_step"]
         results[name] = t
         print(f"{name:12} {t['write'] * 1e3:9.2f} {t['write_cold'] * 1e3:8.2f} "
-              f"{t['mujoco'] * 1e3:10.2f} {t['write_compile'] * 1e3:14.2f} "
-              f"{t['write_compile_vs_mujoco']:6.2f} {t['physics'] * 1e3:8.2f} "
-              f"{t['physics_vs_mujoco']:6.2f}")  # fmt: skip
+              f"{t['mujoco'] * 1e3:10.2f} {t['write_compile_vs_mujoco']:14.2f} "
+              f"{t['physics_vs_mujoco']:8.2f} {t['physics_changed_vs_mujoco']:8.2f} "
+              f"{t['physics_cold_vs_mujoco']:6.2f} "
+              f"{t['physics_step_vs_mujoco_step']:6.2f}")  # fmt: skip
     return results
 
 

@@ -35,7 +35,10 @@ BENCHMARKS = {
     "task_step": "bench.bench_task_step",
     "attach": "bench.bench_attach",
     "scene": "bench.bench_scene",
+    "large": "bench.bench_large",
     "vector": "bench.bench_vector",
+    "ray": "bench.bench_ray",
+    "ray_learning": "bench.bench_ray_learning",
 }
 
 

@@ -35,11 +35,11 @@ of another module's objects are used only through the internal protocol their cl
 documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py checks
 all three on the real source:
 
-    values:       errors debugging fields assets values schema namescope
+    values:       errors debugging bulk fields assets values schema xsd namescope
     tree:         element_list model_operations element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
-                  copying sameness keyframes composition
-    text:         default_sections parser serializer export
+                  copying sameness keyframes sharing composition
+    text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity rendering raw_access tree_binding
                   compiler physics_state physics
 """

@@ -50,6 +50,9 @@ class Compiled(NamedTuple):
             raise errors.BindingError(f"{element.path}: {error}") from None
         if not element._is_registered():
             raise errors.BindingError(f"{element.path}: the element was removed from its model")
+        first = composition.shared.get(element)
+        if first is not None:  # compiled as another model's asset (see mjcf.sharing)
+            return self.name_of(first)
         if isinstance(element, attachment.AttachmentFrame):
             return naming.frame_name(element, composition.context(element.root).prefix)
         if element._spec.tag == "worldbody":
@@ -73,6 +76,7 @@ class Compiled(NamedTuple):
         """The index of `element` (an object of `kind`) in the compiled model, or -1;
         raises mjcf.BindingError like `name_of`."""
         name = self.name_of(element)
+        element = self.composition.shared.get(element, element)
         index = self.ids.get(element)
         if index is not None:
             return index
@@ -87,7 +91,10 @@ def compile_composition(root: RootElement) -> Compiled:
         model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
-    compiled = Compiled(model, composition, xml, assets, _generated_ids(model, composition))
+    ids = composition.compiled_ids  # the same for every compile of one composition
+    if ids is None:
+        ids = composition.compiled_ids = _generated_ids(model, composition)
+    compiled = Compiled(model, composition, xml, assets, ids)
     keyframes.fill(model, composition, compiled.id_of)
     return compiled
 
@@ -98,6 +105,8 @@ def _generated_ids(model: mujoco.MjModel, composition: Composition) -> dict[Elem
     ids = {}
     for context in (composition.context(composition.root), *composition.attached_contexts()):
         for element in naming.unnamed_elements(context.model):
+            if element in composition.shared:
+                continue  # compiled as another model's (see mjcf.sharing)
             kind = _KINDS.get(element._spec.namespace)
             name = naming.written_name(element, context.prefix)
             if kind is not None and name is not None:

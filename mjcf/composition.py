@@ -17,7 +17,9 @@ written:
   `settotalmass` becomes its densities, masses and inertias scaled;
 - unnamed elements are written with the names `mjcf.naming` gives them
   ('child//unnamed_geom_0'), in every output, so the compiled names are the written
-  ones.
+  ones;
+- a mesh or texture that compiles exactly like one of a model written before is
+  written once, references to it naming the first (see `mjcf.sharing`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import numpy as np
 
-from mjcf import attachment, defaults, errors, keyframes, naming, settings
+from mjcf import attachment, defaults, errors, keyframes, naming, settings, sharing
 from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 from mjcf.values import format_number
@@ -60,6 +62,9 @@ class ModelContext:
         "names_only",
         "plain",
         "prefix",
+        "shared_names",
+        "signature",
+        "token",
     )
 
     def __init__(self, composition: Composition, model: RootElement, prefix: str) -> None:
@@ -74,6 +79,13 @@ class ModelContext:
         self.euler_seq: str | None = None
         self.mass_scale: float | None = None
         self.plain = True
+        # (namespace, name) -> written name, for this model's assets written as another
+        # model's (see mjcf.sharing).
+        self.shared_names: dict[tuple[str, str], str] = {}
+        # Stands for everything above: equal in two outputs that write this model's
+        # elements alike (see `seal`), so text written for one serves the other.
+        self.token = object()
+        self.signature: tuple = ()
 
     def finish(self) -> None:
         """Decide whether names and values can be written as stored."""
@@ -90,6 +102,19 @@ class ModelContext:
             and self.euler_seq is None
             and self.mass_scale is None
         )
+
+    def seal(
+        self, shared: tuple[tuple[Element, str | None], ...], previous: ModelContext | None
+    ) -> None:
+        """Take the token of `previous` (this model's context in an earlier output) if
+        it writes the model's elements as this one does; `shared`: (asset, written
+        name) of the model's assets written as another model's."""
+        self.signature = (
+            self.prefix, self.main_class_written, self.main_reference, self.inject_class,
+            self.angle_scale, self.euler_seq, self.mass_scale, self.plain, shared,
+        )  # fmt: skip
+        if previous is not None and previous.signature == self.signature:
+            self.token = previous.token
 
     # -- names ---------------------------------------------------------------------------
 
@@ -108,6 +133,10 @@ class ModelContext:
             return self.class_text(value)
         if value == WORLD and attribute.namespace in ("body", None):
             return value  # the world body is shared, never scoped
+        if self.shared_names:
+            shared = self.shared_names.get((attribute.namespace, value))
+            if shared is not None:
+                return shared
         return self.prefix + _unescape(value)
 
     # -- per-element changes --------------------------------------------------------------
@@ -215,16 +244,54 @@ class ModelContext:
         return out
 
 
-class Composition:
-    """The models composed into one output document, and how each is written."""
+def composition_of(root: RootElement, for_compile: bool = False) -> Composition:
+    """The composition of an output of `root` (with its attached models): the one made
+    for the last output of the same kind while no model changed, else a new one."""
+    models = [root, *attachment.attached_models(root)]
+    versions = [(model, model._version) for model in models]
+    cached = root._composed
+    found = cached.get(for_compile) if cached else None
+    if found is not None and found.versions == versions:
+        return found
+    previous = found or (next(iter(cached.values())) if cached else None)
+    composition = Composition(root, for_compile, models, previous)
+    composition.versions = versions
+    object.__setattr__(root, "_composed", {**(cached or {}), for_compile: composition})
+    return composition
 
-    def __init__(self, root: RootElement, for_compile: bool = False) -> None:
+
+class Composition:
+    """The models composed into one output document, and how each is written.
+
+    Made by `composition_of`, which keeps the last one made for each kind of output of a
+    model on it (`RootElement._composed`) and gives it again while no model changes:
+    what a composition computes (settings checked and merged, shared assets, keys) is
+    then computed once for all the outputs of an unchanged model."""
+
+    def __init__(
+        self,
+        root: RootElement,
+        for_compile: bool = False,
+        models: list[RootElement] | None = None,
+        previous: Composition | None = None,
+    ) -> None:
         self.root = root
         # Compiling writes the file names of meshes and textures named after their file
         # with their names, as the assets are renamed.
         self.for_compile = for_compile
+        self.versions: list[tuple[RootElement, int]] = []
+        # {element: compiled index} of those written with generated names, which every
+        # compile of this composition gives alike: set by mjcf.compiler.
+        self.compiled_ids: dict[Element, int] | None = None
+        # (XML, assets, element of each line) of the output compiled, which is the same
+        # for every compile of this composition: set by mjcf.serializer.
+        self.compiled_text: tuple[str, dict[str, bytes], list] | None = None
         self._inertia: str | None = None
-        self._models = [root, *attachment.attached_models(root)]
+        self._checked = False
+        self._merged: dict[str, settings.MergedSettings] = {}
+        self._keys: list | None = None
+        self._written_assets: dict[ModelContext, list[Element]] = {}
+        self._models = models if models is not None else [root, *attachment.attached_models(root)]
         self.has_attachments = len(self._models) > 1
         self._contexts: dict[RootElement, ModelContext] = {}
         moved = len(self._models) > 1 and _has_global_defaults(root)
@@ -250,6 +317,19 @@ class Composition:
             self._scale_masses()
         for context in self._contexts.values():
             context.finish()
+        # Assets of attached models written as an earlier model's (see mjcf.sharing).
+        self.shared = sharing.shared_assets(self._models) if self.has_attachments else {}
+        shared: dict[RootElement, list[tuple[Element, str | None]]] = {}
+        for element, first in self.shared.items():
+            written = self._written_name(first)
+            shared.setdefault(element.root, []).append((element, written))
+            name = element.identifier
+            if name is not None and written is not None:
+                context = self._contexts[element.root]
+                context.shared_names[(element._spec.namespace, name)] = written
+        before = previous._contexts if previous is not None else {}
+        for model, context in self._contexts.items():
+            context.seal(tuple(shared.get(model, ())), before.get(model))
 
     def _scale_masses(self) -> None:
         """Give each attached model with a settotalmass (and the models attached inside
@@ -265,10 +345,13 @@ class Composition:
 
     def check(self) -> None:
         """Raise mjcf.AttachmentError if an attached model's settings conflict."""
+        if self._checked:
+            return
         for model in self._models[1:]:
             settings.check_compatible(self.root, model, inertia=False)
         if self.has_attachments:
             self.inertia_setting()
+        self._checked = True
 
     def inertia_setting(self) -> str:
         """The `inertiafromgeom` of the output (see `mjcf.settings.inertia_setting`)."""
@@ -299,12 +382,17 @@ class Composition:
     def merged_settings(self, tag: str) -> settings.MergedSettings:
         """One settings section merged over all models (see `mjcf.settings`); raises
         mjcf.AttachmentError when two models set one value differently."""
-        inertia = self.inertia_setting() if tag == "compiler" and self.has_attachments else None
-        return settings.merged(self._models, tag, inertia)
+        merged = self._merged.get(tag)
+        if merged is None:
+            inertia = self.inertia_setting() if tag == "compiler" and self.has_attachments else None
+            merged = self._merged[tag] = settings.merged(self._models, tag, inertia)
+        return merged
 
-    def keyframes(self, for_compile: bool) -> list[tuple[Element, ModelContext, dict | None]]:
+    def keyframes(self) -> list[tuple[Element, ModelContext, dict | None]]:
         """The keys to write: the output model's, and those of attached models."""
-        return keyframes.keys_to_write(self, for_compile)
+        if self._keys is None:
+            self._keys = keyframes.keys_to_write(self, self.for_compile)
+        return self._keys
 
     # -- references and names --------------------------------------------------------------
 
@@ -326,18 +414,36 @@ class Composition:
             return naming.frame_name(target, context.prefix)
         if target._spec.tag == "worldbody":
             return WORLD
+        written = self._written_name(self.shared.get(target, target))
+        if written is None:
+            raise errors.InvalidReferenceError(
+                f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
+                "inside a <replicate> and compiles to several unnamed objects; name it"
+            )
+        return written
+
+    def _written_name(self, target: Element) -> str | None:
+        """The name `target` (a named or unnamed element of a model of this output) is
+        written with; None if it is written without one (inside a <replicate>)."""
+        context = self._contexts[target.root]
         name = target.identifier
         if name is None:
-            generated = self.generated_name(target, context)
-            if generated is None:
-                raise errors.InvalidReferenceError(
-                    f"{element.path}: {attribute.name!r} refers to {target.path}, which is "
-                    "inside a <replicate> and compiles to several unnamed objects; name it"
-                )
-            return generated
+            return self.generated_name(target, context)
         if target._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
+
+    def written_assets(self, context: ModelContext) -> list[Element]:
+        """The children of `context`'s model's `<asset>` that this output writes: all
+        but those written as another model's (see mjcf.sharing)."""
+        children = context.model._section("asset")._children
+        if not self.shared or context.is_output:
+            return children
+        written = self._written_assets.get(context)
+        if written is None:
+            shared = self.shared
+            written = self._written_assets[context] = [c for c in children if c not in shared]
+        return written
 
     def generated_name(self, element: Element, context: ModelContext) -> str | None:
         """The name written for an element without a name attribute: its scoped file

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from mjcf import attachment, errors
+from mjcf import attachment, bulk, errors
 from mjcf import values as _values
 from mjcf.assets import Asset
 from mjcf.element import Element
@@ -142,6 +142,7 @@ def _copy_value(value: Any) -> Any:
 # -- copy.deepcopy ------------------------------------------------------------------------
 
 
+@bulk.whole_tree
 def deepcopy_element(element: Element, memo: dict[int, Any]) -> Element:
     """`copy.deepcopy(element)` (see module docstring)."""
     found = memo.get(id(element))

@@ -16,6 +16,7 @@ attribute is `dclass` in Python.
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
@@ -50,10 +51,28 @@ class Element(ModelOperations):
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
     into them, then record names with `_register()`; `_cut()` and
     `_unregister_subtree()` take elements out. `_text` is the serializer's cache:
-    ((model version, precision), attribute text) of its last write as stored.
+    ((model version, context token, number format), attribute text) of its last write.
+
+    Elements read from a file are built when first used: the parser gives a section the
+    lxml element it was read from with `_defer(xml)`, and the section's children (and
+    theirs, level by level) are made from it when `_children` is first read, each with
+    its `_xml`, the lxml element it is made from (None for elements made otherwise). A
+    model's name scope holds the lxml elements of names not built yet, which
+    `RootElement._resolve` builds (with `_child_built_from`, only the elements on the
+    way). Reading `_children` (as every walk of the tree does) is all it takes: nothing
+    else changes.
     """
 
-    __slots__ = ("_attrs", "_children", "_parent", "_root", "_source", "_spec", "_text")
+    __slots__ = (
+        "_attrs",
+        "_children",
+        "_parent",
+        "_root",
+        "_source",
+        "_spec",
+        "_text",
+        "_xml",
+    )
 
     _spec: ElementSpec
     _parent: Element | None
@@ -61,13 +80,26 @@ class Element(ModelOperations):
     _attrs: dict[str, Any]
     _children: list[Element]
     _source: Any
-    _text: tuple[tuple[int, int], str] | None
+    _text: tuple[tuple, str] | None
+    _xml: Any
 
     def __init__(self, *args: object, **kwargs: object) -> None:
         raise TypeError("create elements with parent.add(tag, **attributes)")
 
     @classmethod
     def _make(cls, spec: ElementSpec, parent: Element | None, root: RootElement) -> Element:
+        if cls is Element:  # the common case, made the fast way (see _from_xml)
+            fresh = _Fresh()
+            fresh._spec = spec
+            fresh._parent = parent
+            fresh._root = root
+            fresh._attrs = {}
+            fresh._children = []
+            fresh._source = debugging.creation_site()
+            fresh._text = None
+            fresh._xml = None
+            fresh.__class__ = Element
+            return fresh
         element = object.__new__(cls)
         setter = object.__setattr__
         setter(element, "_spec", spec)
@@ -77,7 +109,64 @@ class Element(ModelOperations):
         setter(element, "_children", [])
         setter(element, "_source", debugging.creation_site())
         setter(element, "_text", None)
+        setter(element, "_xml", None)
         return element
+
+    # -- elements built when first used ----------------------------------------------------
+
+    def _defer(self, xml: Any) -> None:
+        """Make this element's children from lxml element `xml` (checked by the parser)
+        when they are first used, instead of now."""
+        object.__setattr__(self, "_xml", xml)
+        object.__delattr__(self, "_children")
+
+    def _build_children(self) -> list[Element]:
+        """This element's children, made now from its lxml element (see `_defer`): each
+        with its attributes as read, its own children deferred, its name's lxml element
+        in the name scope replaced by it; children built early (`_child_built_from`)
+        take their places."""
+        early = self._root._early
+        named: list[tuple[str, str, Element]] = []
+        if early:
+            children = [early.pop(xml, None) or _from_xml(self, xml, named) for xml in self._xml]
+        else:
+            children = [_from_xml(self, xml, named) for xml in self._xml]
+        object.__setattr__(self, "_children", children)
+        if named:
+            self._root.namescope.adopt(named)
+        return children
+
+    def _child_built_from(self, xml: Any) -> Element | None:
+        """The child of this element built from lxml element `xml` (a child of its own
+        lxml element), built now if it is not yet: alone, its siblings left for when
+        `_children` is first read, so that finding one element deep in a model just
+        read builds only the elements above it."""
+        try:
+            children = object.__getattribute__(self, "_children")
+        except AttributeError:  # not built: build that one child early
+            early = self._root._early
+            child = early.get(xml)
+            if child is None:
+                named: list[tuple[str, str, Element]] = []
+                child = early[xml] = _from_xml(self, xml, named)
+                if named:
+                    self._root.namescope.adopt(named)
+            return child
+        for child in children:
+            if child._xml is xml:
+                return child
+        return None
+
+    def __getstate__(self) -> tuple[None, dict[str, Any]]:
+        """Pickled: every slot, the children built first, without the lxml element."""
+        self._children  # noqa: B018 - built, if they are not yet
+        state = {}
+        for cls in type(self).__mro__:
+            for name in getattr(cls, "__slots__", ()):
+                if name != "_xml" and name not in state:
+                    with contextlib.suppress(AttributeError):  # a slot never set
+                        state[name] = object.__getattribute__(self, name)
+        return None, state
 
     # -- identity and place in the tree ---------------------------------------------------
 
@@ -159,8 +248,12 @@ class Element(ModelOperations):
         return attribute
 
     def __getattr__(self, name: str) -> Any:
-        if name[:1] == "_":
-            raise AttributeError(name)  # private names never reach the schema
+        if name[:1] == "_":  # private names never reach the schema
+            if name == "_children":
+                return self._build_children()
+            if name == "_xml":  # unpickled: built already
+                return None
+            raise AttributeError(name)
         spec = self._spec
         attribute = spec.attributes.get(_ALIASES.get(name, name))
         if attribute is not None:
@@ -449,3 +542,37 @@ class Element(ModelOperations):
             names.add("dclass")
         names.update(self._spec.children)
         return sorted(n for n in names if n.isidentifier())
+
+
+def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:
+    """A new element, a child of `parent`, built from its lxml element `xml` (see
+    `Element._defer`); (namespace, name, element) appended to `named` if it has a name."""
+    spec = parent._spec.children[xml.tag]
+    # A _Fresh takes plain slot assignments (an Element's go through its __setattr__,
+    # several times slower), then becomes the Element it is.
+    child = _Fresh()
+    child._spec = spec
+    child._parent = parent
+    child._root = parent._root
+    child._attrs = attrs = dict(xml.items())
+    child._source = None
+    child._text = None
+    child._xml = xml
+    if not len(xml):
+        child._children = []
+    child.__class__ = Element
+    namespace = spec.namespace
+    if namespace is not None:
+        name = attrs.get(spec.identifier) if spec.identifier else None
+        if name is None and spec.tag in NAMED_AFTER_FILE:
+            name = name_from_file(attrs.get("file"))
+        if name is not None:
+            named.append((namespace, name, child))
+    return child
+
+
+class _Fresh(ModelOperations):
+    """An element being built from its lxml element: the slots of `Element`, set as
+    plain attributes (see `_from_xml`)."""
+
+    __slots__ = Element.__slots__

@@ -16,11 +16,17 @@ registered in its parent's under the child model's name. MuJoCo sees scoped name
 `arm/gripper/pad` is the element named 'pad' in the scope 'gripper' attached into 'arm'.
 A name as an element stores it may hold an escaped separator ('a\\/b', read with
 `escape_separators`); the scope knows it as MuJoCo sees it ('a/b').
+
+A model read from a file holds, for the names of elements not built yet, the lxml
+elements they will be built from (`load`); asking for such a name builds its element
+(`RootElement._resolve`), which then takes its place (`adopt`).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
+
+from lxml import etree
 
 from mjcf import errors
 
@@ -70,7 +76,32 @@ class NameScope:
         if name == WORLD and namespace == "body":
             return self.model.worldbody
         names = self._namespaces.get(namespace)
-        return None if names is None else names.get(name)
+        if names is None:
+            return None
+        found = names.get(name)
+        if isinstance(found, etree._Element):
+            found = self.model._resolve(found)  # built now; it takes the name (adopt)
+        return found
+
+    def load(self, names: dict[str, dict[str, etree._Element]]) -> None:
+        """Hold the names of a model just read, whose elements are built when first used:
+        {namespace: {name: the lxml element of the element that has it}}, checked unique
+        by the parser."""
+        for namespace, table in names.items():
+            held = self._namespaces.get(namespace)
+            if held is None:
+                self._namespaces[namespace] = table  # the parser's own: taken, not copied
+            else:
+                held.update(table)
+
+    def adopt(self, named: list[tuple[str, str, Element]]) -> None:
+        """Each element of (namespace, name, element), just built from its lxml element,
+        takes the name that lxml element held (if it held it)."""
+        tables = self._namespaces
+        for namespace, name, element in named:
+            names = tables.get(namespace)
+            if names is not None and names.get(name) is element._xml:
+                names[name] = element
 
     def check_free(
         self, namespace: str, name: str, claimant: Element, renaming: bool = False
@@ -101,7 +132,7 @@ class NameScope:
             key = unescape(name)
             self.has_escaped_names = True
         existing = names.get(key)
-        if existing is None and key == WORLD:
+        if (existing is None and key == WORLD) or isinstance(existing, etree._Element):
             existing = self._holder(namespace, key)
         if existing is not None and existing is not element:
             self.check_free(namespace, name, element)  # raises, naming both

@@ -7,7 +7,12 @@
 Every element and attribute is checked against MuJoCo's schema while reading (unknown
 names with a "did you mean", wrong numbers, bad keywords, duplicate names, and
 references to elements that do not exist); errors name the file, line and element.
-Attribute text is kept as read until used, so reading stays close to lxml's speed.
+A document is first checked whole, in C against an XML Schema generated from MuJoCo's
+(`mjcf.xsd`), then for names and references (`mjcf.indexer`), and its elements are built
+when first used (`Element._defer`): reading a model takes about as long as MuJoCo's own
+`MjSpec.from_file`. A document that check does not accept is read element by element,
+which raises the error naming the element (or reads what the fast way leaves to it).
+Attribute text is kept as read until used.
 
 The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
 never touches the network, and limits nesting depth.
@@ -21,7 +26,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import debugging, default_sections, errors, naming
+from mjcf import bulk, debugging, default_sections, errors, indexer, naming, xsd
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -104,6 +109,7 @@ def from_file(
     )
 
 
+@bulk.whole_tree
 def _parse(
     data: str | bytes,
     escape_separators: bool,
@@ -135,6 +141,10 @@ def _parse(
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
     object.__setattr__(root, "_confine_to", confine)
+    if not strict_paths and _read_fast(
+        root, xml_root, filename, escape_separators, resolve_references
+    ):
+        return root
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
     builder.link_unnamed()
@@ -143,6 +153,42 @@ def _parse(
     if strict_paths:
         builder.check_files()
     return root
+
+
+def _read_fast(
+    root: RootElement,
+    xml_root: etree._Element,
+    filename: str | None,
+    escape_separators: bool,
+    check_references: bool,
+) -> bool:
+    """Read the document under `xml_root` into the new model `root` the fast way: checked
+    whole by the XML Schema and the indexer, its sections' contents built when first
+    used (see `Element._defer`). False, with `root` untouched, for a document the
+    element-by-element reader must read (to report an error, or to read what the fast
+    way does not handle); debug mode, which records where each element was read, reads
+    element by element too."""
+    if debugging.is_debug_mode():
+        return False
+    tags = [xml.tag for xml in xml_root]
+    if len(set(tags)) != len(tags) or not all(isinstance(tag, str) for tag in tags):
+        return False  # a section repeated, or an entity
+    if not xsd.accepts(xml_root):
+        return False
+    names = indexer.index(xml_root, root._spec.children, check_references)
+    if names is None:
+        return False
+    builder = _Builder(root, filename, escape_separators)
+    for xml_section in xml_root:
+        section = root._section(xml_section.tag)
+        attrib = dict(xml_section.attrib)
+        if xml_section.tag == "default" and attrib.get("class") in ("main", None):
+            attrib.pop("class", None)
+        builder._set_attributes(section, attrib, xml_section, merge=True)
+        if len(xml_section):
+            section._defer(xml_section)
+    root.namescope.load(names)
+    return True
 
 
 def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:

@@ -87,6 +87,8 @@ _TRANSIENT = (
     "_opt",
     "_state_check",
 )
+# Attributes made when first used (see Physics.__getattr__).
+_MADE_ON_FIRST_USE = ("_data", "_warnings")
 # Attributes a copy shares with its original instead of copying: the model tree a
 # physics was compiled from (bind(element) needs the user's own element objects).
 _SHARED = ("_compiled",)
@@ -112,17 +114,30 @@ class Physics(StateAccess):
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
         """Wrap `model` and `data` (a new MjData, forwarded, if None; a given MjData is
-        forwarded before its derived fields are first read through bindings)."""
-        stale = POS_BEHIND | ACC_BEHIND
-        if data is None:
-            data = mujoco.MjData(model)
-            mujoco.mj_forward(model, data)
-            stale = 0
-        self._attach(model, data, stale)
+        forwarded before its derived fields are first read through bindings).
 
-    def _attach(self, model: mujoco.MjModel, data: mujoco.MjData, stale: int = 0) -> None:
-        """Hold `model` and `data`, dropping every cache built for the previous ones;
-        `stale` says what of `data` is not up to date (bits of `mjcf.binding`).
+        A new MjData is made when the physics is first used, not here: making one costs
+        mujoco's bindings about 0.3 ms whatever the model, as much as compiling a small
+        model, and code that only inspects the compiled model never needs it."""
+        self._attach(model, data, 0 if data is None else POS_BEHIND | ACC_BEHIND)
+
+    def __getattr__(self, name: str) -> Any:
+        # Only for attributes not set yet: the MjData that __init__ left to first use.
+        if name in _MADE_ON_FIRST_USE and self.__dict__.get("_model") is not None:
+            data = mujoco.MjData(self._model)
+            mujoco.mj_forward(self._model, data)
+            self._hold_data(data)
+            return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _hold_data(self, data: mujoco.MjData) -> None:
+        self._data = data
+        self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
+
+    def _attach(self, model: mujoco.MjModel, data: mujoco.MjData | None, stale: int = 0) -> None:
+        """Hold `model` and `data` (None: a new MjData, forwarded, made on first use),
+        dropping every cache built for the previous ones; `stale` says what of `data` is not
+        up to date (bits of `mjcf.binding`).
 
         The one place a physics changes its MjModel/MjData. Bindings made before then read
         the new MjData if the model is the same, else raise BindingError; named views
@@ -134,9 +149,12 @@ class Physics(StateAccess):
         for binding in live:
             binding._detach()
         self._model = model
-        self._data = data
+        if data is None:
+            for name in _MADE_ON_FIRST_USE:
+                self.__dict__.pop(name, None)
+        else:
+            self._hold_data(data)
         self._opt = model.opt  # a live view; cached because each `model.opt` makes one
-        self._warnings = data.warning.number  # a live view of MuJoCo's warning counters
         self._stale = stale
         self._on_demand: tuple[Any, ...] = ()  # mj_ functions bound fields need run
         self._scratch: mujoco.MjData | None = None  # for mj_setConst, which clobbers data

@@ -30,17 +30,23 @@ class RootElement(Element):
     are found; `assets` maps file names to contents for files that are not on disk.
 
     Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
-    top-level section) and `_version` (see `version`); `_frame` (where this model is
-    attached) and `_attachments` (the frames of the models attached to it) belong to
-    `mjcf.attachment`, which alone links and unlinks models; `_numbering` is
-    `mjcf.naming`'s cache of generated names; `_confine_to` (the folder `strict_paths`
-    confines files to) is set by the parser and read by `mjcf.assets`.
+    top-level section) and `_version` (see `version`); `mjcf.namescope` asks
+    `_resolve(xml)` for an element not built yet (see `Element._defer`), and `_early`
+    holds the elements built before their siblings, for `mjcf.element`; `_frame`
+    (where this model is attached) and `_attachments` (the frames of the models
+    attached to it) belong to `mjcf.attachment`, which alone links and unlinks models;
+    `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
+    `mjcf.composition`'s cache of the last composition of each kind of output;
+    `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
+    read by `mjcf.assets`.
     """
 
     __slots__ = (
         "_assets",
         "_attachments",
+        "_composed",
         "_confine_to",
+        "_early",
         "_frame",
         "_model_dir",
         "_namescope",
@@ -55,6 +61,8 @@ class RootElement(Element):
     _attachments: list[Any]
     _confine_to: str | None
     _numbering: tuple[int, dict[Element, int]] | None
+    _composed: dict[bool, Any] | None
+    _early: dict[Any, Element]
     _version: int
 
     def __init__(
@@ -68,6 +76,7 @@ class RootElement(Element):
         setter(self, "_children", [])
         setter(self, "_source", None)
         setter(self, "_text", None)
+        setter(self, "_xml", None)
         setter(self, "_namescope", NameScope(self))
         setter(self, "_model_dir", str(model_dir) if model_dir else "")
         setter(self, "_assets", dict(assets) if assets else {})
@@ -78,6 +87,10 @@ class RootElement(Element):
         setter(self, "_confine_to", None)
         # (version, {unnamed element: number}) for generated names (see mjcf.naming).
         setter(self, "_numbering", None)
+        # {for compiling: the last composition of this model} (see mjcf.composition).
+        setter(self, "_composed", None)
+        # {lxml element: element built from it before its siblings} (see Element._defer).
+        setter(self, "_early", {})
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)
@@ -168,6 +181,25 @@ class RootElement(Element):
         from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
 
         return Physics.from_mjcf_model(self)
+
+    def _resolve(self, xml: Any) -> Element | None:
+        """The element built from lxml element `xml` of the file this model was read
+        from, built now with the elements above it if they are not yet (see
+        `Element._defer`); None if it is no longer in the model."""
+        path = [xml, *xml.iterancestors()]
+        path.pop()  # the <mujoco> element
+        element: Element | None = self
+        for step in reversed(path):
+            element = element._child_built_from(step)
+            if element is None:
+                return None
+        return element
+
+    def __getstate__(self) -> tuple[None, dict[str, Any]]:
+        """Pickled with every element built (see `Element._defer`)."""
+        for _ in self.iter():
+            pass
+        return super().__getstate__()
 
     def _section(self, tag: str) -> Element:
         """The top-level section `tag`; raises mjcf.SchemaError for unknown sections."""

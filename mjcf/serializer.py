@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mjcf import assets as _assets
-from mjcf import attachment, composition, errors
+from mjcf import attachment, bulk, composition, errors
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -41,6 +41,7 @@ _NO_INDENTS = ("",) * 512
 _FRAME_SPEC = attachment.FRAME_SPEC
 
 
+@bulk.whole_tree
 def serialize(
     root: RootElement,
     precision: int = 17,
@@ -56,19 +57,26 @@ def serialize(
     return "".join(writer.parts), files.contents()
 
 
+@bulk.whole_tree
 def serialize_for_compile(
     root: RootElement,
 ) -> tuple[str, dict[str, bytes], composition.Composition, list[Element | None]]:
     """What MuJoCo compiles: the XML with every element named, files on disk by their
     absolute path (MuJoCo reads them and caches their meshes) and other assets under a
     flat unique name, those assets, the composition (how elements are named), and the
-    element written on each line."""
-    files = _assets.FileNamer(root, by_path=True)
-    writer = _Writer(root, 17, True, files, for_compile=True)
-    writer.write_root()
-    return "".join(writer.parts), files.contents(), writer.composed, writer.owners
+    element written on each line. Written once for each composition: compiling a model
+    again while no model changed writes nothing."""
+    composed = composition.composition_of(root, for_compile=True)
+    if composed.compiled_text is None:
+        files = _assets.FileNamer(root, by_path=True)
+        writer = _Writer(root, 17, True, files, for_compile=True)
+        writer.write_root()
+        composed.compiled_text = ("".join(writer.parts), files.contents(), writer.owners)
+    xml, assets, owners = composed.compiled_text
+    return xml, dict(assets), composed, owners
 
 
+@bulk.whole_tree
 def to_xml_string(
     element: Element,
     prefix_root: RootElement | None,
@@ -104,6 +112,20 @@ def attribute_text(
     )
 
 
+def _refers_out(element: Element) -> bool:
+    """Whether a reference of `element` holds an element of another model, whose written
+    name changes with that model (an element of its own model changes with it)."""
+    model = element._root
+    references = element._spec.references
+    for name, value in element._attrs.items():
+        if type(value) is str or name not in references:
+            continue  # names as text (all of them, in a model read from a file)
+        for item in value if isinstance(value, list) else (value,):
+            if type(item) is not str and item._root is not model:
+                return True
+    return False
+
+
 class _Writer:
     """Accumulates XML fragments in `parts`."""
 
@@ -127,7 +149,7 @@ class _Writer:
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.Composition(root, for_compile=for_compile)
+        self.composed = composition.composition_of(root, for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
         self._writers: dict[composition.ModelContext, object] = {}
@@ -171,7 +193,7 @@ class _Writer:
                 self._default_body(default, context)
             self._close(section, 1, mark)
         elif tag == "keyframe":
-            keys = self.composed.keyframes(for_compile=self.for_compile)
+            keys = self.composed.keyframes()
             mark = self._open(section, 1, root_context)
             for key_element, context, override in keys:
                 self.element(key_element, 2, context, override)
@@ -179,7 +201,10 @@ class _Writer:
         else:
             mark = self._open(section, 1, root_context)
             self.children(section._children, 2, root_context)
-            if tag != "worldbody":
+            if tag == "asset":
+                for context in self.composed.attached_contexts():
+                    self.children(self.composed.written_assets(context), 2, context)
+            elif tag != "worldbody":
                 for context in self.composed.attached_contexts():
                     self.children(context.model._section(tag)._children, 2, context)
             self._close(section, 1, mark)
@@ -287,12 +312,16 @@ class _Writer:
         """The function that writes an element of `context`'s model with its subtree: one
         for every element, kept tight because it decides how close writing stays to lxml.
 
+        An element's attribute text is cached on the element until its model changes,
+        for outputs that write the model's elements alike (the context's token, the same
+        number format), so writing an unchanged model again costs a lookup per element.
+        Not cached: text given an override by the caller, and text that depends on more
+        than the element's own model (file names, which depend on the output, and
+        references to elements of other models, whose names change with those models).
         Where the context writes names and values as stored (a model written on its own:
-        the common case) an element's attribute text is cached on the element until its
-        model changes, so writing an unchanged model again costs a lookup per element;
-        elsewhere (scoped names, converted values, an override) `attributes` builds it
-        each time. Either way the tag is self-closing when nothing is inside, and an empty
-        once-only element is left out."""
+        the common case) the text is built in one pass; elsewhere (scoped names,
+        converted values) `attributes` builds it. Either way the tag is self-closing when
+        nothing is inside, and an empty once-only element is left out."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
@@ -301,9 +330,7 @@ class _Writer:
         frame_spec = _FRAME_SPEC
         generated_name, rewrite = self.composed.generated_name, context.rewrite
         as_stored = context.names_only and not self.reformat
-        # Cached text is valid for one model version and one number precision, and only
-        # where it is written as stored: elsewhere no cached text matches.
-        version = (context.model._version, self.precision) if as_stored else None
+        version = (context.model._version, context.token, self.precision, self.zero_threshold)
 
         def text_of(element: Element, depth: int, override: dict | None) -> str | None:
             """The attribute text of `element`'s tag; None for an attachment frame, which
@@ -313,8 +340,8 @@ class _Writer:
             if spec is frame_spec:
                 frame(element, depth, context)
                 return None
+            special = spec.file_attributes
             if as_stored and override is None and not spec.required:
-                special = spec.file_attributes
                 if attrs:
                     text = "".join([
                         f' {name}="{value}"' if type(value) is str and name not in special
@@ -338,16 +365,19 @@ class _Writer:
                         text = f' {identifier}="{escape(name)}"' + text
                     elif element in renamed:  # named after a file written under another name
                         text += own_name(element, context)
-                if not special:  # file names depend on the output; the rest does not
-                    element._text = (version, text)
+                if not special and not (spec.references and _refers_out(element)):
+                    object.__setattr__(element, "_text", (version, text))
                 return text
             if spec.required and (attrs or element._children or not spec.on_demand):
                 check_required(element)
+            cacheable = override is None and not special
             if override is None:
                 override = rewrite(element)
             text = attributes(element, context, override) if attrs or override else ""
             if element in renamed and not (override and spec.identifier in override):
                 text += own_name(element, context)
+            if cacheable and not (spec.references and _refers_out(element)):
+                object.__setattr__(element, "_text", (version, text))
             return text
 
         def write(element: Element, depth: int, override: dict | None = None) -> None:

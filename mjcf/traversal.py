@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
-from mjcf import attachment, errors, schema
+from mjcf import attachment, bulk, errors, schema
 from mjcf import values as _values
 
 if TYPE_CHECKING:
@@ -39,6 +39,7 @@ def find(element: Element, namespace: str, identifier: str) -> Element | None:
     return None
 
 
+@bulk.whole_tree
 def find_all(
     element: Element, namespace: str, immediate_children_only: bool, exclude_attachments: bool
 ) -> list[Element]:

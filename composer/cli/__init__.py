@@ -12,9 +12,10 @@ From Python: `composer.cli.main(['list'])` returns the exit status. `train` and 
 the rest need only the base install (`run --video` also needs imageio). Modules: `main`
 (arguments and errors), one per command (`listing`, `show`, `run`, `view`, `train`,
 `evaluate`), `catalog` (registered tasks), `rollout` (episodes), `video`, `plot`, `output`
-(checked output paths), `run_folder` (what a training folder holds), `recipes` (the
-hyperparameter table) and `training` (stable-baselines3: environments, checkpoints,
-sessions).
+(checked output paths), `run_folder` (what a training folder holds, and its rules),
+`recipes` (the hyperparameter table), `engine` (what each training engine provides: its
+checkpoint and trainer), `training` (stable-baselines3: environments, checkpoints,
+sessions) and `ray_training`, `ray_algorithm`, `ray_files` (RLlib on Ray).
 """
 
 from composer.cli.main import main

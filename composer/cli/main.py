@@ -105,7 +105,8 @@ def parser() -> argparse.ArgumentParser:
     view.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
     train = _command(
-        commands, "train", "train", "train a policy with stable-baselines3 ([train] extra)",
+        commands, "train", "train",
+        "train a policy with stable-baselines3 ([train] extra) or RLlib on Ray ([ray] extra)",
         epilog=recipe_table(), formatter_class=argparse.RawDescriptionHelpFormatter,
     )  # fmt: skip
     _task(train, nargs="?", default=recipes.DEFAULT_TASK)
@@ -131,6 +132,19 @@ def parser() -> argparse.ArgumentParser:
     train.add_argument("--no-video", action="store_true", help="skip the trained policy's video")
     train.add_argument(
         "--tensorboard", metavar="DIR", help="also log to TensorBoard in DIR (stable-baselines3's)"
+    )
+    train.add_argument(
+        "--engine", choices=("sb3", "ray"), default="sb3",
+        help="stable-baselines3 on this machine (default), or RLlib on Ray ([ray] extra)",
+    )  # fmt: skip
+    train.add_argument(
+        "--workers", type=positive_int, metavar="N", help="ray: env runners (default: CPUs)"
+    )
+    train.add_argument(
+        "--envs-per-worker", type=positive_int, metavar="M", help="ray: environments each"
+    )
+    train.add_argument(
+        "--address", metavar="HOST:PORT", help="ray: join this cluster (default: start locally)"
     )
     train.set_defaults(renders=lambda args: not args.no_video)
 

@@ -81,6 +81,11 @@ class Recipe:
         others = {f for algo, fields in _ONLY.items() if algo != self.algo for f in fields}
         return {k: v for k, v in dataclasses.asdict(self).items() if k not in others}
 
+    @classmethod
+    def from_table(cls, table: dict[str, Any]) -> Recipe:
+        """The recipe whose `table()` (read back from JSON) is `table`."""
+        return cls(**{**table, "net": tuple(table["net"])})
+
 
 GENERIC = {
     "ppo": Recipe("ppo", 1_000_000, 8, (64, 64), 3e-4, 256, normalize=True),

@@ -1,19 +1,29 @@
-"""`composer train [TASK]`: train a policy with stable-baselines3 and show what it learned.
+"""`composer train [TASK]`: train a policy and show what it learned, with stable-baselines3
+on this machine (the default) or with RLlib on Ray (`--engine ray`, docs/ray.md).
 
     $ composer train                      # Reach, with its recipe (see `composer train --help`)
     $ composer train CartpoleSwingup --algo ppo --timesteps 200000 --n-envs 8 --out runs/cp
+    $ composer train CartpoleSwingup --engine ray --workers 2
 
-Writes into the output folder (default runs/TASK-ALGO): `policy.zip` (for `composer run` and
-`composer eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json`
-(timesteps, wall and CPU time, evaluations, final and random-policy returns, success rate
-where the task reports `is_success`, forward speed where it reports `forward_velocity`)
-and `checkpoint/`. Ctrl-C saves a checkpoint and exits with status 130; the same command
-then resumes it, up to `--timesteps` in all. A folder holding a finished run is refused
-unless `--resume` (train it on to a larger `--timesteps`) or `--fresh` (replace it) says
-what to do (`composer.cli.run_folder`). Evaluations (deterministic actions, fixed seeds)
-run every `--eval-every` timesteps, a tenth of the run by default; each saves a checkpoint.
-`--tensorboard DIR` also logs stable-baselines3's TensorBoard scalars there, with the
-evaluations as `eval/...`.
+Writes into the output folder (default runs/TASK-ALGO, with Ray runs/TASK-ALGO-ray) the
+policy (`policy.zip`, with Ray the folder `policy/`; for `composer run` and `composer
+eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json` (engine,
+timesteps, wall and CPU time, env steps per second, evaluations, final and random-policy
+returns, success rate where the task reports `is_success`, forward speed where it reports
+`forward_velocity`, and the engine's own keys) and `checkpoint/`. Ctrl-C saves a
+checkpoint and exits with status 130; the same command then resumes it, up to
+`--timesteps` in all. A folder holding a finished run is refused unless `--resume` (train
+it on to a larger `--timesteps`) or `--fresh` (replace it) says what to do, and one holding
+the other engine's run is refused (`composer.cli.run_folder` keeps these rules).
+Evaluations (deterministic actions, fixed seeds) run every `--eval-every` timesteps, a
+tenth of the run by default; each saves a checkpoint.
+
+This module is the command, one for both engines; each engine gives it a checkpoint and a
+trainer (`composer.cli.engine`): `composer.cli.training` for stable-baselines3,
+`composer.cli.ray_training` for Ray. An option of one engine is refused with the other:
+`--n-envs`, `--vec` and `--tensorboard DIR` (stable-baselines3's TensorBoard scalars, with
+the evaluations as `eval/...`) are stable-baselines3's, `--workers`, `--envs-per-worker` and
+`--address` Ray's.
 """
 
 from __future__ import annotations
@@ -23,149 +33,119 @@ import json
 import math
 import os
 import platform
-import sys
+import socket
 from pathlib import Path
 from typing import Any
 
-from composer.cli import catalog, output, plot, recipes, rollout, run_folder, training, video
-from composer.cli.errors import CliError, PolicyError
+from composer.cli import (
+    catalog,
+    output,
+    plot,
+    ray_files,
+    ray_training,
+    rollout,
+    run_folder,
+    training,
+    video,
+)
+from composer.cli.engine import Trainer
+from composer.cli.errors import CliError
+from composer.cli.run_folder import RunFolder
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
 VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this long
+# The options only one engine reads.
+SB3_ONLY = ("n_envs", "vec", "tensorboard")
+RAY_ONLY = ("workers", "envs_per_worker", "address")
 
 
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
-    info = args.info
-    if not args.no_video:
-        video.require()
-    if args.tensorboard:
+    check_options(args)
+    on_ray = args.engine == ray_files.ENGINE
+    folder = run_folder.prepare(args, ray_files.Checkpoint if on_ray else training.Checkpoint)
+    if on_ray:
+        ray_files.require_ray()
+    elif args.tensorboard:
         training.require_tensorboard()
         output.directory(args.tensorboard)
-    out, checkpoint = _output(info, args)
-    resumed = checkpoint.exists()
-    progress, recipe = _start(info, checkpoint, out, args)
-    saved = checkpoint.normalization_path
-    venv = training.vec_env(
-        info, recipe, progress.seed, saved if resumed and saved.is_file() else None
-    )
-    eval_env = catalog.make(info)
+    if not args.no_video:
+        video.require()
+    output.directory(folder.out)
+    open_trainer = ray_training.trainer if on_ray else training.trainer
+    eval_env = catalog.make(args.info)
     try:
-        if resumed:
-            model = checkpoint.load(recipe.algo, venv, args.tensorboard)
-            model.set_random_seed(progress.seed + model.num_timesteps)
-        else:
-            model = training.new_model(recipe, venv, progress.seed, args.tensorboard)
-        session = training.Session(
-            progress, checkpoint, eval_env,
-            eval_every=args.eval_every or max(1, recipe.timesteps // 10),
-            eval_episodes=args.eval_episodes,
-        )  # fmt: skip
-        _announce(info, recipe, out, model.num_timesteps if resumed else None)
-        with training.StopOnInterrupt() as stop:
-            remaining = recipe.timesteps - model.num_timesteps
-            if remaining > 0:
-                print("Ctrl-C saves a checkpoint and stops; the same command resumes", flush=True)
-                model.learn(
-                    remaining, callback=session.callback(stop, sys.stderr.isatty()),
-                    reset_num_timesteps=not resumed, tb_log_name=out.name,
-                )  # fmt: skip
-        session.save(model)
-        if stop.requested:
-            print(
-                f"stopped at {model.num_timesteps:,} steps after "
-                f"{training.duration(session.elapsed())}; checkpoint saved in "
-                f"{checkpoint.folder}; run the same command to resume"
-            )
-            return INTERRUPTED
-        _finish(info, model, session, out, args.eval_episodes, not args.no_video)
+        with open_trainer(args.info, folder, args) as trainer:
+            return _train(trainer, folder, eval_env, args)
     finally:
-        venv.close()
         eval_env.close()
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Raise CliError for options of the engine not chosen."""
+    if args.engine == ray_files.ENGINE:
+        given = [name for name in SB3_ONLY if getattr(args, name, None) is not None]
+        if given:
+            message = f"{_flags(given)} {'belongs' if len(given) == 1 else 'belong'} to the "
+            message += "stable-baselines3 engine"
+            if {"n_envs", "vec"} & set(given):
+                message += "; with --engine ray give --workers and --envs-per-worker"
+            if "tensorboard" in given:
+                message += "; --engine ray logs no TensorBoard scalars (see docs/ray.md)"
+            raise CliError(message)
+    else:
+        given = [name for name in RAY_ONLY if getattr(args, name, None) is not None]
+        if given:
+            raise CliError(f"{_flags(given)} need{'s' if len(given) == 1 else ''} --engine ray")
+
+
+def _flags(names: list[str]) -> str:
+    return " and ".join("--" + name.replace("_", "-") for name in names)
+
+
+def _train(
+    trainer: Trainer, folder: RunFolder[Any], eval_env: Any, args: argparse.Namespace
+) -> int:
+    """Announce the run, train it until done or Ctrl-C, save it, and finish it (or say how
+    to resume it); the exit status."""
+    progress, recipe = trainer.progress, trainer.recipe
+    session = training.Session(
+        progress, folder.checkpoint, eval_env,
+        eval_every=args.eval_every or max(1, recipe.timesteps // 10),
+        eval_episodes=args.eval_episodes,
+    )  # fmt: skip
+    folder.clear_if_fresh()
+    verb = f"resuming at {progress.timesteps:,} steps:" if folder.resumes else "training"
+    print(f"{verb} {args.info.name} with {trainer.algorithm} to {recipe.timesteps:,} steps on "
+          f"{trainer.where} -> {folder.out}")  # fmt: skip
+    print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
+    with training.StopOnInterrupt() as stop:
+        if progress.timesteps < recipe.timesteps:
+            print("Ctrl-C saves a checkpoint and stops; the same command resumes", flush=True)
+            trainer.learn(session, stop)
+    session.save(trainer.model)
+    if stop.requested:
+        print(
+            f"stopped at {progress.timesteps:,} steps after "
+            f"{training.duration(session.elapsed())}; checkpoint saved in "
+            f"{folder.checkpoint.folder}; run the same command to resume"
+        )
+        return INTERRUPTED
+    _finish(args.info, trainer, session, folder, args.eval_episodes, not args.no_video)
     return 0
 
 
-def _output(info: TaskInfo, args: argparse.Namespace) -> tuple[Path, training.Checkpoint]:
-    """The output folder (checked writable, cleared with --fresh) and its checkpoint, which
-    --resume requires; raises CliError for a finished run without --resume or --fresh."""
-    if args.resume and args.fresh:
-        raise CliError("--resume and --fresh contradict each other; give one of them")
-    resume = args.resume if isinstance(args.resume, str) else None  # --resume alone: True
-    if resume and args.out and Path(resume) != Path(args.out):
-        raise CliError(f"--resume {resume} and --out {args.out} differ; give one of them")
-    algo = args.algo or recipes.default_algo(info.name)
-    out = Path(resume or args.out or Path("runs") / f"{info.name}-{algo}")
-    checkpoint = training.Checkpoint(out / "checkpoint")
-    if args.resume and not checkpoint.exists():
-        raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
-    output.directory(out)
-    run_folder.prepare(out, checkpoint, resume=bool(args.resume), fresh=args.fresh)
-    return out, checkpoint
-
-
-def _start(
-    info: TaskInfo, checkpoint: training.Checkpoint, out: Path, args: argparse.Namespace
-) -> tuple[training.Progress, recipes.Recipe]:
-    """The progress and recipe to train with: the checkpoint's, or fresh ones."""
-    if checkpoint.exists():
-        progress = checkpoint.progress()
-        recipe = _resumed_recipe(progress, info.name, out, args)
-    else:
-        algo = args.algo or recipes.default_algo(info.name)
-        recipe = recipes.for_task(info.name, algo).replace(
-            timesteps=args.timesteps, n_envs=args.n_envs, vec=args.vec
-        )
-        progress = training.Progress(info.name, info.env_id, algo, args.seed or 0, {})
-    progress.recipe = recipe.table()
-    progress.completed = False
-    return progress, recipe
-
-
-def _announce(info: TaskInfo, recipe: recipes.Recipe, out: Path, resumed_at: int | None) -> None:
-    verb = "training" if resumed_at is None else f"resuming at {resumed_at:,} steps:"
-    envs = f"{recipe.n_envs} environment{'s' if recipe.n_envs > 1 else ''}"
-    print(f"{verb} {info.name} with {recipe.algo.upper()} to {recipe.timesteps:,} steps on "
-          f"{envs} -> {out}")  # fmt: skip
-    print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
-
-
-def _resumed_recipe(
-    progress: training.Progress, task: str, out: Path, args: argparse.Namespace
-) -> recipes.Recipe:
-    """The checkpoint's recipe, with a new total of timesteps if given."""
-    if progress.task != task:
-        raise PolicyError(
-            f"the checkpoint in {out} is of task {progress.task!r}, not {task!r}; "
-            "choose another --out folder"
-        )
-    if args.algo and args.algo != progress.algo:
-        raise PolicyError(
-            f"the checkpoint in {out} was trained with {progress.algo}, not {args.algo}; "
-            "choose another --out folder"
-        )
-    recipe = recipes.Recipe(**{**progress.recipe, "net": tuple(progress.recipe["net"])})
-    for option, given, kept in (
-        ("--n-envs", args.n_envs, recipe.n_envs),
-        ("--vec", args.vec, recipe.vec),
-        ("--seed", args.seed, progress.seed),
-    ):
-        if given is not None and given != kept:
-            print(f"note: resuming keeps the checkpoint's {option} {kept}")
-    recipe = recipe.replace(timesteps=args.timesteps)
-    if recipe.timesteps <= progress.timesteps and (progress.completed or args.timesteps):
-        raise CliError(
-            f"the run in {out} has {progress.timesteps:,} steps already "
-            f"({run_folder.describe(progress)}); give --timesteps above that to train on"
-        )
-    return recipe
-
-
 def _finish(
-    info: TaskInfo, model: Any, session: training.Session, out: Path, episodes: int, record: bool
+    info: TaskInfo,
+    trainer: Trainer,
+    session: training.Session,
+    folder: RunFolder[Any],
+    episodes: int,
+    record: bool,
 ) -> None:
     """After training: a final evaluation beside a random policy, then the output files."""
-    progress = session.progress
+    progress, model, out = session.progress, trainer.model, folder.out
     final = session.evaluate(model)
     env = session.eval_env
     random = rollout.summary(
@@ -173,24 +153,28 @@ def _finish(
     )
     progress.completed = True
     session.save(model)
-    model.save(out / "policy.zip")
+    policy = out / folder.checkpoint.policy
+    trainer.save_policy(policy)
     metrics = {
         **progress.to_json(),
         "final": final,
         "random_policy": random,
-        "machine": {"cpus": os.cpu_count(), "python": platform.python_version()},
-    }
+        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
+                    "host": socket.gethostname()},
+        **trainer.metrics(),
+        "env_steps_per_second": round(progress.timesteps / max(progress.wall_time, 1e-9)),
+    }  # fmt: skip
     lines = [f" {json.dumps(key)}: {json.dumps(value)}" for key, value in metrics.items()]
-    (out / "metrics.json").write_text("{\n" + ",\n".join(lines) + "\n}\n")
-    plot.learning_curve(metrics, out / "learning_curve.png")
-    written = ["policy.zip", "learning_curve.png", "metrics.json"]
+    (out / run_folder.METRICS).write_text("{\n" + ",\n".join(lines) + "\n}\n")
+    plot.learning_curve(metrics, out / run_folder.CURVE)
+    written = [policy.name + ("/" if policy.is_dir() else ""), run_folder.CURVE, run_folder.METRICS]
     if record:
-        written.append(_record(info, model, out / "video.mp4").name)
+        written.append(_record(info, model, out / run_folder.VIDEO).name)
     print(f"{info.name}, trained policy: {rollout.describe_summary(final)}")
     print(f"{info.name}, random policy:  {rollout.describe_summary(random)}")
     print(
-        f"trained {model.num_timesteps:,} steps in {training.duration(progress.wall_time)}; "
-        f"wrote {', '.join(written)} in {out}"
+        f"trained {progress.timesteps:,} steps in {training.duration(progress.wall_time)} "
+        f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
     )
     print(f"watch it: composer run {info.name} --policy {out} --video {info.name}.mp4")
 
@@ -202,8 +186,7 @@ def _record(info: TaskInfo, model: Any, path: Path) -> Path:
         seconds = info.default_kwargs.get("time_limit") or VIDEO_SECONDS
         episodes = math.ceil(VIDEO_SECONDS / seconds)
         frames: list[Any] = []
-        policy = rollout.model_policy(model)
-        rollout.run_episodes(env, policy, episodes, training.EVAL_SEED, frames)
+        rollout.run_episodes(env, rollout.model_policy(model), episodes, training.EVAL_SEED, frames)
         return video.write_video(frames, path, rollout.video_fps(env))
     finally:
         env.close()

@@ -1,5 +1,5 @@
-"""Training on stable-baselines3: parallel environments, models, checkpoints, and a session
-that evaluates, records progress and stops cleanly on Ctrl-C.
+"""Training on stable-baselines3: parallel environments, models, checkpoints, a session
+that evaluates, records progress and stops cleanly on Ctrl-C, and the engine's `Trainer`.
 
     venv = training.vec_env(info, recipe, seed=0)          # K environments, VecMonitor'd
     model = training.new_model(recipe, venv, seed=0)
@@ -11,17 +11,21 @@ that evaluates, records progress and stops cleanly on Ctrl-C.
     session.save(model)                                    # a checkpoint with the progress
     model = training.load_policy('runs/Reach-ppo', env)    # for `run` and `eval`
 
+`composer train` drives it through `trainer(info, folder, args)`, the stable-baselines3
+`engine.Trainer`. `Session`, `StopOnInterrupt` and `report` serve the Ray engine too.
+
 This module imports stable-baselines3 and torch, so the commands import it only when they
 need it; without them importing it raises MissingExtraError with the install command.
 
 A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms,
 `vecnormalize.pkl` for normalized recipes, and `state.json` (the `Progress`), each replaced
-atomically, `state.json` last, so a folder with a `state.json` holds a complete checkpoint
-even when training was killed while saving.
+atomically, `state.json` last (`composer.cli.engine`).
 """
 
 from __future__ import annotations
 
+import argparse
+import contextlib
 import dataclasses
 import json
 import os
@@ -29,16 +33,21 @@ import signal
 import sys
 import time
 import zipfile
-from collections.abc import Callable
+from collections.abc import Iterator
 from pathlib import Path
 from types import FrameType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium
 
-from composer.cli import catalog, recipes, rollout
+from composer.cli import catalog, engine, ray_files, recipes, rollout
+from composer.cli.engine import DEFAULT_ENGINE, Progress
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError, PolicyError
+from composer.cli.ray_files import RayPolicy
 from composer.registration import TaskInfo, make_environment
+
+if TYPE_CHECKING:
+    from composer.cli.run_folder import RunFolder
 
 try:
     import stable_baselines3
@@ -70,8 +79,6 @@ EVAL_SEED = 1_000_000
 # Small networks gain nothing from intra-op threads, and on a busy CPU torch's spinning
 # threads made each update 7 to 30 times slower (measured on 2 cores): use one.
 TORCH_THREADS = 1
-# Points of the training curve kept in metrics.json (and the checkpoint).
-CURVE_POINTS = 200
 torch.set_num_threads(TORCH_THREADS)
 
 
@@ -183,103 +190,46 @@ def algo_of(path: Path) -> str:
     return algo
 
 
-def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm:
-    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces."""
+def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm | RayPolicy:
+    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces; one
+    trained with `--engine ray` loads as a RayPolicy (`composer.cli.ray_files`)."""
+    ray_policy = ray_files.find_policy(path)
+    if ray_policy is not None:
+        return ray_files.load_policy(ray_policy, env)
     file = policy_file(path)
     model = ALGORITHMS[algo_of(file)].load(file, device="cpu")
-    for label, theirs, ours in (
-        ("observations", model.observation_space, env.observation_space),
-        ("actions", model.action_space, env.action_space),
-    ):
-        if theirs.shape != ours.shape:
-            raise PolicyError(
-                f"{file} was trained with {label} of shape {theirs.shape}, but this task "
-                f"has {ours.shape}: was it trained on another task?"
-            )
+    engine.check_spaces(file, model, env)
     return model
 
 
-# -- progress and checkpoints --------------------------------------------------------------
+# -- checkpoints and the trainer -----------------------------------------------------------
 
 
-@dataclasses.dataclass
-class Progress:
-    """What a training run has done: kept in checkpoints, written out as metrics.json."""
+class Checkpoint(engine.Checkpoint):
+    """A stable-baselines3 training checkpoint in a folder (see the module docstring)."""
 
-    task: str
-    env_id: str
-    algo: str
-    seed: int
-    recipe: dict[str, Any]
-    timesteps: int = 0
-    wall_time: float = 0.0
-    # CPU seconds of the training process, all its threads (not SubprocVecEnv workers'):
-    # what the run costs apart from what else the machine was doing.
-    cpu_time: float = 0.0
-    completed: bool = False
-    evaluations: list[dict[str, Any]] = dataclasses.field(default_factory=list)
-    # Training episodes by stretches of CURVE_POINTS-th of the run: [timesteps at the last
-    # episode's end, mean return, episodes, success rate (None if the task does not say)].
-    train_curve: list[list[Any]] = dataclasses.field(default_factory=list)
-
-    def record_episode(self, timesteps: int, episode_return: float, success: Any) -> None:
-        """Add a finished training episode to `train_curve`."""
-        width = max(1, int(self.recipe["timesteps"]) // CURVE_POINTS)
-        rows = self.train_curve
-        if not rows or rows[-1][0] // width != timesteps // width:
-            rows.append([timesteps, 0.0, 0, None])
-        row = rows[-1]
-        row[0], row[2] = timesteps, row[2] + 1
-        row[1] = round(row[1] + (episode_return - row[1]) / row[2], 4)
-        if success is not None:
-            rate = row[3] or 0.0
-            row[3] = round(rate + (float(success) - rate) / row[2], 4)
-
-    def to_json(self) -> dict[str, Any]:
-        """A JSON-ready dict of every field."""
-        return dataclasses.asdict(self)
-
-    @classmethod
-    def from_json(cls, data: dict[str, Any]) -> Progress:
-        """The progress `to_json` wrote."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        return cls(**{k: v for k, v in data.items() if k in names})
-
-
-class Checkpoint:
-    """A training checkpoint in a folder (see the module docstring)."""
+    engine = DEFAULT_ENGINE
+    policy = "policy.zip"
 
     def __init__(self, folder: str | os.PathLike[str]) -> None:
         """A checkpoint at `folder` (which need not exist yet)."""
-        self.folder = Path(folder)
+        super().__init__(folder)
         self.model_path = self.folder / "model.zip"
         self.buffer_path = self.folder / "replay_buffer.pkl"
         self.normalization_path = self.folder / "vecnormalize.pkl"
-        self.state_path = self.folder / "state.json"
-
-    def exists(self) -> bool:
-        """Whether a complete checkpoint is there."""
-        return self.state_path.is_file() and self.model_path.is_file()
-
-    def progress(self) -> Progress:
-        """The progress saved with the checkpoint; raises PolicyError if unreadable."""
-        try:
-            return Progress.from_json(json.loads(self.state_path.read_text()))
-        except (OSError, ValueError, TypeError) as e:
-            raise PolicyError(f"cannot read checkpoint {self.state_path}: {e}") from e
 
     def save(self, model: BaseAlgorithm, progress: Progress) -> None:
         """Save the model (and replay buffer), then the progress; raises OutputError."""
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
             keep_normalization(model)
-            _replace(self.model_path, model.save)
+            engine.replace(self.model_path, model.save)
             if isinstance(model, OffPolicyAlgorithm):
-                _replace(self.buffer_path, model.save_replay_buffer)
+                engine.replace(self.buffer_path, model.save_replay_buffer)
             normalize = model.get_vec_normalize_env()
             if normalize is not None:
-                _replace(self.normalization_path, normalize.save)
-            _replace(self.state_path, lambda p: p.write_text(json.dumps(progress.to_json())))
+                engine.replace(self.normalization_path, normalize.save)
+            self._save_state(progress.to_json())
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
 
@@ -293,11 +243,78 @@ class Checkpoint:
             model.load_replay_buffer(self.buffer_path)
         return model
 
+    def _complete(self) -> bool:
+        return self.model_path.is_file()
 
-def _replace(path: Path, write: Callable[[Path], Any]) -> None:
-    partial = path.with_name(f".{path.stem}.partial{path.suffix}")
-    write(partial)
-    os.replace(partial, path)
+    def _saved_files(self) -> list[Path]:
+        saved = (self.model_path, self.buffer_path, self.normalization_path)
+        return [p for path in saved for p in (path, engine.partial_path(path)) if p.is_file()]
+
+
+class Trainer(engine.Trainer):
+    """A stable-baselines3 model training on its environments (`trainer` opens one)."""
+
+    def __init__(
+        self,
+        model: BaseAlgorithm,
+        progress: Progress,
+        recipe: recipes.Recipe,
+        resumed: bool,
+        log_name: str,
+    ) -> None:
+        """Train `model` (`resumed` from a checkpoint or new) on as `recipe` says;
+        `log_name`: its TensorBoard run's name."""
+        super().__init__(model, progress, recipe)
+        self._resumed = resumed
+        self._log_name = log_name
+
+    @property
+    def where(self) -> str:
+        """'16 environments'."""
+        return engine.plural(self.recipe.n_envs, "environment")
+
+    def learn(self, session: Session, stop: StopOnInterrupt) -> None:
+        """`model.learn` up to the recipe's timesteps, with SB3's progress bar on a terminal."""
+        self.model.learn(
+            self.recipe.timesteps - self.model.num_timesteps,
+            callback=session.callback(stop, sys.stderr.isatty()),
+            reset_num_timesteps=not self._resumed,
+            tb_log_name=self._log_name,
+        )
+
+    def save_policy(self, path: Path) -> None:
+        """The model's .zip, with its observation statistics (see `keep_normalization`)."""
+        keep_normalization(self.model)
+        engine.replace(path, self.model.save)
+
+
+@contextlib.contextmanager
+def trainer(
+    info: TaskInfo, folder: RunFolder[Checkpoint], args: argparse.Namespace
+) -> Iterator[Trainer]:
+    """Within `with`: the run in `folder` (resumed from its checkpoint, or new with the
+    task's recipe and the command line's --timesteps, --n-envs and --vec) on its training
+    environments, which are closed after."""
+    progress, recipe = folder.start(
+        args,
+        lambda algo: recipes.for_task(info.name, algo).replace(
+            timesteps=args.timesteps, n_envs=args.n_envs, vec=args.vec
+        ),
+    )
+    checkpoint = folder.checkpoint
+    saved = checkpoint.normalization_path
+    venv = vec_env(
+        info, recipe, progress.seed, saved if folder.resumes and saved.is_file() else None
+    )
+    try:
+        if folder.resumes:
+            model = checkpoint.load(recipe.algo, venv, args.tensorboard)
+            model.set_random_seed(progress.seed + model.num_timesteps)
+        else:
+            model = new_model(recipe, venv, progress.seed, args.tensorboard)
+        yield Trainer(model, progress, recipe, folder.resumes, folder.out.name)
+    finally:
+        venv.close()
 
 
 # -- a training session ------------------------------------------------------------------
@@ -323,13 +340,14 @@ class StopOnInterrupt:
 
 
 class Session:
-    """Book-keeping of one `learn` call: evaluates every `eval_every` timesteps, saves a
-    checkpoint after each evaluation, records finished training episodes."""
+    """Book-keeping of one training session, on either engine: evaluates every
+    `eval_every` timesteps, saves a checkpoint after each evaluation, records finished
+    training episodes."""
 
     def __init__(
         self,
         progress: Progress,
-        checkpoint: Checkpoint,
+        checkpoint: engine.Checkpoint,
         eval_env: gymnasium.Env,
         eval_every: int,
         eval_episodes: int,
@@ -351,11 +369,11 @@ class Session:
         """Wall-clock seconds of training so far, over every session of the run."""
         return self._wall_time_before + time.monotonic() - self._started
 
-    def evaluate(self, model: BaseAlgorithm) -> dict[str, Any]:
-        """Evaluate `model` now, record the result in the progress and return it. A result
-        at the timesteps of the last one replaces it: PPO evaluates during its last rollout
-        and updates the policy after, so the model after training is evaluated again."""
-        keep_normalization(model)
+    def evaluate(self, model: Any) -> dict[str, Any]:
+        """Evaluate `model` (an engine's Trainer's, as it is now: see `rollout.model_policy`),
+        record the result in the progress and return it. A result at the timesteps of the
+        last one replaces it: PPO evaluates during its last rollout and updates the policy
+        after, so the model after training is evaluated again."""
         episodes = rollout.run_episodes(
             self.eval_env, rollout.model_policy(model), self.eval_episodes, EVAL_SEED
         )
@@ -370,8 +388,8 @@ class Session:
         evaluations.append(result)
         return result
 
-    def save(self, model: BaseAlgorithm) -> None:
-        """Save a checkpoint of `model` with the progress so far."""
+    def save(self, model: Any) -> None:
+        """Save a checkpoint of `model` (the checkpoint's engine's) with the progress so far."""
         self.progress.timesteps = int(model.num_timesteps)
         self.progress.wall_time = round(self.elapsed(), 2)
         self.progress.cpu_time = round(
@@ -409,6 +427,7 @@ class _SessionCallback(BaseCallback):
                     timesteps, float(episode["r"]), info.get("is_success")
                 )
         if not self.stop.requested and session.due(timesteps):
+            keep_normalization(self.model)
             result = session.evaluate(self.model)
             print(report(result), flush=True)
             for key in ("mean_return", "success_rate", "forward_speed"):

@@ -513,5 +513,6 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         """Free every environment's rendering resources."""
-        for env in self._envs:
+        # gymnasium 1.2's VectorEnv.__del__ closes an instance whose __init__ raised too.
+        for env in getattr(self, "_envs", ()):
             env.close()

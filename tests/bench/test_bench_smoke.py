@@ -13,10 +13,13 @@ from bench.__main__ import main
 
 def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
     path = tmp_path / "results.json"
-    assert main(["bind", "scene", "vector", "task_step", "--quick", "--json", str(path)]) == 0
+    names = ["bind", "scene", "large", "vector", "task_step"]
+    assert main([*names, "--quick", "--json", str(path)]) == 0
     report = json.loads(path.read_text())
     assert report["quick"] and report["machine"]["mujoco"]
-    assert list(report["benchmarks"]) == ["bind", "scene", "vector", "task_step"]
+    assert list(report["benchmarks"]) == names
+    large = report["benchmarks"]["large"]["results"]
+    assert large["2000 bodies"]["tree_mb"] > 0 and large["2000 bodies"]["parse_s"] > 0
     vector = report["benchmarks"]["vector"]
     assert vector["error"] is None and "env-steps/s" in vector["output"]
     assert {"vector_vs_raw_batch", "vector_vs_sync"} <= set(vector["results"])

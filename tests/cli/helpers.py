@@ -8,6 +8,11 @@ import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
+# How `composer train` ends its refusal of a finished run, with either engine.
+FINISHED_CHOICES = (
+    "--resume continues it (to a larger --timesteps), --fresh replaces it, --out DIR trains "
+    "elsewhere"
+)
 
 
 def environment(**extra: str) -> dict[str, str]:

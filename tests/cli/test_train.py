@@ -10,8 +10,15 @@ import subprocess
 import sys
 
 import imageio.v3 as iio
+import pytest
 
-from tests.cli.helpers import assert_one_line_error, composer, composer_without, environment
+from tests.cli.helpers import (
+    FINISHED_CHOICES,
+    assert_one_line_error,
+    composer,
+    composer_without,
+    environment,
+)
 
 EVALS = ("--eval-every", "1024", "--eval-episodes", "2")
 TINY = ("--algo", "ppo", "--n-envs", "2", *EVALS)
@@ -28,6 +35,7 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("Reach", "ppo", 2048)
     assert metrics["completed"] and metrics["wall_time"] > 0 and metrics["cpu_time"] > 0
+    assert metrics["engine"] == "sb3" and metrics["env_steps_per_second"] > 0
     assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
     assert metrics["final"] == metrics["evaluations"][-1]
     assert metrics["final"]["success_rate"] is not None  # Reach reports is_success
@@ -64,10 +72,20 @@ def test_a_finished_run_is_kept_unless_resume_or_fresh_says_what_to_do(tmp_path)
     policy = (tmp_path / "run" / "policy.zip").read_bytes()
     again = composer("train", "Reach", "--timesteps", "2048", "--out", "run", cwd=tmp_path)
     line = assert_one_line_error(again, "run holds a finished run: Reach with PPO, 1,024 steps")
-    assert line.endswith("--resume continues it (to a larger --timesteps), --fresh replaces "
-                         "it, --out DIR trains elsewhere")  # fmt: skip
+    assert line.endswith(FINISHED_CHOICES)
     smaller = composer("train", "Reach", "--timesteps", "512", "--resume", "run", cwd=tmp_path)
     assert_one_line_error(smaller, "has 1,024 steps already", "give --timesteps above that")
+    # The Ray engine neither resumes nor replaces it (nor needs Ray to say so).
+    for flag in ("--resume", "--fresh"):
+        ray = composer("train", "Reach", "--engine", "ray", "--out", "run", flag, cwd=tmp_path)
+        assert_one_line_error(ray, "run holds a run of --engine sb3 (Reach with PPO, 1,024 steps",
+                              "--engine ray can neither resume nor replace it; give --engine "
+                              "sb3, or --out DIR to train elsewhere")  # fmt: skip
+    (tmp_path / "policy-only").mkdir()
+    (tmp_path / "policy-only" / "policy.zip").write_bytes(policy)
+    ray = composer("train", "Reach", "--engine", "ray", "--out", "policy-only", cwd=tmp_path)
+    assert_one_line_error(ray, "policy-only holds a policy of --engine sb3 (policy.zip): "
+                          "--engine ray can neither resume nor replace it")  # fmt: skip
     assert (tmp_path / "run" / "policy.zip").read_bytes() == policy  # nothing overwritten
 
     resumed = composer("train", "Reach", "--timesteps", "2048", "--out", "run", "--resume",
@@ -75,7 +93,7 @@ def test_a_finished_run_is_kept_unless_resume_or_fresh_says_what_to_do(tmp_path)
     assert resumed.returncode == 0, resumed.stderr
     assert "note: resuming keeps the checkpoint's --n-envs 2" in resumed.stdout
     assert "resuming at 1,024 steps: Reach with PPO to 2,048 steps" in resumed.stdout
-    assert "wrote policy.zip, learning_curve.png, metrics.json in run" in resumed.stdout
+    assert "; wrote policy.zip, learning_curve.png, metrics.json in run" in resumed.stdout
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert metrics["timesteps"] == 2048 and metrics["completed"]
     assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048]
@@ -94,13 +112,24 @@ def test_a_finished_run_is_kept_unless_resume_or_fresh_says_what_to_do(tmp_path)
     assert metrics["timesteps"] == 1024 and len(metrics["evaluations"]) == 1
 
 
-def test_results_without_a_checkpoint_are_not_overwritten(tmp_path):
+@pytest.mark.parametrize("engine", ["sb3", "ray"])
+def test_results_without_a_checkpoint_are_not_overwritten(tmp_path, engine):
+    """The rules of the output folder, checked before the engine (or Ray) starts."""
+    given = ("--engine", engine)
     (tmp_path / "run").mkdir()
     (tmp_path / "run" / "metrics.json").write_text("{}")
-    result = composer("train", "Reach", "--out", "run", cwd=tmp_path)
-    assert_one_line_error(result, "run holds results of an earlier run (metrics.json)")
-    both = composer("train", "Reach", "--out", "run", "--fresh", "--resume", cwd=tmp_path)
+    result = composer("train", "Reach", *given, "--out", "run", cwd=tmp_path)
+    assert_one_line_error(result, "run holds results of an earlier run (metrics.json) and no "
+                          "checkpoint to resume; --fresh replaces them")  # fmt: skip
+    both = composer("train", "Reach", *given, "--out", "run", "--fresh", "--resume",
+                    cwd=tmp_path)  # fmt: skip
     assert_one_line_error(both, "--resume and --fresh contradict each other")
+    elsewhere = composer("train", "Reach", *given, "--out", "run", "--resume", "other",
+                         cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(elsewhere, "--resume other and --out run differ; give one of them")
+    nothing = composer("train", "Reach", *given, "--resume", "run", cwd=tmp_path)
+    assert_one_line_error(nothing, "no checkpoint to resume in run (expected "
+                          "run/checkpoint/state.json)")  # fmt: skip
 
 
 def test_tensorboard_gets_the_training_and_evaluation_scalars(tmp_path):
@@ -153,5 +182,18 @@ def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):
     }
     state = json.loads((checkpoint / "state.json").read_text())
     assert state["algo"] == "sac" and not state["completed"] and state["timesteps"] > 0
+    assert state["engine"] == "sb3"
     evaluated = composer("eval", "Reach", "run/checkpoint", "--episodes", "1", cwd=tmp_path)
     assert evaluated.returncode == 0, evaluated.stderr
+
+    # A total below what the stopped run has is refused; above it, the run resumes with no
+    # flag (here one step of each environment more) and finishes.
+    done = state["timesteps"]
+    smaller = composer("train", "Reach", "--timesteps", "1", "--out", "run", cwd=tmp_path)
+    assert_one_line_error(smaller, f"the run in run has {done:,} steps already")
+    resumed = composer("train", "Reach", "--timesteps", str(done + 1), "--out", "run",
+                       "--no-video", "--eval-episodes", "1", cwd=tmp_path)  # fmt: skip
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"resuming at {done:,} steps: Reach with SAC to {done + 1:,} steps" in resumed.stdout
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["completed"] and metrics["timesteps"] == done + 2

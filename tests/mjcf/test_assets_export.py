@@ -115,9 +115,11 @@ def test_get_assets_is_exactly_what_the_xml_names(scene_and_model) -> None:
 # -- naming and supplying assets ----------------------------------------------------------------
 
 
-def _part(name: str, files: dict[str, bytes], file_name: str = "part.stl") -> mjcf.RootElement:
+def _part(
+    name: str, files: dict[str, bytes], file_name: str = "part.stl", scale: float = 0.001
+) -> mjcf.RootElement:
     model = mjcf.RootElement(model=name, assets=files)
-    model.asset.add("mesh", name="part", file=file_name, scale=[0.001] * 3)
+    model.asset.add("mesh", name="part", file=file_name, scale=[scale] * 3)
     model.worldbody.add("body", name="b").add("geom", type="mesh", mesh="part")
     return model
 
@@ -126,7 +128,7 @@ def test_identical_contents_share_a_name_different_ones_get_readable_names(menag
     pad, driver = PAD.read_bytes(), DRIVER.read_bytes()
     scene = mjcf.RootElement(model="scene")
     scene.attach(_part("a", {"part.stl": pad}))
-    scene.attach(_part("b", {"part.stl": pad}))
+    scene.attach(_part("b", {"part.stl": pad}, scale=0.002))  # its own mesh, the same file
     scene.attach(_part("c", {"part.stl": driver}))
     assets = scene.get_assets()
     assert assets == {"part.stl": pad, "c-part.stl": driver}

@@ -554,6 +554,7 @@ def test_frame_helpers() -> None:
     frame = arena.attach(ant)
     assert mjcf.get_attachment_frame(ant) is frame
     assert mjcf.get_attachment_frame(arena) is None
+    assert mjcf.get_frame_joints(arena) is None  # not attached: None, as in dm_control
     assert mjcf.get_frame_freejoint(frame) is None and mjcf.get_frame_joints(frame) == []
     torso_free = mjcf.get_freejoint(ant.find("body", "torso"))
     assert torso_free is ant.find("joint", "root")  # <joint type="free">
@@ -597,7 +598,7 @@ def test_bad_attachments_are_refused_and_change_nothing(menagerie) -> None:
     renamed = mjcf.from_path(ROBOTIQ)
     renamed.model = "second"
     arm.attach(renamed)
-    _refused(arm, lambda: setattr(renamed, "model", "robotiq_2f85"), mjcf.NameError,
+    _refused(arm, lambda: setattr(renamed, "model", "robotiq_2f85"), mjcf.NameClashError,
              "already attached")  # fmt: skip
-    with pytest.raises(mjcf.NameError, match="separates"):
+    with pytest.raises(mjcf.NameClashError, match="separates"):
         mjcf.RootElement(model="a/b")

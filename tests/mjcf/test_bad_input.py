@@ -35,8 +35,12 @@ def test_unknown_element_suggests(model: mjcf.RootElement) -> None:
 def test_unknown_attribute_suggests(model: mjcf.RootElement) -> None:
     tip = model.find("geom", "tip")
     message = r"<geom name=\"tip\">: <geom> has no attribute 'rgab' \(did you mean 'rgba'\?\)"
-    _unchanged(model, lambda: setattr(tip, "rgab", [1, 0, 0, 1]), mjcf.AttributeError, message)
-    _unchanged(model, lambda: model.worldbody.add("geom", sise=[1]), mjcf.AttributeError, "sise")
+    _unchanged(
+        model, lambda: setattr(tip, "rgab", [1, 0, 0, 1]), mjcf.UnknownAttributeError, message
+    )
+    _unchanged(
+        model, lambda: model.worldbody.add("geom", sise=[1]), mjcf.UnknownAttributeError, "sise"
+    )
     with pytest.raises(AttributeError):  # still the builtin meaning
         tip.rgab  # noqa: B018
     assert getattr(tip, "rgab", None) is None
@@ -65,19 +69,19 @@ def test_failed_add_adds_nothing(model: mjcf.RootElement) -> None:
     _unchanged(model, lambda: body.add("geom", name="new", size=[1, 2, 3, 4]),
                mjcf.AttributeValueError, "size")  # fmt: skip
     assert model.find("geom", "new") is None
-    _unchanged(model, lambda: body.add("geom", name="tip"), mjcf.NameError, "already used")
+    _unchanged(model, lambda: body.add("geom", name="tip"), mjcf.NameClashError, "already used")
 
 
 def test_duplicate_names(model: mjcf.RootElement) -> None:
     other = model.worldbody.add("geom", name="other", size=[1])
-    _unchanged(model, lambda: setattr(other, "name", "tip"), mjcf.NameError,
+    _unchanged(model, lambda: setattr(other, "name", "tip"), mjcf.NameClashError,
                r"'tip' is already used by another geom")  # fmt: skip
     model.worldbody.add("body", name="tip")  # another namespace: fine
 
 
 def test_wrong_reference_kind(model: mjcf.RootElement) -> None:
     _unchanged(model, lambda: model.actuator.add("motor", joint=model.find("geom", "tip")),
-               mjcf.ReferenceError, "'joint' refers to a joint")  # fmt: skip
+               mjcf.InvalidReferenceError, "'joint' refers to a joint")  # fmt: skip
 
 
 def test_dangling_reference_in_file() -> None:
@@ -85,7 +89,7 @@ def test_dangling_reference_in_file() -> None:
         '<mujoco><worldbody><body><joint name="j"/><geom size="1"/></body></worldbody>'
         '<actuator><motor joint="jj"/></actuator></mujoco>'
     )
-    with pytest.raises(mjcf.ReferenceError, match=r"joint='jj' \(no joint of that name\)"):
+    with pytest.raises(mjcf.InvalidReferenceError, match=r"joint='jj' \(no joint of that name\)"):
         mjcf.from_xml_string(text)
     model = mjcf.from_xml_string(text, resolve_references=False)
     assert model.actuator.motor[0].joint == "jj"

@@ -118,7 +118,7 @@ def test_commit_defaults_refuses_an_attribute_no_class_can_set(menagerie) -> Non
     arm = mjcf.from_path(UR5E)
     before = arm.to_xml_string()
     joint = arm.find("joint", "elbow_joint")
-    with pytest.raises(mjcf.AttributeError, match=r"elbow_joint.*'armatur'.*'armature'"):
+    with pytest.raises(mjcf.UnknownAttributeError, match=r"elbow_joint.*'armatur'.*'armature'"):
         mjcf.commit_defaults(joint, attributes=["range", "armatur"])
     with pytest.raises(AttributeError, match="no default class sets an attribute 'nonsense'"):
         mjcf.commit_defaults(arm, attributes=["nonsense"])
@@ -177,14 +177,14 @@ def test_include_copy_name_collisions_change_nothing() -> None:
     base = _base()
     base.include_copy(_extra())
     before = base.to_xml_string()
-    with pytest.raises(mjcf.NameError, match=r"the name 'b2' is already used by another body"):
+    with pytest.raises(mjcf.NameClashError, match=r"the name 'b2' is already used by another body"):
         base.include_copy(_extra())
     assert base.to_xml_string() == before
     clash = mjcf.RootElement(model="clash")
     clash.worldbody.add("body", name="fresh")
     clash.actuator.add("motor", name="m2", joint="j")
     clash.find("body", "fresh").add("joint", name="j")
-    with pytest.raises(mjcf.NameError, match=r"'m2' is already used by another actuator"):
+    with pytest.raises(mjcf.NameClashError, match=r"'m2' is already used by another actuator"):
         base.include_copy(clash)
     assert base.to_xml_string() == before
     with pytest.raises(mjcf.SchemaError, match="same kind"):

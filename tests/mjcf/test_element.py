@@ -105,7 +105,7 @@ def test_references_accept_elements_and_follow_renames(arm: mjcf.RootElement) ->
     assert 'joint="hip"' in motor.to_xml_string()
     sensor = arm.sensor.add("jointpos", joint="hip")
     assert sensor.joint is shoulder  # a name resolves to the element on reading
-    with pytest.raises(mjcf.ReferenceError, match="refers to a joint"):
+    with pytest.raises(mjcf.InvalidReferenceError, match="refers to a joint"):
         motor.joint = arm.find("geom", "upper")
 
 
@@ -161,7 +161,7 @@ def test_escaped_separators_keep_slashes_in_names() -> None:
         '<mujoco><worldbody><body name="a/b"><geom name="g/1" size=".1"/></body>'
         "</worldbody></mujoco>"
     )
-    with pytest.raises(mjcf.NameError, match="escape_separators"):
+    with pytest.raises(mjcf.NameClashError, match="escape_separators"):
         mjcf.from_xml_string(text)
     root = mjcf.from_xml_string(text, escape_separators=True)
     assert root.find("body", "a\\/b") is not None

@@ -297,3 +297,25 @@ def test_render_request_errors():
     physics = Physics.from_xml_path(HUMANOID)
     with pytest.raises(errors.RenderError, match="framebuffer"):
         physics.render(10_000, 10_000)
+
+
+@pytest.mark.parametrize(
+    "first_use",
+    [
+        lambda p: p.data.xpos.copy(),
+        lambda p: p.named.data.xpos["torso"].copy(),
+        lambda p: p.bind_names(Obj.mjOBJ_BODY, "torso").xpos.copy(),
+        lambda p: p.copy().data.xpos.copy(),
+        lambda p: pickle.loads(pickle.dumps(p)).data.xpos.copy(),
+        lambda p: (p.step(), p.data.xpos.copy())[1],
+        lambda p: p.get_state(),
+    ],
+)
+def test_a_new_physics_is_forwarded_whatever_is_used_first(first_use) -> None:
+    """The MjData a physics makes on first use (not when it is made) is the forwarded
+    data an eager one would have had."""
+    model = mujoco.MjModel.from_xml_path(str(HUMANOID))
+    eager = mujoco.MjData(model)
+    mujoco.mj_forward(model, eager)
+    expected = first_use(Physics(model, eager))
+    np.testing.assert_array_equal(first_use(Physics.from_model(model)), expected)

@@ -342,7 +342,7 @@ def test_defaults_naming_assets_they_do_not_define_load() -> None:
     root.worldbody.add("geom", dclass="red", size=[0.1])
     with pytest.raises(mjcf.CompileError, match="red_mat"):
         mjcf.Physics.from_mjcf_model(root)
-    with pytest.raises(mjcf.ReferenceError, match="red_mat"):
+    with pytest.raises(mjcf.InvalidReferenceError, match="red_mat"):
         mjcf.from_xml_string(defaults.replace("</default></mujoco>", "</default>"
             '<worldbody><geom material="red_mat" size=".1"/></worldbody></mujoco>'))  # fmt: skip
 

@@ -1,0 +1,301 @@
+"""What `composer train --engine ray` writes and reads: the trained policy and the checkpoint.
+
+    folder = ray_files.find_policy('runs/CartpoleSwingup-ppo-ray')   # None: not a Ray result
+    policy = ray_files.load_policy(folder, env)     # policy.predict(obs, deterministic=True)
+    checkpoint = ray_files.Checkpoint('runs/CartpoleSwingup-ppo-ray/checkpoint')
+    checkpoint.state()['timesteps'], checkpoint.algorithm_path()
+
+A policy is a folder: `module/`, the RLlib RLModule that computes actions (the inference
+part of the trained network, `RLModule.from_checkpoint` reads it), and `policy.json`: the
+task, the action bounds, and the running mean and std of observations the module was fed
+(RLlib's MeanStdFilter, None without normalization). `RayPolicy` applies that filter,
+the module's deterministic action and RLlib's unsquashing to the action bounds, as RLlib's
+env runners do with exploration off, so `composer eval` repeats training's evaluations.
+
+A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
+Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
+and `state.json` (the `Progress` with the engine's layout and which subfolder is current),
+written atomically after the subfolder is complete, so a folder with a `state.json` holds
+a complete checkpoint even when training was killed while saving. Older subfolders are
+deleted after.
+
+Ray is imported only to load or save, so `composer eval` tells a Ray result from a
+stable-baselines3 one without it.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import re
+import secrets
+import shutil
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+
+from composer.cli import engine
+from composer.cli.errors import MissingExtraError, OutputError, PolicyError
+
+RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
+POLICY_FILE = "policy.json"
+POLICY_FORMAT = "composer-rllib-policy"
+ENGINE = "ray"
+# RLlib's MeanStdFilter divides by std + this (ray.rllib.utils.filter.SMALL_NUMBER).
+_FILTER_EPSILON = 1e-8
+# A checkpoint's saves, '000000020480-3fa9c1' (timesteps, then a random tag), and those
+# being written ('.000000020480-3fa9c1.partial').
+_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
+
+
+def require_ray(needs: str = "--engine ray needs") -> None:
+    """Raise MissingExtraError with the install command unless Ray's RLlib imports; the
+    message starts with `needs`."""
+    try:
+        import ray.rllib  # noqa: F401
+    except ImportError as e:
+        raise MissingExtraError(
+            f"{needs} the [ray] extra ({e.name or 'ray'} is missing): {RAY_INSTALL}"
+        ) from e
+
+
+def quiet_ray() -> None:
+    """Keep Ray's and RLlib's Python notices (the new API stack, deprecations, token
+    files) off the terminal: errors still show, and Ray's log files keep everything."""
+    for name in ("ray", "ray.rllib", "ray.tune"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+
+
+# -- policies -------------------------------------------------------------------------------
+
+
+def find_policy(path: str | os.PathLike[str]) -> Path | None:
+    """The Ray policy folder `path` names: itself, its `policy/`, or the current policy of
+    the checkpoint it is or holds; None when it names none (e.g. a stable-baselines3 file)."""
+    path = Path(path)
+    for candidate in (path, path / "policy"):
+        if (candidate / POLICY_FILE).is_file():
+            return candidate
+    for folder in (path, path / "checkpoint"):
+        checkpoint = Checkpoint(folder)
+        if checkpoint.exists():
+            return checkpoint.current() / "policy"
+    return None
+
+
+class RayPolicy:
+    """An RLModule with the observation filter it was trained with: `predict` as a
+    stable-baselines3 model's, for `composer.cli.rollout.model_policy`."""
+
+    def __init__(self, module: Any, spec: dict[str, Any]) -> None:
+        """Serve `module` (an RLlib RLModule) with `spec` (the contents of policy.json)."""
+        import torch  # the [train] extra: training.py turns its absence into a message
+
+        self.module = module
+        self.spec = spec
+        self.observation_space = gymnasium.spaces.Box(
+            -np.inf, np.inf, tuple(spec["observation_shape"]), np.float32
+        )
+        self.action_space = gymnasium.spaces.Box(
+            np.array(spec["action_low"], np.float32), np.array(spec["action_high"], np.float32)
+        )
+        stats = spec["observation_filter"]
+        self._filter = None
+        if stats is not None:
+            self._filter = (
+                np.array(stats["mean"], np.float64),
+                np.array(stats["std"], np.float32),
+                stats["clip"],
+            )
+        self._torch = torch
+
+    def normalize(self, observation: np.ndarray) -> np.ndarray:
+        """`observation` as the module saw it in training (RLlib's MeanStdFilter, frozen)."""
+        x = np.asarray(observation)
+        if self._filter is None:
+            return x
+        mean, std, clip = self._filter
+        normalized = (x - mean) / (std + _FILTER_EPSILON)
+        if clip:
+            normalized = np.clip(normalized, -clip, clip)
+        return normalized.astype(x.dtype)
+
+    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
+        """The action for one observation (shape observation_shape): the distribution's
+        mode when `deterministic`, else a sample, mapped into the action bounds."""
+        from ray.rllib.core.columns import Columns  # Ray: only where a Ray policy is used
+        from ray.rllib.utils.spaces.space_utils import unsquash_action
+
+        torch = self._torch
+        observations = torch.as_tensor(self.normalize(observation)[None], dtype=torch.float32)
+        batch = {Columns.OBS: observations}
+        with torch.no_grad():
+            output = self.module.forward_inference(batch)
+            actions = output.get(Columns.ACTIONS)
+            if actions is None:
+                distribution = self.module.get_inference_action_dist_cls().from_logits(
+                    output[Columns.ACTION_DIST_INPUTS]
+                )
+                if deterministic:
+                    distribution = distribution.to_deterministic()
+                actions = distribution.sample()
+        action = actions[0].numpy().astype(np.float32)
+        return unsquash_action(action, self.action_space), None
+
+
+def save_policy(algo: Any, folder: Path, info: dict[str, Any]) -> None:
+    """Write `algo`'s current policy (see `current_policy`) to `folder`; `info` (task,
+    env_id, algo) goes into policy.json."""
+    algo.env_runner.module.save_to_path(_uri(folder / "module"))
+    (folder / POLICY_FILE).write_text(json.dumps(policy_spec(algo, info), indent=1) + "\n")
+
+
+def current_policy(algo: Any, info: dict[str, Any]) -> RayPolicy:
+    """`algo`'s current policy: its local env runner's module and observation filter,
+    which RLlib synchronizes with the learner and the sampling env runners after every
+    training iteration."""
+    spec = json.loads(json.dumps(policy_spec(algo, info)))  # the values a load would read
+    return RayPolicy(algo.env_runner.module, spec)
+
+
+def policy_spec(algo: Any, info: dict[str, Any]) -> dict[str, Any]:
+    """The contents of policy.json for `algo`'s current policy."""
+    module = algo.env_runner.module
+    return {
+        "format": POLICY_FORMAT,
+        "version": 1,
+        **info,
+        "observation_shape": list(module.observation_space.shape),
+        "action_low": module.action_space.low.tolist(),
+        "action_high": module.action_space.high.tolist(),
+        "observation_filter": observation_filter(algo.env_runner),
+    }
+
+
+def observation_filter(runner: Any) -> dict[str, Any] | None:
+    """The mean, std and clip of the MeanStdFilter in `runner`'s env-to-module pipeline,
+    as plain lists, or None when it has none."""
+    from ray.rllib.utils.filter import RunningStat  # Ray: only where a Ray policy is saved
+
+    pipeline = runner.get_state(components="env_to_module_connector")["env_to_module_connector"]
+    state = pipeline.get("MeanStdFilter")
+    if state is None:
+        return None
+    (agent,) = state.values()
+    (stats,) = agent["running_stats"]
+    running = RunningStat.from_state(stats)
+    return {
+        "mean": np.asarray(running.mean, np.float64).tolist(),
+        "std": np.asarray(running.std, np.float32).tolist(),
+        "clip": agent["clip_by_value"],
+    }
+
+
+def load_policy(folder: Path, env: Any) -> RayPolicy:
+    """The policy saved in `folder`, checked to fit `env`'s spaces; raises PolicyError
+    for a folder that cannot be read or a policy of other spaces, MissingExtraError
+    without Ray."""
+    try:
+        spec = json.loads((folder / POLICY_FILE).read_text())
+    except (OSError, ValueError) as e:
+        raise PolicyError(f"cannot read {folder / POLICY_FILE}: {e}") from e
+    if spec.get("format") != POLICY_FORMAT:
+        raise PolicyError(f"{folder / POLICY_FILE} is not a policy written by `composer train`")
+    require_ray(f"{folder} was trained with --engine ray: loading it needs")
+    quiet_ray()
+    from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked just above
+
+    try:
+        module = RLModule.from_checkpoint(_uri(folder / "module"))
+    except (OSError, ValueError, KeyError) as e:
+        raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
+    module.eval()
+    policy = RayPolicy(module, spec)
+    engine.check_spaces(folder, policy, env)
+    return policy
+
+
+def _uri(path: Path) -> str:
+    """`path` as RLlib takes it: absolute (a relative path is read as a URI)."""
+    return str(path.resolve())
+
+
+# -- checkpoints ----------------------------------------------------------------------------
+
+
+class Checkpoint(engine.Checkpoint):
+    """A Ray training checkpoint in a folder (see the module docstring)."""
+
+    engine = ENGINE
+    policy = "policy"
+
+    def current(self) -> Path:
+        """The subfolder of the last complete save."""
+        return self.folder / str(self.state().get("saved"))
+
+    def algorithm_path(self) -> Path:
+        """The RLlib Algorithm checkpoint of the last complete save."""
+        return self.current() / "algorithm"
+
+    def save(self, model: RayModel, progress: engine.Progress) -> None:
+        """Save `model`'s algorithm and policy into a new subfolder, then `progress` with
+        the model's layout, naming that subfolder current; then remove the older ones.
+        Raises OutputError."""
+        name = f"{int(progress.timesteps):012d}-{secrets.token_hex(3)}"
+        saved = self.folder / name
+
+        def write(folder: Path) -> None:
+            model.algo.save_to_path(_uri(folder / "algorithm"))
+            save_policy(model.algo, folder / "policy", model.info)
+
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            engine.replace(saved, write)
+            self._save_state({**progress.to_json(), **model.layout, "saved": name})
+        except OSError as e:
+            raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
+        for old in self._saved_files():
+            if old != saved:
+                shutil.rmtree(old, ignore_errors=True)
+
+    def _complete(self) -> bool:
+        return self.current().is_dir()
+
+    def _saved_files(self) -> list[Path]:
+        if not self.folder.is_dir():
+            return []
+        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
+
+
+class RayModel:
+    """An RLlib Algorithm as `composer.cli.training.Session` sees a model: its timesteps,
+    and `predict` by its current policy (call `sync()` after training changed it), which
+    normalizes observations itself."""
+
+    def __init__(self, algo: Any, info: dict[str, Any], layout: dict[str, Any]) -> None:
+        """Wrap `algo`; `info` (task, env_id, algo) goes into policy files, `layout`
+        (workers, envs per worker, restarts) into checkpoints."""
+        self.algo = algo
+        self.info = info
+        self.layout = layout
+        self.num_timesteps = 0
+        self._policy: RayPolicy | None = None
+
+    def sync(self) -> None:
+        """Take the algorithm's current policy for `predict`."""
+        self._policy = current_policy(self.algo, self.info)
+
+    @property
+    def policy(self) -> RayPolicy:
+        """The policy `predict` uses (the algorithm's at the last `sync`)."""
+        if self._policy is None:
+            self.sync()
+        assert self._policy is not None
+        return self._policy
+
+    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
+        """The policy's action (see RayPolicy.predict)."""
+        return self.policy.predict(observation, deterministic)

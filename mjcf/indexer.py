@@ -1,0 +1,204 @@
+"""Checking a document's names and references without building its elements: the fast
+way `mjcf.parser` reads a model.
+
+    names = indexer.index(xml_root, check_references=True)
+    if names is None:      # a document to read element by element
+        ...
+    names['joint']['hip']  # the lxml element of the joint called 'hip'
+
+After the XML Schema (`mjcf.xsd`) has accepted the document, this pass checks in Python
+what reading element by element checks beyond it: names unique in their namespace,
+references naming elements that exist, elements that may appear once appearing once,
+and the values the schema leaves to the converters. It handles the common document;
+for anything else (an empty name or one with a '/', generated or clashing names, a
+`<replicate>`, any error ...) it returns None and the element-by-element reader reads the document,
+which raises the error naming the element, or reads what this pass does not handle.
+The elements themselves are built when first used (see `Element._defer`).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING
+
+from mjcf import values, xsd
+from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD, name_from_file
+
+if TYPE_CHECKING:
+    from lxml import etree
+
+    from mjcf.schema import AttributeSpec, ElementSpec
+
+# Elements whose contents MuJoCo names itself: read element by element.
+_GENERATING = frozenset({"replicate", "attach"})
+
+
+class _Fallback(Exception):
+    """The document is one for the element-by-element reader."""
+
+
+class _Plan:
+    """What the pass does for an element of one spec, worked out once per spec."""
+
+    __slots__ = (
+        "children",
+        "dynamic",
+        "identifier",
+        "implicit",
+        "many_references",
+        "namespace",
+        "rare",
+        "reference_items",
+        "references",
+        "single",
+        "unchecked",
+    )
+
+    def __init__(self, spec: ElementSpec) -> None:
+        self.namespace = spec.namespace
+        self.identifier = spec.identifier if spec.namespace is not None else None
+        self.implicit = spec.tag in NAMED_AFTER_FILE
+        static: list[tuple[str, str]] = []
+        dynamic: list[AttributeSpec] = []
+        # References inside default classes are resolved where a class is used.
+        if not spec.key.startswith("default-"):
+            for name in spec.references:
+                attribute = spec.attributes[name]
+                if attribute.namespace_from is None and not attribute.is_list:
+                    if attribute.namespace is not None:
+                        static.append((name, attribute.namespace))
+                else:
+                    dynamic.append(attribute)
+        self.references = dict(static)  # attribute -> namespace
+        self.reference_items = tuple(static)
+        self.many_references = len(static) > 5
+        self.dynamic = tuple(dynamic)
+        self.unchecked = xsd.unchecked(spec)
+        self.single = not spec.repeated
+        self.rare = bool(self.dynamic or self.unchecked or self.single)
+        self.children: dict[str, _Plan] = {}
+
+
+_plans: dict[int, _Plan] = {}
+
+
+def _plan(spec: ElementSpec) -> _Plan:
+    plan = _plans.get(id(spec))
+    if plan is None:
+        plan = _plans[id(spec)] = _Plan(spec)
+        plan.children = {
+            tag: _plan(child) for tag, child in spec.children.items() if tag not in _GENERATING
+        }
+    return plan
+
+
+def index(
+    xml_root: etree._Element, sections: dict[str, ElementSpec], check_references: bool
+) -> dict[str, dict[str, etree._Element]] | None:
+    """{namespace: {name: lxml element}} of the document under `xml_root`, whose
+    top-level sections have `sections` (by tag), once each; None if the document is one
+    for the element-by-element reader (see the module docstring)."""
+    names: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
+    implicit: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
+    references: defaultdict[str, list[str]] = defaultdict(list)
+
+    def walk(plans: dict[str, _Plan], xml_parent: etree._Element) -> None:
+        singles = None
+        for xml in xml_parent:
+            tag = xml.tag
+            plan = plans.get(tag)  # not a str for entities: not found
+            if plan is None:
+                raise _Fallback
+            identifier = plan.identifier
+            if identifier is not None:
+                name = xml.get(identifier)
+                if name is not None:
+                    table = names[plan.namespace]
+                    if name in table or PREFIX_SEPARATOR in name or not name:
+                        raise _Fallback
+                    table[name] = xml
+                elif plan.implicit:
+                    name = name_from_file(xml.get("file"))
+                    if name is not None:
+                        implicit[plan.namespace].setdefault(name, xml)
+            if plan.many_references:  # one call for every attribute, not one each
+                selected = plan.references
+                for attribute, text in xml.items():
+                    namespace = selected.get(attribute)
+                    if namespace is not None:
+                        if PREFIX_SEPARATOR in text:
+                            raise _Fallback
+                        references[namespace].append(text)
+            else:
+                for attribute, namespace in plan.reference_items:
+                    text = xml.get(attribute)
+                    if text is not None:
+                        if PREFIX_SEPARATOR in text:
+                            raise _Fallback
+                        references[namespace].append(text)
+            if plan.rare:  # few elements need any of these
+                if plan.dynamic:
+                    _dynamic_references(xml, plan.dynamic, references)
+                if plan.unchecked:
+                    _check_values(xml, plan.unchecked)
+                if plan.single:
+                    if singles is None:
+                        singles = set()
+                    elif tag in singles:
+                        raise _Fallback
+                    singles.add(tag)
+            if len(xml):
+                walk(plan.children, xml)
+
+    try:
+        for xml_section in xml_root:
+            walk(_plan(sections[xml_section.tag]).children, xml_section)
+    except _Fallback:
+        return None
+    for namespace, table in implicit.items():
+        named = names[namespace]
+        if not named.keys().isdisjoint(table):
+            return None  # which of them keeps the name depends on their order
+        named.update(table)
+    if WORLD in names.get("body", ()):
+        return None  # the world body's name
+    if check_references:
+        for namespace, targets in references.items():
+            missing = set(targets).difference(names.get(namespace, ()))
+            if namespace == "body":
+                missing.discard(WORLD)
+            elif namespace == "default":
+                missing.discard("main")
+            if missing:
+                return None
+    return dict(names)
+
+
+def _check_values(xml: etree._Element, attributes: tuple[AttributeSpec, ...]) -> None:
+    """Check the values the XML Schema leaves to the converters."""
+    for attribute in attributes:
+        text = xml.get(attribute.name)
+        if text is not None:
+            try:
+                attribute.converter.check_text(text)
+            except values.InvalidValue:
+                raise _Fallback from None
+
+
+def _dynamic_references(
+    xml: etree._Element,
+    attributes: tuple[AttributeSpec, ...],
+    references: defaultdict[str, list[str]],
+) -> None:
+    """Record the references of `xml` whose namespace another attribute selects, or that
+    name several elements."""
+    for attribute in attributes:
+        text = xml.get(attribute.name)
+        if text is None:
+            continue
+        if PREFIX_SEPARATOR in text:
+            raise _Fallback
+        namespace = attribute.reference_namespace(xml.attrib)
+        if namespace is not None:
+            targets = text.split() if attribute.is_list else [text]
+            references[namespace].extend(targets)

@@ -1,0 +1,155 @@
+"""An XML Schema of MJCF, generated from `mjcf.schema`, that libxml2 checks whole
+documents against in C: the parser's first, fast check.
+
+    if xsd.accepts(xml_root):    # every element and attribute known, every value well formed
+        ...                      # read fast (mjcf.indexer)
+    else:
+        ...                      # read element by element, which says what is wrong
+
+The schema is conservative: it accepts a document only if the element-by-element
+checks (`mjcf.values` converters, `mjcf.schema` specs) accept it too, never the other
+way round. Elements and attributes are those of `mjcf.schema` in their places; numbers
+are XML Schema doubles or integers, as many as the attribute takes; keywords are the
+keywords; attributes an element requires are required. Whatever it cannot say as simply
+(numbers counted in multiples, blank values, integers written as '1.0', namespaced
+attributes ...) it refuses or leaves to `unchecked` attributes, and the element-by-element
+checks decide. It is built once per thread, when it first reads a document (about 10 ms).
+"""
+
+from __future__ import annotations
+
+import functools
+import threading
+from xml.sax.saxutils import quoteattr
+
+from lxml import etree
+
+from mjcf import schema
+from mjcf.schema import AttributeSpec, ElementSpec
+
+_XS = "http://www.w3.org/2001/XMLSchema"
+
+
+def accepts(xml_root: etree._Element) -> bool:
+    """Whether the document under `xml_root` (a `<mujoco>`) passes the schema."""
+    return _schema().validate(xml_root)
+
+
+def unchecked(spec: ElementSpec) -> tuple[AttributeSpec, ...]:
+    """The attributes of `spec` whose values the schema takes as any text, but the
+    element-by-element checks do not: to be checked with their converters."""
+    return _unchecked(spec)
+
+
+@functools.cache
+def _unchecked(spec: ElementSpec) -> tuple[AttributeSpec, ...]:
+    return tuple(
+        attribute
+        for attribute in spec.attributes.values()
+        if attribute.kind in ("int", "real", "keyword") and _simple_type(attribute) is None
+    )
+
+
+def _simple_type(attribute: AttributeSpec) -> tuple | None:
+    """What the schema checks an attribute's value with: ('keywords', values, is a list)
+    or ('numbers', item type, least, most); None for any text."""
+    if attribute.kind == "keyword":
+        return ("keywords", attribute.values, attribute.is_list)
+    if attribute.kind in ("int", "real") and attribute.min >= 1 and not attribute.multiple_of:
+        item = "double" if attribute.kind == "real" else "integer"
+        return ("numbers", item, attribute.min, attribute.max)
+    return None
+
+
+_per_thread = threading.local()  # lxml's validators are not for concurrent use
+
+
+def _schema() -> etree.XMLSchema:
+    found = getattr(_per_thread, "schema", None)
+    if found is None:
+        found = _per_thread.schema = etree.XMLSchema(etree.fromstring(_text().encode()))
+    return found
+
+
+@functools.cache
+def _text() -> str:
+    return schema_text()
+
+
+def schema_text() -> str:
+    """The XML Schema, as text."""
+    complex_names: dict[int, str] = {}
+    pending: list[ElementSpec] = []
+    simple_names: dict[tuple, str] = {}
+
+    def complex_name(spec: ElementSpec) -> str:
+        name = complex_names.get(id(spec))
+        if name is None:
+            name = complex_names[id(spec)] = f"element{len(complex_names)}"
+            pending.append(spec)
+        return name
+
+    def simple_name(attribute: AttributeSpec) -> str:
+        kind = _simple_type(attribute)
+        if kind is None:
+            return "xs:string"
+        name = simple_names.get(kind)
+        if name is None:
+            name = simple_names[kind] = f"value{len(simple_names)}"
+        return name
+
+    out = [f'<xs:schema xmlns:xs="{_XS}">',
+           f'<xs:element name="mujoco" type="{complex_name(schema.MUJOCO)}"/>']  # fmt: skip
+    while pending:
+        spec = pending.pop()
+        out.append(f'<xs:complexType name="{complex_names[id(spec)]}" mixed="true">')
+        if spec.children:
+            out.append('<xs:choice minOccurs="0" maxOccurs="unbounded">')
+            out.extend(
+                f'<xs:element name="{tag}" type="{complex_name(child)}"/>'
+                for tag, child in spec.children.items()
+            )
+            out.append("</xs:choice>")
+        out.extend(
+            f'<xs:attribute name="{name}" type="{simple_name(attribute)}"'
+            + (' use="required"/>' if attribute.required else "/>")
+            for name, attribute in spec.attributes.items()
+        )
+        out.append("</xs:complexType>")
+    for kind, name in simple_names.items():
+        out.append(_simple_type_text(name, kind))
+    out.append(_DOUBLE)
+    out.append("</xs:schema>")
+    return "".join(out)
+
+
+# A real number: libxml2 takes '1e' and '1e+' for doubles, which Python's float()
+# refuses, so a double must end as only well-formed ones do. Decimals (most values) are
+# tried first: that costs no pattern, which would double the time of the whole check.
+_DOUBLE = (
+    '<xs:simpleType name="double"><xs:union memberTypes="xs:decimal exponent"/>'
+    '</xs:simpleType><xs:simpleType name="exponent"><xs:restriction base="xs:double">'
+    '<xs:pattern value=".*[0-9NF]"/></xs:restriction></xs:simpleType>'
+)
+
+
+def _simple_type_text(name: str, kind: tuple) -> str:
+    if kind[0] == "keywords":
+        _, values, is_list = kind
+        enumeration = "".join(f"<xs:enumeration value={quoteattr(v)}/>" for v in values)
+        words = f'<xs:restriction base="xs:string">{enumeration}</xs:restriction>'
+        if is_list:
+            words = f"<xs:list><xs:simpleType>{words}</xs:simpleType></xs:list>"
+        return f'<xs:simpleType name="{name}">{words}</xs:simpleType>'
+    _, item, least, most = kind
+    item = "double" if item == "double" else "xs:integer"
+    if least == most == 1:
+        return f'<xs:simpleType name="{name}"><xs:restriction base="{item}"/></xs:simpleType>'
+    facets = f'<xs:minLength value="{least}"/>'
+    if most is not None:
+        facets += f'<xs:maxLength value="{most}"/>'
+    return (
+        f'<xs:simpleType name="{name}"><xs:restriction><xs:simpleType>'
+        f'<xs:list itemType="{item}"/></xs:simpleType>{facets}</xs:restriction>'
+        "</xs:simpleType>"
+    )

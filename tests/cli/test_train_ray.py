@@ -1,0 +1,320 @@
+"""`composer train --engine ray`: RLlib on a real two-worker local Ray instance, the files
+of the stable-baselines3 engine, eval and run of the result, resuming, Ctrl-C, and an env
+runner killed mid-training."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+
+import imageio.v3 as iio
+import pytest
+
+from tests.cli.helpers import (
+    FINISHED_CHOICES,
+    assert_one_line_error,
+    composer,
+    composer_without,
+    environment,
+)
+
+try:
+    import ray.rllib  # noqa: F401
+
+    RAY_MISSING = None
+except ImportError as e:
+    RAY_MISSING = f"Ray's RLlib is not installed ({e}): pip install -e '.[ray]'"
+needs_ray = pytest.mark.skipif(RAY_MISSING is not None, reason=RAY_MISSING or "")
+
+RAY = ("--engine", "ray")
+# Ray starts, trains and stops in each command: far slower than a plain command.
+TIMEOUT = 600
+
+
+@needs_ray
+def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path):
+    result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps", "20000",
+                      "--out", "run", cwd=tmp_path, timeout=TIMEOUT)  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
+            "environments -> run") in result.stdout  # fmt: skip
+    assert re.search(r"^env runners: 2 on [\d.]+ \(pids \d+, \d+\)$", result.stdout, re.M)
+    assert re.search(r"^ +20,480 steps +\d+s  return [\d.]+ ± [\d.]+$", result.stdout, re.M)
+    out = tmp_path / "run"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 16)
+    assert metrics["env_steps_per_second"] > 0
+    assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("CartpoleSwingup", "ppo",
+                                                                        20480)  # fmt: skip
+    assert metrics["completed"] and metrics["env_steps_per_second"] > 0
+    assert metrics["env_runner_restarts"] == 0 and metrics["ray"]["cluster"] == "local"
+    # 4,096 steps per iteration (32 environments x 128): an evaluation every 2,000 is due
+    # after each of the 5 iterations.
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [4096 * i for i in range(1, 6)]
+    assert metrics["final"] == metrics["evaluations"][-1]
+    assert metrics["recipe"]["n_envs"] == 32 and metrics["recipe"]["n_steps"] == 128
+    assert sum(row[2] for row in metrics["train_curve"]) == 32 * (20480 // 32 // 200)
+    assert metrics["random_policy"]["episodes"] == 10
+    assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
+    assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape[1:] == (240, 320, 3)
+    assert {p.name for p in (out / "policy").iterdir()} == {"module", "policy.json"}
+
+    # The policy carries its observation filter: eval repeats training's final evaluation.
+    evaluated = composer("eval", "CartpoleSwingup", "run", "--episodes", "10", "--seed",
+                         "1000000", cwd=tmp_path)  # fmt: skip
+    assert evaluated.returncode == 0, evaluated.stderr
+    final = metrics["final"]
+    assert evaluated.stdout == (
+        f"CartpoleSwingup, policy run: return {final['mean_return']:.2f} ± "
+        f"{final['std_return']:.2f} over 10 episodes\n"
+    )
+    ran = composer("run", "CartpoleSwingup", "--policy", "run/policy", cwd=tmp_path)
+    assert ran.returncode == 0, ran.stderr
+    assert "CartpoleSwingup, policy run/policy: return" in ran.stdout
+    elsewhere = composer("eval", "Reach", "run", cwd=tmp_path)
+    assert_one_line_error(elsewhere, "observations of shape (5,)", "this task has (10,)")
+
+    # The rules of the output folder are the stable-baselines3 engine's, checked before
+    # Ray starts: a finished run is kept unless --resume or --fresh says what to do, ...
+    files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "28000", "--out", "run",
+                     cwd=tmp_path)  # fmt: skip
+    line = assert_one_line_error(again, "run holds a finished run: CartpoleSwingup with PPO, "
+                                 "20,480 steps")  # fmt: skip
+    assert line.endswith(FINISHED_CHOICES)
+    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "20480", "--resume",
+                       "run", cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(smaller, "the run in run has 20,480 steps already",
+                          "give --timesteps above that")  # fmt: skip
+    # ... the stable-baselines3 engine neither resumes nor replaces it ...
+    for flag in ("--resume", "--fresh"):
+        sb3 = composer("train", "CartpoleSwingup", "--out", "run", flag, cwd=tmp_path)
+        assert_one_line_error(sb3, "run holds a run of --engine ray (CartpoleSwingup with PPO, "
+                              "20,480 steps", "--engine sb3 can neither resume nor replace it; "
+                              "give --engine ray, or --out DIR")  # fmt: skip
+    shutil.copytree(out / "policy", tmp_path / "policy-only" / "policy")
+    sb3 = composer("train", "CartpoleSwingup", "--out", "policy-only", cwd=tmp_path)
+    assert_one_line_error(sb3, "policy-only holds a policy of --engine ray (policy): --engine "
+                          "sb3 can neither resume nor replace it")  # fmt: skip
+    # ... and --fresh removes the earlier run only once the new one can train.
+    port = free_port()
+    unreachable = composer("train", "CartpoleSwingup", *RAY, "--out", "run", "--fresh",
+                           "--address", f"127.0.0.1:{port}", cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(unreachable, f"cannot reach the Ray cluster at 127.0.0.1:{port}")
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
+
+    resumed = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--timesteps",
+                       "28000", "--resume", "--out", "run", "--no-video", cwd=tmp_path,
+                       timeout=TIMEOUT)  # fmt: skip
+    assert resumed.returncode == 0, resumed.stderr
+    assert ("resuming at 20,480 steps: CartpoleSwingup with RLlib PPO to 28,000 steps on "
+            "1 env runner x 16 environments") in resumed.stdout  # fmt: skip
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["timesteps"] == 28672 and metrics["workers"] == 1  # the batch stays 4,096
+    assert [e["timesteps"] for e in metrics["evaluations"]][5:] == [24576, 28672]
+    # Resumed environments start new episodes: 16 of 512 steps each, 2 episodes each.
+    assert sum(row[2] for row in metrics["train_curve"]) == 96 + 16 * 2
+    (saved,) = (p.name for p in (out / "checkpoint").iterdir() if p.is_dir())
+
+    # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
+    # PPO's minibatch of 256), and leaves nothing in ~/ray_results.
+    home = tmp_path / "home"
+    fresh = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--envs-per-worker",
+                     "2", "--timesteps", "256", "--eval-episodes", "1", "--out", "run",
+                     "--fresh", "--no-video", cwd=tmp_path, env=environment(HOME=str(home)),
+                     timeout=TIMEOUT)  # fmt: skip
+    assert fresh.returncode == 0, fresh.stderr
+    assert fresh.stdout.startswith(
+        f"--fresh: removed the earlier run in run: checkpoint/{saved}/, checkpoint/state.json, "
+        "policy/, metrics.json, learning_curve.png, video.mp4\ntraining CartpoleSwingup with "
+        "RLlib PPO to 256 steps on 1 env runner x 2 environments -> run\n"
+    )
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["timesteps"], len(metrics["evaluations"])) == (256, 1)
+    assert not (out / "video.mp4").exists()
+    assert (home / "ray_results").is_dir() and not any((home / "ray_results").iterdir())
+
+
+@needs_ray
+def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
+    """SIGKILL one env runner's process, as a crash or a lost machine would; later SIGINT
+    to the whole process group, as a terminal's Ctrl-C."""
+    command = ["train", "CartpoleSwingup", *RAY, "--workers", "2", "--envs-per-worker", "2",
+               "--timesteps", "10000000", "--eval-every", "1024", "--eval-episodes", "1",
+               "--out", "run", "--no-video"]  # fmt: skip
+    process = subprocess.Popen(
+        [sys.executable, "-m", "composer", *command], cwd=tmp_path, env=environment(),
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )  # fmt: skip
+    # A restart that never comes must not hang the suite.
+    watchdog = threading.Timer(TIMEOUT, os.killpg, (process.pid, signal.SIGKILL))
+    watchdog.start()
+    seen: list[str] = []
+    try:
+        pids, killed, evaluations_after = [], None, 0
+        for line in process.stdout:
+            seen.append(line)
+            if line.startswith("env runners:") and not pids:
+                pids = [int(pid) for pid in re.findall(r"\d+", line.partition("pids")[2])]
+            elif re.match(r" +[\d,]+ steps ", line):
+                if killed is None:
+                    killed = int(line.split()[0].replace(",", ""))
+                    os.kill(pids[0], signal.SIGKILL)
+                elif any(s.startswith("env runner restarted") for s in seen):
+                    evaluations_after += 1
+                    if evaluations_after == 2:
+                        break
+        os.killpg(process.pid, signal.SIGINT)
+        stdout, stderr = process.communicate(timeout=TIMEOUT)
+    finally:
+        watchdog.cancel()
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+    text = "".join(seen) + stdout
+    assert process.returncode == 130, (text, stderr)
+    assert "Traceback" not in stderr
+    restarted = re.search(r"^env runner restarted \(1 restart in this run\); env runners: "
+                          r"2 on [\d.]+ \(pids (\d+), (\d+)\)$", text, re.M)  # fmt: skip
+    assert restarted and pids[0] not in map(int, restarted.groups()), text
+    assert re.search(r"stopped at [\d,]+ steps .*checkpoint saved in run/checkpoint", text)
+
+    state = json.loads((tmp_path / "run" / "checkpoint" / "state.json").read_text())
+    assert state["engine"] == "ray" and not state["completed"]
+    assert state["env_runner_restarts"] == 1
+    # No lost progress: every 1,024-step iteration was sampled and evaluated, before,
+    # during and after the restart.
+    steps = [e["timesteps"] for e in state["evaluations"]]
+    assert steps == [1024 * i for i in range(1, len(steps) + 1)] and steps[-1] > killed
+    assert state["timesteps"] >= steps[-1]
+
+    evaluated = composer("eval", "CartpoleSwingup", "run/checkpoint", "--episodes", "1",
+                         cwd=tmp_path)  # fmt: skip
+    assert evaluated.returncode == 0, evaluated.stderr
+    # A total below what the stopped run has is refused; above it, the run resumes with no
+    # flag (here for one more iteration) and finishes, its evaluations and restarts kept.
+    done = state["timesteps"]
+    smaller = [("1024" if word == "10000000" else word) for word in command]
+    assert_one_line_error(composer(*smaller, cwd=tmp_path),
+                          f"the run in run has {done:,} steps already")  # fmt: skip
+    more = [(str(done + 1) if word == "10000000" else word) for word in command]
+    finished = composer(*more, cwd=tmp_path, timeout=TIMEOUT)
+    assert finished.returncode == 0, finished.stderr
+    assert f"resuming at {done:,} steps: CartpoleSwingup with RLlib PPO" in finished.stdout
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["completed"] and metrics["env_runner_restarts"] == 1
+    assert metrics["evaluations"][: len(steps)] == state["evaluations"]
+    # One iteration: 2 runners x 2 environments x 128 steps.
+    assert metrics["timesteps"] == metrics["evaluations"][-1]["timesteps"] == done + 512
+
+
+def free_port() -> int:
+    """A TCP port nothing listens on (now)."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def ray_start(*options: str, env: dict[str, str]) -> subprocess.Popen[str]:
+    """`ray start OPTIONS --block` in its own session: SIGTERM to it stops its node."""
+    ray_cli = os.path.join(os.path.dirname(sys.executable), "ray")
+    return subprocess.Popen(
+        [ray_cli, "start", *options, "--block", "--num-cpus", "1", "--disable-usage-stats",
+         "--object-store-memory", str(80 * 1024**2)],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        start_new_session=True,
+    )  # fmt: skip
+
+
+def wait_started(node: subprocess.Popen[str]) -> None:
+    """Read `ray start`'s output until its node runs (or it ended)."""
+    for line in node.stdout:
+        if "This command will now block" in line:
+            return
+    raise AssertionError(f"ray start exited with {node.wait()}")
+
+
+@needs_ray
+def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
+    """`ray start --head` and `ray start --address=...` (two nodes of one CPU, here on one
+    machine, with a token of their own), then training with --address spreads the env
+    runners over both."""
+    port = free_port()
+    token = os.urandom(16).hex()
+    env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token)
+    temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
+    nodes = [ray_start("--head", "--port", str(port), "--include-dashboard", "false",
+                       "--temp-dir", temp, env=env)]  # fmt: skip
+    try:
+        wait_started(nodes[0])
+        nodes.append(ray_start("--address", f"127.0.0.1:{port}", env=env))
+        wait_started(nodes[1])
+        result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
+                          "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
+                          "1", "--out", "run", "--no-video", cwd=tmp_path, env=env,
+                          timeout=TIMEOUT)  # fmt: skip
+    finally:
+        for node in reversed(nodes):
+            node.terminate()
+            try:
+                node.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                os.killpg(node.pid, signal.SIGKILL)
+        shutil.rmtree(temp, ignore_errors=True)
+    assert result.returncode == 0, result.stderr
+    assert "on 2 env runners x 2 environments" in result.stdout  # the cluster's two CPUs
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert metrics["ray"]["cluster"] == f"127.0.0.1:{port}"
+    assert (metrics["ray"]["nodes"], metrics["ray"]["cpus"], metrics["workers"]) == (2, 2, 2)
+    assert metrics["timesteps"] == 2048 and metrics["completed"]
+
+
+def test_options_of_the_other_engine_are_refused(tmp_path):
+    mixed = composer("train", "Reach", *RAY, "--n-envs", "4", cwd=tmp_path)
+    assert_one_line_error(mixed, "--n-envs belongs to the stable-baselines3 engine; with "
+                          "--engine ray give --workers and --envs-per-worker")  # fmt: skip
+    # RLlib writes TensorBoard files only under Ray Tune, which the engine does not run.
+    logged = composer("train", "Reach", *RAY, "--vec", "dummy", "--tensorboard", "tb",
+                      cwd=tmp_path)  # fmt: skip
+    assert_one_line_error(logged, "--vec and --tensorboard belong to the stable-baselines3 "
+                          "engine", "--engine ray logs no TensorBoard scalars")  # fmt: skip
+    assert not (tmp_path / "tb").exists()
+    sb3 = composer("train", "Reach", "--workers", "2", "--address", "auto", cwd=tmp_path)
+    assert_one_line_error(sb3, "--workers and --address need --engine ray")
+
+
+@needs_ray
+def test_an_unreachable_cluster_fails_at_once(tmp_path):
+    port = free_port()
+    result = composer("train", "Reach", *RAY, "--address", f"127.0.0.1:{port}", cwd=tmp_path)
+    assert_one_line_error(result, f"cannot reach the Ray cluster at 127.0.0.1:{port}",
+                          "ray start --head")  # fmt: skip
+    malformed = composer("train", "Reach", *RAY, "--address", "headnode", cwd=tmp_path)
+    assert_one_line_error(malformed, "--address 'headnode': expected HOST:PORT")
+
+
+def test_without_ray_the_engine_names_the_extra_to_install(tmp_path):
+    result = composer_without(("ray",), "train", "Reach", *RAY, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "--engine ray needs the [ray] extra" in result.stderr
+    assert "pip install -e '.[train,ray]'" in result.stderr
+
+
+def test_without_ray_a_ray_policy_names_the_extra_to_install(tmp_path):
+    policy = tmp_path / "run" / "policy"
+    policy.mkdir(parents=True)
+    (policy / "policy.json").write_text(json.dumps({"format": "composer-rllib-policy"}))
+    result = composer_without(("ray",), "eval", "Reach", "run", cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    assert "run/policy was trained with --engine ray: loading it needs the [ray] extra" in (
+        result.stderr
+    )

@@ -1,0 +1,186 @@
+"""Reading fast (the XML Schema and the indexer check a document, elements are built when
+first used) gives the model reading element by element gives, and raises the errors it
+raises, at parse time; the elements not built yet behave as built ones."""
+
+from __future__ import annotations
+
+import copy
+import pickle
+from pathlib import Path
+
+import mujoco
+import pytest
+from lxml import etree
+
+import mjcf
+from bench import synthetic
+from mjcf import parser, xsd
+from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
+
+MODELS = (
+    sorted(GYM_ASSETS.glob("*.xml"))
+    + sorted(MUJOCO_TESTDATA.glob("*.xml"))
+    + sorted(MENAGERIE.glob("*/*.xml"))
+)
+NAMESPACES = ("body", "joint", "geom", "site", "mesh", "texture", "material", "actuator",
+              "sensor", "tendon", "default", "camera", "light", "equality", "exclude")  # fmt: skip
+
+
+@pytest.fixture
+def element_by_element(monkeypatch):
+    """Read every document element by element, as before the fast way existed."""
+    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+
+
+def _read_both(path: Path, monkeypatch) -> tuple[mjcf.RootElement, mjcf.RootElement]:
+    taken = []
+    fast_reader = parser._read_fast
+    monkeypatch.setattr(parser, "_read_fast", lambda *a: taken.append(fast_reader(*a)) or taken[0])
+    fast = mjcf.from_path(path)
+    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    slow = mjcf.from_path(path)
+    monkeypatch.undo()
+    assert taken == [True], "the fast way should read every shipped model"
+    return fast, slow
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
+def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch) -> None:
+    fast, slow = _read_both(path, monkeypatch)
+    for namespace in NAMESPACES:  # names first, with nothing built yet
+        named = [e for e in slow.find_all(namespace) if e.identifier is not None]
+        found = [fast.find(namespace, e.identifier) for e in named]
+        assert [e.path if e else None for e in found] == [e.path for e in named]
+    for namespace in NAMESPACES:
+        names = [e.full_identifier for e in slow.find_all(namespace)]
+        assert [e.full_identifier for e in fast.find_all(namespace)] == names
+    assert fast.to_xml_string() == slow.to_xml_string()
+    assert fast.is_same_as(slow)
+
+
+def test_synthetic_creatures_read_fast_and_compile(tmp_path: Path, monkeypatch) -> None:
+    for shape in (synthetic.CMU_HUMANOID, synthetic.RODENT):
+        path = tmp_path / f"{shape.name}.xml"
+        path.write_text(synthetic.creature_xml(shape))
+        fast, slow = _read_both(path, monkeypatch)
+        assert fast.to_xml_string() == slow.to_xml_string()
+        compiled = mjcf.Physics.from_mjcf_model(fast).model
+        assert compiled.nbody == mujoco.MjModel.from_xml_path(str(path)).nbody
+
+
+BAD = {
+    "unknown attribute": ('<body name="a" pos="0 0 1" colour="red"/>', "colour"),
+    "bad number": ('<body name="a" pos="0 0 x"/>', "pos"),
+    "too many numbers": ('<body name="a" pos="0 0 1 2"/>', "pos"),
+    "bad keyword": ('<body name="a"><joint type="hinj"/></body>', "hinj"),
+    "unknown element": ('<body name="a"><gem/></body>', "gem"),
+    "duplicate name": ('<body name="a"/><body name="a"/>', "already used"),
+    "dangling reference": ('<body name="a" childclass="nope"/>', "nope"),
+    "name with a separator": ('<body name="a/b"/>', "separator"),
+    "two inertials": (
+        '<body name="a"><inertial mass="1" pos="0 0 0"/><inertial mass="1" pos="0 0 0"/></body>',
+        "only one",
+    ),
+    "the world's name": ('<body name="world"/>', "already used"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_errors_are_raised_at_parse_time_as_element_by_element(case: str, monkeypatch) -> None:
+    body, match = BAD[case]
+    xml = f"<mujoco><worldbody>{body}</worldbody></mujoco>"
+    with pytest.raises(mjcf.Error, match=match) as fast:
+        mjcf.from_xml_string(xml)
+    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    with pytest.raises(mjcf.Error) as slow:
+        mjcf.from_xml_string(xml)
+    assert (type(fast.value), str(fast.value)) == (type(slow.value), str(slow.value))
+
+
+# Texts for numbers and keywords in the forms a model might hold, well formed or not.
+_WORDS = ["1", "-2", "+3", "0.5", ".5", "5.", "1e3", "1E-3", "-1.5e+2", "inf", "INF", "-INF",
+          "+INF", "NaN", "nan", "0x10", "1_0", "1.0", "1,2", "true", "hinge", "", "1d", "--1",
+          "1e", "1e+", "1.5E", ".e1", "5.e3", "1e5.5", "0b1", "\u0661", ".", "+", "-", "+.",
+          "-.", "1e5e5", "1.2.3", "INFINITY", "Infinity", "-NaN", "e5", "E"]  # fmt: skip
+
+
+def _texts() -> list[str]:
+    texts = [w for w in _WORDS]
+    texts += [" ".join(_WORDS[i : i + n]) for n in (2, 3, 4, 7) for i in range(0, 12, 3)]
+    texts += ["  1 2 3 ", "\t1\t2", "1  2  3  4  5  6", " ".join(["1"] * 12)]
+    return texts
+
+
+def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
+    """The schema's value types are a subset of what the converters accept, for every
+    attribute it types: so a document it accepts is one reading element by element
+    accepts too."""
+    checked = {}
+    for spec in _all_specs():
+        for attribute in spec.attributes.values():
+            kind = xsd._simple_type(attribute)
+            if kind is not None:
+                checked.setdefault(kind, attribute)
+    assert len(checked) > 20
+    definitions = xsd._DOUBLE + "".join(
+        xsd._simple_type_text(f"t{i}", k) for i, k in enumerate(checked)
+    )
+    elements = "".join(f'<xs:element name="e{i}" type="t{i}"/>' for i in range(len(checked)))
+    schema = etree.XMLSchema(
+        etree.fromstring(
+            '<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">'
+            f"{definitions}{elements}</xs:schema>"
+        )
+    )
+    texts = _texts() + sorted({v for kind in checked if kind[0] == "keywords" for v in kind[1]})
+    wrongly_accepted = []
+    for i, attribute in enumerate(checked.values()):
+        for text in texts:
+            element = etree.Element(f"e{i}")
+            element.text = text
+            if not schema.validate(element):
+                continue
+            try:
+                attribute.converter.check_text(text)
+            except ValueError:
+                wrongly_accepted.append((attribute, text))
+    assert wrongly_accepted == []
+
+
+def _all_specs():
+    from mjcf import schema
+
+    return schema.all_specs()
+
+
+def _fresh() -> mjcf.RootElement:
+    return mjcf.from_path(GYM_ASSETS / "humanoid.xml")
+
+
+def test_elements_not_built_yet_are_found_renamed_and_clash() -> None:
+    model = _fresh()
+    foot = model.find("geom", "left_foot")
+    assert foot.parent.name == "left_foot" and foot.root is model and not foot.is_removed
+    assert foot.full_identifier == "left_foot"
+    with pytest.raises(mjcf.NameClashError, match="left_shin1"):
+        model.worldbody.add("geom", name="left_shin1", size=[0.1])  # held by an unbuilt geom
+    model.find("body", "right_thigh").name = "thigh"
+    assert model.find("body", "thigh") is not None and model.find("body", "right_thigh") is None
+
+
+def test_removing_a_subtree_not_built_frees_its_names() -> None:
+    model = _fresh()
+    model.find("body", "torso").remove()
+    assert model.find("geom", "right_foot") is None
+    model.worldbody.add("body", name="right_foot").add("geom", name="right_foot", size=[0.1])
+    assert model.find("geom", "right_foot").parent.name == "right_foot"
+
+
+def test_a_model_just_read_pickles_copies_attaches_and_compiles() -> None:
+    written = _fresh().to_xml_string()
+    assert pickle.loads(pickle.dumps(_fresh())).to_xml_string() == written
+    assert copy.deepcopy(_fresh()).to_xml_string() == written
+    scene = mjcf.RootElement(model="scene")
+    scene.attach(_fresh())
+    scene.attach(_fresh())
+    assert mjcf.Physics.from_mjcf_model(scene).model.nbody == 1 + 2 * 13
