@@ -143,3 +143,33 @@ class SensingSwing(BatchedSwing):
 
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
         return physics.bind(self.sensors[0]).sensordata[:, 2]
+
+
+class SingleFormSwing(BatchedSwing):
+    """BatchedSwing written as before batched forms existed: its per-step methods in single
+    form (SwingTask's formulas, taking precedence over the inherited batched forms) and its
+    function observables as `Generic`s of one environment. The oracle its batched forms
+    are checked against."""
+
+    def __init__(self, **options) -> None:
+        super().__init__(**options)
+        pendulum = self.pendulum
+        self._tip_height = observation.Generic(
+            lambda physics: physics.bind(pendulum.tip).xpos[2:], enabled=True
+        )
+        self._angle_cos = observation.Generic(
+            lambda physics: np.cos(physics.bind(pendulum.hinge).qpos), bounds=(-1, 1), enabled=True
+        )
+
+    get_reward = SwingTask.get_reward
+    should_terminate_episode = SwingTask.should_terminate_episode
+
+    def get_info(self, physics: mjcf.Physics) -> dict:
+        return {"low": bool(physics.bind(self.pendulum.hinge).qpos[0] < 0)}
+
+
+class SingleFormSensingSwing(SingleFormSwing, SensingSwing):
+    """SensingSwing with its reward in single form, on SingleFormSwing's oracle."""
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        return float(physics.bind(self.sensors[0]).sensordata[2])
