@@ -13,8 +13,9 @@ Entities own MJCF models (`composer.entity`), an Arena is the root of a scene
 the scene once and steps it (`composer.environment`, which states the hook order and what is
 promised). Observables, variations and initializers live in `composer.observation`,
 `composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
-environments of a task on MuJoCo's batch (`composer.vector`). Every error is a
-`composer.Error`.
+environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
+written once in batched form run in both, a single environment being a batch of one
+(`composer.batched`, `composer.BatchOfOne`). Every error is a `composer.Error`.
 """
 
 from composer import observation, variation, vector

@@ -30,6 +30,10 @@ What it promises:
   actuators' ctrlrange) before the task applies them.
 - Observations are new arrays every step (safe to keep); a step's `info` holds the task's
   `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
+- A task's per-step method written in batched form (`get_reward_batch` ...,
+  `composer.batched`) runs here with a batch of one (`composer.BatchOfOne`), so one
+  environment computes what a `VectorEnvironment` computes for each of its own, to the
+  last bit; the control step's rules are `composer.stepping`'s, which both keep.
 - Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
   consistent with the current state, as `mj_forward` would compute them, not one physics
   step behind as with a bare `mujoco.mj_step` (see `mjcf.Physics.step`; this costs nothing

@@ -19,6 +19,12 @@ extra `task_observables`. By default the action is every actuator's control, in 
 order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
 to `physics.data.ctrl`. The hooks are those of entities (see `composer.hooks` for the order);
 the task's `before_step` and `before_substep` also get the action.
+
+Each per-step method (`before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
+`get_discount`, `get_info`) can be written instead in batched form, once for one
+environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
+environments and returns (n,) rows; a single Environment runs it with a batch of one, a
+`VectorEnvironment` over all its environments at once (`composer.batched`).
 """
 
 from __future__ import annotations
