@@ -45,7 +45,9 @@ PRELUDE = (
     '<equality><joint name="p" joint1="p" active="false"/></equality>'
     '<contact><exclude name="p" body1="p" body2="world"/></contact>'
     '<keyframe><key name="p"/></keyframe><custom><numeric name="p" data="1"/></custom>'
-    + "".join(_probe.PRELUDES.values())  # the model and default class probes name
+    # The model probes name; the default class only where named, since a second
+    # top-level <default> is read differently (see mjcf.default_sections).
+    + _probe.PRELUDES["probe_model"]
 )
 
 # Words tried in the first place of a numeric attribute (the rest are "1").
@@ -359,14 +361,13 @@ class CaseMaker:
         yield from self.section_cases()
 
     def _sampled_values(self) -> Iterator[Case]:
-        """Per attribute two candidates chosen by a hash of its name, so that every
+        """Per attribute one candidate chosen by a hash of its name, so that every
         attribute is tried and every kind of candidate is tried somewhere."""
         for key, element in self.elements.items():
             for name, attribute in element.attributes.items():
                 texts = candidates(attribute)
                 seed = zlib.crc32(f"{key}/{name}".encode())
-                for index in sorted({seed % len(texts), (seed // 7 + 1) % len(texts)}):
-                    yield self.value_case(key, name, texts[index])
+                yield self.value_case(key, name, texts[seed % len(texts)])
 
 
 _PROBE_NAME = re.compile(r"probe\d+_")

@@ -10,6 +10,7 @@ same change through the API (both compile, or both fail with the same error).
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
@@ -63,8 +64,16 @@ EXPLANATIONS = {
         ),
         Explanation(
             "duplicate name",
-            "a name used twice in one namespace is refused when parsing and editing; MuJoCo "
-            "refuses it when compiling",
+            "a name used twice in one namespace is refused when parsing and editing (a name "
+            "finds, binds and attaches one element); MuJoCo refuses it when compiling, but "
+            "for flexes, whose names it does not check",
+            stricter=True,
+        ),
+        Explanation(
+            "late actuator defaults",
+            "a second top-level <default> that sets actuator defaults after default classes "
+            "were defined is refused (mjcf.ParseError): MuJoCo builds actuator defaults from "
+            "a sequence of shortcuts that one merged global default cannot reproduce",
             stricter=True,
         ),
         Explanation(
@@ -169,9 +178,8 @@ def model_differences(a: mujoco.MjModel, b: mujoco.MjModel) -> list[str]:
     """The names of the sizes and arrays of MjModel (and its options) that differ; the
     names of objects are compared as lists per kind of object, the names mjcf gives
     elements nobody named (as dm_control does, '//unnamed_camera_1') counting as none."""
-    differences = [
-        f"names of {kind}" for kind, names in _names(a).items() if _names(b).get(kind) != names
-    ]
+    theirs = _names(b)
+    differences = [f"names of {kind}" for kind, names in _names(a).items() if theirs[kind] != names]
     for owner, prefix in ((a, ""), (a.opt, "opt."), (a.vis, "vis."), (a.stat, "stat.")):
         other = b if owner is a else getattr(b, prefix[:-1])
         differences += _object_differences(owner, other, prefix)
@@ -182,11 +190,21 @@ def _names(model: mujoco.MjModel) -> dict[str, list[bytes]]:
     """{'cam': [name of camera 0, ...], ...}, generated names as b''."""
     buffer = model.names
     found = {}
-    for field in dir(model):
-        if field.startswith("name_") and field.endswith("adr") and field not in _PATH_FIELDS:
+    for field in _fields(type(model)):
+        if field.startswith("name_") and field.endswith("adr"):
             names = [buffer[start : buffer.index(b"\0", start)] for start in getattr(model, field)]
             found[field[5:-3]] = [b"" if _GENERATED.fullmatch(n) else n for n in names]
     return found
+
+
+@functools.cache
+def _fields(kind: type) -> tuple[str, ...]:
+    """The public fields of a type of MuJoCo's structs, but where files are."""
+    return tuple(
+        name
+        for name in dir(kind)
+        if not name.startswith("_") and name not in _PATH_FIELDS and not name.endswith("_pathadr")
+    )
 
 
 _GENERATED = re.compile(rb"//unnamed_[a-z_]+_\d+")
@@ -194,13 +212,9 @@ _GENERATED = re.compile(rb"//unnamed_[a-z_]+_\d+")
 
 def _object_differences(a: object, b: object, prefix: str) -> list[str]:
     differences = []
-    for name in dir(a):
-        if (
-            name.startswith("_")
-            or name in _PATH_FIELDS
-            or name.endswith("_pathadr")
-            or name in ("names", "names_map", "nnames", "nnames_map")
-            or (name.startswith("name_") and name.endswith("adr"))
+    for name in _fields(type(a)):
+        if name in ("names", "names_map", "nnames", "nnames_map") or (
+            name.startswith("name_") and name.endswith("adr")
         ):
             continue
         first = getattr(a, name)
@@ -269,7 +283,8 @@ class Judge:
             return
         base, error = self._parse(case.baseline)
         if base is None:
-            self.findings.append(Finding(case, "baseline", "accepts the baseline", error))
+            why = self._explain_parse(case, None, error)
+            self.findings.append(Finding(case, "baseline", "accepts the baseline", error, why))
             return
         try:
             _apply(base, case.edit)
@@ -301,6 +316,10 @@ class Judge:
         error = error or ""
         if "the separator of attached models" in error or "separates the names" in error:
             return "name separator"
+        if "after an earlier <default> section" in error:
+            return "late actuator defaults"
+        if "already used by another flex" in error:
+            return "duplicate name"
         kinds = (
             ("dangling references", "dangling reference"),
             ("already used by", "duplicate name"),
