@@ -375,14 +375,15 @@ _PROBE_NAME = re.compile(r"probe\d+_")
 
 def _same_names(baseline: str | None, document: str) -> str | None:
     """``baseline`` with the probes' names of ``document`` (each document the prober
-    makes numbers its names anew), so that the models both compile to compare."""
+    makes numbers its names anew), so that the models both compile to compare; the
+    document may name one more probe (a child placed), after those they share."""
     if baseline is None:
         return None
     ours = list(dict.fromkeys(_PROBE_NAME.findall(baseline)))
     theirs = list(dict.fromkeys(_PROBE_NAME.findall(document)))
-    if len(ours) != len(theirs):
+    if len(theirs) - len(ours) not in (0, 1):
         return baseline
-    renamed = dict(zip(ours, theirs, strict=True))
+    renamed = dict(zip(ours, theirs[: len(ours)], strict=True))
     return _PROBE_NAME.sub(lambda match: renamed[match.group()], baseline)
 
 

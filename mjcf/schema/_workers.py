@@ -2,14 +2,16 @@
 do: a ``<plugin/>`` without a plugin inside a ``<flexcomp>``) or keeps it busy
 for long (a grid of two billion points) is reported instead of ending the sweep.
 
-Cases go to up to ``workers`` forked processes in chunks; a chunk whose process
-dies (a crash, or the alarm that ends a case running over ``CASE_SECONDS``) is
-split in halves and run again, down to the single case that does it.
+Cases go to up to ``workers`` forked processes in chunks; each reports every case
+it has judged as it goes, so when one dies (a crash, or the alarm that ends a case
+running over ``CASE_SECONDS``) the case it was judging is the one that did it, and
+the rest of its chunk goes to a new process.
 """
 
 from __future__ import annotations
 
 import collections
+import faulthandler
 import multiprocessing
 import resource
 import signal
@@ -31,13 +33,14 @@ CASE_SECONDS = 20
 def _judge_chunk(cases: Sequence[Case], connection: Connection) -> None:
     resource.setrlimit(resource.RLIMIT_AS, (_MEMORY_LIMIT, _MEMORY_LIMIT))
     mujoco.set_mju_user_warning(lambda message: None)  # no MUJOCO_LOG.TXT, no noise
+    faulthandler.disable()  # a crash is expected here, and reported by the parent
     signal.signal(signal.SIGALRM, signal.SIG_DFL)  # ends the process, even inside MuJoCo
-    judge = Judge()
     for case in cases:
+        judge = Judge()
         signal.alarm(CASE_SECONDS)
         judge.run(case)
-    signal.alarm(0)
-    connection.send((judge.findings, judge.counts))
+        signal.alarm(0)
+        connection.send((judge.findings, judge.counts))
     connection.close()
 
 
@@ -50,7 +53,8 @@ def judge_all(
     pending = collections.deque(
         (start, cases[start : start + _CHUNK]) for start in range(0, len(cases), _CHUNK)
     )
-    running: dict[Connection, tuple[int, Sequence[Case], multiprocessing.Process]] = {}
+    # receiver -> [index of the next case, its chunk's cases, process]
+    running: dict[Connection, list] = {}
     results: dict[int, list[Finding]] = {}
     counts: collections.Counter[str] = collections.Counter()
     crashes: list[Case] = []
@@ -61,26 +65,25 @@ def judge_all(
             process = context.Process(target=_judge_chunk, args=(chunk, sender), daemon=True)
             process.start()
             sender.close()
-            running[receiver] = (start, chunk, process)
+            running[receiver] = [start, start + len(chunk), process]
         for receiver in wait(list(running)):
-            start, chunk, process = running.pop(receiver)
+            state = running[receiver]
+            index, end, process = state
             try:
-                findings, chunk_counts = receiver.recv()
-            except EOFError:  # the process died
-                process.join()
-                if len(chunk) == 1:
-                    crashes.append(chunk[0])
-                else:
-                    half = len(chunk) // 2
-                    pending.appendleft((start + half, chunk[half:]))
-                    pending.appendleft((start, chunk[:half]))
-                continue
-            finally:
+                findings, case_counts = receiver.recv()
+            except EOFError:  # the process ended: done, or died judging case `index`
                 receiver.close()
-            process.join()
-            results[start] = findings
-            counts.update(chunk_counts)
-            if progress is not None:
+                process.join()
+                del running[receiver]
+                if index < end:
+                    crashes.append(cases[index])
+                    if index + 1 < end:
+                        pending.appendleft((index + 1, cases[index + 1 : end]))
+                continue
+            results[index] = findings
+            counts.update(case_counts)
+            state[0] = index + 1
+            if progress is not None and counts["cases"] % _CHUNK == 0:
                 progress(counts["cases"])
-    findings = [finding for start in sorted(results) for finding in results[start]]
+    findings = [finding for index in sorted(results) for finding in results[index]]
     return findings, dict(counts), crashes

@@ -19,8 +19,6 @@ OPEN = frozenset({
     "sensor-user/objtype='Body'",
     "custom-numeric/size='  '",
     "two body-inertial in replicate",
-    *(f"<{tag}> in body" for tag in ("attach", "body", "camera", "flexcomp", "frame", "light",
-                                      "site")),
     *(f"<{tag}> in default" for tag in ("adhesion", "cylinder", "damper", "intvelocity",
                                         "muscle", "orientation", "pid", "position", "velocity")),
 })  # fmt: skip
