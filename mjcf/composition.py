@@ -145,7 +145,7 @@ class ModelContext:
         """Attributes this output writes differently from what the element stores
         (None values are left out), or None when it writes them as stored."""
         composition = self.composition
-        override = None
+        override: dict[str, str | None] | None = None
         spec = element._spec
         if spec.identifier is not None and spec.identifier not in element._attrs:
             name = composition.generated_name(element, self)

@@ -29,6 +29,7 @@ def find(element: Element, namespace: str, identifier: str) -> Element | None:
         raise errors.NameClashError(
             f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
         )
+    found: Element | None
     if namespace == ATTACHMENT_FRAME:
         found = attachment.find_frame(element.root, identifier)
     else:
@@ -100,7 +101,7 @@ def has_ancestor(element: Element, tag: str) -> bool:
 
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
-    current = element
+    current: Element | None = element
     while current is not None:
         if current is ancestor:
             return True
