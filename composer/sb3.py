@@ -62,9 +62,9 @@ class VecEnvAdapter(VecEnv):
         infos = _per_env(info, self.num_envs)
         if dones.any():
             final_obs, final_infos = info["final_obs"], _per_env(info["final_info"], self.num_envs)
-            for i in np.flatnonzero(dones):
-                infos[i].update(final_infos[i])
-                infos[i]["terminal_observation"] = final_obs[i]
+            for done in np.flatnonzero(dones):
+                infos[done].update(final_infos[done])
+                infos[done]["terminal_observation"] = final_obs[done]
         for i in range(self.num_envs):
             infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
         return observations, rewards.astype(np.float32), dones, infos

@@ -38,6 +38,7 @@ import gymnasium
 import numpy as np
 
 from composer.cli import engine
+from composer.cli.engine import Progress
 from composer.cli.errors import MissingExtraError, OutputError, PolicyError
 
 RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
@@ -240,7 +241,7 @@ class Checkpoint(engine.Checkpoint):
         """The RLlib Algorithm checkpoint of the last complete save."""
         return self.current() / "algorithm"
 
-    def save(self, model: RayModel, progress: engine.Progress) -> None:
+    def save(self, model: RayModel, progress: Progress) -> None:
         """Save `model`'s algorithm and policy into a new subfolder, then `progress` with
         the model's layout, naming that subfolder current; then remove the older ones.
         Raises OutputError."""
