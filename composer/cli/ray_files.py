@@ -208,11 +208,14 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
     quiet_ray()
     from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked just above
+    from ray.rllib.core.rl_module.torch import TorchRLModule
 
     try:
         module = RLModule.from_checkpoint(_uri(folder / "module"))
     except (OSError, ValueError, KeyError) as e:
         raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
+    if not isinstance(module, TorchRLModule):
+        raise PolicyError(f"{folder / 'module'} holds no PyTorch RLlib module")
     module.eval()
     policy = RayPolicy(module, spec)
     engine.check_spaces(folder, policy, env)
