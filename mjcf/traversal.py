@@ -102,14 +102,12 @@ def has_ancestor(element: Element, tag: str) -> bool:
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
     current: Element | None = element
-    while current is not None:
-        if current is ancestor:
-            return True
+    while current is not None and current is not ancestor:
         parent = current._parent
         if parent is None and current is current.root:
             parent = attachment.frame_of(current)
         current = parent
-    return False
+    return current is not None
 
 
 def _check_namespace(namespace: str, allow_tags: bool) -> bool:
