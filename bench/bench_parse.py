@@ -38,7 +38,7 @@ from mjcf import compiler  # noqa: E402
 
 clock = time.process_time
 GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
-MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
+MENAGERIE = REPO / "entities" / "menagerie"  # shipped with the package
 
 
 def best_of(functions: list[Callable[[], object]], seconds: float = 1.0) -> list[float]:
@@ -54,13 +54,14 @@ def best_of(functions: list[Callable[[], object]], seconds: float = 1.0) -> list
 
 
 def models(folder: Path) -> dict[str, Path]:
-    """The models measured: gymnasium's, the menagerie robots when present, and the
-    synthetic ones (written into `folder`)."""
-    found = {"humanoid": GYM / "humanoid.xml", "ant": GYM / "ant.xml"}
-    robots = {"ur5e": "universal_robots_ur5e/ur5e.xml", "2f85": "robotiq_2f85/2f85.xml"}
-    for name, relative in robots.items():
-        if (MENAGERIE / relative).exists():
-            found[name] = MENAGERIE / relative
+    """The models measured: gymnasium's, the shipped menagerie robots, and the synthetic
+    ones (written into `folder`)."""
+    found = {
+        "humanoid": GYM / "humanoid.xml",
+        "ant": GYM / "ant.xml",
+        "ur5e": MENAGERIE / "universal_robots_ur5e" / "ur5e.xml",
+        "2f85": MENAGERIE / "robotiq_2f85" / "2f85.xml",
+    }
     for shape in (synthetic.CMU_HUMANOID, synthetic.RODENT):
         path = folder / f"{shape.name}.xml"
         path.write_text(synthetic.creature_xml(shape))

@@ -48,7 +48,7 @@ from mjcf import serializer
 REPO = Path(__file__).resolve().parents[1]
 clock = time.process_time
 GYM = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"
-MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
+MENAGERIE = REPO / "entities" / "menagerie"  # shipped with the package
 UR5E = MENAGERIE / "universal_robots_ur5e" / "ur5e.xml"
 ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
 
@@ -111,14 +111,13 @@ def scenes(count: int) -> dict[str, Callable[[], mjcf.RootElement]]:
         "1 robot": lambda: arena(1),
         f"{count} robots": lambda: arena(count),
     }
-    if UR5E.exists() and ROBOTIQ.exists():
 
-        def arm() -> mjcf.RootElement:
-            root = mjcf.from_path(UR5E)
-            root.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
-            return root
+    def arm() -> mjcf.RootElement:
+        root = mjcf.from_path(UR5E)
+        root.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+        return root
 
-        found["ur5e+2f85"] = arm
+    found["ur5e+2f85"] = arm
     return found
 
 

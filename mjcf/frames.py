@@ -2,7 +2,7 @@
 
 frame = mjcf.get_attachment_frame(arm)        # where model `arm` is attached
 mjcf.get_frame_freejoint(frame)               # its free joint, if it floats
-mjcf.get_frame_joints(frame)                  # all joints of the frame
+mjcf.get_frame_joints(frame)                  # all joints of the frame (None: not attached)
 mjcf.get_freejoint(body)                      # a body's free joint, or None
 """
 
@@ -39,12 +39,13 @@ def get_frame_freejoint(frame: Element | None) -> Element | None:
     return get_freejoint(_as_frame(frame))
 
 
-def get_frame_joints(frame: Element | None) -> list[Element]:
+def get_frame_joints(frame: Element | None) -> list[Element] | None:
     """Every joint (including a free joint) of an attachment frame (or of the frame of
-    an attached model), in order."""
+    an attached model), in order; None for a model that is not attached, as dm_control
+    returns."""
     frame = _as_frame(frame)
     if frame is None:
-        return []
+        return None
     return [child for child in frame._children if child._spec.namespace == "joint"]
 
 

@@ -554,6 +554,7 @@ def test_frame_helpers() -> None:
     frame = arena.attach(ant)
     assert mjcf.get_attachment_frame(ant) is frame
     assert mjcf.get_attachment_frame(arena) is None
+    assert mjcf.get_frame_joints(arena) is None  # not attached: None, as in dm_control
     assert mjcf.get_frame_freejoint(frame) is None and mjcf.get_frame_joints(frame) == []
     torso_free = mjcf.get_freejoint(ant.find("body", "torso"))
     assert torso_free is ant.find("joint", "root")  # <joint type="free">
