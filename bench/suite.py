@@ -32,6 +32,7 @@ BENCHMARKS = {
     "parse": "bench.bench_parse",
     "bind": "bench.bench_bind",
     "env_step": "bench.bench_env_step",
+    "task_step": "bench.bench_task_step",
     "attach": "bench.bench_attach",
     "scene": "bench.bench_scene",
     "large": "bench.bench_large",

@@ -13,15 +13,19 @@ Entities own MJCF models (`composer.entity`), an Arena is the root of a scene
 the scene once and steps it (`composer.environment`, which states the hook order and what is
 promised). Observables, variations and initializers live in `composer.observation`,
 `composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
-environments of a task on MuJoCo's batch (`composer.vector`). Every error is a
-`composer.Error`.
+environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
+written once in batched form run in both, a single environment being a batch of one
+(`composer.batched`, `composer.BatchOfOne`). Every error is a `composer.Error`.
 """
 
 from composer import observation, variation, vector
 from composer.arena import Arena
+from composer.batch_of_one import BatchOfOne
+from composer.batched import BatchedTask, BatchPhysics
 from composer.entity import Entity, ModelEntity, Observables, observable
 from composer.environment import Environment
 from composer.errors import (
+    BatchError,
     DivergenceWarning,
     EntityError,
     EpisodeError,
@@ -40,6 +44,10 @@ from composer.vector import VectorEnvironment
 __all__ = [
     "HOOK_NAMES",
     "Arena",
+    "BatchError",
+    "BatchOfOne",
+    "BatchPhysics",
+    "BatchedTask",
     "DivergenceWarning",
     "Entity",
     "EntityError",

@@ -30,6 +30,10 @@ What it promises:
   actuators' ctrlrange) before the task applies them.
 - Observations are new arrays every step (safe to keep); a step's `info` holds the task's
   `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
+- A task's per-step method written in batched form (`get_reward_batch` ...,
+  `composer.batched`) runs here with a batch of one (`composer.BatchOfOne`), so one
+  environment computes what a `VectorEnvironment` computes for each of its own, to the
+  last bit; the control step's rules are `composer.stepping`'s, which both keep.
 - Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
   consistent with the current state, as `mj_forward` would compute them, not one physics
   step behind as with a bare `mujoco.mj_step` (see `mjcf.Physics.step`; this costs nothing
@@ -39,14 +43,14 @@ What it promises:
 from __future__ import annotations
 
 import math
-import warnings
 from typing import Any
 
 import gymnasium
 import numpy as np
 
 import mjcf
-from composer import errors, hooks
+from composer import errors, hooks, stepping
+from composer.batch_of_one import BatchOfOne
 from composer.observation import Updater
 from composer.task import Task
 
@@ -135,18 +139,14 @@ class Environment(gymnasium.Env):
         physics.reset()
         self._updater = Updater(task.enabled_observables(), physics, self._substeps, self._flatten)
         self._action_space = task.action_space(physics)
-        self._action_shape = self._action_space.shape
-        self._action_low = self._action_space.low.astype(np.float64)
-        self._action_high = self._action_space.high.astype(np.float64)
-        self._step_limit = (
-            math.inf if math.isinf(self._time_limit)
-            else math.ceil(self._time_limit / task.control_timestep - 1e-9)
-        )  # fmt: skip
-        # Per-step constants, bound once.
-        self._plan = self._updater.plan
-        self._period = len(self._plan)
-        self._substep_plan = self._updater.substep_plan
-        self._substep_hooks = self._hooks.has_substep_hooks
+        self._actions = stepping.ActionRule(self._action_space)
+        self._step_limit = stepping.step_limit(self._time_limit, task.control_timestep)
+        # What the task's batched methods get: this physics as a batch of one.
+        self._batch = BatchOfOne(physics, task, lambda: self.random_state).serve()
+        self._methods = stepping.TaskStep(task)
+        self._applies_each = self._methods.applies_each(self._hooks)
+        self._finishes_each = self._methods.finishes_each(self._hooks)
+        self._substep_hooks = self._run_substep_hooks if self._hooks.has_substep_hooks else None
 
     def _recompile(self) -> None:
         """The model changed: recompile in place; spaces must stay as they were."""
@@ -192,71 +192,48 @@ class Environment(gymnasium.Env):
     def step(
         self, action: Any
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, float, bool, bool, dict[str, Any]]:
-        """Advance one control step with `action`. Returns (obs, reward, terminated,
-        truncated, info). Raises EpisodeError before reset, after the episode ended, or
-        for an action of the wrong shape."""
+        """Advance one control step with `action` (`composer.stepping` says what a step
+        is). Returns (obs, reward, terminated, truncated, info). Raises EpisodeError before
+        reset, after the episode ended, or for an action of the wrong shape or not finite."""
         if self._episode_over:
             raise errors.EpisodeError(
                 "step() called before reset() or after the episode ended; call reset()"
             )
-        action = np.asarray(action, dtype=np.float64)
-        if action.shape != self._action_shape:
-            raise errors.EpisodeError(
-                f"action has shape {action.shape}, expected {self._action_shape} "
-                f"(one value per actuator)"
-            )
-        if not np.isfinite(action).all():
-            raise errors.EpisodeError(
-                f"action has non-finite values at indices {np.flatnonzero(~np.isfinite(action))}"
-                f": {action}; actions must be finite numbers"
-            )
-        action = np.clip(action, self._action_low, self._action_high)
-        physics, random_state, task_hooks = self._physics, self._random_state, self._hooks
-        task_hooks.task_before_step(physics, action, random_state)
-        for hook in task_hooks.before_step:
-            hook(physics, random_state)
-        first = self._physics_steps
-        phase = self._steps % self._period
-        if self._substep_hooks:
-            self._run_substeps(action, first, self._substep_plan[phase])
-        else:
-            advance = physics.step
-            for count, samples in self._plan[phase]:
-                advance(count)
-                for sample, offset in samples:
-                    sample(first + offset)
-        for hook in task_hooks.after_step:
-            hook(physics, random_state)
+        rule = self._actions
+        action = rule.clipped(rule.shaped(action))
+        physics, random_state, methods = self._physics, self._random_state, self._methods
+        task, batch = self._task, self._batch
+        methods.apply(batch, action[None])
+        if self._applies_each:
+            methods.apply_each(task, self._hooks, physics, action, random_state)
+        self._action = action
+        self._first = first = self._physics_steps
+        updater = self._updater
+        stepping.physics_steps(
+            self._substeps, updater.offsets(self._steps), physics.step, self._sample,
+            self._substep_hooks,
+        )  # fmt: skip
+        methods.finish(batch)
+        if self._finishes_each:
+            methods.finish_each(task, self._hooks, physics, random_state)
         self._steps += 1
         last = self._physics_steps = first + self._substeps
-        observation = self._updater.observation(last)
-        task = self._task
-        try:
-            physics.check_invalid_state()
-        except mjcf.PhysicsError as e:
+        observation = updater.observation(last)
+        message = stepping.invalid_state(physics)
+        if message is not None:
             self._episode_over = True
-            warnings.warn(f"episode truncated: {e}", errors.DivergenceWarning, stacklevel=2)
-            return observation, 0.0, False, True, {"physics_error": str(e)}
-        reward = float(task.get_reward(physics))
-        terminated = bool(task.should_terminate_episode(physics))
+            return observation, 0.0, False, True, stepping.diverged(message, stacklevel=2)
+        reward, terminated, info = methods.outcome_of_one(batch, task, physics)
         truncated = self._steps >= self._step_limit
         self._episode_over = terminated or truncated
-        info = task.get_info(physics)
-        info["discount"] = task.get_discount(physics)
         return observation, reward, terminated, truncated, info
 
-    def _run_substeps(self, action: np.ndarray, first: int, plan: list[list[Any]]) -> None:
-        physics, random_state, task_hooks = self._physics, self._random_state, self._hooks
-        for samples in plan:
-            for hook in task_hooks.task_before_substep:
-                hook(physics, action, random_state)
-            for hook in task_hooks.before_substep:
-                hook(physics, random_state)
-            physics.step()
-            for hook in task_hooks.after_substep:
-                hook(physics, random_state)
-            for sample, offset in samples:
-                sample(first + offset)
+    def _sample(self, offset: int) -> None:
+        """Sample the observables due after physics step `offset` of this control step."""
+        self._updater.sample(self._steps, self._first, offset)
+
+    def _run_substep_hooks(self, before: bool) -> None:
+        stepping.substep_hooks(self._hooks, self._physics, self._action, self._random_state, before)
 
     def render(self) -> np.ndarray | None:
         """A frame of the current state for `render_mode` ('rgb_array': (h, w, 3) uint8,

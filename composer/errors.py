@@ -47,5 +47,11 @@ class PlacementError(Error):
     """An initializer found no valid pose for a prop within its attempts."""
 
 
+class BatchError(Error):
+    """A batched method or observable returned values of the wrong shape, or asked a batch
+    for something it cannot give (a field MuJoCo's batch does not hold, an assignment to a
+    field that is not state)."""
+
+
 class DivergenceWarning(RuntimeWarning):
     """MuJoCo reported an invalid state during a step; the episode was truncated."""

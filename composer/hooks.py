@@ -42,12 +42,17 @@ def noop(function: F) -> F:
     return function
 
 
+def is_noop(method: Callable[..., Any]) -> bool:
+    """Whether `method` is a base-class no-op (marked by `noop`) that nobody overrode."""
+    return getattr(method, "_composer_noop", False)
+
+
 def overriders(objects: Iterable[object], name: str) -> tuple[Callable[..., Any], ...]:
     """The bound `name` methods of `objects` whose class overrides the no-op, in order."""
     found = []
     for obj in objects:
         method = getattr(obj, name)
-        if not getattr(method, "_composer_noop", False):
+        if not is_noop(method):
             found.append(method)
     return tuple(found)
 
@@ -89,13 +94,14 @@ class Hooks:
         self.initialize_episode_mjcf = overriders(everyone, "initialize_episode_mjcf")
         self.after_compile = overriders(everyone, "after_compile")
         self.initialize_episode = overriders(everyone, "initialize_episode")
-        # The task's before_step/before_substep take the action: kept apart.
-        self.task_before_step = task.before_step
+        # The task's before_step and after_step have batched forms, which
+        # `composer.stepping.TaskStep` runs: these are the entities'. The task's
+        # before_substep takes the action: kept apart.
         self.before_step = overriders(entities, "before_step")
         self.task_before_substep = overriders([task], "before_substep")
         self.before_substep = overriders(entities, "before_substep")
         self.after_substep = overriders(everyone, "after_substep")
-        self.after_step = overriders(everyone, "after_step")
+        self.after_step = overriders(entities, "after_step")
 
     @property
     def has_substep_hooks(self) -> bool:

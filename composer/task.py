@@ -19,6 +19,12 @@ extra `task_observables`. By default the action is every actuator's control, in 
 order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
 to `physics.data.ctrl`. The hooks are those of entities (see `composer.hooks` for the order);
 the task's `before_step` and `before_substep` also get the action.
+
+Each per-step method (`before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
+`get_discount`, `get_info`) can be written instead in batched form, once for one
+environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
+environments and returns (n,) rows; a single Environment runs it with a batch of one, a
+`VectorEnvironment` over all its environments at once (`composer.batched`).
 """
 
 from __future__ import annotations
@@ -31,7 +37,8 @@ import numpy as np
 from gymnasium import spaces
 
 import mjcf
-from composer import errors, hooks
+from composer import batched, errors, hooks
+from composer.batch_of_one import BatchOfOne
 from composer.entity import Entity
 from composer.observation import Observable
 
@@ -135,21 +142,55 @@ class Task(hooks.EpisodeHooks):
         high = np.where(limited, model.actuator_ctrlrange[:, 1], np.inf)
         return spaces.Box(low.astype(np.float32), high.astype(np.float32), dtype=np.float32)
 
+    # -- per-step methods (composer.batched): each in its single or its batched form -----
+    # A task defines a method's single form (dm_control's, on one mjcf.Physics) or its
+    # batched form (`<name>_batch`, on a BatchPhysics of n environments). The defaults
+    # here are batched; the single forms run the batched ones with a batch of one.
+
     def get_reward(self, physics: mjcf.Physics) -> float:
-        """The reward of the control step that just ended."""
-        raise NotImplementedError(f"{type(self).__name__} must implement get_reward(physics)")
+        """The reward of the control step that just ended. Define this or
+        `get_reward_batch` (this then runs it with a batch of one)."""
+        rows = self.get_reward_batch(BatchOfOne.of(physics, self))
+        return float(batched.check_rows("get_reward_batch", rows, 1, np.float64)[0])
+
+    def get_reward_batch(self, physics: batched.BatchPhysics) -> np.ndarray:
+        """The rewards of the control step that just ended, shape (n,)."""
+        raise NotImplementedError(
+            f"{type(self).__name__} must implement get_reward(physics) or get_reward_batch(physics)"
+        )
 
     def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
-        """Whether the episode ended in a terminal state (not a time limit); False here."""
-        return False
+        """Whether the episode ended in a terminal state (not a time limit); by default
+        what `should_terminate_episode_batch` says, with a batch of one."""
+        rows = self.should_terminate_episode_batch(BatchOfOne.of(physics, self))
+        return bool(batched.check_rows("should_terminate_episode_batch", rows, 1, bool)[0])
+
+    should_terminate_episode_batch = batched.constant_rows(
+        False,
+        bool,
+        """Whether each episode ended in a terminal state, shape (n,) bool; never here.""",
+    )
 
     def get_discount(self, physics: mjcf.Physics) -> float:
-        """The discount of the step (dm_env style, in info['discount']); 1.0 here."""
-        return 1.0
+        """The discount of the step (dm_env style, in info['discount']); by default what
+        `get_discount_batch` says, with a batch of one."""
+        rows = self.get_discount_batch(BatchOfOne.of(physics, self))
+        return float(batched.check_rows("get_discount_batch", rows, 1, np.float64)[0])
+
+    get_discount_batch = batched.constant_rows(
+        1.0, np.float64, """The discount of each step, shape (n,); 1.0 here."""
+    )
 
     def get_info(self, physics: mjcf.Physics) -> dict[str, Any]:
         """Extra entries for the step's `info`, a new dict (e.g. {'is_success': True}, as
-        stable-baselines3 reads it); none here."""
+        stable-baselines3 reads it); by default those of `get_info_batch`, with a batch of
+        one (a number or bool for a row of one number)."""
+        entries = batched.check_info(self.get_info_batch(BatchOfOne.of(physics, self)), 1)
+        return {key: batched.first_row(values) for key, values in entries.items()}
+
+    @hooks.noop
+    def get_info_batch(self, physics: batched.BatchPhysics) -> dict[str, np.ndarray]:
+        """Extra info entries, each an array of shape (n, ...); none here."""
         return {}
 
     # -- hooks (see composer.hooks for the order; the others are in hooks.EpisodeHooks) --
@@ -157,8 +198,24 @@ class Task(hooks.EpisodeHooks):
     def before_step(
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
     ) -> None:
-        """Each control step, first: apply `action`; here, write it to every actuator's ctrl."""
-        physics.data.ctrl[:] = action
+        """Each control step, first: apply `action`; by default `before_step_batch`, with
+        a batch of one."""
+        actions = np.asarray(action, dtype=np.float64)[None]
+        self.before_step_batch(BatchOfOne.of(physics, self), actions)
+
+    def before_step_batch(self, physics: batched.BatchPhysics, actions: np.ndarray) -> None:
+        """Apply `actions`, (n, action size) float64 clipped to the action space; here,
+        write them to every actuator's ctrl."""
+        physics.set_control(actions)
+
+    def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """After the physics steps of a control step, before observations are read; by
+        default `after_step_batch`, with a batch of one."""
+        self.after_step_batch(BatchOfOne.of(physics, self))
+
+    @hooks.noop
+    def after_step_batch(self, physics: batched.BatchPhysics) -> None:
+        """`after_step` of n environments at once; nothing here."""
 
     @hooks.noop
     def before_substep(
@@ -180,9 +237,7 @@ class NullTask(Task):
         """The entity given at construction."""
         return self._root_entity
 
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        """Always 0.0."""
-        return 0.0
+    get_reward_batch = batched.constant_rows(0.0, np.float64, """Always 0.0.""")
 
 
 def _substeps(task: Task, control_timestep: Any, physics_timestep: Any) -> int:

@@ -17,7 +17,6 @@ import numpy as np
 import composer
 import mjcf
 from arenas import Floor
-from composer.vector import BatchPhysics
 from entities import CartPole
 from tasks.rewards import tolerance
 
@@ -65,11 +64,8 @@ class CartpoleSwingup(composer.Task):
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Resolve the joints' indices once."""
-        model = physics.model
-        self._slider = physics.bind(self.cartpole.slider)
-        self._hinge = physics.bind(self.cartpole.hinge)
-        self._qpos = [int(model.jnt_qposadr[j]) for j in (self._slider.ids, self._hinge.ids)]
-        self._qvel = [int(model.jnt_dofadr[j]) for j in (self._slider.ids, self._hinge.ids)]
+        joints = physics.bind([self.cartpole.slider, self.cartpole.hinge]).ids
+        self._qpos = [int(i) for i in physics.model.jnt_qposadr[joints]]
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -85,20 +81,8 @@ class CartpoleSwingup(composer.Task):
         qpos[self._qpos[0]] = cart
         qpos[self._qpos[1]] = angle
 
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        """See the class docstring."""
-        data = physics.data
-        cart_x = data.qpos[self._qpos[0]]
-        upright = (np.cos(data.qpos[self._qpos[1]]) + 1.0) / 2.0
-        centered = (1.0 + tolerance(cart_x, margin=2.0)) / 2.0
-        control = tolerance(data.ctrl[0], margin=1.0, value_at_margin=0.0, sigmoid="quadratic")
-        small_control = (4.0 + control) / 5.0
-        small_velocity = (1.0 + tolerance(data.qvel[self._qvel[1]], margin=5.0)) / 2.0
-        return float(upright * centered * small_control * small_velocity)
-
-    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`get_reward` of every environment at once, shape (n,): the same four factors
-        over arrays (`tolerance`'s array path, equal to its scalar one to rounding)."""
+    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The reward of each environment, shape (n,): see the class docstring."""
         slider, hinge = physics.bind(self.cartpole.slider), physics.bind(self.cartpole.hinge)
         upright = (np.cos(hinge.qpos[:, 0]) + 1.0) / 2.0
         centered = (1.0 + tolerance(slider.qpos[:, 0], margin=2.0)) / 2.0

@@ -21,7 +21,7 @@ import numpy as np
 import composer
 import mjcf
 from arenas import Corridor, RoughTerrain
-from composer.vector import BatchPhysics
+from composer import BatchPhysics
 from entities import Quadruped, Walker
 from tasks.rewards import squared_norms
 
@@ -59,34 +59,20 @@ class _Run(composer.Task):
         """The arena with the robot."""
         return self.arena
 
-    def forward_velocity(self, physics: mjcf.Physics) -> float:
-        """The torso's velocity along +x (m/s)."""
+    def forward_velocity(self, physics: BatchPhysics) -> np.ndarray:
+        """The torso's velocity along +x (m/s) of each environment, (n,)."""
         raise NotImplementedError
-
-    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`forward_velocity` of every environment at once, shape (n,)."""
-        raise NotImplementedError
-
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        """`forward velocity - control_cost * sum(u^2) + alive_bonus` (see the task)."""
-        control = physics.data.ctrl
-        cost = self.control_cost * float(np.dot(control, control))
-        return self.forward_velocity(physics) - cost + self.alive_bonus
 
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`get_reward` of every environment at once, shape (n,), equal to the last bit
-        (`squared_norms` sums each row's u^2 as `np.dot` does)."""
+        """`forward velocity - control_cost * sum(u^2) + alive_bonus` of each environment,
+        (n,) (see the task)."""
         cost = self.control_cost * squared_norms(physics.field("ctrl"))
-        return self.forward_velocity_batch(physics) - cost + self.alive_bonus
-
-    def get_info(self, physics: mjcf.Physics) -> dict[str, float]:
-        """{'forward_velocity': `forward_velocity` (m/s)}; `composer eval` averages it over
-        an episode into the forward speed it reports."""
-        return {"forward_velocity": self.forward_velocity(physics)}
+        return self.forward_velocity(physics) - cost + self.alive_bonus
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
-        """`get_info` of every environment at once: 'forward_velocity', shape (n,)."""
-        return {"forward_velocity": self.forward_velocity_batch(physics)}
+        """'forward_velocity': `forward_velocity` (m/s), (n,); `composer eval` averages it
+        over an episode into the forward speed it reports."""
+        return {"forward_velocity": self.forward_velocity(physics)}
 
     def _perturb(
         self,
@@ -138,31 +124,18 @@ class AntRun(_Run):
         self._setup(ground, Quadruped(), control_timestep, physics_timestep, randomize,
                     control_cost, alive_bonus)  # fmt: skip
 
-    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Resolve the torso once."""
-        self._root = physics.bind(self.robot.root_joint)
-        self._torso = physics.bind(self.robot.torso)
-
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
     ) -> None:
         """Torso at its start pose facing +x, leg joints perturbed (see `randomize`)."""
         self._perturb(physics, self.robot.joints, random_state)
 
-    def forward_velocity(self, physics: mjcf.Physics) -> float:
-        """The torso's world x velocity (m/s)."""
-        return float(self._root.qvel[0])
-
-    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`forward_velocity` of every environment at once, shape (n,)."""
+    def forward_velocity(self, physics: BatchPhysics) -> np.ndarray:
+        """The torso's world x velocity (m/s) of each environment, (n,)."""
         return physics.bind(self.robot.root_joint).qvel[:, 0]
 
-    def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
-        """Turned over, or fallen below `min_height`."""
-        return bool(self._torso.xmat[8] < 0.0 or self._torso.xpos[2] < self.min_height)
-
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        """Turned over, or fallen below `min_height`: (n,) bool."""
         torso = physics.bind(self.robot.torso)
         return (torso.xmat[:, 8] < 0.0) | (torso.xpos[:, 2] < self.min_height)
 
@@ -192,32 +165,18 @@ class WalkerRun(_Run):
         self._setup(Corridor(walls=walls, gaps=gaps, width=1.0), Walker(), control_timestep,
                     physics_timestep, randomize, control_cost, alive_bonus)  # fmt: skip
 
-    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Resolve the torso joints once."""
-        self._root_x = physics.bind(self.robot.root_x)
-        self._pitch = physics.bind(self.robot.root_y)
-        self._torso = physics.bind(self.robot.torso)
-
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
     ) -> None:
         """Standing upright, leg joints perturbed (see `randomize`)."""
         self._perturb(physics, self.robot.leg_joints, random_state)
 
-    def forward_velocity(self, physics: mjcf.Physics) -> float:
-        """The torso's x velocity (m/s)."""
-        return float(self._root_x.qvel[0])
-
-    def forward_velocity_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`forward_velocity` of every environment at once, shape (n,)."""
+    def forward_velocity(self, physics: BatchPhysics) -> np.ndarray:
+        """The torso's x velocity (m/s) of each environment, (n,)."""
         return physics.bind(self.robot.root_x).qvel[:, 0]
 
-    def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
-        """Fallen: torso below `min_height` m or pitched more than 1 rad."""
-        return bool(self._torso.xpos[2] < self.min_height or abs(self._pitch.qpos[0]) > 1.0)
-
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        """Fallen: torso below `min_height` m or pitched more than 1 rad; (n,) bool."""
         height = physics.bind(self.robot.torso).xpos[:, 2]
         pitch = physics.bind(self.robot.root_y).qpos[:, 0]
         return (height < self.min_height) | (np.abs(pitch) > 1.0)

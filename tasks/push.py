@@ -26,8 +26,7 @@ from gymnasium import spaces
 import composer
 import mjcf
 from arenas import Table
-from composer import observation
-from composer.vector import BatchGeneric, BatchPhysics
+from composer import BatchPhysics, observation
 from entities import Box, features, robots
 from tasks.rewards import squared_norms
 
@@ -77,6 +76,7 @@ class ArmPushBox(composer.Task):
         self.arm_actuators = self.robot.arm.mjcf_model.find_all(
             "actuator", exclude_attachments=True
         )
+        self.gripper_actuators = self.robot.gripper.actuators
         self.gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
         for entity in self.robot.iter_entities():
             entity.observables.disable_all()
@@ -92,16 +92,12 @@ class ArmPushBox(composer.Task):
             "gripper_opening": features.angles([self.gripper_joint]),
             "tcp_position": features.positions(self.robot.tcp),
             "box_position": features.positions(self.box.body),
-            "tcp_to_box": BatchGeneric(
-                lambda physics: np.clip(_tcp_to_box(self._box, self._tcp), -10, 10),
-                batch_function=lambda physics: np.clip(
-                    _tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10
-                ),
+            "tcp_to_box": observation.BatchGeneric(
+                lambda physics: np.clip(_tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10),
                 bounds=(-10, 10),
             ),
-            "box_to_target": BatchGeneric(
-                lambda physics: np.clip(_box_to_target(self._box, self._target), -10, 10),
-                batch_function=lambda physics: np.clip(
+            "box_to_target": observation.BatchGeneric(
+                lambda physics: np.clip(
                     _box_to_target(physics.bind(box), physics.bind(target)), -10, 10
                 ),
                 bounds=(-10, 10),
@@ -129,11 +125,9 @@ class ArmPushBox(composer.Task):
         """Resolve joints, actuators, sites and bodies once."""
         self._arm = physics.bind(self.arm_joints)
         self._arm_ctrl = physics.bind(self.arm_actuators)
-        self._gripper_ctrl = physics.bind(self.robot.gripper.actuators)
+        self._gripper_ctrl = physics.bind(self.gripper_actuators)
         self._ctrl_low, self._ctrl_high = self._arm_ctrl.ctrlrange.T.copy()
         self._gripper_low, self._gripper_high = self._gripper_ctrl.ctrlrange[0].copy()
-        self._tcp = physics.bind(self.robot.tcp)
-        self._box = physics.bind(self.box.body)
         self._target = physics.bind(self.target)
 
     def initialize_episode(
@@ -154,92 +148,47 @@ class ArmPushBox(composer.Task):
         self.box.set_pose(physics, [*box, self._box_height], [1, 0, 0, 0])
         physics.model.geom_pos[self._target.ids, :2] = target
 
-    def before_step(
-        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
-    ) -> None:
-        """Arm targets: the last ones (the arm actuators' controls) plus `max_joint_step *
-        action[:6]`, within `TARGET_WINDOW` of the angles and the actuators' ranges;
-        gripper: `action[6]` mapped from [-1, 1] to its control range."""
-        self._arm_ctrl.ctrl = self._next_targets(self._arm_ctrl.ctrl, self._arm.qpos, action[:6])
-        self._gripper_ctrl.ctrl = self._gripper_command(action[6])
-
     def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
-        """`before_step` of every environment at once, actions (n, 7): each one's last
-        targets are its arm actuators' controls, so no state is kept outside the
+        """Arm targets: the last ones (the arm actuators' controls) plus `max_joint_step *
+        actions[:, :6]`, within `TARGET_WINDOW` of the angles and the actuators' ranges;
+        gripper: `actions[:, 6]` mapped from [-1, 1] to its control range. Actions (n, 7);
+        each environment's last targets are its controls, so no state is kept outside the
         simulations; the control ranges are the first environment's (all share them)."""
         arm_ctrl = physics.bind(self.arm_actuators)
         angles = physics.bind(self.arm_joints).qpos
-        arm_ctrl.ctrl = self._next_targets(arm_ctrl.ctrl, angles, actions[:, :6])
-        physics.bind(self.robot.gripper.actuators).ctrl = self._gripper_command(actions[:, 6:])
-
-    def _next_targets(
-        self, targets: np.ndarray, angles: np.ndarray, steps: np.ndarray
-    ) -> np.ndarray:
-        """The arm's new joint targets, for one environment's (6,) or n environments' (n, 6)."""
-        targets = targets + self.max_joint_step * steps
+        targets = arm_ctrl.ctrl + self.max_joint_step * actions[:, :6]
         targets = np.clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
-        return np.clip(targets, self._ctrl_low, self._ctrl_high)
-
-    def _gripper_command(self, command: Any) -> Any:
-        """The gripper's control for `command` in [-1, 1] (a number or an array)."""
+        arm_ctrl.ctrl = np.clip(targets, self._ctrl_low, self._ctrl_high)
         low, high = self._gripper_low, self._gripper_high
-        return low + (command + 1.0) / 2.0 * (high - low)
+        gripper = low + (actions[:, 6:] + 1.0) / 2.0 * (high - low)
+        physics.bind(self.gripper_actuators).ctrl = gripper
 
-    def _distances(self) -> tuple[float, float]:
-        reach = float(_length(_tcp_to_box(self._box, self._tcp)))
-        push = float(_length(_box_to_target(self._box, self._target)))
-        return reach, push
-
-    def _batch_distances(self, physics: BatchPhysics) -> tuple[np.ndarray, np.ndarray]:
+    def _distances(self, physics: BatchPhysics) -> tuple[np.ndarray, np.ndarray]:
+        """Tool-to-box and box-to-target distances (m) of each environment, (n,) each."""
         box = physics.bind(self.box.body)
-        reach = _length(_tcp_to_box(box, physics.bind(self.robot.tcp)))
-        push = _length(_box_to_target(box, physics.bind(self.target)))
+        reach = np.sqrt(squared_norms(_tcp_to_box(box, physics.bind(self.robot.tcp))))
+        push = np.sqrt(squared_norms(_box_to_target(box, physics.bind(self.target))))
         return reach, push
-
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        """See the class docstring."""
-        return _reward(*self._distances())
 
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`get_reward` of every environment at once, shape (n,)."""
-        return _reward(*self._batch_distances(physics))
-
-    def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
-        """The box fell off the table."""
-        return bool(self._box.xpos[2] < self.table_height - 0.1)
+        """The reward of each environment, (n,): see the class docstring."""
+        reach, push = self._distances(physics)
+        return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
 
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`should_terminate_episode` of every environment at once, shape (n,) bool."""
+        """The box fell off the table: (n,) bool."""
         return physics.bind(self.box.body).xpos[:, 2] < self.table_height - 0.1
 
-    def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
-        """{'is_success': the box's centre within `target_radius` of the target's}."""
-        return {"is_success": self._distances()[1] < self.target_radius}
-
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
-        """`get_info` of every environment at once: 'is_success', shape (n,) bool."""
-        return {"is_success": self._batch_distances(physics)[1] < self.target_radius}
-
-
-# The helpers below serve one environment (mjcf.Physics bindings, numbers) and n
-# (BatchPhysics bindings, arrays) alike, computing the same way so both round alike.
+        """'is_success': the box's centre within `target_radius` of the target's, (n,)."""
+        return {"is_success": self._distances(physics)[1] < self.target_radius}
 
 
 def _tcp_to_box(box: Any, tcp: Any) -> np.ndarray:
-    """The box's centre minus the tool centre point (m), (3,) or (n, 3)."""
+    """The box's centre minus the tool centre point (m), (n, 3), from batch bindings."""
     return box.xpos - tcp.xpos
 
 
 def _box_to_target(box: Any, target: Any) -> np.ndarray:
-    """The target's centre minus the box's in the table plane (m), (2,) or (n, 2)."""
-    return target.xpos[..., :2] - box.xpos[..., :2]
-
-
-def _length(vectors: np.ndarray) -> Any:
-    """The Euclidean length of a vector, or of each row (as `np.linalg.norm` of one)."""
-    return np.sqrt(squared_norms(vectors))
-
-
-def _reward(reach: Any, push: Any) -> Any:
-    """The reward for tool-to-box and box-to-target distances (numbers or arrays)."""
-    return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
+    """The target's centre minus the box's in the table plane (m), (n, 2)."""
+    return target.xpos[:, :2] - box.xpos[:, :2]

@@ -17,7 +17,6 @@ joint servos' targets, so a zero action holds the arm still. Episodes last `time
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 from gymnasium import spaces
@@ -25,8 +24,7 @@ from gymnasium import spaces
 import composer
 import mjcf
 from arenas import Floor
-from composer import observation
-from composer.vector import BatchGeneric, BatchPhysics
+from composer import BatchPhysics, observation
 from entities import PlanarArm
 
 
@@ -58,6 +56,7 @@ class Reach(composer.Task):
             link_lengths=link_lengths, actuator="position", kp=1.0, damping=0.05, gear=0.2
         )
         self.arena.attach(self.arm)
+        self.servos = self.arm.actuators
         root = self.arena.mjcf_model
         root.statistic.center = [0, 0, 0]
         root.statistic.extent = 0.5
@@ -71,23 +70,16 @@ class Reach(composer.Task):
         self.success_distance = float(success_distance)
         self.control_cost = float(control_cost)
         self.max_joint_step = float(max_joint_step)
-        self._action = np.zeros(2)
         # The environments of the last before_step_batch and their actions (control cost).
-        self._batch_actions = (np.zeros(0, dtype=np.int64), np.zeros((0, 2)))
+        self._last_actions = _NO_ACTIONS
         reach = self.arm.reach
         self._task_observables = {
-            "target_position": BatchGeneric(
-                lambda physics: np.clip(self._goal.mocap_pos[:2] / reach, -1, 1),
-                batch_function=lambda physics: np.clip(
-                    physics.bind(target).mocap_pos[:, :2] / reach, -1, 1
-                ),
+            "target_position": observation.BatchGeneric(
+                lambda physics: np.clip(physics.bind(target).mocap_pos[:, :2] / reach, -1, 1),
                 bounds=(-1, 1),
             ),
-            "to_target": BatchGeneric(
-                lambda physics: np.clip(_to_target(self._goal, self._tip) / reach, -2, 2),
-                batch_function=lambda physics: np.clip(
-                    self._batch_to_target(physics) / reach, -2, 2
-                ),
+            "to_target": observation.BatchGeneric(
+                lambda physics: np.clip(self._to_target(physics) / reach, -2, 2),
                 bounds=(-2, 2),
             ),
         }
@@ -109,37 +101,27 @@ class Reach(composer.Task):
         """Two joint-angle changes in [-1, 1] (see the module docstring)."""
         return spaces.Box(-1.0, 1.0, (2,), dtype=np.float32)
 
-    def before_step(
-        self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
-    ) -> None:
-        """Servo targets: the current joint angles plus `max_joint_step * action`."""
-        self._action = action
-        self._servos.ctrl = self._joints.qpos + self.max_joint_step * action
-
     def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
-        """`before_step` of every environment at once: servo targets `qpos +
-        max_joint_step * actions`, rows (n, 2); the actions are kept for the control cost."""
+        """Servo targets: the current joint angles plus `max_joint_step * actions`, rows
+        (n, 2); the actions are kept for the control cost."""
         joints = physics.bind(self.arm.joints)
-        physics.bind(self.arm.actuators).ctrl = joints.qpos + self.max_joint_step * actions
-        self._batch_actions = (physics.ids, actions)
+        physics.bind(self.servos).ctrl = joints.qpos + self.max_joint_step * actions
+        self._last_actions = (physics.ids, actions)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Resolve the fingertip and target once."""
-        self._tip = physics.bind(self.arm.fingertip)
+        """Resolve the target, joints and servos once."""
         self._goal = physics.bind(self.target)
         self._joints = physics.bind(self.arm.joints)
-        self._servos = physics.bind(self.arm.actuators)
+        self._servos = physics.bind(self.servos)
 
-    def _batch_to_target(self, physics: BatchPhysics) -> np.ndarray:
-        return _to_target(physics.bind(self.target), physics.bind(self.arm.fingertip))
+    def _to_target(self, physics: BatchPhysics) -> np.ndarray:
+        """Target minus fingertip in the plane (m), (n, 2)."""
+        tip = physics.bind(self.arm.fingertip).xpos
+        return physics.bind(self.target).mocap_pos[:, :2] - tip[:, :2]
 
-    def distance(self, physics: mjcf.Physics) -> float:
-        """The fingertip-target distance in the plane (m)."""
-        return float(np.hypot(*_to_target(self._goal, self._tip)))
-
-    def distance_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`distance` of every environment at once, shape (n,)."""
-        to_target = self._batch_to_target(physics)
+    def distances(self, physics: BatchPhysics) -> np.ndarray:
+        """The fingertip-target distance in the plane (m) of each environment, (n,)."""
+        to_target = self._to_target(physics)
         return np.hypot(to_target[:, 0], to_target[:, 1])
 
     def initialize_episode(
@@ -148,7 +130,7 @@ class Reach(composer.Task):
         """With `randomize`: joint angles uniform (shoulder over a full turn, elbow within
         its limits' middle half), target uniform over the disc of radius 0.9 R (by area),
         at least 0.05 m from the base. The servos hold the initial angles."""
-        self._action = np.zeros(2)
+        self._last_actions = _NO_ACTIONS
         if self.randomize:
             self._joints.qpos = [
                 random_state.uniform(-np.pi, np.pi),
@@ -162,40 +144,23 @@ class Reach(composer.Task):
         angle = random_state.uniform(-np.pi, np.pi)
         self._goal.mocap_pos[:2] = radius * np.cos(angle), radius * np.sin(angle)
 
-    def _shaping(self, distance: Any) -> Any:
-        """The distance terms of the reward, for a float or an array of distances (the
-        same operations either way, so both round alike)."""
+    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
+        """The reward of each environment, shape (n,) (see the class docstring); the
+        control cost takes each one's actions from the last `before_step_batch`."""
+        distance = self.distances(physics)
         ratio = distance / self.success_distance
         pull = 0.5 * (1.0 - distance / (2.0 * self.arm.reach))
-        return pull + 0.5 * np.exp(-(ratio * ratio))
-
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        """See the class docstring."""
-        reward = float(self._shaping(self.distance(physics)))
+        reward = pull + 0.5 * np.exp(-(ratio * ratio))
         if self.control_cost:
-            reward -= self.control_cost * float(np.mean(np.square(self._action)))
-        return reward
-
-    def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
-        """`get_reward` of every environment at once, shape (n,); the control cost takes
-        each one's actions from the last `before_step_batch`."""
-        reward = self._shaping(self.distance_batch(physics))
-        if self.control_cost:
-            stepped, actions = self._batch_actions
+            stepped, actions = self._last_actions
             mine = actions[np.searchsorted(stepped, physics.ids)]
             reward = reward - self.control_cost * np.mean(np.square(mine), axis=1)
         return reward
 
-    def get_info(self, physics: mjcf.Physics) -> dict[str, bool]:
-        """{'is_success': fingertip within `success_distance` of the target}."""
-        return {"is_success": self.distance(physics) < self.success_distance}
-
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
-        """`get_info` of every environment at once: 'is_success', shape (n,) bool."""
-        return {"is_success": self.distance_batch(physics) < self.success_distance}
+        """'is_success': the fingertip within `success_distance` of the target, (n,) bool."""
+        return {"is_success": self.distances(physics) < self.success_distance}
 
 
-def _to_target(goal: Any, tip: Any) -> np.ndarray:
-    """Target minus fingertip in the plane (m), from bindings of the target body and the
-    fingertip site: (2,) for one environment, (n, 2) for a BatchPhysics's."""
-    return goal.mocap_pos[..., :2] - tip.xpos[..., :2]
+# Before any step of an episode: environment 0 (a single environment) acted with zeros.
+_NO_ACTIONS = (np.zeros(1, dtype=np.intp), np.zeros((1, 2)))

@@ -12,7 +12,7 @@ units of `margin`: at one margin it is `value_at_margin`. Works on floats and ar
 
 from __future__ import annotations
 
-import math
+import functools
 from typing import Any
 
 import numpy as np
@@ -30,9 +30,11 @@ def tolerance(
     value_at_margin: float = 0.1,
 ) -> Any:
     """1 where `bounds[0] <= x <= bounds[1]`; outside, `sigmoid` of the distance to the
-    bounds over `margin` (0 outside when margin is 0). Raises composer.TaskError for bounds
-    out of order, a negative margin, an unknown sigmoid or value_at_margin outside [0, 1)
-    ((0, 1) for 'gaussian')."""
+    bounds over `margin` (0 outside when margin is 0). An array for an array, a float for
+    a number, computed alike (numpy's functions either way), so a batched reward equals a
+    single one to the last bit. Raises composer.TaskError for bounds out of order, a
+    negative margin, an unknown sigmoid or value_at_margin outside [0, 1) ((0, 1) for
+    'gaussian')."""
     lower, upper = bounds
     if lower > upper or margin < 0 or sigmoid not in SIGMOIDS:
         raise composer.TaskError(
@@ -45,46 +47,49 @@ def tolerance(
             f"tolerance: value_at_margin must be in {'(0' if sigmoid == 'gaussian' else '[0'}"
             f", 1) for {sigmoid!r}, got {value_at_margin}"
         )
-    if isinstance(x, float | int | np.floating | np.integer):
-        return _scalar(float(x), lower, upper, margin, sigmoid, value_at_margin)
     x = np.asarray(x, dtype=np.float64)
-    inside = (lower <= x) & (x <= upper)
     if margin == 0:
-        value = np.where(inside, 1.0, 0.0)
+        value = np.where((lower <= x) & (x <= upper), 1.0, 0.0)
     else:
-        distance = np.where(x < lower, lower - x, x - upper) / margin
-        value = np.where(inside, 1.0, _falloff(distance, sigmoid, value_at_margin))
+        # The distance to the bounds, 0 inside them, where every sigmoid is exactly 1.
+        if lower == upper == 0.0:
+            outside = np.abs(x)  # max(0 - x, x - 0, 0), exactly
+        else:
+            outside = np.maximum(np.maximum(lower - x, x - upper), 0.0)
+        value = _falloff(outside / _constant(margin), sigmoid, value_at_margin)
     return float(value) if value.ndim == 0 else value
 
 
 def _falloff(distance: np.ndarray, sigmoid: str, value_at_margin: float) -> np.ndarray:
-    """A function of distance >= 0 that is 1 at 0 and `value_at_margin` at 1."""
+    """A function of distance >= 0 that is 1 at 0 and `value_at_margin` at 1 (0 for a NaN
+    distance but with the gaussian, which gives NaN)."""
     if sigmoid == "gaussian":
-        scale = np.sqrt(-2.0 * np.log(value_at_margin))
-        return np.exp(-0.5 * (distance * scale) ** 2)
+        scaled = distance * _gaussian_scale(value_at_margin)
+        return np.exp(_MINUS_HALF * (scaled * scaled))
     if sigmoid == "quadratic":
-        scaled = distance * np.sqrt(1.0 - value_at_margin)
-        return np.where(scaled < 1.0, 1.0 - scaled**2, 0.0)
-    scaled = distance * (1.0 - value_at_margin)
-    return np.where(scaled < 1.0, 1.0 - scaled, 0.0)
+        scaled = distance * _quadratic_scale(value_at_margin)
+        return np.fmax(_ONE - scaled * scaled, _ZERO)
+    return np.fmax(_ONE - distance * _constant(1.0 - value_at_margin), _ZERO)
 
 
-def _scalar(
-    x: float, lower: float, upper: float, margin: float, sigmoid: str, value_at_margin: float
-) -> float:
-    """`tolerance` of one number, without numpy's per-call cost (rewards run every step)."""
-    if lower <= x <= upper:
-        return 1.0
-    if margin == 0:
-        return 0.0
-    distance = (lower - x if x < lower else x - upper) / margin
-    if sigmoid == "gaussian":
-        return math.exp(distance**2 * math.log(value_at_margin))
-    if sigmoid == "quadratic":
-        scaled = distance * math.sqrt(1.0 - value_at_margin)
-        return 1.0 - scaled**2 if scaled < 1.0 else 0.0
-    scaled = distance * (1.0 - value_at_margin)
-    return 1.0 - scaled if scaled < 1.0 else 0.0
+# Numbers as 0-d arrays: numpy takes a third less time per operation on small arrays with
+# one of these than with a Python float, to the same result. Rewards run every step.
+_ONE, _ZERO, _MINUS_HALF = np.array(1.0), np.array(0.0), np.array(-0.5)
+
+
+@functools.cache
+def _constant(value: float) -> np.ndarray:
+    return np.array(value, dtype=np.float64)
+
+
+@functools.cache
+def _gaussian_scale(value_at_margin: float) -> np.ndarray:
+    return np.asarray(np.sqrt(-2.0 * np.log(value_at_margin)))
+
+
+@functools.cache
+def _quadratic_scale(value_at_margin: float) -> np.ndarray:
+    return np.asarray(np.sqrt(1.0 - value_at_margin))
 
 
 def squared_norms(vectors: np.ndarray) -> Any:

@@ -7,20 +7,24 @@ obs.corruptor = observation.GaussianNoise(0.01)
 
 from composer.observation.observable import (
     AGGREGATORS,
+    BatchGeneric,
     GaussianNoise,
     Generic,
     MJCFCamera,
     MJCFFeature,
     Observable,
+    reader_of,
 )
 from composer.observation.updater import Updater
 
 __all__ = [
     "AGGREGATORS",
+    "BatchGeneric",
     "GaussianNoise",
     "Generic",
     "MJCFCamera",
     "MJCFFeature",
     "Observable",
     "Updater",
+    "reader_of",
 ]

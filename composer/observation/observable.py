@@ -20,18 +20,24 @@ Bounds: `bounds=(low, high)` (broadcast to the value's shape) give the observati
 Box; they are carried through buffers and aggregators ('sum' scales them by the buffer
 size). A corruptor makes them unbounded unless it has `bounds(low, high) -> (low, high)`; a
 callable aggregator makes them unbounded unless `aggregator_bounds` says otherwise.
-Subclasses implement `reader(physics)`: a function of no arguments, resolved once per
-compile, that returns the current value.
+Subclasses implement `reader(physics)`, a function of no arguments, resolved once per
+compile, that returns the current value in one environment's `mjcf.Physics`; or, to be read
+for many environments at once, `batch_reader(physics)`, the same for a `BatchPhysics`,
+returning (n, *shape) (`BatchGeneric` wraps a function). Written once: a single environment
+reads a batched observable with a batch of one, row 0 (`reader_of`), and a
+`VectorEnvironment` reads one without a batched reader once per environment.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from composer import errors
+from composer import batched, errors
+from composer.batch_of_one import BatchOfOne
 
 AGGREGATORS = ("mean", "max", "min", "sum")
 
@@ -94,8 +100,21 @@ class Observable:
             )
 
     def reader(self, physics: Any) -> Callable[[], np.ndarray]:
-        """A function returning the current value in `physics`, resolved once per compile."""
-        raise NotImplementedError(f"{type(self).__name__} must implement reader(physics)")
+        """A function returning the current value in `physics`, resolved once per compile;
+        here, row 0 of `batch_reader` with a batch of one. Raises NotImplementedError if
+        neither is implemented."""
+        read = self.batch_reader(BatchOfOne(physics, strict=False))
+        if read is None:
+            raise NotImplementedError(
+                f"{type(self).__name__} must implement reader(physics) or batch_reader(physics)"
+            )
+        return lambda: read()[0]
+
+    def batch_reader(self, physics: batched.BatchPhysics) -> Callable[[], np.ndarray] | None:
+        """A function returning the current values of the n environments of `physics`,
+        shape (n, *shape), resolved once per compile; or None when they cannot be read at
+        once (then each environment's is read with `reader`). None here."""
+        return None
 
     def default_bounds(self, value: np.ndarray) -> Bounds:
         """The bounds used when none were given: unbounded (integer types: their range)."""
@@ -103,10 +122,19 @@ class Observable:
 
     def __call__(self, physics: Any) -> np.ndarray:
         """The current value in `physics` (uncorrupted, unbuffered); for inspection."""
-        return np.asarray(self.reader(physics)())
+        return np.asarray(reader_of(self, physics)())
 
 
 _OPTIONS = frozenset(Observable().__dict__)
+
+
+def reader_of(observable: Observable, physics: Any) -> Callable[[], np.ndarray]:
+    """How one environment reads `observable` from its `physics`: its `batch_reader` with a
+    batch of one where that is the form it defines (on the class defining `reader` or a
+    subclass, as `composer.batched` decides for task methods), else its `reader`."""
+    if batched.prefers_batched(type(observable), "reader", "batch_reader"):
+        return Observable.reader(observable, physics)
+    return observable.reader(physics)
 
 
 class MJCFFeature(Observable):
@@ -143,6 +171,42 @@ class Generic(Observable):
         """A closure over `physics`."""
         function = self.function
         return lambda: function(physics)
+
+
+class BatchGeneric(Observable):
+    """The values of `function(physics)` for the n environments of a `BatchPhysics`, any
+    array-like of shape (n, *shape); one environment reads row 0 of a batch of one.
+
+        speed = BatchGeneric(lambda physics: physics.field('qvel')[:, :1], bounds=(-10, 10))
+    """
+
+    def __init__(
+        self,
+        function: Callable[[batched.BatchPhysics], Any],
+        batch_function: Callable[[batched.BatchPhysics], Any] | None = None,
+        **options: Any,
+    ) -> None:
+        """Call `function(batch_physics)` at each sample; options as `Observable`.
+        Deprecated: the previous release's `BatchGeneric(single_function,
+        batch_function=...)` still works, with a DeprecationWarning, and reads
+        `batch_function` in every environment."""
+        super().__init__(**options)
+        if batch_function is not None:
+            warnings.warn(
+                "BatchGeneric(function, batch_function=...) is deprecated: one environment is "
+                "now read with batch_function and a batch of one, so the single-environment "
+                "function is not used; pass the batched function alone, "
+                "BatchGeneric(batch_function)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            function = batch_function
+        self.batch_function = function
+
+    def batch_reader(self, physics: batched.BatchPhysics) -> Callable[[], np.ndarray]:
+        """A closure over the batch physics."""
+        function = self.batch_function
+        return lambda: np.asarray(function(physics))
 
 
 class MJCFCamera(Observable):

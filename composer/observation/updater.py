@@ -3,17 +3,21 @@
     updater = Updater({'arm/qpos': qpos, ...}, physics, substeps=5, flatten=False)
     updater.observation_space                      # spaces.Dict of Boxes (or one Box)
     obs = updater.reset(random_state)              # samples at step 0
-    for steps, samples in updater.plan[phase]:     # one control step
-        physics.step(steps)
-        for sample, offset in samples:
-            sample(first_step + offset)
+    done = 0                                       # control step k, from physics step first:
+    for offset in updater.offsets(k):              # after these of its physics steps,
+        physics.step(offset - done)
+        updater.sample(k, first, offset)           # sample what is due
+        done = offset
     obs = updater.observation(last_step)           # fresh arrays, safe to keep
 
 Everything per observable is resolved here, once per compile: its reader (bindings), its
-output array, its ring of samples, and the plan saying after which physics steps of a
-control step it is sampled. The plan only samples what some observation will show: with
-the default options an observable is read once per control step, after the last physics
-step. Observables whose value is empty (e.g. activations of a model with none) are left out.
+output array, its ring of samples, and the schedule saying after which physics steps of a
+control step it is sampled. The schedule only samples what some observation will show:
+with the default options an observable is read once per control step, after the last
+physics step. It repeats every `period` control steps. Observables whose value is empty
+(e.g. activations of a model with none) are left out. An observable is read with
+`observation.reader_of(observable, physics)`: with its batched reader and a batch of one
+where that is the form it defines.
 """
 
 from __future__ import annotations
@@ -26,10 +30,9 @@ import numpy as np
 from gymnasium import spaces
 
 from composer import errors
-from composer.observation.observable import Observable
+from composer.observation.observable import Observable, reader_of
 
 Sample = Callable[[int], None]
-Plan = list[list[tuple[int, list[tuple[Sample, int]]]]]
 
 _REDUCERS = {"mean": np.mean, "max": np.max, "min": np.min, "sum": np.sum}
 
@@ -42,7 +45,7 @@ class _Channel:
         self.name = name
         self.observable = observable
         try:
-            self.read = observable.reader(physics)
+            self.read = reader_of(observable, physics)
             value = np.asarray(self.read())
         except errors.Error:
             raise  # composer's own, already explicit
@@ -195,7 +198,7 @@ class Updater:
         self.names = [c.name for c in self.channels]
         self._allocate()
         self.delayed = [c for c in self.channels if not c.direct]
-        self.plan, self.substep_plan = self._make_plans()
+        self._make_schedule()
 
     def _allocate(self) -> None:
         if self.flatten:
@@ -220,8 +223,8 @@ class Updater:
         self.observation_space = spaces.Dict(boxes)
         self.outputs = [(c.name, c.out) for c in self.channels]
 
-    def _make_plans(self) -> tuple[Plan, list[list[list[tuple[Sample, int]]]]]:
-        """Per control-step phase: runs of physics steps, each followed by the samples due.
+    def _make_schedule(self) -> None:
+        """Per control-step phase: the samplers due after each physics step of it.
 
         The schedule repeats every `period` control steps, the least common multiple of
         each observable's interval with the substeps, counted in control steps.
@@ -230,25 +233,28 @@ class Updater:
         period = 1
         for channel in self.channels:
             period = math.lcm(period, math.lcm(channel.interval, substeps) // substeps)
-        plan: Plan = []
-        substep_plan = []
+        self.period = period
+        # _due[phase][offset]: the samplers due after physics step `offset` (1..substeps).
+        self._due: list[list[list[Sample]]] = []
+        self._offsets: list[list[int]] = []
         for phase in range(period):
-            runs: list[tuple[int, list[tuple[Sample, int]]]] = []
-            per_substep = []
-            pending = 0
+            due: list[list[Sample]] = [[]]
             for offset in range(1, substeps + 1):
                 step = phase * substeps + offset
-                due = [(c.sample, offset) for c in self.channels if c.needed(step, substeps)]
-                per_substep.append(due)
-                pending += 1
-                if due:
-                    runs.append((pending, due))
-                    pending = 0
-            if pending:
-                runs.append((pending, []))
-            plan.append(runs)
-            substep_plan.append(per_substep)
-        return plan, substep_plan
+                due.append([c.sample for c in self.channels if c.needed(step, substeps)])
+            self._due.append(due)
+            self._offsets.append([offset for offset in range(1, substeps + 1) if due[offset]])
+
+    def offsets(self, control_step: int) -> list[int]:
+        """The physics steps (1..substeps) of control step `control_step` (counted from
+        the reset) after which some observable is sampled, ascending."""
+        return self._offsets[control_step % self.period]
+
+    def sample(self, control_step: int, first: int, offset: int) -> None:
+        """Sample what is due after physics step `offset` of control step `control_step`,
+        which began after physics step `first` (both counted from the reset)."""
+        for sample in self._due[control_step % self.period][offset]:
+            sample(first + offset)
 
     def reset(self, random_state: Any) -> dict[str, np.ndarray] | np.ndarray:
         """Start an episode: sample every observable at step 0; the first observation."""

@@ -7,26 +7,29 @@
         obs, reward, terminated, truncated, info = venv.step(policy(obs))   # (64, ...) each
     venv.per_environment            # what runs per environment each step ([]: all batched)
 
-    class Swing(composer.Task):                      # the batch protocol: optional twins
+    class Swing(composer.Task):                      # per-step methods in batched form
         def get_reward_batch(self, physics):         # physics: a BatchPhysics, n rows
             return -np.abs(physics.bind(self.hinge).qpos[:, 0])
 
 Physics steps run on MuJoCo's thread pool (`mujoco.batch.Batch`); what the task computes
-per step runs over all environments at once when it has batched twins
-(`composer.vector.protocol`) and its observables are batchable (`MJCFFeature`s are;
-`BatchGeneric` for functions; `composer.vector.observations`). Anything else runs per
-environment, correctly, on a materialized MjData. The trajectories equal those of single
-`composer.Environment`s with the same seeds (`composer.vector.environment` says exactly
-what is promised). `gym.make_vec(id, num_envs, vectorization_mode='vector_entry_point')`
-builds one through `make_vector_environment`; `composer.sb3.VecEnvAdapter` serves one to
-stable-baselines3.
+per step runs over all environments at once where it is written in batched form
+(`composer.batched`, which a single `composer.Environment` runs too, with a batch of one)
+and its observables are batchable (`MJCFFeature`s are; `BatchGeneric` for functions;
+`composer.vector.observations`). Anything else runs per environment, correctly, on a
+materialized MjData. The trajectories equal those of single `composer.Environment`s with
+the same seeds (`composer.vector.environment` says exactly what is promised).
+`gym.make_vec(id, num_envs, vectorization_mode='vector_entry_point')` builds one through
+`make_vector_environment`; `composer.sb3.VecEnvAdapter` serves one to stable-baselines3.
+`BatchPhysics`, `BatchedTask`, `BatchGeneric` and `BatchError` are composer's, exported
+here too.
 """
 
+from composer.batched import BatchedTask, BatchPhysics
+from composer.errors import BatchError
+from composer.observation import BatchGeneric
 from composer.vector.environment import VectorEnvironment
 from composer.vector.make import make_vector_environment
-from composer.vector.observations import BatchGeneric
-from composer.vector.physics import BatchBinding, BatchPhysics
-from composer.vector.protocol import BatchedTask, BatchError
+from composer.vector.physics import BatchBinding, VectorPhysics
 
 __all__ = [
     "BatchBinding",
@@ -35,5 +38,6 @@ __all__ = [
     "BatchPhysics",
     "BatchedTask",
     "VectorEnvironment",
+    "VectorPhysics",
     "make_vector_environment",
 ]

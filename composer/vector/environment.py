@@ -19,9 +19,10 @@ What it promises:
   acceleration-dependent fields are recomputed when read). With `physics.legacy_step =
   False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
   observations, rewards, terminations and discounts are numpy arrays over every
-  environment, computed at once where the task declares batched methods and its
-  observables are batchable (`composer.vector.protocol`, `.observations`); the rest runs
-  per environment on a materialized MjData.
+  environment, computed at once where the task writes its per-step methods in their
+  batched form and its observables are batchable (`composer.batched`, `.observations`);
+  the rest runs per environment on a materialized MjData. A control step keeps the order
+  and rules of a single environment's (`composer.stepping`).
 - Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
   (default: the step after an episode ends resets that environment, ignores its action
   and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
@@ -38,7 +39,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -50,12 +50,12 @@ from gymnasium.vector.utils import batch_space
 from mujoco import batch as mujoco_batch
 
 import mjcf
-from composer import errors, hooks
+from composer import errors, hooks, stepping
 from composer.environment import RENDER_MODES, Environment
 from composer.task import Task
-from composer.vector import info_layout, protocol
+from composer.vector import info_layout
 from composer.vector.observations import BatchObservations
-from composer.vector.physics import BatchPhysics
+from composer.vector.physics import VectorPhysics
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state.
@@ -71,7 +71,7 @@ _SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | int(mujoco.mjtEnableBit.mjENBL_
 _VEL = mujoco.mjtStage.mjSTAGE_VEL
 _NONE = mujoco.mjtStage.mjSTAGE_NONE
 _STALE, _SYNCED, _DERIVED = 0, 1, 2
-_OUTCOME = ("get_reward", "should_terminate_episode", "get_discount", "get_info")
+_OUTCOME = frozenset({"get_reward", "should_terminate_episode", "get_discount", "get_info"})
 
 
 class VectorEnvironment(gymnasium.vector.VectorEnv):
@@ -118,14 +118,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         }
         task = first.task
         self._substeps = task.physics_steps_per_control_step
-        limit = math.inf if time_limit is None else time_limit
-        steps = math.inf if math.isinf(limit) else math.ceil(limit / task.control_timestep - 1e-9)
-        self._step_limit = min(steps, math.inf if max_episode_steps is None else max_episode_steps)
-        self._action_low = first.action_space.low.astype(np.float64)
-        self._action_high = first.action_space.high.astype(np.float64)
-        self._modes = {name: protocol.batched(task, name) for name in protocol.BATCHABLE}
+        self._step_limit = stepping.step_limit(time_limit, task.control_timestep, max_episode_steps)
+        self._actions = stepping.ActionRule(first.action_space, num_envs)
+        self._methods = stepping.TaskStep(task)
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
-        self._after_hooks = [self._entity_after_step(i) for i in range(num_envs)]
         if nthread is None:
             nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
         self._build_batch(min(nthread, num_envs), persistent=True)
@@ -153,7 +149,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             first.physics.model, self.num_envs, nthread=nthread, persistent=persistent
         )
         self._set_models()
-        self._physics = BatchPhysics(self._batch, self._envs)
+        self._physics = VectorPhysics(self._batch, self._envs)
         self._observations = BatchObservations(
             first.updater, self._physics, self._read_env, lambda i: self._envs[i].random_state
         )
@@ -208,21 +204,16 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
 
     def _per_env_parts(self) -> list[str]:
         """What runs once per environment on a materialized MjData each step."""
-        parts = [f"task.{name}" for name, mode in self._modes.items() if mode is None]
+        parts = [f"task.{name}" for name in self._methods.single]
         task_hooks = self._hooks[0]
         if task_hooks.before_step:
             parts.append("entity before_step hooks")
-        if self._after_hooks[0]:
+        if task_hooks.after_step:
             parts.append("entity after_step hooks")
         if task_hooks.has_substep_hooks:
             parts.append("substep hooks")
         parts += [f"observable {name}" for name in self._observations.per_environment]
         return parts
-
-    def _entity_after_step(self, i: int) -> list[Callable[..., None]]:
-        """Environment i's after_step hooks but its task's (run batched or per env)."""
-        task = self._envs[i].task
-        return [h for h in self._hooks[i].after_step if h.__self__ is not task]
 
     # -- properties ----------------------------------------------------------------------
 
@@ -234,7 +225,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         return tuple(self._envs)
 
     @property
-    def batch_physics(self) -> BatchPhysics:
+    def batch_physics(self) -> VectorPhysics:
         """The BatchPhysics batched methods get, over every environment between steps."""
         self._physics._select(None)
         return self._physics
@@ -291,7 +282,6 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             env.reset(seed=seed, options=options)
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
-                self._after_hooks[i] = self._entity_after_step(i)
             self._save(i)
             self._observations.load(i, env.updater.channels)
             self._held[i] = _SYNCED
@@ -309,12 +299,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         ended."""
         if not self._started:
             raise errors.EpisodeError("step() called before reset(); call reset()")
-        actions = np.asarray(actions, dtype=np.float64)
-        expected = (self.num_envs, *self.single_action_space.shape)
-        if actions.shape != expected:
-            raise errors.EpisodeError(
-                f"actions have shape {actions.shape}, expected {expected} (a row per environment)"
-            )
+        actions = self._actions.shaped(actions)
         resetting = np.zeros(self.num_envs, dtype=bool)
         if self.autoreset_mode is AutoresetMode.NEXT_STEP:
             resetting = self._over.copy()
@@ -350,7 +335,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         return {**kept, "final_obs": final_obs, "_final_obs": mask, "final_info": moved,
                 "_final_info": mask.copy()}  # fmt: skip
 
-    # -- one control step ----------------------------------------------------------------
+    # -- one control step (composer.stepping: its order and rules) ------------------------
 
     def _step_envs(
         self,
@@ -361,14 +346,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         truncated: np.ndarray,
         info: dict[str, Any],
     ) -> None:
-        bad = ~np.isfinite(actions)
-        if bad.any():
-            rows = sorted({int(ids[r]) for r in np.nonzero(bad)[0]})
-            raise errors.EpisodeError(
-                f"actions of environments {rows} have non-finite values; actions must be "
-                "finite numbers"
-            )
-        actions = np.clip(actions, self._action_low, self._action_high)
+        actions = self._actions.clipped(actions, ids)
         self._before_step(ids, actions)
         failures = self._advance(ids, actions)
         self._after_step(ids)
@@ -376,12 +354,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._observations.finish(ids, self._steps[ids] * self._substeps)
         errors_found = self._invalid(ids, failures)
         for i, message in errors_found.items():
-            info = self._add_info(info, {"physics_error": message}, i)
-            warnings.warn(
-                f"environment {i}: episode truncated: {message}",
-                errors.DivergenceWarning,
-                stacklevel=3,
-            )
+            entries = stepping.diverged(message, stacklevel=3, environment=i)
+            info_layout.add(info, entries, i, self.num_envs)
             truncated[i] = True
         ok = ids[~np.isin(ids, list(errors_found))] if errors_found else ids
         if ok.size:
@@ -389,24 +363,14 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             truncated[ok] = self._steps[ok] >= self._step_limit
 
     def _before_step(self, ids: np.ndarray, actions: np.ndarray) -> None:
-        mode = self._modes["before_step"]
-        if mode == "default":
-            if len(ids) == self.num_envs:
-                self._ctrl[:] = actions
-            else:
-                self._ctrl[ids] = actions
+        methods = self._methods
+        self._select(ids)
+        if methods.apply(self._physics, actions):
             self._wrote(ids)
-        elif mode is not None:
-            self._select(ids)
-            mode(self._physics, actions)
-            self._wrote(ids)
-        if mode is None or self._hooks[0].before_step:
+        if methods.applies_each(self._hooks[0]):
             for k, i in enumerate(ids):
                 env, physics = self._envs[i], self._materialize(i)
-                if mode is None:
-                    env.task.before_step(physics, actions[k], env.random_state)
-                for hook in self._hooks[i].before_step:
-                    hook(physics, env.random_state)
+                methods.apply_each(env.task, self._hooks[i], physics, actions[k], env.random_state)
                 self._save(i)
 
     def _advance(self, ids: np.ndarray, actions: np.ndarray) -> dict[int, str]:
@@ -416,34 +380,26 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         first = self._steps[ids] * self._substeps
         phases = self._steps[ids] % self._observations.period
         sample = self._observations.sample
+        around = None
         if self._hooks[0].has_substep_hooks:
-            for offset in range(1, self._substeps + 1):
-                self._substep_hooks(ids, actions, before=True)
-                self._run(ids, 1, failures)
-                self._substep_hooks(ids, actions, before=False)
-                sample(ids, phases, offset, first)
-            return failures
-        done = 0
-        for offset in self._observations.offsets(phases):
-            self._run(ids, offset - done, failures)
-            sample(ids, phases, offset, first)
-            done = offset
-        if done < self._substeps:
-            self._run(ids, self._substeps - done, failures)
+
+            def around(before: bool) -> None:
+                self._substep_hooks(ids, actions, before)
+
+        stepping.physics_steps(
+            self._substeps,
+            self._observations.offsets(phases),
+            lambda nstep: self._run(ids, nstep, failures),
+            lambda offset: sample(ids, phases, offset, first),
+            around,
+        )
         return failures
 
     def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
         for k, i in enumerate(ids):
-            env, task_hooks = self._envs[i], self._hooks[i]
-            physics, random_state = self._materialize(i), env.random_state
-            if before:
-                for hook in task_hooks.task_before_substep:
-                    hook(physics, actions[k], random_state)
-                for hook in task_hooks.before_substep:
-                    hook(physics, random_state)
-            else:
-                for hook in task_hooks.after_substep:
-                    hook(physics, random_state)
+            env = self._envs[i]
+            physics = self._materialize(i)
+            stepping.substep_hooks(self._hooks[i], physics, actions[k], env.random_state, before)
             self._save(i)
 
     def _run(self, ids: np.ndarray, nstep: int, failures: dict[int, str]) -> None:
@@ -462,18 +418,14 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._physics._stepped(ids, consistent)
 
     def _after_step(self, ids: np.ndarray) -> None:
-        mode = self._modes["after_step"]
-        if callable(mode):
-            self._select(ids)
-            mode(self._physics)
+        methods = self._methods
+        self._select(ids)
+        if methods.finish(self._physics):
             self._wrote(ids)
-        if mode is None or self._after_hooks[0]:
+        if methods.finishes_each(self._hooks[0]):
             for i in ids:
                 env, physics = self._envs[i], self._materialize(i)
-                if mode is None:
-                    env.task.after_step(physics, env.random_state)
-                for hook in self._after_hooks[i]:
-                    hook(physics, env.random_state)
+                methods.finish_each(env.task, self._hooks[i], physics, env.random_state)
                 self._save(i)
 
     def _invalid(self, ids: np.ndarray, failures: dict[int, str]) -> dict[int, str]:
@@ -481,58 +433,36 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         found = dict(failures)
         counts = self._warning[ids][:, _INVALID, 1]
         for i in ids[counts.any(axis=1)]:
-            if int(i) in found:
-                continue
-            try:
-                self._materialize(i).check_invalid_state()
-            except mjcf.PhysicsError as e:
-                found[int(i)] = str(e)
+            if int(i) not in found:
+                message = stepping.invalid_state(self._materialize(i))
+                if message is not None:
+                    found[int(i)] = message
         return found
 
     def _outcome(
         self, ids: np.ndarray, rewards: np.ndarray, terminated: np.ndarray, info: dict[str, Any]
     ) -> None:
         """Reward, termination, info entries and discount of environments `ids`."""
-        modes, n = self._modes, len(ids)
+        methods, n = self._methods, self.num_envs
         self._select(ids)
-        physics = self._physics
-        mode = modes["get_reward"]
-        if mode is not None:
-            rewards[ids] = protocol.check_rows("get_reward_batch", mode(physics), n, np.float64)
-        mode = modes["should_terminate_episode"]
-        if callable(mode):
-            terminated[ids] = protocol.check_rows(
-                "should_terminate_episode_batch", mode(physics), n, bool
-            )
-        discount = None
-        mode = modes["get_discount"]
-        if mode == "default":
-            discount = np.ones(n)
-        elif mode is not None:
-            discount = protocol.check_rows("get_discount_batch", mode(physics), n, np.float64)
-        mode = modes["get_info"]
-        if callable(mode):
-            for key, values in mode(physics).items():
-                info_layout.put(info, key, ids, np.asarray(values), self.num_envs)
-        if discount is not None:
-            info_layout.put(info, "discount", ids, discount, self.num_envs)
-        if any(modes[name] is None for name in _OUTCOME):
-            self._outcome_per_env(ids, rewards, terminated, info)
-
-    def _outcome_per_env(
-        self, ids: np.ndarray, rewards: np.ndarray, terminated: np.ndarray, info: dict[str, Any]
-    ) -> None:
-        modes = self._modes
-        for i in ids:
-            task, physics = self._envs[i].task, self._materialize(i)
-            if modes["get_reward"] is None:
-                rewards[i] = float(task.get_reward(physics))
-            if modes["should_terminate_episode"] is None:
-                terminated[i] = bool(task.should_terminate_episode(physics))
-            entries = task.get_info(physics) if modes["get_info"] is None else {}
-            if modes["get_discount"] is None:
-                entries["discount"] = task.get_discount(physics)
-            info = self._add_info(info, entries, i)
+        rows = methods.outcome(self._physics)
+        if rows.rewards is not None:
+            rewards[ids] = rows.rewards
+        if rows.terminations is not None:
+            terminated[ids] = rows.terminations
+        for key, values in rows.info.items():
+            info_layout.put(info, key, ids, values, n)
+        if rows.discounts is not None:
+            info_layout.put(info, "discount", ids, rows.discounts, n)
+        if _OUTCOME.intersection(methods.single):
+            for i in ids:
+                task, physics = self._envs[i].task, self._materialize(i)
+                reward, ended, entries = methods.outcome_each(task, physics)
+                if reward is not None:
+                    rewards[i] = reward
+                if ended is not None:
+                    terminated[i] = ended
+                info_layout.add(info, entries, i, n)
 
     # -- per-environment access ----------------------------------------------------------
 

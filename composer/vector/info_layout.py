@@ -2,7 +2,12 @@
 '_key' array saying which environments have it.
 
     put(info, 'discount', ids, values, num_envs)   # info['discount'][ids] = values
+    add(info, {'angle': 0.3}, 2, num_envs)         # environment 2's entries
     kept, moved = split(info, mask)                # e.g. into info and info['final_info']
+
+`add` makes each key's array as `gymnasium.vector.SyncVectorEnv` does for the same
+entries (of the entry's type for a Python or numpy number, of its shape and dtype for an
+array, of objects otherwise; a dict entry nests), so our info equals its info.
 """
 
 from __future__ import annotations
@@ -11,22 +16,40 @@ from typing import Any
 
 import numpy as np
 
-from composer.vector.protocol import BatchError
-
 
 def put(info: dict[str, Any], key: str, ids: np.ndarray, values: np.ndarray, n: int) -> None:
     """Set info[key][ids] = values (one row per id) and the mask info['_key'] for `n`
-    environments; raises BatchError when `values` has not one row per id."""
-    if values.shape[:1] != (len(ids),):
-        raise BatchError(
-            f"get_info_batch entry {key!r} has shape {values.shape}; expected ({len(ids)}, ...)"
-        )
+    environments."""
     array = info.get(key)
     if array is None:
         array = info[key] = np.zeros((n, *values.shape[1:]), dtype=values.dtype)
         info[f"_{key}"] = np.zeros(n, dtype=bool)
     array[ids] = values
     info[f"_{key}"][ids] = True
+
+
+def add(info: dict[str, Any], entries: dict[str, Any], i: int, n: int) -> None:
+    """Put environment i's info `entries` into the info of `n` environments."""
+    for key, value in entries.items():
+        if isinstance(value, dict):
+            nested = info.setdefault(key, {})
+            add(nested, value, i, n)
+        else:
+            array = info.get(key)
+            if array is None:
+                array = info[key] = _array_for(value, n)
+            array[i] = value
+        mask = info.setdefault(f"_{key}", np.zeros(n, dtype=bool))
+        mask[i] = True
+
+
+def _array_for(value: Any, n: int) -> np.ndarray:
+    """The array holding `value` for `n` environments, as Gymnasium's vector envs make it."""
+    if type(value) in (int, float, bool) or isinstance(value, np.number):
+        return np.zeros(n, dtype=type(value))
+    if isinstance(value, np.ndarray):
+        return np.zeros((n, *value.shape), dtype=value.dtype)
+    return np.full(n, None, dtype=object)
 
 
 def split(info: dict[str, Any], mask: np.ndarray) -> tuple[dict[str, Any], dict[str, Any]]:

@@ -1,16 +1,16 @@
 """Observations of every environment at once, on the schedule a single Environment keeps.
 
-    speed = BatchGeneric(lambda physics: physics.data.qvel[:1],          # one environment
-                         batch_function=lambda physics: physics.field('qvel')[:, :1])
+    speed = BatchGeneric(lambda physics: physics.field('qvel')[:, :1])   # (n, 1)
 
-An observable is read for all environments in one call when it is an `MJCFFeature` of
-an MjData field MuJoCo's batch binds (automatic: qpos, qvel, xpos, sensordata ...), or
-has a `batch_reader(physics)` method returning a function of no arguments that gives a
-(num_envs, *shape) array, as `BatchGeneric` does. Others are read once per environment
-from its materialized MjData. The schedule (update interval, delay, buffer, aggregator,
-corruptor) is that of `composer.observation.Updater`, per environment: environments reset
-at different steps, so each keeps its own phase and ring of samples. Corruptors run once
-per environment with its random state; callable aggregators once per environment.
+An observable is read for all environments in one call when its `batch_reader(physics)`
+gives a function of no arguments returning a (num_envs, *shape) array (as `BatchGeneric`
+and `entities.features` do), or it is an `MJCFFeature` of an MjData field MuJoCo's batch
+binds (automatic: qpos, qvel, xpos, sensordata ...). Others are read once per environment
+from its materialized MjData, with the reader a single environment uses. The schedule
+(update interval, delay, buffer, aggregator, corruptor) is that of
+`composer.observation.Updater`, per environment: environments reset at different steps,
+so each keeps its own phase and ring of samples. Corruptors run once per environment with
+its random state; callable aggregators once per environment.
 """
 
 from __future__ import annotations
@@ -20,36 +20,15 @@ from typing import Any
 
 import numpy as np
 
-from composer.observation import Generic, MJCFFeature, Observable, Updater
-from composer.vector.physics import BatchPhysics
-from composer.vector.protocol import BatchError
+from composer.errors import BatchError
+from composer.observation import MJCFFeature, Observable, Updater
+from composer.vector.physics import VectorPhysics
 
 # Aggregators reduced over all environments at once (axis 1); callables run per environment.
 _VECTOR_REDUCERS = (np.mean, np.max, np.min, np.sum)
 
 
-class BatchGeneric(Generic):
-    """A `Generic` observable with a batched twin: `batch_function(batch_physics)` returns
-    the value of every environment, shape (num_envs, *shape)."""
-
-    def __init__(
-        self,
-        function: Callable[[Any], Any],
-        batch_function: Callable[[BatchPhysics], Any],
-        **options: Any,
-    ) -> None:
-        """`function(physics)` for one environment, `batch_function` for all; options as
-        `Observable`."""
-        super().__init__(function, **options)
-        self.batch_function = batch_function
-
-    def batch_reader(self, physics: BatchPhysics) -> Callable[[], np.ndarray]:
-        """A closure over the batch physics."""
-        function = self.batch_function
-        return lambda: np.asarray(function(physics))
-
-
-def _feature_reader(item: MJCFFeature, physics: BatchPhysics) -> Callable[[], np.ndarray] | None:
+def _feature_reader(item: MJCFFeature, physics: VectorPhysics) -> Callable[[], np.ndarray] | None:
     """An MJCFFeature's batched reader, or None when MuJoCo's batch lacks its field."""
     elements = item.mjcf_element
     binding = physics.bind(list(elements) if isinstance(elements, tuple) else elements)
@@ -64,18 +43,21 @@ def _feature_reader(item: MJCFFeature, physics: BatchPhysics) -> Callable[[], np
     return lambda: getattr(binding, kind)[key]
 
 
-def _batch_reader(item: Observable, physics: BatchPhysics) -> Callable[[], np.ndarray] | None:
-    if hasattr(item, "batch_reader"):
-        return item.batch_reader(physics)
-    if isinstance(item, MJCFFeature):
-        return _feature_reader(item, physics)
-    return None
+def _batch_reader(
+    item: Observable, physics: VectorPhysics
+) -> tuple[Callable[[], np.ndarray] | None, bool]:
+    """(The reader of `item` for every environment or None, whether it is its own
+    `batch_reader`, rather than one mirroring an MJCFFeature's binding)."""
+    read = item.batch_reader(physics)
+    if read is None and isinstance(item, MJCFFeature):
+        return _feature_reader(item, physics), False
+    return read, read is not None
 
 
 class _Channel:
     """One observable over all environments: its reader, output rows and sample rings."""
 
-    def __init__(self, index: int, single: Any, physics: BatchPhysics, out: np.ndarray) -> None:
+    def __init__(self, index: int, single: Any, physics: VectorPhysics, out: np.ndarray) -> None:
         self.index = index
         self.name = single.name
         self.out = out
@@ -86,12 +68,12 @@ class _Channel:
         self.corruptor = single.corruptor
         self.reduce = single.reduce
         self.dtype = single.dtype
-        self.read = _batch_reader(single.observable, physics)
+        self.read, own = _batch_reader(single.observable, physics)
         num_envs = out.shape[0]
         if self.read is not None:
             shape = np.shape(self.read())
             if shape != (num_envs, *self.shape):
-                if not hasattr(single.observable, "batch_reader"):
+                if not own:
                     self.read = None  # an index the batched reader cannot mirror: per env
                 else:
                     raise BatchError(
@@ -138,7 +120,7 @@ class BatchObservations:
     def __init__(
         self,
         updater: Updater,
-        physics: BatchPhysics,
+        physics: VectorPhysics,
         read_env: Callable[[int, int], np.ndarray],
         random_state: Callable[[int], np.random.RandomState],
     ) -> None:
@@ -149,7 +131,7 @@ class BatchObservations:
         num_envs = physics.num_envs
         self.flatten = updater.flatten
         self.substeps = updater.substeps
-        self.period = len(updater.plan)
+        self.period = updater.period
         self._physics = physics
         self._read_env = read_env
         self._random_state = random_state

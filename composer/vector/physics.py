@@ -1,24 +1,25 @@
-"""BatchPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays.
+"""VectorPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays.
 
-    def get_reward_batch(self, physics):                 # a Task's batched twin
+    def get_reward_batch(self, physics):                 # a Task's batched method
         hinge = physics.bind(self.pendulum.hinge)        # bound once, cached
         return -np.abs(hinge.qpos[:, 0])                 # (n,): one row per environment
     physics.bind(self.arm.actuators).ctrl = u            # writes state fields, (n, nu)
     physics.field('time')                                # a whole MjData field, (n,)
     physics.ids, physics.tasks, physics.random_states    # who the n rows are
 
-A BatchPhysics covers the environments of one call (`ids`, ascending). `bind(elements)`
-takes elements of the first environment's model, as `mjcf.Physics.bind` does, and gives
-their fields with a leading environment axis: `bind(joint).qpos` is (n, 1) for a hinge.
-Reads are copies. MjData fields come from MuJoCo's batch (`mujoco.batch.Batch.bind`):
-state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied ...) are the simulations'
-state and can be assigned; derived fields (xpos, sensordata ...) are read-only and describe
-the current state, as `mjcf.Physics` bindings' do: positions and velocities are computed
-after each step, and acceleration-dependent fields (qacc, touch sensors ...), or anything
-after a write of state, are recomputed for the environments read (`Batch.forward`) when
-first read. Fields MuJoCo computes only for sensors (cfrc_ext, subtree_linvel ...) are
-read per environment. MjModel fields (mass, geom_size ...) are read from each
-environment's own model, one at a time.
+The `composer.BatchPhysics` a VectorEnvironment passes to batched methods (the contract is
+`composer.batched`'s). It covers the environments of one call (`ids`, ascending).
+`bind(elements)` takes elements of the first environment's model, as `mjcf.Physics.bind`
+does, and gives their fields with a leading environment axis: `bind(joint).qpos` is (n, 1)
+for a hinge. Reads are copies. MjData fields come from MuJoCo's batch
+(`mujoco.batch.Batch.bind`): state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied
+...) are the simulations' state and can be assigned; derived fields (xpos, sensordata ...)
+are read-only and describe the current state, as `mjcf.Physics` bindings' do: positions and
+velocities are computed after each step, and acceleration-dependent fields (qacc, touch
+sensors ...), or anything after a write of state, are recomputed for the environments read
+(`Batch.forward`) when first read. Fields MuJoCo computes only for sensors (cfrc_ext,
+subtree_linvel ...) are read per environment. MjModel fields (mass, geom_size ...) are
+read from each environment's own model, one at a time.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 from mujoco import batch as mujoco_batch
 
 import mjcf
-from composer.vector.protocol import BatchError
+from composer import batched
 from mjcf import fields, tracking
 
 _ACC = tracking.Stage.ACCELERATION
@@ -66,13 +67,13 @@ class _Field:
         self.writable = source is not None and source.flags.writeable
 
 
-class BatchBinding:
+class BatchBinding(batched.Binding):
     """Fields of bound elements in the environments of the current call, (n, ...) each.
     Raises mjcf.BindingError for a field the elements' kind does not have."""
 
     __slots__ = ("_elements", "_fields", "_physics")
 
-    def __init__(self, physics: BatchPhysics, elements: Any) -> None:
+    def __init__(self, physics: VectorPhysics, elements: Any) -> None:
         """Bind `elements` (of the first environment's model); resolved field by field."""
         object.__setattr__(self, "_physics", physics)
         object.__setattr__(self, "_elements", elements)
@@ -84,40 +85,17 @@ class BatchBinding:
             found = self._fields[name] = self._physics._resolve(self._elements, name)
         return found
 
-    def __getattr__(self, name: str) -> np.ndarray:
-        if name.startswith("__"):
-            raise AttributeError(name)
+    def _get(self, name: str) -> np.ndarray:
         return self._physics._read(self._field(name))
 
-    def __setattr__(self, name: str, value: Any) -> None:
+    def _set(self, name: str, value: Any) -> None:
         self._physics._write(self._field(name), name, value)
 
     def __repr__(self) -> str:
         return f"<BatchBinding of {self._elements!r}>"
 
 
-class _EmptyBatchBinding:
-    """The binding of no elements: every field reads (n, 0); only empty values write."""
-
-    __slots__ = ("_physics",)
-
-    def __init__(self, physics: BatchPhysics) -> None:
-        object.__setattr__(self, "_physics", physics)
-
-    def __getattr__(self, name: str) -> np.ndarray:
-        if name.startswith("__"):
-            raise AttributeError(name)
-        return np.zeros((self._physics.num_envs, 0))
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if np.size(value) != 0:
-            raise mjcf.BindingError(
-                f"cannot write {np.shape(value)}-shaped values to {name!r} of a binding of no "
-                "elements: only an empty value fits"
-            )
-
-
-class BatchPhysics:
+class VectorPhysics(batched.BatchPhysics):
     """Numpy access to the simulations of the environments of one call (see the module)."""
 
     def __init__(self, batch: mujoco_batch.Batch, envs: Sequence[Environment]) -> None:
@@ -127,11 +105,12 @@ class BatchPhysics:
         self._envs = envs
         self._template = envs[0].physics
         self._ids: np.ndarray | None = None  # None: every environment
-        self._bindings: dict[Any, BatchBinding] = {}
+        self._bindings: dict[Any, batched.Binding] = {}
         # Per simulation: whether the batch's derived fields lag its state rows, for the
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
+        self._registered: set[str] = set()  # the MjData fields bound from the batch
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -206,14 +185,13 @@ class BatchPhysics:
             single = isinstance(key, mjcf.Element)
             template = self._template.bind(key)  # raises BindingError for foreign elements
             if template is mjcf.binding.EMPTY:
-                return _EmptyBatchBinding(self)
-            found = self._bindings[key] = BatchBinding(self, key if single else list(key))
+                return batched.EmptyBinding(self)
+            cls = batched.binding_class(BatchBinding, template.kind)
+            found = self._bindings[key] = cls(self, key if single else list(key))
         return found
 
     def field(self, name: str) -> np.ndarray:
-        """MjData field `name` of every row, (n, ...), a copy (up to date, as a bound
-        field's). Raises BatchError for a field MuJoCo's batch does not bind (arena arrays
-        such as efc_*)."""
+        """See `composer.BatchPhysics.field`."""
         source = self._source(name)
         stage = tracking.read_stage(name)
         if name == "sensordata":
@@ -224,18 +202,16 @@ class BatchPhysics:
         return source.copy() if self._ids is None else source[self._ids]
 
     def _source(self, name: str) -> np.ndarray:
-        if name in tracking.ON_DEMAND:
-            raise BatchError(
-                f"MjData field {name!r} is computed by MuJoCo only for sensors that need it, "
-                "so the batch does not hold it; it is read per environment"
-            )
-        if name not in mujoco_batch.DATA_FIELDS:
-            raise BatchError(
-                f"MjData field {name!r} is not available from MuJoCo's batch (it binds "
-                f"{len(mujoco_batch.DATA_FIELDS)} fields; arena arrays such as efc_* vary in "
-                "size); compute it in the per-environment method instead"
-            )
-        return self._batch.bind(name)
+        batched.check_source(name)
+        source = self._batch.bind(name)
+        if name not in self._registered:
+            self._registered.add(name)
+            if name not in batched.STATE_FIELDS:
+                # MuJoCo's batch copies an output out at each call from its first bind on:
+                # until the next call it holds nothing, whatever the stages say.
+                self._pos_stale[:] = True
+                self._acc_stale[:] = True
+        return source
 
     def _resolve(self, elements: Any, name: str) -> _Field:
         template = self._template.bind(elements)
@@ -267,25 +243,29 @@ class BatchPhysics:
 
     def _write(self, found: _Field, name: str, value: Any) -> None:
         if not found.writable:
-            what = "an MjModel field" if found.source is None else "derived by MuJoCo"
-            raise BatchError(
-                f"cannot assign {name!r}: it is {what}; batched methods write state fields "
-                "(qpos, qvel, act, ctrl, mocap_pos, qfrc_applied, xfrc_applied ...)"
-            )
+            raise batched.not_writable(name, model_field=found.source is None)
         n = self.num_envs
-        try:
-            rows = np.broadcast_to(np.asarray(value, dtype=mujoco.MJTNUM_DTYPE), (n, *found.shape))
-        except ValueError as e:
-            raise mjcf.BindingError(
-                f"cannot write {np.shape(value)}-shaped values to {name!r} of {n} environments: "
-                f"the bound rows have shape {(n, *found.shape)}"
-            ) from e
+        rows = batched.rows_to_write(value, n, found.shape, name)
         rows = rows.reshape(n, len(found.rows), *found.source.shape[2:])
         if self._ids is None:
             found.source[:, found.rows] = rows
         else:
             found.source[self._ids[:, None], found.rows] = rows
+        self._wrote(found.effect)
+
+    def _wrote(self, effect: tracking.Effect) -> None:
+        """The covered simulations' state rows were written, with `effect`."""
         written = slice(None) if self._ids is None else self._ids
         self._acc_stale[written] = True
-        if found.effect != tracking.Effect.STEP_INPUT:
+        if effect != tracking.Effect.STEP_INPUT:
             self._pos_stale[written] = True
+
+    def set_control(self, controls: Any) -> None:
+        """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
+        ctrl = self._batch.bind("ctrl")
+        rows = batched.rows_to_write(controls, self.num_envs, ctrl.shape[1:], "ctrl")
+        if self._ids is None:
+            ctrl[:] = rows
+        else:
+            ctrl[self._ids] = rows
+        self._wrote(tracking.Effect.STEP_INPUT)

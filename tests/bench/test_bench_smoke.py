@@ -13,10 +13,11 @@ from bench.__main__ import main
 
 def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
     path = tmp_path / "results.json"
-    assert main(["bind", "scene", "large", "vector", "--quick", "--json", str(path)]) == 0
+    names = ["bind", "scene", "large", "vector", "task_step"]
+    assert main([*names, "--quick", "--json", str(path)]) == 0
     report = json.loads(path.read_text())
     assert report["quick"] and report["machine"]["mujoco"]
-    assert list(report["benchmarks"]) == ["bind", "scene", "large", "vector"]
+    assert list(report["benchmarks"]) == names
     large = report["benchmarks"]["large"]["results"]
     assert large["2000 bodies"]["tree_mb"] > 0 and large["2000 bodies"]["parse_s"] > 0
     vector = report["benchmarks"]["vector"]
@@ -25,6 +26,8 @@ def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
     scene = report["benchmarks"]["scene"]["results"]
     assert scene["memory"]["tree_mb"] > 0 and scene["memory"]["mjmodel_mb"] > 0
     assert "memory.tree_vs_mjmodel" in suite.ratios(scene)
+    task_step = report["benchmarks"]["task_step"]["results"]
+    assert "CartpoleSwingup.env_vs_raw" in suite.ratios(task_step)
 
 
 def test_a_failing_benchmark_is_recorded_and_the_rest_run(tmp_path, monkeypatch):

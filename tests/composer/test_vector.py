@@ -17,7 +17,14 @@ import composer
 import mjcf
 from composer.vector import BatchError, VectorEnvironment, make_vector_environment
 from tests.composer.scenes import Block, SwingTask
-from tests.composer.vector_scenes import BatchedSwing, HookedSwing, SensingSwing, TowerTask
+from tests.composer.vector_scenes import (
+    BatchedSwing,
+    HookedSwing,
+    SensingSwing,
+    SingleFormSensingSwing,
+    SingleFormSwing,
+    TowerTask,
+)
 
 TEST_ID = "composer_tests/BatchedSwing-v0"
 if TEST_ID not in gymnasium.registry:
@@ -67,6 +74,26 @@ def assert_same_runs(vector, reference, steps=60, seed=3, gain=1.0):
 def test_trajectories_equal_single_environments_with_the_same_seeds(name):
     vector, reference = pair(TASKS[name], time_limit=0.3)
     assert assert_same_runs(vector, reference) >= 8  # through several autoresets
+
+
+@pytest.mark.parametrize(
+    ("batched", "single"),
+    [(BatchedSwing, SingleFormSwing), (SensingSwing, SingleFormSensingSwing)],
+    ids=["batched", "acceleration-stage sensors"],
+)
+def test_batched_forms_equal_the_single_forms_they_replace(batched, single):
+    # The reference above runs the batched forms too (a single environment runs them with
+    # a batch of one): here it runs independent single-environment formulas instead.
+    vector = VectorEnvironment(lambda: batched(terminate_above=1.0), 4, time_limit=0.3)
+    reference = SyncVectorEnv(
+        [lambda: composer.Environment(single(terminate_above=1.0), time_limit=0.3)] * 4
+    )
+    assert VectorEnvironment(single, 1).per_environment == [  # what runs in single form
+        "task.get_reward", "task.should_terminate_episode", "task.get_info",
+        "observable angle_cos", "observable tip_height",
+    ]  # fmt: skip
+    assert vector.per_environment == []
+    assert assert_same_runs(vector, reference) >= 8
 
 
 @pytest.mark.parametrize(

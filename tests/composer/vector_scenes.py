@@ -6,15 +6,16 @@ import numpy as np
 
 import composer
 import mjcf
-from composer import observation
-from composer.vector import BatchGeneric, BatchPhysics
+from composer import BatchPhysics, observation
+from composer.observation import BatchGeneric
 from tests.composer.scenes import Pendulum, SwingTask
 
 
 class BatchedSwing(SwingTask):
-    """SwingTask with batched twins and batchable observables only: the fast path.
-    `schedule=True` adds an update interval that does not divide the substeps, a delay, a
-    buffer, an aggregator and a corruptor."""
+    """SwingTask with its per-step methods in batched form (overriding SwingTask's single
+    forms) and batchable observables only: the fast path. `schedule=True` adds an update
+    interval that does not divide the substeps, a delay, a buffer, an aggregator and a
+    corruptor."""
 
     def __init__(
         self,
@@ -38,15 +39,10 @@ class BatchedSwing(SwingTask):
             )
         hinge = pendulum.hinge
         self._tip_height = BatchGeneric(
-            lambda physics: physics.bind(pendulum.tip).xpos[2:],
-            batch_function=lambda physics: physics.bind(pendulum.tip).xpos[:, 2:],
-            enabled=True,
+            lambda physics: physics.bind(pendulum.tip).xpos[:, 2:], enabled=True
         )
         self._angle_cos = BatchGeneric(
-            lambda physics: np.cos(physics.bind(hinge).qpos),
-            batch_function=lambda physics: np.cos(physics.bind(hinge).qpos),
-            bounds=(-1, 1),
-            enabled=True,
+            lambda physics: np.cos(physics.bind(hinge).qpos), bounds=(-1, 1), enabled=True
         )
 
     @property
@@ -58,9 +54,6 @@ class BatchedSwing(SwingTask):
 
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
         return np.abs(physics.bind(self.pendulum.hinge).qpos[:, 0]) > self._terminate_above
-
-    def get_info(self, physics: mjcf.Physics) -> dict:
-        return {"low": bool(physics.bind(self.pendulum.hinge).qpos[0] < 0)}
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
         return {"low": physics.bind(self.pendulum.hinge).qpos[:, 0] < 0}
@@ -148,8 +141,35 @@ class SensingSwing(BatchedSwing):
     def task_observables(self) -> dict[str, observation.Observable]:
         return {**super().task_observables, "sensed": self._sensed}
 
-    def get_reward(self, physics: mjcf.Physics) -> float:
-        return float(physics.bind(self.sensors[0]).sensordata[2])
-
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
         return physics.bind(self.sensors[0]).sensordata[:, 2]
+
+
+class SingleFormSwing(BatchedSwing):
+    """BatchedSwing written as before batched forms existed: its per-step methods in single
+    form (SwingTask's formulas, taking precedence over the inherited batched forms) and its
+    function observables as `Generic`s of one environment. The oracle its batched forms
+    are checked against."""
+
+    def __init__(self, **options) -> None:
+        super().__init__(**options)
+        pendulum = self.pendulum
+        self._tip_height = observation.Generic(
+            lambda physics: physics.bind(pendulum.tip).xpos[2:], enabled=True
+        )
+        self._angle_cos = observation.Generic(
+            lambda physics: np.cos(physics.bind(pendulum.hinge).qpos), bounds=(-1, 1), enabled=True
+        )
+
+    get_reward = SwingTask.get_reward
+    should_terminate_episode = SwingTask.should_terminate_episode
+
+    def get_info(self, physics: mjcf.Physics) -> dict:
+        return {"low": bool(physics.bind(self.pendulum.hinge).qpos[0] < 0)}
+
+
+class SingleFormSensingSwing(SingleFormSwing, SensingSwing):
+    """SensingSwing with its reward in single form, on SingleFormSwing's oracle."""
+
+    def get_reward(self, physics: mjcf.Physics) -> float:
+        return float(physics.bind(self.sensors[0]).sensordata[2])

@@ -1,0 +1,320 @@
+"""A control step's rules, kept once for `composer.Environment` and `composer.VectorEnvironment`.
+
+    actions = ActionRule(action_space)                   # per compile
+    action = actions.clipped(actions.shaped(action))     # float64, finite, within bounds
+    methods = TaskStep(task)                             # which form of each method runs
+    physics_steps(substeps, offsets, advance, sample)    # the physics steps, sampling
+    message = invalid_state(physics)                     # None, or why MuJoCo gave up
+    info = diverged(message, stacklevel=2)               # warns; the truncated step's info
+
+A control step, in either environment (each runs it for its environments):
+1. The action is checked (`ActionRule`): the wrong shape or a NaN/infinite value raises
+   EpisodeError before anything changes; values outside the action space are clipped.
+2. The task's `before_step` applies it (its batched form over the environments, or its
+   single form per environment: `TaskStep`), then the entities' `before_step` hooks run.
+3. The physics steps (`physics_steps`): with substep hooks, one at a time between the
+   task's and entities' `before_substep` and everyone's `after_substep`; observables are
+   sampled after the physics steps their schedule asks for.
+4. The task's `after_step`, then the entities' `after_step` hooks.
+5. If MuJoCo reported an invalid state (`invalid_state`), the episode is truncated: reward
+   0, not terminated, `info['physics_error']`, a DivergenceWarning (`diverged`). Otherwise
+   the reward, termination, discount and info entries are read (`TaskStep.outcome`), and
+   the episode is truncated once its step count reaches `step_limit`.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+from gymnasium import spaces
+
+import mjcf
+from composer import batched, errors, hooks
+
+if TYPE_CHECKING:
+    from composer.task import Task
+
+
+def step_limit(
+    time_limit: float | None, control_timestep: float, max_episode_steps: int | None = None
+) -> float:
+    """The number of control steps after which an episode is truncated: `time_limit`
+    seconds (None or inf: no limit) rounded up to whole control steps, or fewer with
+    `max_episode_steps`; math.inf for none."""
+    limit = math.inf if time_limit is None else time_limit
+    steps = math.inf if math.isinf(limit) else math.ceil(limit / control_timestep - 1e-9)
+    return min(steps, math.inf if max_episode_steps is None else max_episode_steps)
+
+
+class ActionRule:
+    """What an action must be: the action space's shape (with a row per environment for
+    `num_envs`), finite, and within its bounds (clipped to them)."""
+
+    def __init__(self, space: spaces.Box, num_envs: int | None = None) -> None:
+        """Check actions of `space` (one environment's), for one environment or a batch."""
+        self._low = space.low.astype(np.float64)
+        self._high = space.high.astype(np.float64)
+        self._batch = num_envs is not None
+        self.shape = space.shape if num_envs is None else (num_envs, *space.shape)
+
+    def shaped(self, actions: Any) -> np.ndarray:
+        """`actions` as a float64 array; raises EpisodeError if its shape is not `shape`."""
+        actions = np.asarray(actions, dtype=np.float64)
+        if actions.shape != self.shape:
+            if self._batch:
+                what, hint = "actions have", "a row per environment"
+            else:
+                what, hint = "action has", "one value per actuator"
+            raise errors.EpisodeError(
+                f"{what} shape {actions.shape}, expected {self.shape} ({hint})"
+            )
+        return actions
+
+    def clipped(self, actions: np.ndarray, ids: np.ndarray | None = None) -> np.ndarray:
+        """`actions` clipped to the bounds; raises EpisodeError, naming the indices (or
+        the environments `ids` of the rows), for a NaN or infinite value."""
+        finite = np.isfinite(actions)
+        if not finite.all():
+            if ids is None:
+                raise errors.EpisodeError(
+                    f"action has non-finite values at indices {np.flatnonzero(~finite)}: "
+                    f"{actions}; actions must be finite numbers"
+                )
+            rows = sorted({int(ids[r]) for r in np.nonzero(~finite)[0]})
+            raise errors.EpisodeError(
+                f"actions of environments {rows} have non-finite values; actions must be "
+                "finite numbers"
+            )
+        # Equal to np.clip for finite values, and a third of its cost on small arrays.
+        return np.minimum(np.maximum(actions, self._low), self._high)
+
+
+def physics_steps(
+    substeps: int,
+    offsets: Sequence[int],
+    advance: Callable[[int], None],
+    sample: Callable[[int], None],
+    substep_hooks: Callable[[bool], None] | None = None,
+) -> None:
+    """Run one control step's `substeps` physics steps: `advance(k)` runs k of them, and
+    `sample(offset)` samples what is due after physics step `offset` (1..substeps) of the
+    control step, for each of `offsets` (ascending). With `substep_hooks`, the steps run
+    one at a time, `substep_hooks(True)` before each and `substep_hooks(False)` after it,
+    sampling after every one."""
+    if substep_hooks is not None:
+        for offset in range(1, substeps + 1):
+            substep_hooks(True)
+            advance(1)
+            substep_hooks(False)
+            sample(offset)
+        return
+    done = 0
+    for offset in offsets:
+        advance(offset - done)
+        sample(offset)
+        done = offset
+    if done < substeps:
+        advance(substeps - done)
+
+
+def substep_hooks(
+    task_hooks: hooks.Hooks,
+    physics: mjcf.Physics,
+    action: np.ndarray,
+    random_state: np.random.RandomState,
+    before: bool,
+) -> None:
+    """One environment's hooks around a physics step: before it, the task's
+    `before_substep` (with the action) and the entities'; after it, everyone's
+    `after_substep`."""
+    if before:
+        for hook in task_hooks.task_before_substep:
+            hook(physics, action, random_state)
+        for hook in task_hooks.before_substep:
+            hook(physics, random_state)
+    else:
+        for hook in task_hooks.after_substep:
+            hook(physics, random_state)
+
+
+def invalid_state(physics: mjcf.Physics) -> str | None:
+    """Why MuJoCo reported `physics`' state invalid (bad qpos, qvel, qacc or ctrl), or None."""
+    try:
+        physics.check_invalid_state()
+    except mjcf.PhysicsError as e:
+        return str(e)
+    return None
+
+
+def diverged(message: str, stacklevel: int, environment: int | None = None) -> dict[str, str]:
+    """Warn (DivergenceWarning, at `stacklevel` from the caller) that the episode of
+    `environment` (None: the one) was truncated because of `message`; returns the info
+    entries of that step. Its reward is 0 and it is not terminated."""
+    where = "" if environment is None else f"environment {environment}: "
+    warnings.warn(
+        f"{where}episode truncated: {message}", errors.DivergenceWarning, stacklevel=stacklevel + 1
+    )
+    return {"physics_error": message}
+
+
+class Outcome(NamedTuple):
+    """What the batched methods said of n environments (None where the single form runs):
+    rewards (n,), terminations (n,) bool, discounts (n,), info entries of (n, ...) each."""
+
+    rewards: np.ndarray | None
+    terminations: np.ndarray | None
+    discounts: np.ndarray | None
+    info: dict[str, np.ndarray]
+
+
+class _Rows:
+    """One per-step method with a row per environment (reward, termination, discount):
+    its batched form (None: the single form runs), the value all its rows hold (Task's
+    defaults, not called), and its name and dtype for checking what it returns."""
+
+    __slots__ = ("dtype", "method", "name", "value")
+
+    def __init__(self, method: Callable[..., Any] | None, name: str, dtype: type) -> None:
+        self.method = method
+        self.value = batched.NOT_CONSTANT if method is None else batched.constant(method)
+        self.name = f"{name}_batch"
+        self.dtype = dtype
+
+    def rows(self, physics: batched.BatchPhysics) -> np.ndarray | None:
+        """The (n,) rows of the environments of `physics`; None for the single form."""
+        if self.method is None:
+            return None
+        n = physics.num_envs
+        if self.value is not batched.NOT_CONSTANT:
+            return np.full(n, self.value, dtype=self.dtype)
+        return batched.check_rows(self.name, self.method(physics), n, self.dtype)
+
+    def first(self, physics: batched.BatchPhysics) -> Any:
+        """The row of the one environment of `physics`, a batch of one (batched form)."""
+        if self.value is not batched.NOT_CONSTANT:
+            return self.value
+        return batched.check_rows(self.name, self.method(physics), 1, self.dtype)[0]  # type: ignore[misc]
+
+
+class TaskStep:
+    """How a task's per-step methods run (`composer.batched`): the batched form over a
+    BatchPhysics of the environments of a step, the single form once per environment.
+    Resolved once per compile; `single` names the methods that run per environment."""
+
+    def __init__(self, task: Task) -> None:
+        """Resolve every per-step method of `task`."""
+        forms = {name: batched.batched_method(task, name) for name in batched.BATCHABLE}
+        self.single = tuple(name for name, form in forms.items() if form is None)
+        self._before = forms["before_step"]
+        after, info = forms["after_step"], forms["get_info"]
+        self._after = None if after is None or hooks.is_noop(after) else after
+        self._reward = _Rows(forms["get_reward"], "get_reward", np.float64)
+        self._terminate = _Rows(forms["should_terminate_episode"], "should_terminate_episode", bool)
+        self._discount = _Rows(forms["get_discount"], "get_discount", np.float64)
+        self._info = info
+        self._info_entries = info is not None and not hooks.is_noop(info)
+
+    # -- the batched forms, over the environments of a BatchPhysics ------------------------
+
+    def apply(self, physics: batched.BatchPhysics, actions: np.ndarray) -> bool:
+        """Run the batched `before_step` with (n, action size) actions; whether it ran."""
+        if self._before is None:
+            return False
+        self._before(physics, actions)
+        return True
+
+    def finish(self, physics: batched.BatchPhysics) -> bool:
+        """Run the batched `after_step`; whether it ran (not for Task's empty one)."""
+        if self._after is None:
+            return False
+        self._after(physics)
+        return True
+
+    def outcome(self, physics: batched.BatchPhysics) -> Outcome:
+        """The batched methods' rewards, terminations, discounts and info entries, each
+        checked to hold a row per environment. Raises BatchError if one does not."""
+        info = {}
+        if self._info_entries:
+            info = batched.check_info(self._info(physics), physics.num_envs)  # type: ignore[misc]
+        return Outcome(
+            self._reward.rows(physics),
+            self._terminate.rows(physics),
+            self._discount.rows(physics),
+            info,
+        )
+
+    # -- the single forms, once per environment ------------------------------------------
+
+    def applies_each(self, task_hooks: hooks.Hooks) -> bool:
+        """Whether `apply_each` has anything to run."""
+        return self._before is None or bool(task_hooks.before_step)
+
+    def apply_each(
+        self,
+        task: Task,
+        task_hooks: hooks.Hooks,
+        physics: mjcf.Physics,
+        action: np.ndarray,
+        random_state: np.random.RandomState,
+    ) -> None:
+        """In one environment: the task's single `before_step` (unless batched), then the
+        entities' `before_step` hooks."""
+        if self._before is None:
+            task.before_step(physics, action, random_state)
+        for hook in task_hooks.before_step:
+            hook(physics, random_state)
+
+    def finishes_each(self, task_hooks: hooks.Hooks) -> bool:
+        """Whether `finish_each` has anything to run."""
+        return "after_step" in self.single or bool(task_hooks.after_step)
+
+    def finish_each(
+        self,
+        task: Task,
+        task_hooks: hooks.Hooks,
+        physics: mjcf.Physics,
+        random_state: np.random.RandomState,
+    ) -> None:
+        """In one environment: the task's single `after_step` (unless batched), then the
+        entities' `after_step` hooks."""
+        if "after_step" in self.single:
+            task.after_step(physics, random_state)
+        for hook in task_hooks.after_step:
+            hook(physics, random_state)
+
+    def outcome_each(
+        self, task: Task, physics: mjcf.Physics
+    ) -> tuple[float | None, bool | None, dict[str, Any]]:
+        """In one environment, the single forms: (reward or None, termination or None, the
+        info entries of `get_info` and `get_discount`) where they are not batched."""
+        reward = terminated = None
+        if self._reward.method is None:
+            reward = float(task.get_reward(physics))
+        if self._terminate.method is None:
+            terminated = bool(task.should_terminate_episode(physics))
+        info = task.get_info(physics) if self._info is None else {}
+        if self._discount.method is None:
+            info["discount"] = task.get_discount(physics)
+        return reward, terminated, info
+
+    def outcome_of_one(
+        self, physics: batched.BatchPhysics, task: Task, own: mjcf.Physics
+    ) -> tuple[float, bool, dict[str, Any]]:
+        """(reward, terminated, info) of one environment: the batched forms over its batch
+        of one `physics`, the single ones on its own physics `own`."""
+        reward, terminated, info = self.outcome_each(task, own)
+        if reward is None:
+            reward = float(self._reward.first(physics))
+        if terminated is None:
+            terminated = bool(self._terminate.first(physics))
+        if self._info_entries:
+            entries = batched.check_info(self._info(physics), 1)  # type: ignore[misc]
+            for key, values in entries.items():
+                info[key] = batched.first_row(values)
+        if self._discount.method is not None:
+            info["discount"] = float(self._discount.first(physics))
+        return reward, terminated, info
