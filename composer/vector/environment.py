@@ -503,7 +503,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._materialize(i)
         return self._envs[i].updater.channels[channel].read()
 
-    def render(self) -> np.ndarray | None:
+    # Environment 0's frame, where Gymnasium's VectorEnv.render gives a tuple of them.
+    def render(self) -> np.ndarray | None:  # type: ignore[override]
         """Environment 0's frame for `render_mode`, or None without one (see
         `composer.Environment.render`)."""
         if self.render_mode is None:
