@@ -503,7 +503,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._materialize(i)
         return self._envs[i].updater.channels[channel].read()
 
-    def render(self) -> tuple[np.ndarray, ...] | None:
+    # gymnasium 1.2 types the frames with an unbound TypeVar (RenderFrame); 1.4 does not.
+    def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override, unused-ignore]
         """Every environment's frame for `render_mode`, in order (a tuple, as Gymnasium's
         `VectorEnv.render` gives them), or None without one (see
         `composer.Environment.render`)."""
