@@ -19,7 +19,8 @@ from arenas.floor import Floor
 class Corridor(Floor):
     """A `Floor` with walls at y = +-width/2 (if `walls`) from x = -2 to `length`."""
 
-    def _build(
+    # _build takes the constructor's arguments (see Entity.__init__): each arena its own.
+    def _build(  # type: ignore[override]
         self,
         name: str = "corridor",
         length: float = 30.0,

@@ -21,7 +21,8 @@ from arenas.floor import Floor
 class Table(Floor):
     """A `Floor` with a table (geom `top`, four legs), sites `mount` and `top`."""
 
-    def _build(
+    # _build takes the constructor's arguments (see Entity.__init__): each arena its own.
+    def _build(  # type: ignore[override]
         self,
         name: str = "table",
         top_size: Sequence[float] = (0.5, 0.7),

@@ -46,7 +46,8 @@ def terrain_heights(resolution: int, seed: int, flat_radius: float = 0.15) -> np
 class RoughTerrain(Floor):
     """A `Floor` whose middle is the height field geom `terrain` of half sizes `size`."""
 
-    def _build(
+    # _build takes the constructor's arguments (see Entity.__init__): each arena its own.
+    def _build(  # type: ignore[override]
         self,
         name: str = "terrain",
         size: Sequence[float] = (8.0, 8.0),

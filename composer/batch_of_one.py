@@ -64,6 +64,10 @@ class _Binding(batched.Binding):
 
     __slots__ = ("_binding", "_fields", "_strict")
 
+    _binding: Any  # the mjcf.Physics binding of the elements
+    _fields: dict[str, _Field]
+    _strict: bool
+
     def __init__(self, binding: Any, strict: bool) -> None:
         object.__setattr__(self, "_binding", binding)
         object.__setattr__(self, "_fields", {})
@@ -135,8 +139,11 @@ class BatchOfOne(batched.BatchPhysics):
         """The strict batch of one an Environment serves `physics` with (with its task and
         random state), or else a new one around `physics` and `task`."""
         served = _SERVED.get(id(physics))
-        mine = served is not None and served._physics is physics
-        if mine and (task is None or served._task is task):
+        if (
+            served is not None
+            and served._physics is physics
+            and (task is None or served._task is task)
+        ):
             return served
         return cls(physics, task)
 

@@ -44,7 +44,7 @@ from __future__ import annotations
 import abc
 import operator
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 import mujoco
 import numpy as np
@@ -185,7 +185,7 @@ def constant(method: Callable[..., Any]) -> Any:
 
 def check_rows(name: str, values: Any, n: int, dtype: type) -> np.ndarray:
     """`values` as an (n,) array of `dtype`; raises BatchError naming method `name`."""
-    array = np.asarray(values, dtype=dtype)
+    array: np.ndarray = np.asarray(values, dtype=dtype)
     if array.shape != (n,):
         raise errors.BatchError(
             f"{name} returned shape {array.shape} for {n} environments; expected ({n},)"
@@ -279,10 +279,11 @@ class Binding:
         self._set(name, value)
 
 
-_BINDING_CLASSES: dict[tuple[type, int], type] = {}
+_BINDING_CLASSES: dict[tuple[type, int], type[Any]] = {}
+_B = TypeVar("_B", bound=Binding)
 
 
-def binding_class(base: type[Binding], kind: mujoco.mjtObj) -> type[Binding]:
+def binding_class(base: type[_B], kind: mujoco.mjtObj) -> type[_B]:
     """`base` with a property for every field of elements of `kind` (its short and full
     names): reading one is a property lookup, where `__getattr__` would cost a failed
     lookup first (about a microsecond, per read, every step). Made once per kind."""
@@ -303,6 +304,8 @@ class EmptyBinding:
     """The binding of no elements: every field reads (n, 0); only empty values write."""
 
     __slots__ = ("_physics",)
+
+    _physics: BatchPhysics
 
     def __init__(self, physics: BatchPhysics) -> None:
         object.__setattr__(self, "_physics", physics)

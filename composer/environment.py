@@ -61,6 +61,9 @@ class Environment(gymnasium.Env):
     """A gymnasium.Env running a composer Task."""
 
     metadata = {"render_modes": list(RENDER_MODES), "render_fps": 50}
+    # A Dict of the observables, or one Box with `flatten_observations`; the task's Box.
+    observation_space: gymnasium.spaces.Dict | gymnasium.spaces.Box
+    action_space: gymnasium.spaces.Box
 
     def __init__(
         self,
@@ -201,7 +204,7 @@ class Environment(gymnasium.Env):
             )
         rule = self._actions
         action = rule.clipped(rule.shaped(action))
-        physics, random_state, methods = self._physics, self._random_state, self._methods
+        physics, random_state, methods = self._physics, self.random_state, self._methods
         task, batch = self._task, self._batch
         methods.apply(batch, action[None])
         if self._applies_each:
@@ -233,9 +236,10 @@ class Environment(gymnasium.Env):
         self._updater.sample(self._steps, self._first, offset)
 
     def _run_substep_hooks(self, before: bool) -> None:
-        stepping.substep_hooks(self._hooks, self._physics, self._action, self._random_state, before)
+        stepping.substep_hooks(self._hooks, self._physics, self._action, self.random_state, before)
 
-    def render(self) -> np.ndarray | None:
+    # Gymnasium 1.2's Env.render returns a type variable no override can name.
+    def render(self) -> np.ndarray | None:  # type: ignore[override, unused-ignore]
         """A frame of the current state for `render_mode` ('rgb_array': (h, w, 3) uint8,
         'depth_array': (h, w) float32 meters), or None without a render mode. Raises
         mjcf.RenderError when no OpenGL backend is available."""

@@ -10,7 +10,7 @@
 `stable_baselines3.common.vec_env.VecEnv`: `step` returns (obs, rewards, dones, infos)
 with `infos[i]['terminal_observation']` and `'TimeLimit.truncated'` as SB3 expects, and
 the step's info entries (discount, physics_error, the task's) per environment. Seeds set
-with `seed()` apply at the next `reset()`. `render()` shows environment 0.
+with `seed()` apply at the next `reset()`. `render()` tiles every environment's frame.
 stable-baselines3 is imported only here (`pip install .[train]`).
 """
 
@@ -62,9 +62,9 @@ class VecEnvAdapter(VecEnv):
         infos = _per_env(info, self.num_envs)
         if dones.any():
             final_obs, final_infos = info["final_obs"], _per_env(info["final_info"], self.num_envs)
-            for i in np.flatnonzero(dones):
-                infos[i].update(final_infos[i])
-                infos[i]["terminal_observation"] = final_obs[i]
+            for done in np.flatnonzero(dones):
+                infos[done].update(final_infos[done])
+                infos[done]["terminal_observation"] = final_obs[done]
         for i in range(self.num_envs):
             infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
         return observations, rewards.astype(np.float32), dones, infos
@@ -97,8 +97,10 @@ class VecEnvAdapter(VecEnv):
         return [False for _ in self._get_indices(indices)]
 
     def get_images(self) -> Sequence[np.ndarray | None]:
-        """Environment 0's frame (rendering every environment would copy every MjData)."""
-        return [self.env.render()]
+        """A frame of each environment (None each without an 'rgb_array' render mode), as
+        stable-baselines3's `VecEnv.render` tiles them."""
+        frames = self.env.render()
+        return list(frames) if frames is not None else [None] * self.num_envs
 
 
 def _per_env(info: dict[str, Any], n: int) -> list[dict[str, Any]]:

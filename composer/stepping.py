@@ -95,7 +95,7 @@ class ActionRule:
 
 def physics_steps(
     substeps: int,
-    offsets: Sequence[int],
+    offsets: Sequence[int] | np.ndarray,
     advance: Callable[[int], None],
     sample: Callable[[int], None],
     substep_hooks: Callable[[bool], None] | None = None,

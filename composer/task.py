@@ -237,7 +237,11 @@ class NullTask(Task):
         """The entity given at construction."""
         return self._root_entity
 
-    get_reward_batch = batched.constant_rows(0.0, np.float64, """Always 0.0.""")
+    # A batched method made by constant_rows (marked constant), which the type checker
+    # cannot see as the method it is.
+    get_reward_batch = batched.constant_rows(  # type: ignore[assignment]
+        0.0, np.float64, """Always 0.0."""
+    )
 
 
 def _substeps(task: Task, control_timestep: Any, physics_timestep: Any) -> int:
@@ -262,7 +266,8 @@ def _scope(entity: Entity, root: Entity) -> str:
     if entity is root:
         return entity.name
     parts = []
-    while entity is not root and entity is not None:
-        parts.append(entity.name)
-        entity = entity.parent
+    current: Entity | None = entity
+    while current is not root and current is not None:
+        parts.append(current.name)
+        current = current.parent
     return "/".join(reversed(parts))

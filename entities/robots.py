@@ -116,9 +116,9 @@ def from_menagerie(
         if folder.is_dir():
             return from_path(_robot_file(folder, model))
         looked.append(str(folder))
-    folder = _package_folder(name, download, looked)
-    if folder is not None:
-        return from_path(_robot_file(folder, model))
+    downloaded = _package_folder(name, download, looked)
+    if downloaded is not None:
+        return from_path(_robot_file(downloaded, model))
     raise RobotNotFoundError(f"Menagerie robot {name!r} not found; looked in: " + "; ".join(looked))
 
 

@@ -64,6 +64,7 @@ class Asset:
     def contents(self) -> bytes:
         """The file's bytes; raises mjcf.AssetError if its file cannot be read."""
         if self._contents is None:
+            assert self.path is not None, "an Asset has contents or a path"
             return _read(self.path)
         return self._contents
 

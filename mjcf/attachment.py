@@ -24,7 +24,7 @@ from __future__ import annotations
 from mjcf import errors, schema, settings
 from mjcf.element import Element
 from mjcf.root import RootElement
-from mjcf.schema import ElementSpec
+from mjcf.schema import AttributeSpec, ElementSpec
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 _PLACES = frozenset({"body", "worldbody", "frame", "site"})
@@ -35,7 +35,7 @@ def _frame_spec() -> tuple[ElementSpec, frozenset[str], frozenset[str]]:
     a body's joints, free joint and inertial as the only children."""
     body = schema.MUJOCO.child("worldbody").child("body")
     frame = body.child("frame")
-    attributes = {}
+    attributes: dict[str, AttributeSpec] = {}
     for source in (frame, body):
         for name, attribute in source.attributes.items():
             if name != "childclass":
@@ -125,6 +125,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     if place.root.namescope.root.model is not place.root:
         settings.check_compatible(place.root, child)
     body = place._parent if place._spec.tag == "site" else place
+    assert body is not None, "a site in the tree has a parent"
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
     if place._spec.tag == "site":
         for name in ("pos", *_ORIENTATION):

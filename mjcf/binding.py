@@ -160,6 +160,8 @@ class WriteThrough(np.ndarray):
 
     __slots__ = ("_writeback",)
 
+    _writeback: tuple[Any, ...]
+
     def __setitem__(self, key: Any, value: Any) -> None:
         writeback = getattr(self, "_writeback", None)  # unset on arrays derived from this one
         if writeback is None:

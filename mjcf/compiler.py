@@ -120,7 +120,7 @@ def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], 
     (their generated names can shift when elements are added before them)."""
     if old is None:
         return {}
-    kinds = {
+    kinds: dict[str | None, int] = {  # by namespace, None for elements without one
         "joint": int(mujoco.mjtObj.mjOBJ_JOINT),
         "actuator": int(mujoco.mjtObj.mjOBJ_ACTUATOR),
         "body": int(mujoco.mjtObj.mjOBJ_BODY),
@@ -135,7 +135,8 @@ def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], 
 
 
 # Object kinds of the compiled model by namespace (a <frame> compiles to none).
-_KINDS = {
+# Looked up by an element's namespace, None for elements without one.
+_KINDS: dict[str | None, mujoco.mjtObj] = {
     namespace: getattr(mujoco.mjtObj, f"mjOBJ_{namespace.upper()}")
     for namespace in (
         "body", "joint", "geom", "site", "camera", "light", "flex", "mesh", "skin", "hfield",

@@ -81,7 +81,7 @@ class ModelContext:
         self.plain = True
         # (namespace, name) -> written name, for this model's assets written as another
         # model's (see mjcf.sharing).
-        self.shared_names: dict[tuple[str, str], str] = {}
+        self.shared_names: dict[tuple[str | None, str], str] = {}
         # Stands for everything above: equal in two outputs that write this model's
         # elements alike (see `seal`), so text written for one serves the other.
         self.token = object()
@@ -145,7 +145,7 @@ class ModelContext:
         """Attributes this output writes differently from what the element stores
         (None values are left out), or None when it writes them as stored."""
         composition = self.composition
-        override = None
+        override: dict[str, str | None] | None = None
         spec = element._spec
         if spec.identifier is not None and spec.identifier not in element._attrs:
             name = composition.generated_name(element, self)
@@ -474,7 +474,9 @@ class Composition:
         return override or None
 
 
-def frame_attributes(frame: Element, child_context: ModelContext) -> dict[str, str | None]:
+def frame_attributes(
+    frame: attachment.AttachmentFrame, child_context: ModelContext
+) -> dict[str, str | None]:
     """Attributes an attachment frame writes besides its own: its output name, the
     attached model's default class, and its orientation in the output's angle units
     (the frame's pose is in those of the model it belongs to)."""

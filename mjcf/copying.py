@@ -19,7 +19,7 @@ element copies its whole model and returns the element's copy.
 from __future__ import annotations
 
 import copy
-from typing import Any
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -29,6 +29,8 @@ from mjcf.assets import Asset
 from mjcf.element import Element
 from mjcf.root import RootElement
 from mjcf.settings import same as _same
+
+_E = TypeVar("_E", bound=Element)
 
 
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
@@ -117,7 +119,8 @@ def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Ele
     object.__setattr__(clone, "_attrs", {k: _copy_value(v) for k, v in element._attrs.items()})
     clones[id(element)] = clone
     if isinstance(element, attachment.AttachmentFrame):
-        attachment.link(clone, copy.deepcopy(element.attached_model))
+        frame = cast(attachment.AttachmentFrame, clone)  # made by type(element)
+        attachment.link(frame, copy.deepcopy(element.attached_model))
     for child in element._children:
         clone._children.append(_clone(child, clone, clones))
     return clone
@@ -143,7 +146,7 @@ def _copy_value(value: Any) -> Any:
 
 
 @bulk.whole_tree
-def deepcopy_element(element: Element, memo: dict[int, Any]) -> Element:
+def deepcopy_element(element: _E, memo: dict[int, Any]) -> _E:
     """`copy.deepcopy(element)` (see module docstring)."""
     found = memo.get(id(element))
     if found is not None:

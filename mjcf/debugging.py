@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
+from types import FrameType
 from typing import NamedTuple
 
 _PACKAGE_DIR = str(Path(__file__).resolve().parent)
@@ -57,7 +58,7 @@ def creation_site() -> SourceLocation | None:
     """The first stack frame outside this package, in debug mode; else None."""
     if not _enabled:
         return None
-    frame = sys._getframe(1)
+    frame: FrameType | None = sys._getframe(1)
     while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE_DIR):
         frame = frame.f_back
     if frame is None:

@@ -114,8 +114,9 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
     mjcf.UnknownAttributeError for a name in `attributes` that no default class can set;
     the model is unchanged then."""
     names = None if attributes is None else _checked_names(element, attributes)
-    whole_model = element is element.root
-    models = [element, *attachment.attached_models(element)] if whole_model else []
+    root = element.root
+    whole_model = element is root
+    models = [root, *attachment.attached_models(root)] if whole_model else []
     targets = [e for model in models for e in model.iter()] if whole_model else [element]
     plans = []
     for target in targets:

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterable, Iterator
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import assets, debugging, element_list, errors
 from mjcf import values as _values
@@ -30,6 +30,8 @@ from mjcf.schema import AttributeSpec, ElementSpec
 if TYPE_CHECKING:
     from mjcf.namescope import NameScope
     from mjcf.root import RootElement
+
+_E = TypeVar("_E", bound="Element")
 
 # Python spellings of MJCF attribute names that are Python keywords.
 _ALIASES = {"dclass": "class", "class_": "class"}
@@ -87,7 +89,7 @@ class Element(ModelOperations):
         raise TypeError("create elements with parent.add(tag, **attributes)")
 
     @classmethod
-    def _make(cls, spec: ElementSpec, parent: Element | None, root: RootElement) -> Element:
+    def _make(cls: type[_E], spec: ElementSpec, parent: Element | None, root: RootElement) -> _E:
         if cls is Element:  # the common case, made the fast way (see _from_xml)
             fresh = _Fresh()
             fresh._spec = spec
@@ -99,7 +101,7 @@ class Element(ModelOperations):
             fresh._text = None
             fresh._xml = None
             fresh.__class__ = Element
-            return fresh
+            return cast(_E, fresh)  # cls is Element
         element = object.__new__(cls)
         setter = object.__setattr__
         setter(element, "_spec", spec)
@@ -128,7 +130,9 @@ class Element(ModelOperations):
         early = self._root._early
         named: list[tuple[str, str, Element]] = []
         if early:
-            children = [early.pop(xml, None) or _from_xml(self, xml, named) for xml in self._xml]
+            children = [
+                early.pop(xml) if xml in early else _from_xml(self, xml, named) for xml in self._xml
+            ]
         else:
             children = [_from_xml(self, xml, named) for xml in self._xml]
         object.__setattr__(self, "_children", children)
@@ -286,7 +290,7 @@ class Element(ModelOperations):
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
 
-    def _convert(self, attribute: AttributeSpec, value: object, from_text: bool = False) -> Any:
+    def _convert(self, attribute: AttributeSpec, value: Any, from_text: bool = False) -> Any:
         try:
             if from_text:
                 return attribute.converter.from_text(value)
@@ -421,15 +425,16 @@ class Element(ModelOperations):
                 scope.add(namespace, implicit, self, implicit=True)
 
     def _rename_after_file(self, file_value: object) -> None:
-        if self._attrs.get("name") is not None or not self._is_registered():
+        namespace = self._spec.namespace  # an asset's: never None
+        if namespace is None or self._attrs.get("name") is not None or not self._is_registered():
             return
         scope = self._root.namescope
         old = self.identifier
         if old is not None:
-            scope.remove(self._spec.namespace, old, self)
+            scope.remove(namespace, old, self)
         new = name_from_file(file_value)
         if new is not None:
-            scope.add(self._spec.namespace, new, self, implicit=True)
+            scope.add(namespace, new, self, implicit=True)
 
     def _register(self) -> None:
         """Record this element's name in its model's scope; raises mjcf.NameClashError
@@ -480,12 +485,16 @@ class Element(ModelOperations):
     def _child_spec(self, tag: str) -> ElementSpec:
         child = self._spec.children.get(tag)
         if child is None:
-            raise errors.SchemaError(
-                f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
-                + _values.suggest(tag, self._spec.children)
-                + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
-            )
+            self._no_child(tag)
         return child
+
+    def _no_child(self, tag: str) -> NoReturn:
+        """Raise mjcf.SchemaError: this element cannot have a `tag` child."""
+        raise errors.SchemaError(
+            f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
+            + _values.suggest(tag, self._spec.children)
+            + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
+        )
 
     def add(self, tag: str, **attributes: Any) -> Element:
         """Add a child element `tag` with `attributes`, and return it. Raises
@@ -566,6 +575,7 @@ class Element(ModelOperations):
         """Take this element and its subtree out of the tree, forgetting their names;
         returns the parent it had."""
         parent = self._parent
+        assert parent is not None, "only an element in a tree is cut"
         self._unregister_subtree()
         parent._children.remove(self)
         object.__setattr__(self, "_parent", None)
@@ -607,8 +617,13 @@ def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) 
     return child
 
 
-class _Fresh(ModelOperations):
-    """An element being built from its lxml element: the slots of `Element`, set as
-    plain attributes (see `_from_xml`)."""
+if TYPE_CHECKING:
+    # To the type checker a _Fresh is the Element it becomes: same slots, same types.
+    _Fresh = Element
+else:
 
-    __slots__ = Element.__slots__
+    class _Fresh(ModelOperations):
+        """An element being built from its lxml element: the slots of `Element`, set as
+        plain attributes (see `_from_xml`)."""
+
+        __slots__ = Element.__slots__

@@ -15,7 +15,8 @@ lists are copies: change the model with `add` and `remove`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, SupportsIndex, overload
 
 from mjcf import errors
 
@@ -28,15 +29,19 @@ if TYPE_CHECKING:
 _OWN_SECTIONS = frozenset({"worldbody", "default"})
 
 
-class ElementList(list):
+class ElementList(list["Element"]):
     """The repeated children of one tag: a list that is also indexable by name ('tip',
     or 'arm/elbow' for an element of an attached model)."""
 
-    def __init__(self, elements=(), root: RootElement | None = None) -> None:
+    def __init__(self, elements: Iterable[Element] = (), root: RootElement | None = None) -> None:
         super().__init__(elements)
         self.root = root
 
-    def __getitem__(self, key):  # type: ignore[override]
+    @overload
+    def __getitem__(self, key: SupportsIndex | str) -> Element: ...
+    @overload
+    def __getitem__(self, key: slice) -> list[Element]: ...
+    def __getitem__(self, key: SupportsIndex | str | slice) -> Element | list[Element]:
         if isinstance(key, str):
             for element in self:
                 if element.root is self.root or self.root is None:
@@ -62,6 +67,6 @@ def children(element: Element, tag: str | None = None) -> list[Element]:
     from mjcf import attachment  # cycle: attachment -> element -> element_list
 
     for model in attachment.attached_models(root):
-        section = model._single_child(element._spec.tag)
+        section = model._section(element._spec.tag)
         found.extend(c for c in section._children if tag is None or c._spec.tag == tag)
     return found

@@ -25,13 +25,13 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from typing import Literal
+from typing import Literal, TypeAlias
 
 import mujoco
 import numpy as np
 from mujoco.introspect import structs
 
-Obj = mujoco.mjtObj
+Obj: TypeAlias = mujoco.mjtObj
 Struct = Literal["model", "data"]
 
 # Rules for the row counts of an address scheme that has no count array of its own.
@@ -225,7 +225,7 @@ _XYZ_ENDS = ("pos", "pos0", "poscom0", "dir", "dir0", "axis", "anchor", "inertia
 
 def _column_table() -> dict[str, tuple[str, ...]]:
     """{field: column names} by name and width, over every 2-D field of mjModel and mjData."""
-    table = {}
+    table: dict[str, tuple[str, ...]] = {}
     for struct_name in ("mjModel", "mjData"):
         for decl in structs.STRUCTS[struct_name].fields:
             extent = getattr(decl, "array_extent", None)

@@ -117,17 +117,18 @@ def index(
             if plan is None:
                 raise _Fallback
             identifier = plan.identifier
-            if identifier is not None:
+            namespace = plan.namespace
+            if identifier is not None and namespace is not None:  # both, or no identifier
                 name = xml.get(identifier)
                 if name is not None:
-                    table = names[plan.namespace]
+                    table = names[namespace]
                     if name in table or PREFIX_SEPARATOR in name or not name:
                         raise _Fallback
                     table[name] = xml
                 elif plan.implicit:
                     name = name_from_file(xml.get("file"))
                     if name is not None:
-                        implicit[plan.namespace].setdefault(name, xml)
+                        implicit[namespace].setdefault(name, xml)
             if plan.many_references:  # one call for every attribute, not one each
                 selected = plan.references
                 for attribute, text in xml.items():

@@ -53,7 +53,7 @@ def keys_to_write(
     if not composition.has_attachments or not keys:
         return [(key, context, None) for key, context in keys]
     padded = None if for_compile else _padded_vectors(composition)
-    out = []
+    out: list[tuple[Element, ModelContext, dict | None]] = []
     for key, context in keys:
         override = context.rewrite(key) or {}
         override.update(dict.fromkeys(_VECTORS) if padded is None else padded[id(key)])

@@ -16,7 +16,7 @@ method imports its module when it runs.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from lxml import etree
 
@@ -25,6 +25,12 @@ from mjcf import errors
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
+    from mjcf.schema import AttributeSpec
+
+
+def _element(operations: ModelOperations) -> Element:
+    """`operations` as the `Element` it is (ModelOperations is only a base of Element)."""
+    return cast("Element", operations)
 
 
 class ModelOperations:
@@ -32,6 +38,12 @@ class ModelOperations:
     module docstring); a base of `Element`, not used alone."""
 
     __slots__ = ()
+
+    if TYPE_CHECKING:  # the members of Element the operations use on `self`
+        _attrs: dict[str, Any]
+
+        def _attribute_spec(self, name: str) -> AttributeSpec: ...
+        def _cut(self) -> Element: ...
 
     # -- names in an output -----------------------------------------------------------------
 
@@ -50,7 +62,7 @@ class ModelOperations:
         if this element's model is not attached inside `prefix_root`."""
         from mjcf import naming  # cycle: naming -> attachment -> element -> this module
 
-        return naming.scoped_name(self, prefix_root)
+        return naming.scoped_name(_element(self), prefix_root)
 
     # -- finding and comparing --------------------------------------------------------------
 
@@ -61,7 +73,7 @@ class ModelOperations:
         unknown namespace."""
         from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
-        return traversal.find(self, namespace, identifier)
+        return traversal.find(_element(self), namespace, identifier)
 
     def find_all(
         self,
@@ -74,13 +86,15 @@ class ModelOperations:
         Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
         from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
-        return traversal.find_all(self, namespace, immediate_children_only, exclude_attachments)
+        return traversal.find_all(
+            _element(self), namespace, immediate_children_only, exclude_attachments
+        )
 
     def enter_scope(self, scope_identifier: str) -> RootElement | None:
         """The model attached into this element's model under the scoped name
         `scope_identifier` ('arm', or 'arm/gripper' for one attached inside it), or None
         if there is none."""
-        scope = self.root.namescope.descendant(scope_identifier)
+        scope = _element(self).root.namescope.descendant(scope_identifier)
         return None if scope is None else scope.model
 
     def is_same_as(self, other: object) -> bool:
@@ -88,7 +102,7 @@ class ModelOperations:
         values (references by what they point to) and children (see `mjcf.sameness`)."""
         from mjcf import sameness  # cycle: sameness -> element -> this module
 
-        return sameness.is_same_as(self, other)
+        return sameness.is_same_as(_element(self), other)
 
     # -- removing, attaching, copying -------------------------------------------------------
 
@@ -99,20 +113,21 @@ class ModelOperations:
         then)."""
         from mjcf import attachment  # cycle: attachment -> element -> this module
 
-        parent = self.parent
+        element = _element(self)
+        parent = element.parent
         if parent is None:
             raise errors.SchemaError(
-                f"{self.path}: a model root or removed element cannot be removed"
+                f"{element.path}: a model root or removed element cannot be removed"
             )
-        if parent.parent is None and parent is self.root:
+        if parent.parent is None and parent is element.root:
             raise errors.SchemaError(
-                f"{self.path}: the <{self.tag}> section always exists; remove its children"
+                f"{element.path}: the <{element.tag}> section always exists; remove its children"
             )
-        frames = [e for e in self.iter() if isinstance(e, attachment.AttachmentFrame)]
+        frames = [e for e in element.iter() if isinstance(e, attachment.AttachmentFrame)]
         if frames and not affect_attachments:
             models = ", ".join(repr(frame.attached_model.model) for frame in frames)
             raise errors.AttachmentError(
-                f"{self.path}: models {models} are attached inside; detach them first, or "
+                f"{element.path}: models {models} are attached inside; detach them first, or "
                 "call remove(affect_attachments=True)"
             )
         for frame in frames:
@@ -125,7 +140,7 @@ class ModelOperations:
         mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
         from mjcf import attachment  # cycle: attachment -> element -> this module
 
-        return attachment.attach(self, child)
+        return attachment.attach(_element(self), child)
 
     def include_copy(self, other: Element, override_attributes: bool = False) -> None:
         """Merge a copy of `other` (an element of the same tag, or another model into
@@ -133,13 +148,13 @@ class ModelOperations:
         `mjcf.copying`. Nothing changes if it raises."""
         from mjcf import copying  # cycle: copying -> element -> this module
 
-        copying.include_copy(self, other, override_attributes)
+        copying.include_copy(_element(self), other, override_attributes)
 
     def __copy__(self) -> Element:
         raise TypeError(
-            f"{self.path}: an element belongs to its model and cannot be copied alone; copy "
-            "the model with copy.copy(root) or copy.deepcopy(root), or merge a copy into "
-            "another element with include_copy"
+            f"{_element(self).path}: an element belongs to its model and cannot be copied "
+            "alone; copy the model with copy.copy(root) or copy.deepcopy(root), or merge a copy "
+            "into another element with include_copy"
         )
 
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
@@ -147,7 +162,7 @@ class ModelOperations:
         schema; returns this element's copy (see `mjcf.copying`)."""
         from mjcf import copying  # cycle: copying -> element -> this module
 
-        return copying.deepcopy_element(self, memo)
+        return copying.deepcopy_element(_element(self), memo)
 
     # -- XML --------------------------------------------------------------------------------
 
@@ -160,7 +175,7 @@ class ModelOperations:
         attribute = self._attribute_spec(name)
         if attribute.name not in self._attrs:
             return None
-        return serializer.attribute_text(self, attribute, prefix_root)
+        return serializer.attribute_text(_element(self), attribute, prefix_root)
 
     def to_xml(
         self,
@@ -202,7 +217,7 @@ class ModelOperations:
         from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
         return serializer.to_xml_string(
-            self,
+            _element(self),
             prefix_root,
             self_only,
             pretty_print,

@@ -241,7 +241,7 @@ class FieldIndexer:
             out = array.view(binding_module.WriteThrough)[resolved]
         except IndexError as e:
             raise errors.BindingError(f"{self._field.name}[{key!r}]: {e}") from e
-        if not isinstance(out, np.ndarray):
+        if not isinstance(out, binding_module.WriteThrough):
             return out  # one number: a copy, like numpy's scalars
         target.fancy = not np.may_share_memory(out, array)
         out._writeback = (target,)
@@ -264,7 +264,7 @@ class FieldIndexer:
             f"{field.struct}.{field.name}: {array.shape[0]} row{'' if len(array) == 1 else 's'} of "
             f"{fields.kind_name(field.kind)}{via}, shape {array.shape}"
         ]
-        shown = range(len(array))
+        shown: range | list[int] = range(len(array))
         if len(array) > _REPR_ROWS:
             shown = [*range(_REPR_ROWS - 5), -1, *range(len(array) - 5, len(array))]
         width = max((len(n) for n in table.row_names), default=0)

@@ -32,6 +32,7 @@ from mjcf import errors
 
 if TYPE_CHECKING:
     from mjcf.element import Element
+    from mjcf.root import RootElement
 
 PREFIX_SEPARATOR = "/"
 WORLD = "world"  # MuJoCo's name of the world body, shared by every model
@@ -45,8 +46,9 @@ class NameScope:
 
     __slots__ = ("_children", "_namespaces", "has_escaped_names", "model", "parent")
 
-    def __init__(self, model: Element) -> None:
-        self._namespaces: dict[str, dict[str, Element]] = {}
+    def __init__(self, model: RootElement) -> None:
+        # An element, or the lxml element of one not built yet (see `load`).
+        self._namespaces: dict[str, dict[str, Element | etree._Element]] = {}
         self._children: dict[str, NameScope] = {}
         self.parent: NameScope | None = None
         self.model = model
@@ -67,9 +69,10 @@ class NameScope:
         if PREFIX_SEPARATOR in name:
             *path, name = split_identifier(name)
             for part in path:
-                scope = scope._children.get(part)
-                if scope is None:
+                child = scope._children.get(part)
+                if child is None:
                     return None
+                scope = child
         return scope._holder(namespace, name)
 
     def _holder(self, namespace: str, name: str) -> Element | None:
@@ -164,11 +167,12 @@ class NameScope:
     def descendant(self, identifier: str) -> NameScope | None:
         """The scope of the model attached inside this one under the scoped name
         `identifier` ('arm', or 'arm/gripper' for one attached inside it), or None."""
-        scope: NameScope | None = self
+        scope = self
         for part in split_identifier(identifier):
-            scope = scope._children.get(part)
-            if scope is None:
+            child = scope._children.get(part)
+            if child is None:
                 return None
+            scope = child
         return scope
 
     @property

@@ -33,6 +33,7 @@ from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 
 if TYPE_CHECKING:
+    from mjcf.attachment import AttachmentFrame
     from mjcf.element import Element
     from mjcf.root import RootElement
 
@@ -90,7 +91,7 @@ def frame_name(frame: attachment.AttachmentFrame, prefix: str) -> str:
     return prefix + frame.attached_model.model + PREFIX_SEPARATOR
 
 
-def _frame_joint_name(joint: Element, frame: Element, prefix: str) -> str | None:
+def _frame_joint_name(joint: Element, frame: AttachmentFrame, prefix: str) -> str | None:
     """dm_control names the unnamed joint of an attachment frame after the frame; a
     second unnamed joint of one frame gets a name no scope can produce."""
     if joint._spec.namespace != "joint":
@@ -117,8 +118,9 @@ def _world_body_name(worldbody: Element, prefix_root: RootElement | None) -> str
     if frame.compiles_to_body():
         return frame_name(frame, _prefix(frame, prefix_root))
     holder = frame._parent
-    while holder._spec.tag == "frame":  # MuJoCo's <frame>s are no bodies
+    while holder is not None and holder._spec.tag == "frame":  # MuJoCo's <frame>s are no bodies
         holder = holder._parent
+    assert holder is not None, "a frame in a tree is inside a body"
     return scoped_name(holder, prefix_root) or WORLD
 
 

@@ -488,15 +488,8 @@ class _Builder:
 
     def _merge(self, element: Element, xml: etree._Element) -> None:
         """Apply a later copy of an element that may appear once (a second `<map>` in a
-        second `<visual>`) as MuJoCo does: its attributes override, in order."""
-        parent = element._parent
-        if parent._spec.tag == "default" and parent._single_child("default") is not None:
-            raise errors.SchemaError(
-                f"{_where(self.filename, xml)}: {parent.path}: a second <{element.tag}> for "
-                "this default class, after classes nested in it: MuJoCo gives the nested "
-                "classes the values of the first only, which mjcf cannot represent; "
-                "merge the two <default> sections"
-            )
+        second `<visual>`) as MuJoCo does: its attributes override, in order (a second
+        top-level `<default>` is merged by `default_sections`)."""
         if xml.attrib:
             self._set_attributes(element, dict(xml.attrib), xml, merge=True)
             spec = element._spec

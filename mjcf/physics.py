@@ -111,6 +111,7 @@ class Physics(StateAccess):
     """
 
     legacy_step: bool = True
+    _live_bindings: weakref.WeakSet[binding_module.Binding]
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
         """Wrap `model` and `data` (a new MjData, forwarded, if None; a given MjData is
@@ -241,7 +242,7 @@ class Physics(StateAccess):
             return found
         if not key:
             return binding_module.EMPTY
-        items = [elements] if single else list(key)
+        items = [elements] if isinstance(elements, ElementType) else list(key)
         compiled = self.__dict__.get("_compiled")
         kind, ids = tree_binding.element_ids(compiled, self._model, items)
         found = self._binding(kind, int(ids[0]) if single else ids)
@@ -495,9 +496,7 @@ class Physics(StateAccess):
 
     # -- bindings ------------------------------------------------------------------------
 
-    def _binding(
-        self, kind: mujoco.mjtObj, ids: int | Sequence[int] | np.ndarray
-    ) -> binding_module.Binding:
+    def _binding(self, kind: mujoco.mjtObj, ids: int | np.ndarray) -> binding_module.Binding:
         """The binding of objects `ids` of `kind` (cached); raises BindingError.
 
         An int binds one object (fields without a leading axis); a list binds several.
@@ -518,7 +517,7 @@ class Physics(StateAccess):
         Raises NotFoundError for a name the model does not have.
         """
         single = isinstance(names, str)
-        wanted = [names] if single else list(names)
+        wanted = [names] if isinstance(names, str) else list(names)
         ids = [mujoco.mj_name2id(self._model, kind, name) for name in wanted]
         if min(ids, default=0) < 0:
             missing = wanted[ids.index(-1)]

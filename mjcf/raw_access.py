@@ -71,7 +71,7 @@ def _ptr(self: object) -> object:
 def install() -> None:
     """Add `ptr`, `name2id`, `id2name` to mujoco.MjModel and `ptr` to mujoco.MjData where
     mujoco does not define them."""
-    additions = {
+    additions: dict[type, dict[str, object]] = {
         mujoco.MjModel: {"ptr": property(_ptr), "name2id": name2id, "id2name": id2name},
         mujoco.MjData: {"ptr": property(_ptr)},
     }

@@ -15,11 +15,14 @@ empty sections are left out of the XML.
 from __future__ import annotations
 
 import copy
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from mjcf import errors, schema
 from mjcf.element import Element
 from mjcf.namescope import NameScope, check_model_name
+
+if TYPE_CHECKING:
+    from mjcf.attachment import AttachmentFrame
 
 DEFAULT_MODEL_NAME = "unnamed_model"
 
@@ -57,8 +60,8 @@ class RootElement(Element):
     _namescope: NameScope
     _model_dir: str
     _assets: dict[str, bytes]
-    _frame: Any
-    _attachments: list[Any]
+    _frame: AttachmentFrame | None
+    _attachments: list[AttachmentFrame]
     _confine_to: str | None
     _numbering: tuple[int, dict[Element, int]] | None
     _composed: dict[bool, Any] | None
@@ -96,13 +99,30 @@ class RootElement(Element):
             self._attrs["model"] = check_model_name(model)
         for section in schema.MUJOCO.children.values():
             self._children.append(Element._make(section, self, self))
-        default = self._single_child("default")
-        default._register()
+        self._section("default")._register()
 
     @property
     def model(self) -> str:
         """The model's name ('unnamed_model' if it was not given)."""
         return self._attrs.get("model", DEFAULT_MODEL_NAME)
+
+    @model.setter
+    def model(self, model: str) -> None:
+        """Rename the model (and so its scope in the model it is attached to); raises
+        mjcf.NameClashError if `model` cannot name a model, or a model attached next to
+        this one has that name."""
+        new = check_model_name(model)
+        scope = self._namescope
+        parent = scope.parent
+        if parent is not None and new != self.model:
+            parent.check_child_free(new)
+            parent.remove_child(scope)
+            self._attrs["model"] = new
+            parent.add_child(scope)
+            parent.model._modified()
+        else:
+            self._attrs["model"] = new
+        self._modified()
 
     @property
     def namescope(self) -> NameScope:
@@ -120,19 +140,8 @@ class RootElement(Element):
         return self._assets
 
     def __setattr__(self, name: str, value: Any) -> None:
-        if name == "model":
-            new = check_model_name(value)
-            scope = self._namescope
-            parent = scope.parent
-            if parent is not None and new != self.model:
-                parent.check_child_free(new)
-                parent.remove_child(scope)
-                self._attrs["model"] = new
-                parent.add_child(scope)
-                parent.model._modified()
-            else:
-                self._attrs["model"] = new
-            self._modified()
+        if name == "model":  # the property's setter (Element's would set an attribute)
+            object.__setattr__(self, name, value)
             return
         super().__setattr__(name, value)
 
@@ -188,11 +197,12 @@ class RootElement(Element):
         `Element._defer`); None if it is no longer in the model."""
         path = [xml, *xml.iterancestors()]
         path.pop()  # the <mujoco> element
-        element: Element | None = self
+        element: Element = self
         for step in reversed(path):
-            element = element._child_built_from(step)
-            if element is None:
+            child = element._child_built_from(step)
+            if child is None:
                 return None
+            element = child
         return element
 
     def __getstate__(self) -> tuple[None, dict[str, Any]]:
@@ -204,8 +214,8 @@ class RootElement(Element):
     def _section(self, tag: str) -> Element:
         """The top-level section `tag`; raises mjcf.SchemaError for unknown sections."""
         section = self._single_child(tag)
-        if section is None:
-            self._child_spec(tag)  # raises with a suggestion
+        if section is None:  # every section exists: `tag` is none
+            self._no_child(tag)
         return section
 
     def __copy__(self) -> RootElement:

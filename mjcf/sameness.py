@@ -39,7 +39,7 @@ def is_same_as(element: Element, other: object) -> bool:
         return False
     if isinstance(element, attachment.AttachmentFrame) and not is_same_as(
         element.attached_model,
-        other.attached_model,  # type: ignore[attr-defined]
+        other.attached_model,
     ):
         return False
     if _is_tendon_path(element):
@@ -65,7 +65,7 @@ def _comparable(element: Element, attribute: AttributeSpec) -> Any:
     if value is None or attribute.kind != "reference":
         return value
     items = value if isinstance(value, list) else [value]
-    names = []
+    names: list[str | None] = []
     for item in items:
         if isinstance(item, str):
             names.extend(item.split() if attribute.is_list else [item])

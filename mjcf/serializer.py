@@ -16,7 +16,7 @@ parent's, and their compiler settings reconciled (see `mjcf.composition`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -25,6 +25,7 @@ from mjcf import attachment, bulk, composition, errors
 from mjcf.values import escape
 
 if TYPE_CHECKING:
+    from mjcf import settings
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec, ElementSpec
@@ -226,9 +227,7 @@ class _Writer:
         else:
             self._emit(self._indent(2) + "</default>" + self._newline())
 
-    def _write_merged(
-        self, spec: ElementSpec, merged: composition.MergedSettings, depth: int
-    ) -> None:
+    def _write_merged(self, spec: ElementSpec, merged: settings.MergedSettings, depth: int) -> None:
         """A settings element merged over models, and its once-only children; left out
         when nothing in it is set."""
         tag = spec.tag
@@ -338,7 +337,7 @@ class _Writer:
             spec = element._spec
             attrs = element._attrs
             if spec is frame_spec:
-                frame(element, depth, context)
+                frame(cast(attachment.AttachmentFrame, element), depth, context)
                 return None
             special = spec.file_attributes
             if as_stored and override is None and not spec.checked_on_write:
@@ -383,7 +382,7 @@ class _Writer:
         def write(element: Element, depth: int, override: dict | None = None) -> None:
             cached = element._text
             if cached is not None and cached[0] == version and override is None:
-                text = cached[1]
+                text: str | None = cached[1]
             else:
                 text = text_of(element, depth, override)
                 if text is None:
@@ -510,7 +509,7 @@ class _Writer:
             return value
         return attribute.converter.to_text(value, self.precision)
 
-    def _number_text(self, attribute: AttributeSpec, value: object) -> str:
+    def _number_text(self, attribute: AttributeSpec, value: Any) -> str:
         """Real numbers (a value, or text as read) written with `precision` digits,
         those smaller in magnitude than `zero_threshold` as 0."""
         if type(value) is str:

@@ -30,7 +30,7 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -188,8 +188,9 @@ def same(attribute: AttributeSpec, a: object, b: object) -> bool:
     return a == b
 
 
-def setting(model: RootElement, name: str) -> object:
-    """A compiler setting of `model`: its explicit value, or MuJoCo's default."""
+def setting(model: RootElement, name: str) -> Any:
+    """A compiler setting of `model`: its explicit value, or MuJoCo's default (of the
+    setting's own type)."""
     compiler = model._section("compiler")
     attribute = compiler._spec.attributes[name]
     value = compiler._get_value(attribute)

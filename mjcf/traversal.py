@@ -29,6 +29,7 @@ def find(element: Element, namespace: str, identifier: str) -> Element | None:
         raise errors.NameClashError(
             f"{element.path}: find({namespace!r}, ...) needs a name (str), got {identifier!r}"
         )
+    found: Element | None
     if namespace == ATTACHMENT_FRAME:
         found = attachment.find_frame(element.root, identifier)
     else:
@@ -100,15 +101,13 @@ def has_ancestor(element: Element, tag: str) -> bool:
 
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
-    current = element
-    while current is not None:
-        if current is ancestor:
-            return True
+    current: Element | None = element
+    while current is not None and current is not ancestor:
         parent = current._parent
         if parent is None and current is current.root:
             parent = attachment.frame_of(current)
         current = parent
-    return False
+    return current is not None
 
 
 def _check_namespace(namespace: str, allow_tags: bool) -> bool:

@@ -138,10 +138,10 @@ def transfer_state(
             new_a, old_a = new_model.actuator_actadr[new_id], old_model.actuator_actadr[old_id]
             new_data.act[new_a : new_a + count] = old_data.act[old_a : old_a + count]
     body = mujoco.mjtObj.mjOBJ_BODY
-    for new_id in np.flatnonzero(new_model.body_mocapid >= 0):
-        old_id = _same_name(old_model, new_model, body, int(new_id), pairs)
+    for new_body in np.flatnonzero(new_model.body_mocapid >= 0):
+        old_id = _same_name(old_model, new_model, body, int(new_body), pairs)
         if old_id >= 0 and old_model.body_mocapid[old_id] >= 0:
-            new_m, old_m = new_model.body_mocapid[new_id], old_model.body_mocapid[old_id]
+            new_m, old_m = new_model.body_mocapid[new_body], old_model.body_mocapid[old_id]
             new_data.mocap_pos[new_m] = old_data.mocap_pos[old_m]
             new_data.mocap_quat[new_m] = old_data.mocap_quat[old_m]
 

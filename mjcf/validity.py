@@ -62,6 +62,7 @@ def raise_if_invalid(model: mujoco.MjModel, data: mujoco.MjData, warnings: np.nd
 def _locate(model: mujoco.MjModel, field: str, index: int) -> str:
     """'<field> index <i>, joint <name>': the object owning row `index` of qpos/qvel/ctrl."""
     spec = fields.indexed_field(field)
+    assert spec.address is not None, "qpos, qvel and ctrl rows are addressed"
     starts, counts = fields.rows(model, spec.address)
     owner = np.flatnonzero((starts <= index) & (index < starts + counts))
     if owner.size == 0:

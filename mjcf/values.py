@@ -20,6 +20,7 @@ import numbers
 import re
 import struct
 from collections.abc import Iterable
+from typing import Any, Protocol, TypeVar, cast, overload
 
 import numpy as np
 
@@ -30,24 +31,33 @@ class InvalidValue(ValueError):
     """A value that does not fit the attribute; the message says what was expected."""
 
 
+class _Owner(Protocol):
+    """What owns a tracked array: an element, told of every change."""
+
+    def _modified(self) -> None: ...
+
+
+_T = TypeVar("_T")
+
+
 class TrackedArray(np.ndarray):
     """The array an element returns for a numeric attribute: editing it in place edits
     the model, and counts as a change of the model (see `RootElement.version`)."""
 
-    _owner: object = None
+    _owner: _Owner | None = None
 
     def __array_finalize__(self, obj: object) -> None:
         # A view of the stored array edits the model too; other derived arrays do not.
         self._owner = getattr(obj, "_owner", None) if self.base is obj else None
 
-    def __setitem__(self, key: object, value: object) -> None:
+    def __setitem__(self, key: Any, value: Any) -> None:
         super().__setitem__(key, value)
         owner = self._owner
         if owner is not None:
             owner._modified()
 
     def __reduce__(self):
-        constructor, arguments, state = super().__reduce__()
+        constructor, arguments, state = cast(tuple, super().__reduce__())  # an ndarray's: 3 items
         return constructor, arguments, (state, self._owner)
 
     def __setstate__(self, state: tuple) -> None:
@@ -55,13 +65,17 @@ class TrackedArray(np.ndarray):
         super().__setstate__(array_state)
         self._owner = owner
 
-    def __deepcopy__(self, memo: dict) -> TrackedArray:
+    def __deepcopy__(self, memo: dict[int, Any] | None) -> TrackedArray:
         new = np.array(self).view(TrackedArray)
         new._owner = copy.deepcopy(self._owner, memo)
         return new
 
 
-def track(value: object, owner: object) -> object:
+@overload
+def track(value: np.ndarray, owner: _Owner) -> TrackedArray: ...
+@overload
+def track(value: _T, owner: _Owner) -> _T: ...
+def track(value: object, owner: _Owner) -> object:
     """`value`, as a `TrackedArray` owned by `owner` if it is an array."""
     if isinstance(value, np.ndarray):
         value = value.view(TrackedArray)
@@ -140,7 +154,7 @@ class _Converter:
             return self.from_text(value)
         return value
 
-    def to_text(self, value: object, precision: int = 17) -> str:
+    def to_text(self, value: Any, precision: int = 17) -> str:  # a value it stores
         return str(value)
 
 
@@ -186,7 +200,7 @@ class _Format(_Converter):
         return text
 
     def from_python(self, value: object) -> object:
-        return self.from_text(super().from_python(value))
+        return self.from_text(str(super().from_python(value)))
 
 
 class _Numbers(_Converter):
@@ -302,7 +316,7 @@ class _Numbers(_Converter):
                 )
         return converted
 
-    def to_text(self, value: object, precision: int = 17) -> str:
+    def to_text(self, value: float | np.ndarray, precision: int = 17) -> str:
         if isinstance(value, np.ndarray):
             return " ".join([format_number(v, precision) for v in value.tolist()])
         return format_number(value, precision)

@@ -97,6 +97,8 @@ class AntRun(_Run):
     a gap).
     """
 
+    robot: Quadruped
+
     def __init__(
         self,
         control_timestep: float = 0.05,
@@ -147,6 +149,8 @@ class WalkerRun(_Run):
     forward velocity in m/s (defaults: control_cost 0.001, alive_bonus 1.0). Terminates
     when the torso drops below `min_height` m or pitches more than 1 rad.
     """
+
+    robot: Walker
 
     def __init__(
         self,

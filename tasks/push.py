@@ -77,7 +77,9 @@ class ArmPushBox(composer.Task):
             "actuator", exclude_attachments=True
         )
         self.gripper_actuators = self.robot.gripper.actuators
-        self.gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
+        gripper_joint = self.robot.gripper.mjcf_model.find("joint", "right_driver_joint")
+        assert gripper_joint is not None, "the 2F-85's driver joint"
+        self.gripper_joint = gripper_joint
         for entity in self.robot.iter_entities():
             entity.observables.disable_all()
         self.randomize = randomize

@@ -73,7 +73,7 @@ class Reach(composer.Task):
         # The environments of the last before_step_batch and their actions (control cost).
         self._last_actions = _NO_ACTIONS
         reach = self.arm.reach
-        self._task_observables = {
+        self._task_observables: dict[str, observation.Observable] = {
             "target_position": observation.BatchGeneric(
                 lambda physics: np.clip(physics.bind(target).mocap_pos[:, :2] / reach, -1, 1),
                 bounds=(-1, 1),

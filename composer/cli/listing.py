@@ -12,7 +12,8 @@ model files are not installed) is listed with the reason instead of sizes.
 from __future__ import annotations
 
 import argparse
-import math
+
+from gymnasium.spaces import flatdim
 
 import mjcf
 from composer import errors
@@ -30,8 +31,8 @@ def run(args: argparse.Namespace) -> int:
             obs = act = "-"
             description = f"{description} (unavailable: {' '.join(str(e).split())})"
         else:
-            obs = str(math.prod(env.observation_space.shape))
-            act = str(math.prod(env.action_space.shape))
+            obs = str(flatdim(env.observation_space))
+            act = str(flatdim(env.action_space))
             env.close()
         rows.append((name, info.env_id, obs, act, description))
     if not rows:

@@ -29,6 +29,7 @@ import os
 import re
 import sys
 from collections.abc import Sequence
+from typing import Any, NoReturn
 
 import mjcf
 from composer import errors
@@ -52,10 +53,10 @@ class Parser(argparse.ArgumentParser):
     """An ArgumentParser that matches options exactly and raises UsageError (one line,
     with a did-you-mean for an invalid choice) instead of printing usage and exiting."""
 
-    def __init__(self, *args: object, **kwargs: object) -> None:
-        super().__init__(*args, allow_abbrev=False, **kwargs)
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(allow_abbrev=False, **kwargs)
 
-    def error(self, message: str) -> None:  # type: ignore[override]
+    def error(self, message: str) -> NoReturn:
         """Raise UsageError naming this command; argparse calls it for any mistake."""
         invalid = re.search(r"invalid choice: '?([^' ]+)'? \(choose from (.*)\)", message)
         if invalid:
@@ -197,7 +198,8 @@ def parse(argv: Sequence[str] | None = None) -> argparse.Namespace:
             top.error(f"unknown option {word}" + _did_you_mean(word.partition("=")[0], known))
     args, unknown = top.parse_known_args(words)
     if unknown:
-        command = _subcommands(top).get(getattr(args, "command", None), top)
+        name = getattr(args, "command", None)
+        command = _subcommands(top).get(name, top) if name is not None else top
         known = [o for action in command._actions for o in action.option_strings]
         word = unknown[0]
         if word.startswith("-"):
@@ -253,14 +255,14 @@ def _subcommands(top: argparse.ArgumentParser) -> dict[str, argparse.ArgumentPar
 
 
 def _command(
-    commands: argparse._SubParsersAction, name: str, module: str, summary: str, **options: object
+    commands: argparse._SubParsersAction, name: str, module: str, summary: str, **options: Any
 ) -> argparse.ArgumentParser:
     command = commands.add_parser(name, help=summary, description=summary, **options)
     command.set_defaults(module=module, renders=lambda args: False)
     return command
 
 
-def _task(command: argparse.ArgumentParser, **options: object) -> None:
+def _task(command: argparse.ArgumentParser, **options: Any) -> None:
     command.add_argument("task", help="task name, e.g. Reach (see `composer list`)", **options)
 
 

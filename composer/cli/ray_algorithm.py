@@ -23,16 +23,19 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from composer.cli import catalog, recipes
 from composer.cli.errors import CliError
 from composer.registration import TaskInfo
 
+if TYPE_CHECKING:
+    from ray.rllib.algorithms.algorithm_config import AlgorithmConfig
+
 # The key under which env runners report finished episodes: (return, success) each.
 EPISODES = "composer_episodes"
 # stable-baselines3's PPO defaults, so a recipe means the same on both engines.
-SB3_PPO = {
+SB3_PPO: dict[str, Any] = {
     "lambda_": 0.95,
     "clip_param": 0.2,
     "use_kl_loss": False,
@@ -40,7 +43,7 @@ SB3_PPO = {
     "grad_clip": 0.5,
     "vf_clip_param": math.inf,
 }
-SB3_SAC = {"tau": 0.005, "twin_q": True, "n_step": 1}
+SB3_SAC: dict[str, Any] = {"tau": 0.005, "twin_q": True, "n_step": 1}
 # What the Ray engine changes in a task's recipe, measured on 2 cores (docs/ray.md): RLlib
 # pays mostly per call to an env runner's batch, so twice the environments collecting half
 # the steps each (the same batch of 4,096) trained 20% faster and reached the same returns
@@ -93,6 +96,7 @@ def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, see
 
     kwargs = catalog.environment_kwargs(info)
     env_config = {k: v for k, v in kwargs.items() if k not in info.default_kwargs}
+    config: AlgorithmConfig
     if recipe.algo == "ppo":
         config = PPOConfig().training(
             lr=recipe.learning_rate,

@@ -38,6 +38,7 @@ import gymnasium
 import numpy as np
 
 from composer.cli import engine
+from composer.cli.engine import Progress
 from composer.cli.errors import MissingExtraError, OutputError, PolicyError
 
 RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
@@ -207,11 +208,14 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
     quiet_ray()
     from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked just above
+    from ray.rllib.core.rl_module.torch import TorchRLModule
 
     try:
         module = RLModule.from_checkpoint(_uri(folder / "module"))
     except (OSError, ValueError, KeyError) as e:
         raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
+    if not isinstance(module, TorchRLModule):
+        raise PolicyError(f"{folder / 'module'} holds no PyTorch RLlib module")
     module.eval()
     policy = RayPolicy(module, spec)
     engine.check_spaces(folder, policy, env)
@@ -240,7 +244,7 @@ class Checkpoint(engine.Checkpoint):
         """The RLlib Algorithm checkpoint of the last complete save."""
         return self.current() / "algorithm"
 
-    def save(self, model: RayModel, progress: engine.Progress) -> None:
+    def save(self, model: RayModel, progress: Progress) -> None:
         """Save `model`'s algorithm and policy into a new subfolder, then `progress` with
         the model's layout, naming that subfolder current; then remove the older ones.
         Raises OutputError."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, SupportsFloat, cast
 
 import gymnasium
 import numpy as np
@@ -43,7 +43,7 @@ class Tally:
     def __init__(self) -> None:
         self.total, self.distance, self.steps = 0.0, 0.0, 0
 
-    def add(self, reward: float, info: dict[str, Any]) -> None:
+    def add(self, reward: SupportsFloat, info: dict[str, Any]) -> None:
         """Count a step's reward and forward velocity (NaN from then on if it has none)."""
         self.total += float(reward)
         self.distance += float(info.get("forward_velocity", math.nan))
@@ -63,10 +63,15 @@ def random_policy(env: gymnasium.Env, seed: int | None = None) -> Policy:
     return lambda observation: space.sample()
 
 
+# The attribute of a stable-baselines3 model that carries the observation statistics it was
+# trained with (`composer.cli.training` sets it; the model's .zip keeps it).
+NORMALIZATION_ATTRIBUTE = "observation_normalization"
+
+
 def model_policy(model: Any) -> Policy:
     """The deterministic actions of a stable-baselines3 model, its observations normalized
     first when it carries `observation_normalization` (see `composer.cli.training`)."""
-    stats = getattr(model, "observation_normalization", None)
+    stats = getattr(model, NORMALIZATION_ATTRIBUTE, None)
     if stats is None:
         return lambda observation: model.predict(observation, deterministic=True)[0]
     mean = np.asarray(stats["mean"])
@@ -108,17 +113,22 @@ def run_episodes(
         tally, finished = Tally(), False
         while not finished:
             if frames is not None and tally.steps % stride == 0:
-                frames.append(env.render())
+                frames.append(render_frame(env))
             observation, reward, terminated, truncated, info = env.step(policy(observation))
             tally.add(reward, info)
             finished = terminated or truncated
         if frames is not None:
-            frames.append(env.render())
+            frames.append(render_frame(env))
         episode = tally.episode(info)
         done.append(episode)
         if on_episode is not None:
             on_episode(index, episode)
     return done
+
+
+def render_frame(env: gymnasium.Env) -> np.ndarray:
+    """The frame `env` renders now: an array, as its render_mode is 'rgb_array'."""
+    return cast(np.ndarray, env.render())
 
 
 def summary(episodes: list[Episode]) -> dict[str, Any]:

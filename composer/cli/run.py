@@ -15,6 +15,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+import numpy as np
+
 from composer.cli import catalog, output, rollout, video
 
 
@@ -31,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
 
             policy = rollout.model_policy(training.load_policy(args.policy, env))
             label = f"policy {args.policy}"
-        frames = [] if path else None
+        frames: list[np.ndarray] | None = [] if path else None
         episodes = rollout.run_episodes(
             env, policy, args.episodes, args.seed, frames,
             on_episode=lambda i, e: print(f"episode {i + 1}: {rollout.describe(e)}"),

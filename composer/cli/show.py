@@ -27,10 +27,12 @@ import math
 import textwrap
 from collections.abc import Iterator
 
+import gymnasium
 import mujoco
 import numpy as np
+from gymnasium.spaces import flatdim
 
-from composer.cli import catalog, output, video
+from composer.cli import catalog, output, rollout, video
 from composer.entity import Entity
 from composer.environment import Environment
 
@@ -49,13 +51,14 @@ def run(args: argparse.Namespace) -> int:
         print("entities")
         for line in scene_lines(env):
             print(f"  {line}")
-        sizes = {name: space.shape for name, space in env.observation_space.items()}
-        print(f"observations ({_values(sum(math.prod(s) for s in sizes.values()))})")
-        width = max(map(len, sizes), default=0)
-        for name, space in env.observation_space.items():
+        observations = env.observation_space
+        assert isinstance(observations, gymnasium.spaces.Dict), "made with flatten=False"
+        print(f"observations ({_values(flatdim(observations))})")
+        width = max(map(len, observations), default=0)
+        for name, space in observations.items():
             print(f"  {name:<{width}}  {space.shape}  {space.dtype}")
-        print(f"actions ({_values(math.prod(env.action_space.shape))}): {env.action_space}")
-        frame = env.render()
+        print(f"actions ({_values(flatdim(env.action_space))}): {env.action_space}")
+        frame = rollout.render_frame(env)
     finally:
         env.close()
     video.write_png(frame, path)
@@ -105,9 +108,10 @@ def scene_lines(env: Environment) -> Iterator[str]:
 def _scope(entity: Entity, root: Entity) -> str:
     """'' for the root, 'arm' for an entity attached to it, 'arm/gripper' below that."""
     parts = []
-    while entity is not root and entity is not None:
-        parts.append(entity.name)
-        entity = entity.parent
+    current: Entity | None = entity
+    while current is not root and current is not None:
+        parts.append(current.name)
+        current = current.parent
     return "/".join(reversed(parts))
 
 

@@ -34,6 +34,8 @@ import math
 import os
 import platform
 import socket
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from pathlib import Path
 from typing import Any
 
@@ -50,7 +52,7 @@ from composer.cli import (
 )
 from composer.cli.engine import Trainer
 from composer.cli.errors import CliError
-from composer.cli.run_folder import RunFolder
+from composer.cli.run_folder import CheckpointType, RunFolder
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
@@ -63,9 +65,20 @@ RAY_ONLY = ("workers", "envs_per_worker", "address")
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
     check_options(args)
-    on_ray = args.engine == ray_files.ENGINE
-    folder = run_folder.prepare(args, ray_files.Checkpoint if on_ray else training.Checkpoint)
-    if on_ray:
+    if args.engine == ray_files.ENGINE:
+        return _run(args, run_folder.prepare(args, ray_files.Checkpoint), ray_training.trainer)
+    return _run(args, run_folder.prepare(args, training.Checkpoint), training.trainer)
+
+
+def _run(
+    args: argparse.Namespace,
+    folder: RunFolder[CheckpointType],
+    open_trainer: Callable[
+        [TaskInfo, RunFolder[CheckpointType], argparse.Namespace], AbstractContextManager[Trainer]
+    ],
+) -> int:
+    """`run` with the engine of `folder`'s checkpoints, whose trainer `open_trainer` opens."""
+    if args.engine == ray_files.ENGINE:
         ray_files.require_ray()
     elif args.tensorboard:
         training.require_tensorboard()
@@ -73,7 +86,6 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_video:
         video.require()
     output.directory(folder.out)
-    open_trainer = ray_training.trainer if on_ray else training.trainer
     eval_env = catalog.make(args.info)
     try:
         with open_trainer(args.info, folder, args) as trainer:

@@ -33,7 +33,7 @@ import signal
 import sys
 import time
 import zipfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING, Any
@@ -55,6 +55,7 @@ try:
     from stable_baselines3.common.base_class import BaseAlgorithm
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
     from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+    from stable_baselines3.common.running_mean_std import RunningMeanStd
     from stable_baselines3.common.vec_env import (
         DummyVecEnv,
         SubprocVecEnv,
@@ -111,6 +112,7 @@ def vec_env(
         venv: VecEnv = sb3.make_vec_env(info.task, recipe.n_envs, **kwargs)
     else:
         subprocesses = recipe.vec == "subproc" and recipe.n_envs > 1
+        factories: list[Callable[[], gymnasium.Env]]
         factories = [EnvFactory(info.task, kwargs, subprocesses)] * recipe.n_envs
         venv = SubprocVecEnv(factories) if subprocesses else DummyVecEnv(factories)
     venv.seed(seed)
@@ -127,12 +129,14 @@ def keep_normalization(model: BaseAlgorithm) -> None:
     `observation_normalization`, saved in its .zip) for `rollout.model_policy`."""
     normalize = model.get_vec_normalize_env()
     if normalize is not None:
-        model.observation_normalization = {
-            "mean": normalize.obs_rms.mean.tolist(),
-            "var": normalize.obs_rms.var.tolist(),
+        statistics = normalize.obs_rms
+        assert isinstance(statistics, RunningMeanStd), "observations are one vector"
+        setattr(model, rollout.NORMALIZATION_ATTRIBUTE, {
+            "mean": statistics.mean.tolist(),
+            "var": statistics.var.tolist(),
             "epsilon": float(normalize.epsilon),
             "clip": float(normalize.clip_obs),
-        }
+        })  # fmt: skip
 
 
 def new_model(
@@ -228,7 +232,7 @@ class Checkpoint(engine.Checkpoint):
                 engine.replace(self.buffer_path, model.save_replay_buffer)
             normalize = model.get_vec_normalize_env()
             if normalize is not None:
-                engine.replace(self.normalization_path, normalize.save)
+                engine.replace(self.normalization_path, lambda path: normalize.save(str(path)))
             self._save_state(progress.to_json())
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e

@@ -34,7 +34,12 @@ from composer.observation.observable import Observable, reader_of
 
 Sample = Callable[[int], None]
 
-_REDUCERS = {"mean": np.mean, "max": np.max, "min": np.min, "sum": np.sum}
+_REDUCERS: dict[str, Callable[..., np.ndarray]] = {
+    "mean": np.mean,
+    "max": np.max,
+    "min": np.min,
+    "sum": np.sum,
+}
 
 
 class _Channel:
@@ -60,7 +65,9 @@ class _Channel:
         self.delay = int(observable.delay)
         self.corruptor = observable.corruptor
         aggregator = observable.aggregator
-        self.reduce = _REDUCERS.get(aggregator, aggregator) if aggregator is not None else None
+        self.reduce: Callable[..., np.ndarray] | None = (
+            _REDUCERS[aggregator] if isinstance(aggregator, str) else aggregator
+        )  # a name Observable checked, a function or None
         floating = np.issubdtype(dtype, np.floating)
         if (self.reduce is not None or self.corruptor is not None) and not floating:
             dtype = np.dtype(np.float64)  # a mean of integers, or noise, is not an integer
@@ -210,13 +217,13 @@ class Updater:
                 start += size
             lows = [c.low.ravel() for c in self.channels]
             highs = [c.high.ravel() for c in self.channels]
-            self.observation_space: spaces.Space = spaces.Box(
+            self.observation_space: spaces.Dict | spaces.Box = spaces.Box(
                 np.concatenate(lows) if lows else np.zeros(0),
                 np.concatenate(highs) if highs else np.zeros(0),
                 dtype=np.float64,
             )
             return
-        boxes = {}
+        boxes: dict[str, spaces.Space] = {}
         for channel in self.channels:
             channel.allocate(np.zeros(channel.output_shape, dtype=channel.dtype))
             boxes[channel.name] = _box(channel.low, channel.high, channel.dtype)
@@ -275,4 +282,4 @@ def _box(low: np.ndarray, high: np.ndarray, dtype: np.dtype) -> spaces.Box:
     if np.issubdtype(dtype, np.integer):
         info = np.iinfo(dtype)
         low, high = np.clip(low, info.min, info.max), np.clip(high, info.min, info.max)
-    return spaces.Box(low.astype(dtype), high.astype(dtype), dtype=dtype)
+    return spaces.Box(low.astype(dtype), high.astype(dtype), dtype=dtype.type)

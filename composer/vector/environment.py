@@ -4,7 +4,7 @@
     obs, info = venv.reset(seed=0)            # environment i is seeded 0 + i
     obs, reward, terminated, truncated, info = venv.step(venv.action_space.sample())
     obs['pendulum/orientation'].shape         # (64, 2): a leading environment axis
-    frame = venv.render()                     # environment 0, with render_mode='rgb_array'
+    frames = venv.render()                    # a frame each, with render_mode='rgb_array'
 
 What it promises:
 - Each environment is a `composer.Environment` of its own task (`task_factory()` is called
@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, cast
 
 import gymnasium
 import mujoco
@@ -503,13 +503,18 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._materialize(i)
         return self._envs[i].updater.channels[channel].read()
 
-    def render(self) -> np.ndarray | None:
-        """Environment 0's frame for `render_mode`, or None without one (see
+    # gymnasium 1.2 types the frames with an unbound TypeVar (RenderFrame); 1.4 does not.
+    def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override, unused-ignore]
+        """Every environment's frame for `render_mode`, in order (a tuple, as Gymnasium's
+        `VectorEnv.render` gives them), or None without one (see
         `composer.Environment.render`)."""
         if self.render_mode is None:
             return None
-        self._materialize(0)
-        return self._envs[0].render()
+        frames = []
+        for i in range(self.num_envs):
+            self._materialize(i)
+            frames.append(cast(np.ndarray, self._envs[i].render()))  # a mode: a frame
+        return tuple(frames)
 
     def close_extras(self, **kwargs: Any) -> None:
         """Free every environment's rendering resources."""

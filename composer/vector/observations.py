@@ -89,12 +89,13 @@ class _Channel:
 
     def record(self, ids: np.ndarray, values: np.ndarray, steps: np.ndarray, states: list) -> None:
         """Take samples `values` of environments `ids` at physics steps `steps`."""
+        samples: np.ndarray | list[np.ndarray] = values
         if self.corruptor is not None:
             corrupt, dtype = self.corruptor, self.dtype
             pairs = zip(values, states, strict=True)
-            values = [corrupt(np.asarray(value, dtype=dtype), state) for value, state in pairs]
+            samples = [corrupt(np.asarray(value, dtype=dtype), state) for value, state in pairs]
         slot = self.size[ids] % self.ring_size
-        self.ring[ids, slot] = values
+        self.ring[ids, slot] = samples
         self.times[ids, slot] = steps
         self.size[ids] += 1
 

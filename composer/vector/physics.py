@@ -73,6 +73,10 @@ class BatchBinding(batched.Binding):
 
     __slots__ = ("_elements", "_fields", "_physics")
 
+    _physics: VectorPhysics
+    _elements: Any  # an element or a list of elements of one kind
+    _fields: dict[str, _Field]
+
     def __init__(self, physics: VectorPhysics, elements: Any) -> None:
         """Bind `elements` (of the first environment's model); resolved field by field."""
         object.__setattr__(self, "_physics", physics)
@@ -175,7 +179,7 @@ class VectorPhysics(batched.BatchPhysics):
 
     # -- access --------------------------------------------------------------------------
 
-    def bind(self, elements: Any) -> BatchBinding:
+    def bind(self, elements: Any) -> batched.Binding | batched.EmptyBinding:
         """The fields of `elements` (one element or an iterable of one kind, of the first
         environment's model, as `mjcf.Physics.bind` takes them), cached; no elements give
         fields of shape (n, 0). Raises mjcf.BindingError as `mjcf.Physics.bind`."""
@@ -242,15 +246,16 @@ class VectorPhysics(batched.BatchPhysics):
         return values.reshape(len(values), *found.shape)
 
     def _write(self, found: _Field, name: str, value: Any) -> None:
-        if not found.writable:
-            raise batched.not_writable(name, model_field=found.source is None)
+        source = found.source
+        if not found.writable or source is None:  # no source: not writable
+            raise batched.not_writable(name, model_field=source is None)
         n = self.num_envs
         rows = batched.rows_to_write(value, n, found.shape, name)
-        rows = rows.reshape(n, len(found.rows), *found.source.shape[2:])
+        rows = rows.reshape(n, len(found.rows), *source.shape[2:])
         if self._ids is None:
-            found.source[:, found.rows] = rows
+            source[:, found.rows] = rows
         else:
-            found.source[self._ids[:, None], found.rows] = rows
+            source[self._ids[:, None], found.rows] = rows
         self._wrote(found.effect)
 
     def _wrote(self, effect: tracking.Effect) -> None:

@@ -269,7 +269,7 @@ class CaseMaker:
             key,
             f"{key}/{name}={text!r}",
             document,
-            _same_names(baseline, document),
+            None if baseline is None else _same_names(baseline, document),
             edit if baseline is not None else None,
             coverage=(f"{key}/{name}",),
         )
@@ -373,12 +373,10 @@ class CaseMaker:
 _PROBE_NAME = re.compile(r"probe\d+_")
 
 
-def _same_names(baseline: str | None, document: str) -> str | None:
+def _same_names(baseline: str, document: str) -> str:
     """``baseline`` with the probes' names of ``document`` (each document the prober
     makes numbers its names anew), so that the models both compile to compare; the
     document may name one more probe (a child placed), after those they share."""
-    if baseline is None:
-        return None
     ours = list(dict.fromkeys(_PROBE_NAME.findall(baseline)))
     theirs = list(dict.fromkeys(_PROBE_NAME.findall(document)))
     if len(theirs) - len(ours) not in (0, 1):

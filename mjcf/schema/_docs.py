@@ -132,7 +132,7 @@ class Element:
 
     def to_json(self) -> dict:
         """The element's entry in the JSON file."""
-        entry = {
+        entry: dict[str, object] = {
             "tag": self.tag,
             "namespace": self.namespace,
             "repeated": self.repeated,

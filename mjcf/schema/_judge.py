@@ -10,7 +10,6 @@ same change through the API (both compile, or both fail with the same error).
 
 from __future__ import annotations
 
-import functools
 import re
 from dataclasses import dataclass
 
@@ -197,14 +196,21 @@ def _names(model: mujoco.MjModel) -> dict[str, list[bytes]]:
     return found
 
 
-@functools.cache
 def _fields(kind: type) -> tuple[str, ...]:
     """The public fields of a type of MuJoCo's structs, but where files are."""
-    return tuple(
-        name
-        for name in dir(kind)
-        if not name.startswith("_") and name not in _PATH_FIELDS and not name.endswith("_pathadr")
-    )
+    found = _FIELDS.get(kind)
+    if found is None:
+        found = _FIELDS[kind] = tuple(
+            name
+            for name in dir(kind)
+            if not name.startswith("_")
+            and name not in _PATH_FIELDS
+            and not name.endswith("_pathadr")
+        )
+    return found
+
+
+_FIELDS: dict[type, tuple[str, ...]] = {}
 
 
 _GENERATED = re.compile(rb"//unnamed_[a-z_]+_\d+")
@@ -241,7 +247,7 @@ def _explain_refusal(error: str) -> str | None:
 
 
 def _locate(root: mjcf.RootElement, path: tuple[str, ...]) -> mjcf.Element:
-    element = root
+    element: mjcf.Element = root
     for tag in path:
         matches = [c for c in element._children if c.tag == tag]
         element = matches[-1]
@@ -253,7 +259,7 @@ def _apply(root: mjcf.RootElement, edit: Edit) -> None:
     if edit.child is not None:
         element.add(edit.child, **dict(edit.child_attributes))
     else:
-        element.set_attributes(**{edit.attribute: edit.text})
+        element.set_attributes(**{str(edit.attribute): edit.text})
 
 
 class Judge:
@@ -284,7 +290,8 @@ class Judge:
         base, error = self._parse(case.baseline)
         if base is None:
             why = self._explain_parse(case, None, error)
-            self.findings.append(Finding(case, "baseline", "accepts the baseline", error, why))
+            refusal = error or "refuses"
+            self.findings.append(Finding(case, "baseline", "accepts the baseline", refusal, why))
             return
         try:
             _apply(base, case.edit)

@@ -387,10 +387,10 @@ def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
         missing = re.search(r"required attribute missing: '(\w+)'", error or "")
         together = re.search(r"attributes (.*) must be specified together", error or "")
         if missing and missing.group(1) in element.attributes:
-            found.append({"requires": [name, missing.group(1)], "message": _message(error)})
+            found.append({"requires": [name, missing.group(1)], "message": _message(error or "")})
         elif together:
             group = re.findall(r"'(\w+)'", together.group(1))
-            rule = {"together": group, "message": _message(error)}
+            rule = {"together": group, "message": _message(error or "")}
             if rule not in found:
                 found.append(rule)
     usable = [n for n in names if alone[n] is None]

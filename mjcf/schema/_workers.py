@@ -17,6 +17,7 @@ import resource
 import signal
 from collections.abc import Callable, Sequence
 from multiprocessing.connection import Connection, wait
+from typing import cast
 
 import mujoco
 
@@ -66,7 +67,8 @@ def judge_all(
             process.start()
             sender.close()
             running[receiver] = [start, start + len(chunk), process]
-        for receiver in wait(list(running)):
+        for ready in wait(list(running)):
+            receiver = cast(Connection, ready)
             state = running[receiver]
             index, end, process = state
             try:

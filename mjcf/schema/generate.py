@@ -141,7 +141,7 @@ def assign_namespaces(elements: dict[str, Element], object_types: list[str]) -> 
                     value: _annotations.OBJECT_TYPE_ALIASES.get(value, value)
                     for value in selector.values
                 }
-                targets = set(attribute.namespace_map.values())
+                targets: set[str | None] = set(attribute.namespace_map.values())
             elif attribute.kind == "reference":
                 targets = {attribute.namespace}
             else:
@@ -285,7 +285,7 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
     (a mesh ``builtin`` without its ``params``) still shows the attribute and
     the keyword are known; only errors about them count against the schema.
     """
-    probes = []
+    probes: list[tuple[str, Attribute, str]] = []
     for key, element in elements.items():
         for attribute in element.attributes.values():
             values = attribute.values if attribute.kind == "keyword" else [prober.value(attribute)]

@@ -31,3 +31,17 @@ def test_sb3_adapter_trains_ppo_and_reports_episode_ends_as_sb3_expects():
     model = PPO("MlpPolicy", venv, n_steps=16, batch_size=32, n_epochs=1, device="cpu", seed=0)
     model.learn(total_timesteps=128)
     assert model.num_timesteps >= 128
+
+
+def test_sb3_images_are_every_environment_frame():
+    vector = make_vector_environment(
+        2, BatchedSwing, render_mode="rgb_array", autoreset_mode="SameStep"
+    )
+    venv = VecEnvAdapter(vector)
+    venv.seed(3)
+    venv.reset()
+    images = venv.get_images()
+    assert len(images) == 2 and all(image.shape == (240, 320, 3) for image in images)
+    np.testing.assert_array_equal(images[1], vector.render()[1])
+    assert venv.render(mode="rgb_array").shape == (480, 320, 3)  # stable-baselines3 tiles them
+    venv.close()

@@ -309,14 +309,18 @@ def test_batch_physics_reads_and_writes_the_simulations():
         physics.bind(stray)
 
 
-def test_render_is_environment_0_as_a_single_environment_renders_it():
+def test_render_gives_every_environment_frame_as_single_environments_render_them():
     vector = VectorEnvironment(TASKS["batched"], 2, render_mode="rgb_array")
-    single = composer.Environment(TASKS["batched"](), render_mode="rgb_array")
     vector.reset(seed=4)
-    single.reset(seed=4)
-    frame = vector.render()
-    assert frame.shape == (240, 320, 3) and frame.dtype == np.uint8
-    np.testing.assert_array_equal(frame, single.render())
+    frames = vector.render()
+    assert isinstance(frames, tuple) and len(frames) == 2  # Gymnasium's VectorEnv.render
+    for i, frame in enumerate(frames):
+        single = composer.Environment(TASKS["batched"](), render_mode="rgb_array")
+        single.reset(seed=4 + i)
+        assert frame.shape == (240, 320, 3) and frame.dtype == np.uint8
+        np.testing.assert_array_equal(frame, single.render())
+        single.close()
+    assert not np.array_equal(frames[0], frames[1])  # each its own state
     assert VectorEnvironment(TASKS["batched"], 1).render() is None
     vector.close()
     assert vector.closed
