@@ -191,6 +191,29 @@ def test_repeated_sections_merge(tmp_path: Path) -> None:
     _assert_round_trip(main, root)
 
 
+def test_repeated_visual_sections_and_their_once_only_children_merge_as_mujoco(
+    tmp_path: Path,
+) -> None:
+    """dm_control's suite models give <visual> (and its <map>, <quality>) more than once;
+    MuJoCo merges them in order, a later value winning."""
+    main = _write(
+        tmp_path,
+        "model.xml",
+        """
+        <mujoco>
+          <visual><map znear="0.1" fogstart="2"/><quality shadowsize="1024"/></visual>
+          <visual><map zfar="40" fogstart="3"/><headlight active="1"/></visual>
+          <visual><quality offsamples="2"/></visual>
+          <worldbody><geom size=".1"/></worldbody>
+        </mujoco>
+    """,
+    )
+    root = mjcf.from_path(main)
+    assert (root.visual.map.znear, root.visual.map.zfar, root.visual.map.fogstart) == (0.1, 40, 3)
+    assert (root.visual.quality.shadowsize, root.visual.quality.offsamples) == (1024, 2)
+    _assert_round_trip(main, root)
+
+
 def test_precision_controls_written_digits() -> None:
     root = mjcf.RootElement()
     root.worldbody.add("geom", size=[1 / 3])
