@@ -46,12 +46,14 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
         )
     if _contains(source, target):
         raise errors.AttachmentError(f"{target.path}: cannot include a copy of its own ancestor")
-    plan: list[tuple[Element, dict[str, Any], list[Element]]] = []
+    plan: list[tuple[Element, Element, dict[str, Any], list[Element]]] = []
     _plan_merge(target, source, override_attributes, plan)
     _check_names(target, plan)
     clones: dict[int, Element] = {}
-    for destination, attributes, children in plan:
+    for destination, origin, attributes, children in plan:
         destination._attrs.update(attributes)
+        if origin._written_empty():  # put there in the source: so it is in the copy
+            destination._keep()
         for child in children:
             clone = _clone(child, destination, clones)
             destination._children.append(clone)
@@ -96,13 +98,13 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
             children.append(child)
         else:
             _plan_merge(existing, child, override, plan)
-    plan.append((target, attributes, children))
+    plan.append((target, source, attributes, children))
 
 
 def _check_names(target: Element, plan: list) -> None:
     """Raise mjcf.NameClashError if a copy would take a name that `target`'s model has."""
     scope = target.root.namescope
-    for _, _, children in plan:
+    for _, _, _, children in plan:
         for child in children:
             for element in child.iter():
                 namespace = element._spec.namespace

@@ -178,6 +178,12 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
             elif tag in _ACTUATOR_TAGS and child_tag in _ACTUATOR_TAGS:
                 source = child
                 _reset_shortcut(values, child_tag, tag)
+                if tag == "general" and child._spec.matters_empty and child._written_empty():
+                    raise errors.AttributeValueError(
+                        f"{element.path}: its default class has a <{child_tag}>, which "
+                        f"sets the actuator type a <{element.tag}> takes; commit_defaults "
+                        "cannot express it"
+                    )
             else:
                 continue
             for name in source._attrs:

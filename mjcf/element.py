@@ -47,8 +47,11 @@ class Element(ModelOperations):
     `_spec` (its ElementSpec), `_parent`, `_root`, `_attrs` (attribute name -> stored
     value: text as read, or the converted value), `_children`, `_source` (where debug
     mode saw it made), and asks `_get_value(attribute)`, `_single_child(tag)`,
-    `_is_registered()`, `_implicit()` (named after its file, by MuJoCo) and
-    `_modified()` (count an in-place change). Only the modules that build or rewrite
+    `_is_registered()`, `_implicit()` (named after its file, by MuJoCo),
+    `_written_empty()` (written even without attributes and children: a once-only
+    element made by reading `parent.<tag>` is not) and `_modified()` (count an in-place
+    change). The tree builders count such an element as put there with `_keep()`.
+    Only the modules that build or rewrite
     trees (parser, copying, default_sections, defaults, attachment, root) make elements
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
     into them, then record names with `_register()`; `_cut()` and
@@ -516,6 +519,7 @@ class Element(ModelOperations):
                         "one already; set its attributes instead"
                     )
                 existing.set_attributes(**attributes)
+                existing._keep()
                 return existing
         element = self._new_child(spec)
         converted = element._prepare(attributes)
@@ -527,6 +531,20 @@ class Element(ModelOperations):
 
     def _new_child(self, spec: ElementSpec) -> Element:
         return Element._make(spec, self, self._root)
+
+    def _written_empty(self) -> bool:
+        """Whether this element is written when it has no attributes and no children:
+        one that may repeat is; a once-only one only if being there changes the model
+        (`ElementSpec.matters_empty`: an actuator shortcut in a default class) and it
+        was put there (read, added), not made by reading `parent.<tag>`."""
+        spec = self._spec
+        return not spec.on_demand or spec.matters_empty
+
+    def _keep(self) -> None:
+        """Count this element as put there, even if it was made on first access."""
+        if type(self) is _OnDemand:
+            object.__setattr__(self, "__class__", Element)
+            self._modified()  # it is written now
 
     def _modified(self) -> None:
         """Count a change of this element's model (see `RootElement.version`)."""
@@ -553,7 +571,10 @@ class Element(ModelOperations):
             return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
         if child is None:
-            child = self._new_child(spec)
+            if spec.matters_empty:  # not written while it stays empty (see _OnDemand)
+                child = _OnDemand._make(spec, self, self._root)
+            else:
+                child = self._new_child(spec)
             self._children.append(child)
         return child
 
@@ -588,6 +609,18 @@ class Element(ModelOperations):
             names.add("dclass")
         names.update(self._spec.children)
         return sorted(n for n in names if n.isidentifier())
+
+
+class _OnDemand(Element):
+    """A once-only element whose mere presence changes the model, made empty by reading
+    `parent.<tag>` (`default.position`): it is written once it has attributes or
+    children, or once `add` puts it there, not while it stays as it was made, so
+    that reading a default never changes what compiles."""
+
+    __slots__ = ()
+
+    def _written_empty(self) -> bool:
+        return False
 
 
 def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:

@@ -112,7 +112,7 @@ def _same_sequence(children: list[Element], others: list[Element]) -> bool:
 
 def _same_children(element: Element, other: Element) -> bool:
     """Children compare tag by tag, in order within a tag; a once-only child that is
-    empty is the same as one that is absent."""
+    empty is the same as one that is absent, where it is not written then."""
     mine = _by_tag(element)
     theirs = _by_tag(other)
     for tag in mine.keys() | theirs.keys():
@@ -124,8 +124,7 @@ def _same_children(element: Element, other: Element) -> bool:
 def _by_tag(element: Element) -> dict[str, list[Element]]:
     groups: dict[str, list[Element]] = {}
     for child in element._children:
-        spec = child._spec
-        if not spec.repeated and not child._attrs and not child._children:
+        if not child._attrs and not child._children and not child._written_empty():
             continue
-        groups.setdefault(spec.tag, []).append(child)
+        groups.setdefault(child._spec.tag, []).append(child)
     return groups

@@ -277,7 +277,7 @@ class _Writer:
         if len(self.parts) == mark and element._spec.on_demand:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
-            if element._attrs:
+            if element._attrs or element._written_empty():
                 self._emit(opening[: opening.rindex(">")] + "/>" + self._newline(), element)
             return
         self._emit(f"{self._indent(depth)}</{element._spec.tag}>{self._newline()}")
@@ -367,7 +367,7 @@ class _Writer:
                 if not special and not (spec.references and _refers_out(element)):
                     object.__setattr__(element, "_text", (version, text))
                 return text
-            if spec.checked_on_write and (attrs or element._children or not spec.on_demand):
+            if spec.checked_on_write and (attrs or element._children or element._written_empty()):
                 check_required(element)
             cacheable = override is None and not special
             if override is None:
@@ -391,7 +391,7 @@ class _Writer:
             children = element._children
             indent = indents[depth]
             if not children:
-                if text or not spec.on_demand:
+                if text or element._written_empty():
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return
@@ -404,7 +404,7 @@ class _Writer:
             if len(parts) == start + 1:
                 parts.pop()
                 owners.pop()
-                if text or not spec.on_demand:
+                if text or element._written_empty():
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return

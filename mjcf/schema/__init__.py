@@ -196,6 +196,7 @@ class ElementSpec:
         "file_attributes",
         "identifier",
         "key",
+        "matters_empty",
         "namespace",
         "needs_rules",
         "on_demand",
@@ -229,6 +230,10 @@ class ElementSpec:
         )
         # A child that may appear once is created on first access (`option.flag`).
         self.on_demand = False
+        # Once-only, and its mere presence changes the model (an actuator shortcut in a
+        # default class sets the actuator type): written even when empty, unless it was
+        # only created by access (see `Element.get_children`).
+        self.matters_empty: bool = bool(data.get("matters_empty", False))
         self.rules: tuple[Rule, ...] = tuple(Rule(rule) for rule in data.get("rules", ()))
         self.rule_names = frozenset(name for rule in self.rules for name in rule.names)
         # Rules that an element being built may break for a while (checked on writing).

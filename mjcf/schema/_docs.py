@@ -129,6 +129,7 @@ class Element:
     # {"one_of": [[names]...]} or {"requires": [name, name]}, with MuJoCo's "message".
     rules: list[dict] = field(default_factory=list)
     repeated_in: list[str] = field(default_factory=list)  # parents it may repeat under
+    matters_empty: bool = False  # once-only, and changes the model when present empty
 
     def to_json(self) -> dict:
         """The element's entry in the JSON file."""
@@ -143,6 +144,8 @@ class Element:
             entry["repeated_in"] = self.repeated_in
         if self.rules:
             entry["rules"] = self.rules
+        if self.matters_empty:
+            entry["matters_empty"] = True
         return entry
 
 

@@ -273,12 +273,19 @@ class Prober:
         if failures:
             raise ProbeError("MuJoCo rejects probes:\n  " + "\n  ".join(failures))
 
-    def written(self, probe: Probe) -> str | None:
+    def written(self, probe: Probe, leave_out_empty: bool = False) -> str | None:
         """The MJCF MuJoCo writes back after reading the probe (the probe's own
-        names made alike, so documents compare); None if it cannot."""
+        names made alike, so documents compare); None if it cannot. With
+        ``leave_out_empty``, the document is the probe's without its element, which must
+        be empty (the parents it needs stay)."""
+        fragment = self.fragment(probe)
+        if leave_out_empty:
+            empty = f"<{self.elements[probe.key].tag}/>"
+            at = fragment.rindex(empty)
+            fragment = fragment[:at] + fragment[at + len(empty) :]
         self.parses += 1
         try:
-            spec = mujoco.MjSpec.from_string(self.document([self.fragment(probe)]), include=FILES)
+            spec = mujoco.MjSpec.from_string(self.document([fragment]), include=FILES)
             return re.sub(r"probe\d+_", "probe_", spec.to_xml())
         except ValueError:
             return None

@@ -78,6 +78,28 @@ def repetition(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         element.repeated_in = [] if repeated else parents
 
 
+def empty_presence(prober: _probe.Prober, elements: dict[str, Element]) -> None:
+    """Which once-only elements change what the reader reads by being there, empty: an
+    actuator shortcut in a default class sets the class's actuator type and gains
+    (`matters_empty`). The reader's model, written back, differs with one and without."""
+    for key, element in elements.items():
+        if element.repeated or key == prober.root:
+            continue
+        probe = Probe(key)
+        if not prober.fragment(probe).endswith(f"<{element.tag}/>" + _closing(prober, key)):
+            continue  # it cannot be empty: it needs attributes
+        with_it = prober.written(probe)
+        element.matters_empty = with_it is not None and with_it != prober.written(
+            probe, leave_out_empty=True
+        )
+
+
+def _closing(prober: _probe.Prober, key: str) -> str:
+    """The end tags after element ``key``'s place in its probe fragment."""
+    chain = prober.paths[key][1:-1]
+    return "".join(f"</{prober.elements[k].tag}>" for k in reversed(chain))
+
+
 _BLANK_BY_KIND = {"int": True, "real": True, "keyword": False, "string": True}
 
 

@@ -30,7 +30,8 @@ The file maps element keys (MuJoCo's doc anchors: ``body-geom``,
 ``default-geom``, ``actuator-position``; plus ``worldbody``) to
 ``{"tag", "namespace", "repeated", "attributes", "children"}`` (with
 ``"repeated_in"``, parents under which an element that otherwise appears once may
-repeat, and ``"rules"`` between attributes, when there are any). Attribute
+repeat, ``"matters_empty"`` for a once-only element that changes the model by being
+there even empty, and ``"rules"`` between attributes, when there are any). Attribute
 specs have a ``type`` of ``identifier``, ``string``, ``file``, ``reference``
 (``namespace``, or ``namespace_from``/``namespace_map``; ``list``),
 ``keyword`` (``values``; ``list``) or ``int``/``real`` (``min``/``max``
@@ -174,6 +175,7 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
             if attribute.kind in ("int", "real"):
                 _arity(prober, key, attribute)
     _refine.repetition(prober, elements)
+    _refine.empty_presence(prober, elements)
     _refine.blanks(prober, elements)
     _refine.float_precision(prober, elements)
     _refine.bounds(prober, elements)
@@ -383,6 +385,8 @@ def dumps(schema: dict) -> str:
         fields.append(f'      "children": {json.dumps(data["children"])}')
         if data.get("repeated_in"):
             fields.append(f'      "repeated_in": {json.dumps(data["repeated_in"])}')
+        if data.get("matters_empty"):
+            fields.append('      "matters_empty": true')
         if data.get("rules"):
             rules = ",\n".join(f"        {json.dumps(rule)}" for rule in data["rules"])
             fields.append(f'      "rules": [\n{rules}\n      ]')

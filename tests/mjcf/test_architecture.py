@@ -41,6 +41,8 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_is_registered": ("element.Element", ANY, frozenset()),
     "_implicit": ("element.Element", ANY, frozenset()),
     "_modified": ("element.Element", ANY, frozenset()),
+    "_written_empty": ("element.Element", ANY, frozenset()),
+    "_keep": ("element.Element", TREE_BUILDERS, frozenset()),
     "_make": ("element.Element", TREE_BUILDERS, frozenset()),
     "_register": ("element.Element", TREE_BUILDERS, frozenset()),
     "_unregister_subtree": ("element.Element", TREE_BUILDERS, frozenset()),

@@ -3,6 +3,10 @@ committing, and including copies elements without a name scope or fails cleanly.
 
 from __future__ import annotations
 
+import copy
+import pickle
+from collections.abc import Callable
+
 import mujoco
 import pytest
 
@@ -189,3 +193,76 @@ def test_include_copy_name_collisions_change_nothing() -> None:
     assert base.to_xml_string() == before
     with pytest.raises(mjcf.SchemaError, match="same kind"):
         base.include_copy(clash.worldbody)
+
+
+# -- a default that changes the model by being there, empty ---------------------------------
+
+_SHORTCUT_TAGS = sorted(
+    spec.tag for spec in mjcf.schema.all_specs() if spec.matters_empty
+)  # fmt: skip
+
+
+def _arm_with_default(default: str) -> str:
+    return f"""<mujoco><default>{default}<default class="c"/></default>
+      <worldbody><body><joint name="j"/><geom size=".1" mass="1"/></body></worldbody>
+      <actuator><general joint="j"/><general joint="j" class="c"/></actuator></mujoco>"""
+
+
+def test_the_schema_knows_which_defaults_matter_empty() -> None:
+    assert {"position", "velocity", "muscle"} <= set(_SHORTCUT_TAGS)
+    assert "general" not in _SHORTCUT_TAGS and "geom" not in _SHORTCUT_TAGS
+
+
+def _outcome(compile_: Callable[[], mujoco.MjModel]) -> mujoco.MjModel | str:
+    try:
+        return compile_()
+    except (ValueError, mjcf.CompileError) as error:
+        return "refused: " + str(error).split(" in actuator")[0].splitlines()[0]
+
+
+def _same_outcome(stock: mujoco.MjModel | str, ours: mujoco.MjModel | str) -> bool:
+    if isinstance(stock, str) or isinstance(ours, str):
+        return stock == ours
+    return model_differences(stock, ours) == []
+
+
+@pytest.mark.parametrize("tag", _SHORTCUT_TAGS)
+def test_an_empty_actuator_shortcut_in_a_default_compiles_as_in_mujoco(tag: str) -> None:
+    """MuJoCo compiles the model, or refuses it (an adhesion or damper default limits
+    controls, and the actuators set no range), and so does mjcf."""
+    xml = _arm_with_default(f"<{tag}/>")
+    stock = _outcome(lambda: mujoco.MjModel.from_xml_string(xml))
+    without = _outcome(lambda: mujoco.MjModel.from_xml_string(_arm_with_default("")))
+    assert not _same_outcome(stock, without), f"<{tag}/> changes nothing: why is it listed?"
+    model = mjcf.from_xml_string(xml)
+    for each in (model, copy.deepcopy(model), pickle.loads(pickle.dumps(model))):
+        assert _same_outcome(stock, _outcome(lambda m=each: mjcf.Physics.from_mjcf_model(m).model))
+    # A <general> takes its type from the shortcut: no attribute of its own says so.
+    with pytest.raises(mjcf.AttributeValueError, match=f"has a <{tag}>.* cannot express"):
+        mjcf.commit_defaults(model)
+    assert model.default.get_children(tag).get_attributes() == {}
+
+
+def test_reading_a_default_on_demand_changes_nothing_and_adding_it_does() -> None:
+    model = mjcf.from_xml_string(_arm_with_default(""))
+    plain = mjcf.Physics.from_mjcf_model(model).model
+    assert model.default.position.kp is None
+    assert model.default.position.get_attributes() == {}
+    assert "<position" not in model.to_xml_string()
+    assert model_differences(plain, mjcf.Physics.from_mjcf_model(model).model) == []
+    assert model.is_same_as(mjcf.from_xml_string(_arm_with_default("")))
+
+    model.default.add("position")
+    stock = mujoco.MjModel.from_xml_string(_arm_with_default("<position/>"))
+    assert model_differences(stock, mjcf.Physics.from_mjcf_model(model).model) == []
+    assert model.is_same_as(mjcf.from_xml_string(_arm_with_default("<position/>")))
+    assert not model.is_same_as(mjcf.from_xml_string(_arm_with_default("")))
+
+
+def test_an_empty_default_shortcut_survives_include_copy() -> None:
+    source = mjcf.from_xml_string("<mujoco><default><velocity/></default></mujoco>")
+    model = mjcf.from_xml_string(_arm_with_default(""))
+    assert model.default.velocity.kv is None  # made on demand in the target first
+    model.include_copy(source)
+    stock = mujoco.MjModel.from_xml_string(_arm_with_default("<velocity/>"))
+    assert model_differences(stock, mjcf.Physics.from_mjcf_model(model).model) == []

@@ -19,8 +19,6 @@ OPEN = frozenset({
     "sensor-user/objtype='Body'",
     "custom-numeric/size='  '",
     "two body-inertial in replicate",
-    *(f"<{tag}> in default" for tag in ("adhesion", "cylinder", "damper", "intvelocity",
-                                        "muscle", "orientation", "pid", "position", "velocity")),
 })  # fmt: skip
 # Documents that crash MuJoCo 4.0.0 itself (plugins inside a flexcomp or a replicate, a
 # frame as a tuple's object): the check runs them in child processes and reports them.
