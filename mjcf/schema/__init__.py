@@ -131,7 +131,11 @@ class AttributeSpec:
         selector = element_attributes.get(self.namespace_from)
         if not isinstance(selector, str):
             return None
-        return self.namespace_map.get(selector, selector)
+        namespace = self.namespace_map.get(selector)
+        if namespace is None:  # ' Body', as read where the keyword allows it; a number
+            # is no object type (MuJoCo reads it as unknown and ignores the name)
+            namespace = self.namespace_map.get(selector.strip(" \t\n\r").lower())
+        return namespace
 
     def __repr__(self) -> str:
         detail = self.kind

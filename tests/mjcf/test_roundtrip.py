@@ -403,3 +403,18 @@ def test_classes_keep_built_in_values_of_late_global_defaults(late: str) -> None
     root = mjcf.from_xml_string(xml)
     ours = mujoco.MjModel.from_xml_string(root.to_xml_string())
     assert model_differences(reference, ours) == []
+
+
+@pytest.mark.parametrize("objtype", ["body", "Body", "XBODY", "Geom", "1", "0", "-1"])
+def test_an_object_type_in_any_case_or_as_a_number_compiles_as_mujoco(objtype: str) -> None:
+    """A <user> sensor's objtype is read without regard to case (its objname then names
+    that kind of object, here the body or the geom both called 'b'); a number is an
+    unknown object type to MuJoCo, which then ignores objname."""
+    xml = f"""<mujoco><worldbody><body name="b"><geom name="b" size="1"/></body></worldbody>
+      <sensor><user objtype="{objtype}" objname="b" dim="1" needstage="pos"/></sensor>
+    </mujoco>"""
+    stock = mujoco.MjModel.from_xml_string(xml)
+    assert (
+        model_differences(stock, mjcf.Physics.from_mjcf_model(mjcf.from_xml_string(xml)).model)
+        == []
+    )
