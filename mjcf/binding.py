@@ -53,7 +53,6 @@ raises BindingError once the physics holds another model.
 
 from __future__ import annotations
 
-import difflib
 import functools
 from typing import TYPE_CHECKING, Any
 
@@ -460,8 +459,7 @@ class Binding:
 
     def _unknown(self, name: str) -> str:
         valid = sorted(n for n, f in self._fields.items() if n == fields.short_name(f))
-        close = difflib.get_close_matches(name, list(self._fields), n=3)
-        hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+        hint = errors.did_you_mean(name, self._fields)
         return (
             f"{fields.kind_name(self._kind)} bindings have no field '{name}'{hint}; "
             f"valid fields: {', '.join(valid)} (full MjModel/MjData names work too)"

@@ -16,14 +16,18 @@ No name here is a Python builtin's, so `from mjcf import *` shadows none. The pr
 release called three of them after the builtin they subclass; those names still work,
 with a DeprecationWarning, until the next release, and are not in `__all__`:
 
-    mjcf.UnknownAttributeError  ->  mjcf.UnknownAttributeError   (an AttributeError)
-    mjcf.NameClashError       ->  mjcf.NameClashError          (a ValueError)
-    mjcf.InvalidReferenceError  ->  mjcf.InvalidReferenceError   (a ValueError)
+    mjcf.AttributeError  ->  mjcf.UnknownAttributeError   (an AttributeError)
+    mjcf.NameError       ->  mjcf.NameClashError          (a ValueError)
+    mjcf.ReferenceError  ->  mjcf.InvalidReferenceError   (a ValueError)
+
+`did_you_mean` gives every message its suggestion of the closest names.
 """
 
 from __future__ import annotations
 
+import difflib
 import warnings
+from collections.abc import Iterable
 
 
 class Error(Exception):
@@ -140,3 +144,9 @@ def deprecated_name(module: str, name: str) -> type[Error]:
 
 def __getattr__(name: str) -> type[Error]:
     return deprecated_name(__name__, name)
+
+
+def did_you_mean(word: str, choices: Iterable[str], n: int = 3) -> str:
+    """ " (did you mean 'a', 'b'?)" for up to `n` of `choices` close to `word`, or ""."""
+    close = difflib.get_close_matches(word, list(choices), n=n, cutoff=0.6)
+    return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""

@@ -26,7 +26,6 @@ by integer index only.
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import functools
 from typing import TYPE_CHECKING, Any
 
@@ -93,8 +92,7 @@ class _NameTable:
         one_each = self.address is not None and self.address.one_each
         if i is None or (one_each and self.counts[i] == 0):
             valid = [n for n, j in self.ids.items() if self.counts[j] or not one_each]
-            close = difflib.get_close_matches(name, valid, n=3)
-            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            hint = errors.did_you_mean(name, valid)
             kind = fields.kind_name(self.kind)
             owns = "" if i is None else f"; {kind} {name!r} owns no rows of it"
             raise errors.NotFoundError(
@@ -326,8 +324,7 @@ class StructView:
                 f"{label} field '{name}' is not indexed by any kind of object; "
                 f"use physics.{self._struct}.{name}"
             )
-        close = difflib.get_close_matches(name, list(fields.indexed_fields(self._struct)), n=3)
-        hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+        hint = errors.did_you_mean(name, fields.indexed_fields(self._struct))
         return f"{label} has no indexed field '{name}'{hint}"
 
 

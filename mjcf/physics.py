@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import contextlib
 import copy as copy_module
-import difflib
 import os
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -407,7 +406,7 @@ class Physics(StateAccess):
             key_id = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
             if key_id < 0:
                 raise errors.NotFoundError(
-                    f"no keyframe named {keyframe!r}{_did_you_mean(keyframe, names)}; "
+                    f"no keyframe named {keyframe!r}{errors.did_you_mean(keyframe, names)}; "
                     f"keyframes: {list(names)}"
                 )
             return key_id
@@ -522,9 +521,8 @@ class Physics(StateAccess):
         if min(ids, default=0) < 0:
             missing = wanted[ids.index(-1)]
             known = [n for n in fields.names(self._model, kind) if n]
-            raise errors.NotFoundError(
-                f"no {fields.kind_name(kind)} named {missing!r}{_did_you_mean(missing, known)}"
-            )
+            hint = errors.did_you_mean(missing, known)
+            raise errors.NotFoundError(f"no {fields.kind_name(kind)} named {missing!r}{hint}")
         return self._binding(kind, ids[0] if single else np.array(ids, dtype=np.intp))
 
     # -- rendering -----------------------------------------------------------------------
@@ -581,8 +579,3 @@ def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoc
         return loader(source) if assets is None else loader(source, assets)
     except ValueError as e:
         raise errors.CompileError(f"MuJoCo could not load the model: {e}") from e
-
-
-def _did_you_mean(name: str, names: Sequence[str]) -> str:
-    close = difflib.get_close_matches(name, list(names), n=3)
-    return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""

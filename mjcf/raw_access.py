@@ -16,8 +16,6 @@ defines them, in which case mujoco's own are left in place.
 
 from __future__ import annotations
 
-import difflib
-
 import mujoco
 
 from mjcf import errors
@@ -35,8 +33,7 @@ def to_mjtobj(object_type: str | int | mujoco.mjtObj) -> mujoco.mjtObj:
     if isinstance(object_type, str):
         found = _TYPE_NAMES.get(object_type.lower().removeprefix("mjobj_"))
         if found is None:
-            close = difflib.get_close_matches(object_type.lower(), list(_TYPE_NAMES), n=3)
-            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            hint = errors.did_you_mean(object_type.lower(), _TYPE_NAMES)
             raise errors.NotFoundError(
                 f"no MuJoCo object type {object_type!r}{hint}; types: {', '.join(_TYPE_NAMES)}"
             )

@@ -15,7 +15,6 @@ and writing a model never converts numbers it does not need to.
 from __future__ import annotations
 
 import copy
-import difflib
 import numbers
 import re
 import struct
@@ -24,6 +23,7 @@ from typing import Any, Protocol, TypeVar, cast, overload
 
 import numpy as np
 
+from mjcf import errors
 from mjcf.assets import Asset
 
 
@@ -107,8 +107,7 @@ def escape(text: str) -> str:
 
 def suggest(word: str, choices: Iterable[str]) -> str:
     """' (did you mean 'x'?)' for the closest choice, or ''."""
-    close = difflib.get_close_matches(word, list(choices), n=1, cutoff=0.6)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+    return errors.did_you_mean(word, choices, n=1)
 
 
 # MuJoCo reads numbers as C's strtod and strtol do: decimal or hexadecimal reals,
