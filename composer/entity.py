@@ -192,6 +192,21 @@ class Entity(hooks.EpisodeHooks):
         """The entity this one is attached to, or None."""
         return self._parent
 
+    def scope_in(self, ancestor: Entity) -> str:
+        """The scope of this entity's names in `ancestor`'s model: '' for `ancestor`
+        itself, 'arm' for an entity attached to it, 'arm/gripper' below that. Raises
+        EntityError if this entity is not `ancestor` or attached under it."""
+        parts = []
+        current: Entity | None = self
+        while current is not ancestor:
+            if current is None:
+                raise errors.EntityError(
+                    f"entity {self.name!r} is not attached under entity {ancestor.name!r}"
+                )
+            parts.append(current.name)
+            current = current._parent
+        return "/".join(reversed(parts))
+
     def iter_entities(self) -> Iterator[Entity]:
         """This entity, then its attached entities depth first, in attachment order."""
         yield self

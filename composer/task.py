@@ -117,7 +117,7 @@ class Task(hooks.EpisodeHooks):
         found = dict(self.task_observables)
         root = self.root_entity
         for entity in root.iter_entities():
-            prefix = _scope(entity, root)
+            prefix = entity.scope_in(root) or root.name
             for name, item in entity.observables.items():
                 full = f"{prefix}/{name}"
                 if full in found:
@@ -259,15 +259,3 @@ def _substeps(task: Task, control_timestep: Any, physics_timestep: Any) -> int:
             f"multiple of the physics timestep {physics_timestep!r} (ratio {ratio:.6g})"
         )
     return substeps
-
-
-def _scope(entity: Entity, root: Entity) -> str:
-    """'arm/gripper' for an entity attached (through 'arm') under the root; the root's name."""
-    if entity is root:
-        return entity.name
-    parts = []
-    current: Entity | None = entity
-    while current is not root and current is not None:
-        parts.append(current.name)
-        current = current.parent
-    return "/".join(reversed(parts))

@@ -85,7 +85,7 @@ def _timesteps(env: Environment, time_limit: float | None) -> str:
 def scene_lines(env: Environment) -> Iterator[str]:
     """Lines describing each entity and the bodies, joints and actuators it owns."""
     root = env.task.root_entity
-    scopes = {entity: _scope(entity, root) for entity in root.iter_entities()}
+    scopes = {entity: entity.scope_in(root) for entity in root.iter_entities()}
     owned: dict[Entity, dict[str, list[str]]] = {e: {} for e in scopes}
     for kind, label in _elements(env.physics.model):
         owner = _owner(label.partition(" ")[0], scopes)
@@ -103,16 +103,6 @@ def scene_lines(env: Environment) -> Iterator[str]:
                     initial_indent=f"{indent}  {kind:<10} ", subsequent_indent=indent + " " * 13,
                 )  # fmt: skip
                 yield from (line.replace(NO_BREAK, " ") for line in lines)
-
-
-def _scope(entity: Entity, root: Entity) -> str:
-    """'' for the root, 'arm' for an entity attached to it, 'arm/gripper' below that."""
-    parts = []
-    current: Entity | None = entity
-    while current is not root and current is not None:
-        parts.append(current.name)
-        current = current.parent
-    return "/".join(reversed(parts))
 
 
 def _owner(name: str, scopes: dict[Entity, str]) -> Entity:

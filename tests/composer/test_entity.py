@@ -18,6 +18,10 @@ def test_attach_detach_and_iterate_the_entity_tree():
     assert [e.name for e in arena.iter_entities()] == ["arena", "arm", "gripper"]
     assert gripper.parent is arm and arm.attachment_frame is frame
     assert arena.mjcf_model.find("joint", "arm/gripper/hinge") is gripper.hinge
+    assert [e.scope_in(arena) for e in arena.iter_entities()] == ["", "arm", "arm/gripper"]
+    assert gripper.scope_in(arm) == "gripper"
+    with pytest.raises(composer.EntityError, match="'arm' is not attached under entity 'gripper'"):
+        arm.scope_in(gripper)
     with pytest.raises(composer.EntityError, match="'gripper' is already attached to 'arm'"):
         arena.attach(gripper)
     gripper.detach()
