@@ -89,7 +89,11 @@ def _read(
 
 
 def _append_actuator(
-    main: Element, setting: Element, earlier: list[Element], xml: etree._Element, where
+    main: Element,
+    setting: Element,
+    earlier: list[Element],
+    xml: etree._Element,
+    where: Callable[[etree._Element], str],
 ) -> None:
     tag = setting._spec.tag
     if earlier or main._single_child(tag) is not None:
@@ -127,7 +131,7 @@ def _pin(
     main: Element,
     setting: Element,
     xml: etree._Element,
-    where,
+    where: Callable[[etree._Element], str],
 ) -> None:
     """Give `default_class` (defined before `setting` changes the global defaults) the
     values it copied of the attributes `setting` changes."""

@@ -184,7 +184,7 @@ class ModelOperations:
         precision: int = 17,
         zero_threshold: float = 0.0,
         filename_with_hash: bool = False,
-    ):
+    ) -> etree._Element:
         """This element (and its subtree, with attached models) as an lxml element;
         the keywords are `to_xml_string`'s."""
         return etree.fromstring(

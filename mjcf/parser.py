@@ -31,6 +31,7 @@ from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
+from mjcf.schema import AttributeSpec
 
 _MAX_INCLUDES = 1000
 
@@ -388,7 +389,9 @@ class _Builder:
                     f"{_where(self.filename, xml)}: {element.path}: {problem}"
                 )
 
-    def _reference_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+    def _reference_text(
+        self, element: Element, attribute: AttributeSpec, text: str, xml: etree._Element
+    ) -> str:
         if "//" not in text:  # no generated name: the common case
             return self._name_text(element, attribute, text, xml)
         items = text.split() if attribute.is_list else [text]
@@ -401,7 +404,9 @@ class _Builder:
             for item, is_generated in zip(items, generated, strict=True)
         )
 
-    def _name_text(self, element: Element, attribute, text: str, xml: etree._Element) -> str:
+    def _name_text(
+        self, element: Element, attribute: AttributeSpec, text: str, xml: etree._Element
+    ) -> str:
         if PREFIX_SEPARATOR in text:
             if not self.escape:
                 raise errors.NameClashError(

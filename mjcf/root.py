@@ -23,6 +23,7 @@ from mjcf.namescope import NameScope, check_model_name
 
 if TYPE_CHECKING:
     from mjcf.attachment import AttachmentFrame
+    from mjcf.physics import Physics
 
 DEFAULT_MODEL_NAME = "unnamed_model"
 
@@ -185,7 +186,7 @@ class RootElement(Element):
 
         return serializer.serialize(self, filename_with_hash=filename_with_hash)[1]
 
-    def compile_model(self):
+    def compile_model(self) -> Physics:
         """Compile this model (with attached models) into a new `mjcf.Physics`."""
         from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
 

@@ -16,7 +16,7 @@ parent's, and their compiler settings reconciled (see `mjcf.composition`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
@@ -40,6 +40,12 @@ _SETTINGS = frozenset({"compiler", "option", "size", "statistic", "visual"})
 _INDENTS = tuple("  " * depth for depth in range(512))  # lxml refuses deeper documents
 _NO_INDENTS = ("",) * 512
 _FRAME_SPEC = attachment.FRAME_SPEC
+
+
+class _Write(Protocol):
+    """Writes one element and its subtree (see `_Writer._element_writer`)."""
+
+    def __call__(self, element: Element, depth: int, override: dict | None = None) -> None: ...
 
 
 @bulk.whole_tree
@@ -153,7 +159,7 @@ class _Writer:
         self.composed = composition.composition_of(root, for_compile)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
-        self._writers: dict[composition.ModelContext, object] = {}
+        self._writers: dict[composition.ModelContext, _Write] = {}
 
     def context_of(self, model: RootElement) -> composition.ModelContext:
         return self.composed.context(model)
@@ -264,7 +270,7 @@ class _Writer:
     def _newline(self) -> str:
         return "\n" if self.pretty else ""
 
-    def _open(self, element: Element, depth: int, context) -> int:
+    def _open(self, element: Element, depth: int, context: composition.ModelContext) -> int:
         """Write an opening tag; returns the mark `_close` needs."""
         self._emit(
             f"{self._indent(depth)}<{element._spec.tag}{self.attributes(element, context)}>"
@@ -301,13 +307,13 @@ class _Writer:
         `override` replaces attributes (see `attributes`)."""
         self._writer(context)(element, depth, override)
 
-    def _writer(self, context: composition.ModelContext):
+    def _writer(self, context: composition.ModelContext) -> _Write:
         write = self._writers.get(context)
         if write is None:
             write = self._writers[context] = self._element_writer(context)
         return write
 
-    def _element_writer(self, context: composition.ModelContext):
+    def _element_writer(self, context: composition.ModelContext) -> _Write:
         """The function that writes an element of `context`'s model with its subtree: one
         for every element, kept tight because it decides how close writing stays to lxml.
 
@@ -320,7 +326,8 @@ class _Writer:
         Where the context writes names and values as stored (a model written on its own:
         the common case) the text is built in one pass; elsewhere (scoped names,
         converted values) `attributes` builds it. Either way the tag is self-closing when
-        nothing is inside, and an empty once-only element is left out."""
+        nothing is inside, and an empty once-only element is left out where that changes
+        nothing (`Element._written_empty`)."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
@@ -413,7 +420,9 @@ class _Writer:
 
         return write
 
-    def _frame(self, frame: attachment.AttachmentFrame, depth: int, context) -> None:
+    def _frame(
+        self, frame: attachment.AttachmentFrame, depth: int, context: composition.ModelContext
+    ) -> None:
         """An attachment frame: its own joints, then the attached model's world body."""
         child_context = self.context_of(frame.attached_model)
         tag = "body" if frame.compiles_to_body() else "frame"
@@ -445,12 +454,16 @@ class _Writer:
 
     # -- attributes -----------------------------------------------------------------------
 
-    def attributes(self, element: Element, context, override: dict | None = None) -> str:
+    def attributes(
+        self, element: Element, context: composition.ModelContext, override: dict | None = None
+    ) -> str:
         """' name="value" ...' for the element's attributes as written in this output
         (`override` replaces some; None values in it are left out)."""
         return self._escaped_attributes(element, context, override)
 
-    def _escaped_attributes(self, element: Element, context, override: dict | None) -> str:
+    def _escaped_attributes(
+        self, element: Element, context: composition.ModelContext, override: dict | None
+    ) -> str:
         attrs = element._attrs
         spec = element._spec
         plain = context.plain
@@ -485,10 +498,18 @@ class _Writer:
                     out.append(f' {name}="{escape(value)}"')
         return "".join(out)
 
-    def _escaped_value(self, element: Element, name: str, value: object, context) -> str:
+    def _escaped_value(
+        self, element: Element, name: str, value: object, context: composition.ModelContext
+    ) -> str:
         return escape(self.value_text(element, element._spec.attributes[name], value, context))
 
-    def value_text(self, element: Element, attribute: AttributeSpec, value: object, context) -> str:
+    def value_text(
+        self,
+        element: Element,
+        attribute: AttributeSpec,
+        value: Any,
+        context: composition.ModelContext,
+    ) -> str:
         """The text of one attribute value in this output."""
         kind = attribute.kind
         if (kind == "reference" or kind == "identifier") and value == "":
@@ -522,7 +543,13 @@ class _Writer:
                 value = 0.0
         return attribute.converter.to_text(value, self.precision)
 
-    def _reference_text(self, element: Element, attribute: AttributeSpec, value, context) -> str:
+    def _reference_text(
+        self,
+        element: Element,
+        attribute: AttributeSpec,
+        value: Any,
+        context: composition.ModelContext,
+    ) -> str:
         if isinstance(value, list):
             return " ".join(self._reference_text(element, attribute, v, context) for v in value)
         if isinstance(value, str):

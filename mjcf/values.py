@@ -19,12 +19,15 @@ import numbers
 import re
 import struct
 from collections.abc import Iterable
-from typing import Any, Protocol, TypeVar, cast, overload
+from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast, overload
 
 import numpy as np
 
 from mjcf import errors
 from mjcf.assets import Asset
+
+if TYPE_CHECKING:
+    from mjcf.schema import AttributeSpec
 
 
 class InvalidValue(ValueError):
@@ -56,7 +59,7 @@ class TrackedArray(np.ndarray):
         if owner is not None:
             owner._modified()
 
-    def __reduce__(self):
+    def __reduce__(self) -> tuple[Any, ...]:
         constructor, arguments, state = cast(tuple, super().__reduce__())  # an ndarray's: 3 items
         return constructor, arguments, (state, self._owner)
 
@@ -135,7 +138,7 @@ class _Converter:
 
     lazy = False  # True: text from files is converted on first read
 
-    def __init__(self, spec) -> None:
+    def __init__(self, spec: AttributeSpec) -> None:
         self.spec = spec
 
     def from_text(self, text: str) -> object:
@@ -189,9 +192,9 @@ TEXT_FORMATS = {"memory size": _memory_size, "three characters": _three_characte
 class _Format(_Converter):
     """Text MuJoCo reads by a grammar of its own (`size memory="10M"`)."""
 
-    def __init__(self, spec) -> None:
+    def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
-        self.check = TEXT_FORMATS[spec.text_format]
+        self.check = TEXT_FORMATS[cast(str, spec.text_format)]  # only made for one
 
     def from_text(self, text: str) -> object:
         if not self.check(text):
@@ -210,7 +213,7 @@ class _Numbers(_Converter):
     dtype: type = float
     noun = "numbers"
 
-    def __init__(self, spec) -> None:
+    def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
         self.limit = _FLOAT32_TOO_LARGE if spec.float32 else float("inf")
         self.bounded = spec.min_value is not None or spec.max_value is not None
@@ -358,7 +361,7 @@ class _Keyword(_Converter):
     """One keyword (or a list of distinct keywords), compared as MuJoCo compares
     them (some attributes ignore case; a few also take the keyword's number)."""
 
-    def __init__(self, spec) -> None:
+    def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
         self.folded = frozenset(v.lower() for v in spec.values) if spec.case_insensitive else None
         self.lenient = spec.case_insensitive or spec.trims
@@ -488,7 +491,7 @@ _CONVERTERS = {
 }
 
 
-def converter_for(spec) -> _Converter:
+def converter_for(spec: AttributeSpec) -> _Converter:
     """The converter for an `AttributeSpec`."""
     if spec.text_format is not None:
         return _Format(spec)
