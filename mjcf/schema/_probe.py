@@ -241,8 +241,14 @@ class Prober:
             if error is None or not self._learn(probe.key, error):
                 return error
 
-    def errors(self, probes: Sequence[Probe]) -> list[str | None]:
-        """The error (or None) of each probe, parsing the accepted ones together."""
+    def errors(self, probes: Sequence[Probe], mostly_rejected: bool = False) -> list[str | None]:
+        """The error (or None) of each probe, parsing the accepted ones together.
+
+        A rejected probe costs a parse of its batch besides its own, so probes
+        expected to be ``mostly_rejected`` are parsed one by one instead.
+        """
+        if mostly_rejected:
+            return [self.error(probe) for probe in probes]
         results: list[str | None] = [None] * len(probes)
         fragments = [self.fragment(probe) for probe in probes]
         pending = []
