@@ -24,8 +24,10 @@ READ_SECONDS = 60.0
 
 # Answers (error, written, trusted) to each (document, write_back) on stdin.
 _CHILD = """
-import pickle, sys
+import os, pickle, sys
 import mujoco
+answers = os.fdopen(os.dup(1), "wb")
+os.dup2(2, 1)  # whatever MuJoCo prints goes to stderr, not into the answers
 mujoco.set_mju_user_warning(lambda message: None)  # no MUJOCO_LOG.TXT, no noise
 files = pickle.load(sys.stdin.buffer)
 while True:
@@ -40,8 +42,8 @@ while True:
         answer = (str(error), None, True)
     except Exception as error:  # the bindings lost track: see _reader's docstring
         answer = (str(error), None, False)
-    pickle.dump(answer, sys.stdout.buffer)
-    sys.stdout.buffer.flush()
+    pickle.dump(answer, answers)
+    answers.flush()
     if not answer[2]:
         break
 """
