@@ -1,13 +1,15 @@
 """Ask MuJoCo's XML reader what it accepts, to check and complete the schema.
 
-``mujoco.MjSpec.from_string`` runs only the reader (no compiler), so whether
-it raises tells what MJCF the reader accepts. A probe is a one-line fragment
-of MJCF: an element placed in a minimal context (the chain of ancestors where
-the documentation puts it, each with its required attributes filled in) with
-one thing varied. Fragments expected to be accepted are parsed together, one
-document per batch, and a failing one is found from the line MuJoCo reports;
-fragments expected to be rejected are parsed one by one, since a document
-reports only its first error.
+``mujoco.MjSpec.from_string`` runs only the reader (no compiler), so whether it
+raises tells what MJCF the reader accepts; it runs in a child process
+(``_reader``), replaced when a document leaves MuJoCo in a state that would
+hang it on a later one. A probe is a one-line fragment of MJCF: an element
+placed in a minimal context (the chain of ancestors where the documentation
+puts it, each with its required attributes filled in) with one thing varied.
+Fragments expected to be accepted are parsed together, one document per batch,
+and a failing one is found from the line MuJoCo reports; fragments expected to
+be rejected are parsed one by one, since a document reports only its first
+error.
 
 MuJoCo's reader checks the whole document against its own schema before it
 reads any value, except inside ``frame`` and ``replicate`` (meta elements
@@ -30,6 +32,7 @@ from dataclasses import dataclass, field
 import mujoco
 
 from mjcf.schema._docs import Attribute, Element
+from mjcf.schema._reader import Reader
 
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
@@ -118,6 +121,7 @@ class Prober:
         self.prelude = prelude  # MJCF placed at the start of every document
         self.paths: dict[str, list[str]] = {}
         self.parses = 0
+        self._reader = Reader(FILES)
         self._serial = itertools.count()
         self._one_of: dict[str, list[list[list[str]]]] = {}
         self._at_most_one: dict[str, list[list[list[str]]]] = {}
@@ -237,8 +241,14 @@ class Prober:
             if error is None or not self._learn(probe.key, error):
                 return error
 
-    def errors(self, probes: Sequence[Probe]) -> list[str | None]:
-        """The error (or None) of each probe, parsing the accepted ones together."""
+    def errors(self, probes: Sequence[Probe], mostly_rejected: bool = False) -> list[str | None]:
+        """The error (or None) of each probe, parsing the accepted ones together.
+
+        A rejected probe costs a parse of its batch besides its own, so probes
+        expected to be ``mostly_rejected`` are parsed one by one instead.
+        """
+        if mostly_rejected:
+            return [self.error(probe) for probe in probes]
         results: list[str | None] = [None] * len(probes)
         fragments = [self.fragment(probe) for probe in probes]
         pending = []
@@ -284,19 +294,13 @@ class Prober:
             at = fragment.rindex(empty)
             fragment = fragment[:at] + fragment[at + len(empty) :]
         self.parses += 1
-        try:
-            spec = mujoco.MjSpec.from_string(self.document([fragment]), include=FILES)
-            return re.sub(r"probe\d+_", "probe_", spec.to_xml())
-        except ValueError:
-            return None
+        error, xml = self._reader.read(self.document([fragment]), write_back=True)
+        return None if error is not None or xml is None else re.sub(r"probe\d+_", "probe_", xml)
 
     def _parse(self, fragments: list[str]) -> str | None:
         self.parses += 1
-        try:
-            mujoco.MjSpec.from_string(self.document(fragments), include=FILES)
-        except Exception as error:  # the reader raises ValueError, sometimes others
-            return " ".join(str(error).split())
-        return None
+        error, _ = self._reader.read(self.document(fragments))
+        return None if error is None else " ".join(error.split())
 
     def document(self, fragments: list[str]) -> str:
         """A whole document holding ``fragments``, one per line after the first (a
