@@ -38,7 +38,7 @@ logger = logging.getLogger(__name__)
 _TOO_LARGE = "number is too large"
 # Values tried for bounds: moderate ones, since some numbers are sizes the reader acts
 # on (a flexcomp of count="100 100 1" takes seconds to read), and within C floats.
-_INT_CANDIDATES = [-(2**31), -1000, -2, -1, 0, 1, 2, 10, 1000, 2**31 - 1]
+_INT_CANDIDATES = [-1000, -2, -1, 0, 1, 2, 10, 1000]
 _REAL_CANDIDATES = [-1e30, -1.0, -1e-30, 0.0, 1e-30, 1.0, 1e30]
 # Texts for string attributes that may be keyword lists or follow a grammar.
 _FORMAT_SAMPLES = (
