@@ -178,7 +178,8 @@ def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
     errors = iter(prober.errors(probes))
     for key, attribute in numbers:
         values = _candidates(attribute)
-        accepted = [not _semantic(next(errors), attribute.name) for _ in values]
+        found = [next(errors) for _ in values]
+        accepted = [not _semantic(error, attribute.name) for error in found]
         if all(accepted):
             continue
         first, last = accepted.index(True) if any(accepted) else -1, len(accepted) - 1
@@ -189,18 +190,49 @@ def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         if not all(accepted[first : last + 1]):
             _note(f"{key}/{attribute.name}: the values the reader accepts are not one range")
             continue
-        outside = []
-        if first > 0:
-            refused, taken = _threshold(prober, key, attribute, values[first - 1], values[first])
-            attribute.min_value, attribute.min_exclusive = _bound(attribute, refused, taken)
-            outside.append(refused)
-        if last < len(values) - 1:
-            refused, taken = _threshold(prober, key, attribute, values[last + 1], values[last])
-            attribute.max_value, attribute.max_exclusive = _bound(attribute, refused, taken)
-            outside.append(refused)
-        if not _intrinsic(prober, key, attribute, outside, elements[key]):
+        # A value refused for what it means in the probe's context (a flexcomp of
+        # dim 3 needs more points) hides the reader's own check (dim at most 3) beyond
+        # it: then the bound is where the far candidate's refusal starts.
+        places = (values, found, first, last)
+        if not any(
+            _bounds_found(prober, key, attribute, places, elements[key], alike)
+            for alike in (False, True)
+        ):
             attribute.min_value = attribute.max_value = None
             attribute.min_exclusive = attribute.max_exclusive = False
+
+
+def _bounds_found(
+    prober: _probe.Prober,
+    key: str,
+    attribute: Attribute,
+    places: tuple[list, list[str | None], int, int],
+    element: Element,
+    alike: bool,
+) -> bool:
+    """Set the attribute's bounds between the accepted candidates values[first..last]
+    and their refused neighbours; True if they hold whatever else the element has.
+    With ``alike``, a value counts as refused only with the neighbour's refusal."""
+    values, found, first, last = places
+    outside = []
+    if first > 0:
+        refusal = _refusal(found[first - 1]) if alike else None
+        refused, taken = _threshold(
+            prober, key, attribute, values[first - 1], values[first], refusal
+        )
+        attribute.min_value, attribute.min_exclusive = _bound(attribute, refused, taken)
+        outside.append(refused)
+    if last < len(values) - 1:
+        refusal = _refusal(found[last + 1]) if alike else None
+        refused, taken = _threshold(prober, key, attribute, values[last + 1], values[last], refusal)
+        attribute.max_value, attribute.max_exclusive = _bound(attribute, refused, taken)
+        outside.append(refused)
+    return _intrinsic(prober, key, attribute, outside, element)
+
+
+def _refusal(error: str | None) -> str:
+    """The reader's error without what changes from probe to probe: names, numbers."""
+    return re.sub(r"probe\d+_|-?\d[\d.e+-]*", "#", error or "")
 
 
 def _candidates(attribute: Attribute) -> list:
@@ -212,12 +244,18 @@ def _word(attribute: Attribute, value: float) -> str:
 
 
 def _threshold(
-    prober: _probe.Prober, key: str, attribute: Attribute, refused: float, accepted: float
+    prober: _probe.Prober,
+    key: str,
+    attribute: Attribute,
+    refused: float,
+    accepted: float,
+    refusal: str | None = None,
 ) -> tuple[float, float]:
     """The neighbouring (refused, accepted) values between the two given, by bisection
     whose first two probes are the neighbours of the two ends: most bounds are at one
     of the candidates ("at least 0", "greater than 0"), found so in a probe or two
-    instead of the sixty or so that halving the doubles between takes."""
+    instead of the sixty or so that halving the doubles between takes. With
+    ``refusal``, only an error that reads so (see `_refusal`) refuses."""
     to_index, from_index = (int, int) if attribute.kind == "int" else (_ordinal, _from_ordinal)
     bad, good = to_index(refused), to_index(accepted)
     step = 1 if bad < good else -1
@@ -225,7 +263,8 @@ def _threshold(
     while abs(good - bad) > 1:
         middle = neighbours.pop(0) if neighbours else (bad + good) // 2
         text = _text(attribute, _word(attribute, from_index(middle)))
-        if _semantic(prober.error(Probe(key, {attribute.name: text})), attribute.name):
+        error = prober.error(Probe(key, {attribute.name: text}))
+        if _semantic(error, attribute.name) and (refusal is None or _refusal(error) == refusal):
             bad = middle
         else:
             good = middle
