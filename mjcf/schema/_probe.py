@@ -350,13 +350,16 @@ LIST_READER = "invalid keyword: '(null)'"
 def bad_keyword(error: str, value: str, name: str | None = None) -> bool:
     """Whether ``error`` says the reader has no keyword ``value`` (for attribute ``name``).
 
-    Keyword lists report "invalid keyword: '(null)'", and a few keywords that
-    also take numbers "problem reading attribute"; those count when ``name`` is given.
+    Keyword lists report "invalid keyword: '(null)'", a few keywords that also take
+    numbers "problem reading attribute", and an object type that a name needs reads as
+    not given ("objname is specified but objtype is not"); those count when ``name`` is
+    given.
     """
     quoted = re.escape(f"'{value}'")
     pattern = rf"invalid keyword: {quoted}|unknown [\w ]+ {quoted}|unknown object type$"
     if name is not None:
         pattern += rf"|{re.escape(LIST_READER)}|problem reading attribute '{name}'"
+        pattern += rf"|but {re.escape(name)} is not$"
     return re.search(pattern, error.split(" Element ")[0]) is not None
 
 
