@@ -2,7 +2,7 @@
 attribute of the schema tried at least once, every child of every element placed and
 repeated, every section given twice; mjcf accepts a document iff MuJoCo's reader does,
 and compiles what it accepts to the model MuJoCo compiles, but where the difference is
-explained (`_judge.EXPLANATIONS`) or still open (`OPEN`, listed in docs/schema_check.md)."""
+explained (`_judge.EXPLANATIONS`, listed in docs/schema_check.md)."""
 
 from __future__ import annotations
 
@@ -10,16 +10,6 @@ import pytest
 
 from mjcf.schema import check
 
-# Disagreements the check found that are not fixed yet (see docs/schema_check.md): a
-# new one fails the test, and so does one of these once it is gone.
-OPEN = frozenset({
-    "flexcomp-contact/condim=''",
-    "flexcomp-contact/priority='  '",
-    "actuator-orientation/input=''",
-    "sensor-user/objtype='Body'",
-    "custom-numeric/size='  '",
-    "two body-inertial in replicate",
-})  # fmt: skip
 # Documents that crash MuJoCo 4.0.0 itself (plugins inside a flexcomp or a replicate, a
 # frame as a tuple's object): the check runs them in child processes and reports them.
 MUJOCO_CRASHES = frozenset(
@@ -54,6 +44,5 @@ def test_mujoco_reads_every_minimal_document(report: check.Report) -> None:
 
 
 def test_no_disagreement_but_the_explained_and_the_open_ones(report: check.Report) -> None:
-    unexplained = {finding.case.subject for finding in report.findings if not finding.explained}
-    assert sorted(unexplained - OPEN) == []
-    assert sorted(OPEN - unexplained) == [], "fixed: remove it from OPEN and the docs"
+    unexplained = [finding.line() for finding in report.findings if not finding.explained]
+    assert unexplained == []
