@@ -30,6 +30,8 @@ answers = os.fdopen(os.dup(1), "wb")
 os.dup2(2, 1)  # whatever MuJoCo prints goes to stderr, not into the answers
 mujoco.set_mju_user_warning(lambda message: None)  # no MUJOCO_LOG.TXT, no noise
 files = pickle.load(sys.stdin.buffer)
+pickle.dump("ready", answers)  # reading time is counted from here, not from the start
+answers.flush()
 while True:
     try:
         document, write_back = pickle.load(sys.stdin.buffer)
@@ -97,10 +99,23 @@ class Reader:
         process = subprocess.Popen(
             [sys.executable, "-c", _CHILD], stdin=subprocess.PIPE, stdout=subprocess.PIPE
         )
-        assert process.stdin is not None
-        pickle.dump(self._files, process.stdin)
+        assert process.stdin is not None and process.stdout is not None
         self._process = process
         self._stop = weakref.finalize(self, _end, process)
+        pickle.dump(self._files, process.stdin)
+        process.stdin.flush()
+        # Starting (importing mujoco) may take seconds on a loaded machine: not counted
+        # against a document, but bounded.
+        if not select.select([process.stdout], [], [], READ_SECONDS)[0]:
+            self.close()
+            raise ReaderError(f"MuJoCo's reader did not start in {READ_SECONDS:g} s")
+        try:
+            ready = pickle.load(process.stdout)
+        except (OSError, EOFError, pickle.UnpicklingError):
+            ready = None
+        if ready != "ready":
+            self.close()
+            raise ReaderError("MuJoCo's reader died starting")
         return process
 
 
