@@ -46,13 +46,17 @@ def _judge_chunk(cases: Sequence[Case], connection: Connection) -> None:
 
 
 def judge_all(
-    cases: Sequence[Case], workers: int, progress: Callable[[int], None] | None = None
+    cases: Sequence[Case],
+    workers: int,
+    progress: Callable[[int], None] | None = None,
+    chunk: int = _CHUNK,
 ) -> tuple[list[Finding], dict[str, int], list[Case]]:
     """(findings, counts, cases that crash MuJoCo or time out), over ``cases`` in
-    order; ``progress`` is called with the number of cases judged so far."""
+    order, ``chunk`` cases to a process; ``progress`` is called with the number of
+    cases judged so far."""
     context = multiprocessing.get_context("fork")
     pending = collections.deque(
-        (start, cases[start : start + _CHUNK]) for start in range(0, len(cases), _CHUNK)
+        (start, cases[start : start + chunk]) for start in range(0, len(cases), chunk)
     )
     # receiver -> [index of the next case, its chunk's cases, process]
     running: dict[Connection, list] = {}
@@ -61,12 +65,12 @@ def judge_all(
     crashes: list[Case] = []
     while pending or running:
         while pending and len(running) < workers:
-            start, chunk = pending.popleft()
+            start, some = pending.popleft()
             receiver, sender = context.Pipe(duplex=False)
-            process = context.Process(target=_judge_chunk, args=(chunk, sender), daemon=True)
+            process = context.Process(target=_judge_chunk, args=(some, sender), daemon=True)
             process.start()
             sender.close()
-            running[receiver] = [start, start + len(chunk), process]
+            running[receiver] = [start, start + len(some), process]
         for ready in wait(list(running)):
             receiver = cast(Connection, ready)
             state = running[receiver]
@@ -85,7 +89,7 @@ def judge_all(
             results[index] = findings
             counts.update(case_counts)
             state[0] = index + 1
-            if progress is not None and counts["cases"] % _CHUNK == 0:
+            if progress is not None and counts["cases"] % chunk == 0:
                 progress(counts["cases"])
     findings = [finding for index in sorted(results) for finding in results[index]]
     return findings, dict(counts), crashes
