@@ -131,11 +131,9 @@ class AttributeSpec:
         selector = element_attributes.get(self.namespace_from)
         if not isinstance(selector, str):
             return None
-        namespace = self.namespace_map.get(selector)
-        if namespace is None:  # ' Body', as read where the keyword allows it; a number
-            # is no object type (MuJoCo reads it as unknown and ignores the name)
-            namespace = self.namespace_map.get(selector.strip(" \t\n\r").lower())
-        return namespace
+        # Only the exact word selects: MuJoCo reads ' Body' or a number, where it takes
+        # them, as an unknown object type, and ignores the name then.
+        return self.namespace_map.get(selector)
 
     def __repr__(self) -> str:
         detail = self.kind

@@ -405,13 +405,14 @@ def test_classes_keep_built_in_values_of_late_global_defaults(late: str) -> None
     assert model_differences(reference, ours) == []
 
 
-@pytest.mark.parametrize("objtype", ["body", "Body", "XBODY", "Geom", "1", "0", "-1"])
+@pytest.mark.parametrize("objtype", ["body", "geom", "Body", " body", "XBODY", "1", "0", "-1"])
 def test_an_object_type_in_any_case_or_as_a_number_compiles_as_mujoco(objtype: str) -> None:
-    """A <user> sensor's objtype is read without regard to case (its objname then names
-    that kind of object, here the body or the geom both called 'b'); a number is an
-    unknown object type to MuJoCo, which then ignores objname."""
+    """A <user> sensor's objtype names a kind of object in its exact word only: in
+    another case, or as a number, it is an unknown object type to MuJoCo, which then
+    ignores objname (here 'c', which names nothing)."""
+    name = "b" if objtype in ("body", "geom") else "c"
     xml = f"""<mujoco><worldbody><body name="b"><geom name="b" size="1"/></body></worldbody>
-      <sensor><user objtype="{objtype}" objname="b" dim="1" needstage="pos"/></sensor>
+      <sensor><user objtype="{objtype}" objname="{name}" dim="1" needstage="pos"/></sensor>
     </mujoco>"""
     stock = mujoco.MjModel.from_xml_string(xml)
     assert (
