@@ -118,6 +118,7 @@ def blanks(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             _probe.bad_count(error, attribute.name)
             or _probe.bad_keyword(error, "", attribute.name)
             or "empty" in error
+            or f"required attribute missing: '{attribute.name}'" in error  # blank: missing
         )
         if accepted != _BLANK_BY_KIND[attribute.kind]:
             attribute.blank = accepted
