@@ -357,6 +357,7 @@ def bad_keyword(error: str, value: str, name: str | None = None) -> bool:
     """
     quoted = re.escape(f"'{value}'")
     pattern = rf"invalid keyword: {quoted}|unknown [\w ]+ {quoted}|unknown object type$"
+    pattern += r"|no longer supported"  # a keyword MuJoCo keeps only to refuse it
     if name is not None:
         pattern += rf"|{re.escape(LIST_READER)}|problem reading attribute '{name}'"
         pattern += rf"|but {re.escape(name)} is not$"
