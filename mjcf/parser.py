@@ -183,13 +183,24 @@ def _read_fast(
     for xml_section in xml_root:
         section = root._section(xml_section.tag)
         attrib = dict(xml_section.attrib)
-        if xml_section.tag == "default" and attrib.get("class") in ("main", None):
-            attrib.pop("class", None)
+        if xml_section.tag == "default":
+            _main_class(attrib, xml_section, filename)
         builder._set_attributes(section, attrib, xml_section, merge=True)
         if len(xml_section):
             section._defer(xml_section)
     root.namescope.load(names)
     return True
+
+
+def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | None) -> None:
+    """Take `class` out of a top-level <default>'s attributes: it is 'main', which MuJoCo
+    does not let a model rename; raises mjcf.AttributeValueError for another name."""
+    name = attrib.pop("class", None)
+    if name not in ("main", None):
+        raise errors.AttributeValueError(
+            f"{_where(filename, xml)}: <default>: 'class' of the top-level default is "
+            f"'main', which cannot be renamed, got {name!r}"
+        )
 
 
 def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
@@ -326,8 +337,8 @@ class _Builder:
                     + _values.suggest(tag, sections)
                 )
             attrib = dict(xml_section.attrib)
-            if tag == "default" and attrib.get("class") in ("main", None):
-                attrib.pop("class", None)
+            if tag == "default":
+                _main_class(attrib, xml_section, self.filename)
             self._set_attributes(section, attrib, xml_section, merge=True)
             if tag == "default" and tag in seen:
                 default_sections.merge_section(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import mujoco
 import pytest
 
 import mjcf
@@ -147,3 +148,14 @@ def test_once_only_elements_and_sections() -> None:
         body.add("inertial", pos=[0, 0, 0], mass=2)
     with pytest.raises(mjcf.SchemaError, match="always exists"):
         root.worldbody.remove()
+
+
+@pytest.mark.parametrize("sections", ['<default class="a"/>', '<default/><default class="b"/>'])
+def test_the_top_level_default_class_cannot_be_renamed_as_in_mujoco(sections: str) -> None:
+    xml = f"<mujoco>{sections}</mujoco>"
+    with pytest.raises(ValueError, match="top-level default class 'main' cannot be renamed"):
+        mujoco.MjSpec.from_string(xml)
+    with pytest.raises(mjcf.AttributeValueError, match="is 'main', which cannot be renamed"):
+        mjcf.from_xml_string(xml)
+    main = mjcf.from_xml_string('<mujoco><default class="main"><geom size="1"/></default></mujoco>')
+    assert main.default.geom.size.tolist() == [1.0]
