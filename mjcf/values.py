@@ -375,6 +375,8 @@ class _Keyword(_Converter):
                 raise InvalidValue(f"takes distinct keywords, got {text!r}")
             if len(words) > 1 and (self.spec.ordered or self.spec.alone):
                 self._check_order(words, text)
+            elif words and words[0] in self.spec.alone and words[0] != text:
+                raise InvalidValue(f"takes {words[0]!r} only alone, without spaces: {text!r}")
             return text
         self._check_word(text)
         return text

@@ -394,6 +394,11 @@ def _list_order(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
         raise SchemaError(f"{key}/{attribute.name}: keyword pairs the reader takes: {accepted}")
     attribute.values = rest + alone
     attribute.ordered, attribute.alone = True, alone
+    # A word taken alone is the whole text: the reader reads ' none' as a list, and
+    # refuses it. mjcf's converter relies on that; stop if it changes.
+    spaced = [f" {word}" for word in alone] + [f"{word} " for word in alone]
+    if any(_accepts(prober, key, attribute.name, spaced)):
+        raise SchemaError(f"{key}/{attribute.name}: the reader takes {alone} with spaces")
 
 
 def keyword_lists(prober: _probe.Prober, elements: dict[str, Element]) -> None:

@@ -159,3 +159,14 @@ def test_the_top_level_default_class_cannot_be_renamed_as_in_mujoco(sections: st
         mjcf.from_xml_string(xml)
     main = mjcf.from_xml_string('<mujoco><default class="main"><geom size="1"/></default></mujoco>')
     assert main.default.geom.size.tolist() == [1.0]
+
+
+@pytest.mark.parametrize("text", [" none", "quat ", " expmap "])
+def test_a_keyword_taken_only_alone_is_the_whole_text_as_in_mujoco(text: str) -> None:
+    xml = f"""<mujoco><worldbody><body><joint name="j"/><geom size="1"/></body></worldbody>
+      <actuator><general joint="j" input="{text}"/></actuator></mujoco>"""
+    with pytest.raises(ValueError, match="invalid keyword"):
+        mujoco.MjSpec.from_string(xml)
+    with pytest.raises(mjcf.AttributeValueError, match="only alone, without spaces"):
+        mjcf.from_xml_string(xml)
+    assert mjcf.from_xml_string(xml.replace(text, " pos vel ")).actuator.general[0].input
