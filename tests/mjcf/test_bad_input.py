@@ -170,3 +170,17 @@ def test_a_keyword_taken_only_alone_is_the_whole_text_as_in_mujoco(text: str) ->
     with pytest.raises(mjcf.AttributeValueError, match="only alone, without spaces"):
         mjcf.from_xml_string(xml)
     assert mjcf.from_xml_string(xml.replace(text, " pos vel ")).actuator.general[0].input
+
+
+def test_a_blank_connect_anchor_never_reaches_mujoco() -> None:
+    """MuJoCo 4.0.0 fails on it inside its bindings ('Caught an unknown exception!'), and
+    a later MuJoCo warning in the same process then never returns: refused first."""
+    xml = """<mujoco><worldbody><body name="a"><geom size="1"/></body></worldbody>
+      <equality><connect body1="a" anchor="{}"/></equality></mujoco>"""
+    with pytest.raises(mjcf.AttributeValueError, match="anchor"):
+        mjcf.from_xml_string(xml.format(" "))
+    model = mjcf.from_xml_string(xml.format("0 0 1"))
+    connect = model.equality.connect[0]
+    with pytest.raises(mjcf.AttributeValueError, match="anchor"):
+        connect.anchor = ""
+    assert connect.anchor.tolist() == [0.0, 0.0, 1.0]
