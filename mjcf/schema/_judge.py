@@ -153,11 +153,29 @@ def _first_line(error: BaseException | str) -> str:
     return re.sub(r"\s+", " ", text)[:300]
 
 
+# Whether MuJoCo's bindings have raised something other than their ValueError in this
+# process: MuJoCo 4.0.0's may then hang on a later warning, so a worker that saw it is
+# replaced (see _workers).
+_bindings_failed = False
+
+
+def bindings_failed() -> bool:
+    """Whether MuJoCo's bindings failed in this process (see `_bindings_failed`)."""
+    return _bindings_failed
+
+
+def _failed(error: Exception) -> None:
+    global _bindings_failed
+    if not isinstance(error, ValueError):
+        _bindings_failed = True
+
+
 def reader_error(document: str) -> str | None:
     """MuJoCo's reader's error for ``document``, or None if it reads it."""
     try:
         mujoco.MjSpec.from_string(document, include=FILES)
     except Exception as error:  # the reader raises ValueError, sometimes others
+        _failed(error)
         return _first_line(error)
     return None
 
@@ -168,6 +186,7 @@ def compiled(document: str, assets: dict[str, bytes]) -> mujoco.MjModel | str:
     try:
         return mujoco.MjModel.from_xml_string(document, assets)
     except Exception as error:
+        _failed(error)
         text = str(error).split("\nElement")[0]
         text = re.sub(r",? ?line \d+|id \d+|(?<=probe)\d+_", "", text)
         return re.sub(r"\s+", " ", text).strip()

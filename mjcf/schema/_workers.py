@@ -5,7 +5,9 @@ for long (a grid of two billion points) is reported instead of ending the sweep.
 Cases go to up to ``workers`` forked processes in chunks; each reports every case
 it has judged as it goes, so when one dies (a crash, or the alarm that ends a case
 running over ``CASE_SECONDS``) the case it was judging is the one that did it, and
-the rest of its chunk goes to a new process.
+the rest of its chunk goes to a new process. So does the rest of the chunk of a worker
+in which MuJoCo's bindings failed (`_judge.bindings_failed`): MuJoCo 4.0.0's may hang
+on a later document there, which would be reported as a crash that is not one.
 """
 
 from __future__ import annotations
@@ -22,13 +24,15 @@ from typing import cast
 import mujoco
 
 from mjcf.schema._cases import Case
-from mjcf.schema._judge import Finding, Judge
+from mjcf.schema._judge import Finding, Judge, bindings_failed
 
 _CHUNK = 100
 # Address space of a worker: cases ask for huge arrays (nstack="2147483647"), which
 # MuJoCo then fails to allocate instead of taking the machine's memory.
 _MEMORY_LIMIT = 4 << 30
 CASE_SECONDS = 20
+# Sent by a worker that must be replaced before the rest of its chunk (`bindings_failed`).
+_REPLACE = "replace"
 
 
 def _judge_chunk(cases: Sequence[Case], connection: Connection) -> None:
@@ -42,6 +46,9 @@ def _judge_chunk(cases: Sequence[Case], connection: Connection) -> None:
         judge.run(case)
         signal.alarm(0)
         connection.send((judge.findings, judge.counts))
+        if bindings_failed():
+            connection.send(_REPLACE)
+            break
     connection.close()
 
 
@@ -76,7 +83,7 @@ def judge_all(
             state = running[receiver]
             index, end, process = state
             try:
-                findings, case_counts = receiver.recv()
+                message = receiver.recv()
             except EOFError:  # the process ended: done, or died judging case `index`
                 receiver.close()
                 process.join()
@@ -86,6 +93,14 @@ def judge_all(
                     if index + 1 < end:
                         pending.appendleft((index + 1, cases[index + 1 : end]))
                 continue
+            if message == _REPLACE:  # the rest of its chunk goes to a fresh process
+                receiver.close()
+                process.join()
+                del running[receiver]
+                if index < end:
+                    pending.appendleft((index, cases[index:end]))
+                continue
+            findings, case_counts = message
             results[index] = findings
             counts.update(case_counts)
             state[0] = index + 1

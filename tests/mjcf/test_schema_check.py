@@ -21,10 +21,14 @@ MUJOCO_CRASHES = frozenset(
         "two plugin-config in flexcomp-plugin",
         "two body-plugin in replicate",
         "two flexcomp-plugin in body-flexcomp",
-        "sensor twice, sensor-user with {'objtype': 'body', 'datatype': 'real'} then "
-        "{'objtype': 'frame'}",
     }
 )
+# A frame as a <user> sensor's object type crashes MuJoCo in most runs of this document,
+# not in all: it is allowed to be judged instead.
+SOMETIMES_CRASHES = frozenset(
+    {"sensor twice, sensor-user with {'objtype': 'body', 'datatype': 'real'} then "
+     "{'objtype': 'frame'}"}
+)  # fmt: skip
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +44,9 @@ def test_the_sample_covers_every_attribute(report: check.Report) -> None:
 
 def test_mujoco_reads_every_minimal_document(report: check.Report) -> None:
     assert report.unreadable == []
-    assert {case.subject for case in report.crashes} == MUJOCO_CRASHES
+    crashed = {case.subject for case in report.crashes}
+    assert sorted(crashed - MUJOCO_CRASHES - SOMETIMES_CRASHES) == []
+    assert sorted(MUJOCO_CRASHES - crashed) == []
 
 
 def test_no_disagreement_but_the_explained_and_the_open_ones(report: check.Report) -> None:
