@@ -196,7 +196,7 @@ def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | Non
     """Take `class` out of a top-level <default>'s attributes: it is 'main', which MuJoCo
     does not let a model rename; raises mjcf.AttributeValueError for another name."""
     name = attrib.pop("class", None)
-    if name not in ("main", None):
+    if name not in ("main", "", None):  # an empty name is none, as MuJoCo reads it
         raise errors.AttributeValueError(
             f"{_where(filename, xml)}: <default>: 'class' of the top-level default is "
             f"'main', which cannot be renamed, got {name!r}"

@@ -76,6 +76,19 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
+            "unknown object type",
+            "a <user> sensor's objtype must name a kind of object; MuJoCo reads any other "
+            "text ('true', a typo) as an unknown type and ignores objname",
+            stricter=True,
+        ),
+        Explanation(
+            "not numbers",
+            "an attribute of numbers holds numbers a double can hold; MuJoCo's reader "
+            "leaves a mesh's params and a height field's elevation unread until it uses "
+            "them, and takes any text there ('abc', '1e309')",
+            stricter=True,
+        ),
+        Explanation(
             "checked later",
             "through the API, a reference may name an element added later and a required "
             "attribute may be set later: required attributes are checked when the model is "
@@ -344,6 +357,10 @@ class Judge:
             return "name separator"
         if "after an earlier <default> section" in error:
             return "late actuator defaults"
+        if "<user>: 'objtype' takes one of" in error:
+            return "unknown object type"
+        if re.search(r"<(mesh|hfield)>: '(params|elevation)' takes numbers", error):
+            return "not numbers"
         if "already used by another flex" in error:
             return "duplicate name"
         kinds = (
