@@ -23,13 +23,16 @@ from tests.cli.helpers import (
 EVALS = ("--eval-every", "1024", "--eval-episodes", "2")
 TINY = ("--algo", "ppo", "--n-envs", "2", *EVALS)
 
+# How long training took, as the progress line says it: 45s, 1m05s or 1h02m.
+DURATION = r"(\d+h)?(\d+m)?\d*s?"
+
 
 def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     result = composer("train", "Reach", "--timesteps", "2048", "--out", "run", *TINY,
                       cwd=tmp_path)  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert "training Reach with PPO to 2,048 steps on 2 environments -> run" in result.stdout
-    assert re.search(r"^ +2,048 steps +\d+s  return [\d.]+ ± [\d.]+  success [\d.]+$",
+    assert re.search(rf"^ +2,048 steps +{DURATION}  return [\d.]+ ± [\d.]+  success [\d.]+$",
                      result.stdout, re.M)  # fmt: skip
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())

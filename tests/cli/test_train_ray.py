@@ -38,6 +38,9 @@ RAY = ("--engine", "ray")
 # Ray starts, trains and stops in each command: far slower than a plain command.
 TIMEOUT = 600
 
+# How long training took, as the progress line says it: 45s, 1m05s or 1h02m.
+DURATION = r"(\d+h)?(\d+m)?\d*s?"
+
 
 @needs_ray
 def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path):
@@ -47,7 +50,8 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
             "environments -> run") in result.stdout  # fmt: skip
     assert re.search(r"^env runners: 2 on [\d.]+ \(pids \d+, \d+\)$", result.stdout, re.M)
-    assert re.search(r"^ +20,480 steps +\d+s  return [\d.]+ ± [\d.]+$", result.stdout, re.M)
+    progress = rf"^ +20,480 steps +{DURATION}  return [\d.]+ ± [\d.]+$"
+    assert re.search(progress, result.stdout, re.M)
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 16)
