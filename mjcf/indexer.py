@@ -198,10 +198,10 @@ def _check_values(xml: etree._Element, attributes: tuple[AttributeSpec, ...]) ->
 def _check_rules(xml: etree._Element, plan: _Plan) -> None:
     """Check the rules between the attributes of `xml` (see `ElementSpec.rules`)."""
     names = plan.rule_names.intersection(xml.keys())
-    if len(names) > 1 or any(rule.kind != "at_most_one" for rule in plan.rules):
-        present = dict.fromkeys(xml.keys())
-        if any(rule.broken_by(present) for rule in plan.rules):
-            raise _Fallback
+    if (len(names) > 1 or any(rule.kind != "at_most_one" for rule in plan.rules)) and any(
+        rule.broken_by(xml.attrib) for rule in plan.rules
+    ):
+        raise _Fallback
 
 
 def _dynamic_references(

@@ -205,6 +205,11 @@ class _Format(_Converter):
         return self.from_text(str(super().from_python(value)))
 
 
+def _bound(value: float) -> str:
+    """A bound as an error shows it: integers whole ('10000000'), reals short ('1e-15')."""
+    return str(value) if isinstance(value, int) else f"{value:g}"
+
+
 class _Numbers(_Converter):
     """Numbers as MuJoCo reads them. Blank text is accepted (MuJoCo reads it as
     if the attribute were not set); it reads back as None and is written as it was."""
@@ -223,6 +228,7 @@ class _Numbers(_Converter):
         if (
             count < spec.min
             or (spec.max is not None and count > spec.max)
+            or count in spec.gaps
             or (spec.multiple_of and count % spec.multiple_of)
         ):
             raise InvalidValue(f"takes {spec.arity_text()}, got {count}: {shown!r}")
@@ -254,10 +260,10 @@ class _Numbers(_Converter):
                 value = round_float32(value)
             if low is not None and (value < low or (spec.min_exclusive and value == low)):
                 relation = "greater than" if spec.min_exclusive else "at least"
-                raise InvalidValue(f"takes {self.noun} {relation} {low:g}, got {shown!r}")
+                raise InvalidValue(f"takes {self.noun} {relation} {_bound(low)}, got {shown!r}")
             if high is not None and (value > high or (spec.max_exclusive and value == high)):
                 relation = "less than" if spec.max_exclusive else "at most"
-                raise InvalidValue(f"takes {self.noun} {relation} {high:g}, got {shown!r}")
+                raise InvalidValue(f"takes {self.noun} {relation} {_bound(high)}, got {shown!r}")
 
     def from_text(self, text: str) -> object:
         if _is_blank(text):

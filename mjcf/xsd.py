@@ -68,6 +68,7 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
         attribute.kind in ("int", "real")
         and attribute.min >= 1
         and not attribute.multiple_of
+        and not attribute.gaps
         and attribute.min_value is None
         and attribute.max_value is None
     ):

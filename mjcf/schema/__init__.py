@@ -52,6 +52,7 @@ class AttributeSpec:
         "converter",
         "default",
         "float32",
+        "gaps",
         "integers",
         "is_list",
         "kind",
@@ -83,6 +84,8 @@ class AttributeSpec:
         self.values: tuple[str, ...] = tuple(data.get("values", ()))
         self.min: int = data.get("min", 1)
         self.max: int | None = data.get("max", 1)
+        # Counts between min and max MuJoCo refuses (a frame's scale: 1 or 3 numbers).
+        self.gaps: frozenset[int] = frozenset(data.get("gaps", ()))
         self.multiple_of: int | None = data.get("multiple_of")
         self.namespace: str | None = data.get("namespace")
         self.namespace_from: str | None = data.get("namespace_from")
@@ -121,6 +124,9 @@ class AttributeSpec:
             return base + (f", a multiple of {self.multiple_of}" if self.multiple_of else "")
         if self.min == self.max:
             return f"{self.min} number" + ("" if self.min == 1 else "s")
+        if self.gaps and self.max is not None:
+            *counts, last = (c for c in range(self.min, self.max + 1) if c not in self.gaps)
+            return f"{', '.join(map(str, counts))} or {last} numbers"
         return f"{self.min} to {self.max} numbers"
 
     def reference_namespace(self, element_attributes: Mapping[str, object]) -> str | None:
@@ -151,11 +157,12 @@ class Rule:
     one of some groups of attributes may be set (`at_most_one`), at least one group
     must be set entirely (`one_of`), the first attribute needs the second
     (`requires`), or all of some attributes or none (`together`). A group counts as
-    set when any attribute of it is."""
+    set when any attribute of it is; with `blank_is_none`, when MuJoCo does not read
+    its text as none (blank numbers, empty text)."""
 
-    __slots__ = ("groups", "kind", "message", "names")
+    __slots__ = ("blank_is_none", "groups", "kind", "message", "names", "numbers")
 
-    def __init__(self, data: Mapping) -> None:
+    def __init__(self, data: Mapping, attributes: Mapping[str, AttributeSpec]) -> None:
         self.kind = next(k for k in ("at_most_one", "one_of", "requires", "together") if k in data)
         groups = data[self.kind]
         if self.kind in ("requires", "together"):
@@ -163,17 +170,30 @@ class Rule:
         self.groups: tuple[tuple[str, ...], ...] = tuple(tuple(g) for g in groups)
         self.names = frozenset(name for group in self.groups for name in group)
         self.message: str = data.get("message", "")
+        # Whether an attribute MuJoCo reads as none counts as not given (its reader's
+        # own checks), or any text does (its schema's): blank numbers, empty text.
+        self.blank_is_none = bool(data.get("blank_is_none", False))
+        self.numbers = frozenset(
+            name for name in self.names if attributes[name].kind in ("int", "real")
+        )
 
     def broken_by(self, attributes: Mapping[str, object]) -> bool:
         """Whether element attributes `attributes` (name -> value) break this rule."""
         if self.kind == "at_most_one":
-            return sum(1 for group in self.groups if not attributes.keys().isdisjoint(group)) > 1
+            return sum(1 for group in self.groups if any(n in attributes for n in group)) > 1
         if self.kind == "one_of":
-            return not any(all(name in attributes for name in group) for group in self.groups)
+            return not any(all(self._given(n, attributes) for n in group) for group in self.groups)
         if self.kind == "together":
             return 0 < sum(1 for name in self.names if name in attributes) < len(self.names)
         first, needed = self.groups
-        return first[0] in attributes and needed[0] not in attributes
+        return first[0] in attributes and not self._given(needed[0], attributes)
+
+    def _given(self, name: str, attributes: Mapping[str, object]) -> bool:
+        """Whether attribute `name` counts as given for this rule (see `blank_is_none`)."""
+        value = attributes.get(name)
+        if isinstance(value, str) and self.blank_is_none:
+            return (value.strip() if name in self.numbers else value) != ""
+        return value is not None
 
     def describe(self) -> str:
         """The rule in words, for error messages."""
@@ -236,7 +256,9 @@ class ElementSpec:
         # default class sets the actuator type): written even when empty, unless it was
         # only created by access (see `Element.get_children`).
         self.matters_empty: bool = bool(data.get("matters_empty", False))
-        self.rules: tuple[Rule, ...] = tuple(Rule(rule) for rule in data.get("rules", ()))
+        self.rules: tuple[Rule, ...] = tuple(
+            Rule(rule, self.attributes) for rule in data.get("rules", ())
+        )
         self.rule_names = frozenset(name for rule in self.rules for name in rule.names)
         # Rules that an element being built may break for a while (checked on writing).
         self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")

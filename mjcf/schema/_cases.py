@@ -8,7 +8,8 @@ non-finite numbers, empty and blank text), a required attribute left out, a
 child element placed under a parent, an element repeated, or a section given
 twice with different values. The element sits in the context ``_probe.Prober``
 builds (its ancestors, required attributes and the alternatives MuJoCo wants),
-after a prelude that defines an element named ``p`` in every namespace, so that
+after a prelude that defines an element named ``p`` in every namespace
+(``_probe.NAMED_PRELUDE``), so that
 references resolve and most documents compile.
 
 A case also says how to make the same change through the Python API (``Edit``):
@@ -27,28 +28,6 @@ from dataclasses import dataclass, field
 from mjcf.schema import _probe
 from mjcf.schema._docs import Attribute, Element
 from mjcf.schema._probe import Probe
-
-# One element named "p" in each namespace a reference can point into.
-PRELUDE = (
-    '<extension><plugin plugin="mujoco.pid"><instance name="p">'
-    '<config key="kp" value="1"/></instance></plugin></extension>'
-    '<asset><texture name="p" builtin="flat" width="2" height="2"/><material name="p"/>'
-    '<mesh name="p" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/>'
-    '<hfield name="p" nrow="2" ncol="2" size="1 1 1 1"/></asset>'
-    '<worldbody><body name="p"><joint name="p"/><geom name="p" size="1"/><site name="p"/>'
-    '<camera name="p"/><light name="p"/></body>'
-    '<flexcomp name="p" type="grid" count="2 2 1" spacing="1 1 1" dim="2"/></worldbody>'
-    '<tendon><fixed name="p"><joint joint="p" coef="1"/></fixed></tendon>'
-    '<actuator><motor name="p" joint="p"/><plugin name="p_plugin" instance="p" joint="p"/>'
-    "</actuator>"
-    '<sensor><jointpos name="p" joint="p"/></sensor>'
-    '<equality><joint name="p" joint1="p" active="false"/></equality>'
-    '<contact><exclude name="p" body1="p" body2="world"/></contact>'
-    '<keyframe><key name="p"/></keyframe><custom><numeric name="p" data="1"/></custom>'
-    # The model probes name; the default class only where named, since a second
-    # top-level <default> is read differently (see mjcf.default_sections).
-    + _probe.PRELUDES["probe_model"]
-)
 
 # Words tried in the first place of a numeric attribute (the rest are "1").
 NUMBER_WORDS = (
@@ -224,7 +203,7 @@ class CaseMaker:
     def __init__(self, data: dict) -> None:
         self.elements = drafts_from_schema(data)
         self.root = data["root"]
-        self.prober = _probe.Prober(self.elements, self.root, prelude=PRELUDE)
+        self.prober = _probe.Prober(self.elements, self.root, prelude=_probe.NAMED_PRELUDE)
         self.prober.set_paths()
         self.tags = sorted({e.tag for e in self.elements.values()} | {"probe_tag"})
         self.by_tag: dict[str, str] = {}

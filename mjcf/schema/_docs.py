@@ -47,6 +47,7 @@ class Attribute:
     multiple_of: int | None = None
     min: int = 1
     max: int | None = 1
+    gaps: list[int] = field(default_factory=list)  # counts between min and max refused
     namespace: str | None = None
     namespace_from: str | None = None
     namespace_map: dict[str, str] = field(default_factory=dict)
@@ -93,6 +94,8 @@ class Attribute:
         elif self.kind in ("int", "real"):
             spec["min"] = self.min
             spec["max"] = self.max
+            if self.gaps:
+                spec["gaps"] = self.gaps
             if self.multiple_of:
                 spec["multiple_of"] = self.multiple_of
             if self.float32:

@@ -44,6 +44,28 @@ PRELUDES = {
     _MODEL_NAME: f'<asset><model name="{_MODEL_NAME}" file="{_MODEL_FILE}"/></asset>',
     _CLASS_NAME: f'<default><default class="{_CLASS_NAME}"/></default>',
 }
+# One element named "p" in each namespace a reference can point into.
+NAMED_PRELUDE = (
+    '<extension><plugin plugin="mujoco.pid"><instance name="p">'
+    '<config key="kp" value="1"/></instance></plugin></extension>'
+    '<asset><texture name="p" builtin="flat" width="2" height="2"/><material name="p"/>'
+    '<mesh name="p" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/>'
+    '<hfield name="p" nrow="2" ncol="2" size="1 1 1 1"/></asset>'
+    '<worldbody><body name="p"><joint name="p"/><geom name="p" size="1"/><site name="p"/>'
+    '<camera name="p"/><light name="p"/></body>'
+    '<flexcomp name="p" type="grid" count="2 2 1" spacing="1 1 1" dim="2"/></worldbody>'
+    '<tendon><fixed name="p"><joint joint="p" coef="1"/></fixed></tendon>'
+    '<actuator><motor name="p" joint="p"/><plugin name="p_plugin" instance="p" joint="p"/>'
+    "</actuator>"
+    '<sensor><jointpos name="p" joint="p"/></sensor>'
+    '<equality><joint name="p" joint1="p" active="false"/></equality>'
+    '<contact><exclude name="p" body1="p" body2="world"/></contact>'
+    '<keyframe><key name="p"/></keyframe><custom><numeric name="p" data="1"/></custom>'
+    # The model probes name; the default class only where named, since a second
+    # top-level <default> is read differently (see mjcf.default_sections).
+    + PRELUDES[_MODEL_NAME]
+)
+
 # A count of numbers larger than any fixed arity; divisible by 1..8.
 _MANY = 840
 # Content for frame and replicate probes: a named geom shows replicated names.
@@ -56,7 +78,7 @@ OBJECT_TYPES = [
 ]
 # Values a minimal element needs beyond its required attributes: one of several
 # attributes the reader requires together, or a default the reader rejects.
-_ALSO_FILL = {
+ALSO_FILL = {
     "body-attach": {"model": _MODEL_NAME},  # else body= or frame= (self-attachment)
     "sensor-plugin": {"plugin": "probe"},  # or instance=
     "body-flexcomp": {"count": "2 2 1"},  # the default 10x10x10 grid is not 2-D
@@ -166,7 +188,7 @@ class Prober:
             named = attribute.kind == "identifier" and parent != self.root
             if attribute.required or named:
                 values[attribute.name] = self.value(attribute)
-        values.update(_ALSO_FILL.get(key, {}))
+        values.update(ALSO_FILL.get(key, {}))
         for name in self._alternatives(key, chosen):
             values[name] = self.value(attributes[name])
         values.update(chosen)
@@ -241,6 +263,13 @@ class Prober:
             if error is None or not self._learn(probe.key, error):
                 return error
 
+    def quick_error(self, probe: Probe, seconds: float) -> str | None:
+        """MuJoCo's error for a document holding the probe, None if it reads it;
+        raises ReaderError if reading takes more than ``seconds``."""
+        self.parses += 1
+        error, _ = self._reader.read(self.document([self.fragment(probe)]), seconds=seconds)
+        return None if error is None else " ".join(error.split())
+
     def errors(self, probes: Sequence[Probe], mostly_rejected: bool = False) -> list[str | None]:
         """The error (or None) of each probe, parsing the accepted ones together.
 
@@ -304,10 +333,12 @@ class Prober:
 
     def document(self, fragments: list[str]) -> str:
         """A whole document holding ``fragments``, one per line after the first (a
-        fragment of the root element's start tag replaces the plain one)."""
+        fragment of the root element's start tag replaces the plain one; an empty
+        root element is a child)."""
         tag = self.elements[self.root].tag
         start = f"<{tag}>"
-        if fragments and fragments[0].startswith(start[:-1]):
+        first = fragments[0] if fragments else ""
+        if first.startswith(start[:-1]) and not first.endswith("/>"):
             start, fragments = fragments[0], fragments[1:]
         start += self.prelude
         for name, prelude in PRELUDES.items():

@@ -67,20 +67,24 @@ class Reader:
         self._process: subprocess.Popen[bytes] | None = None
         self._stop: weakref.finalize | None = None
 
-    def read(self, document: str, write_back: bool = False) -> tuple[str | None, str | None]:
+    def read(
+        self, document: str, write_back: bool = False, seconds: float | None = None
+    ) -> tuple[str | None, str | None]:
         """(error, written): MuJoCo's error for ``document`` (None if it reads it) and,
         when ``write_back``, the MJCF MuJoCo writes back (None if it cannot).
 
-        Raises ReaderError if the reader dies or takes more than ``seconds``.
+        Raises ReaderError if the reader dies or takes more than ``seconds`` (by
+        default the reader's).
         """
         process = self._process or self._start()
         assert process.stdin is not None and process.stdout is not None
+        limit = self._seconds if seconds is None else seconds
         try:
             pickle.dump((document, write_back), process.stdin)
             process.stdin.flush()
-            if not select.select([process.stdout], [], [], self._seconds)[0]:
+            if not select.select([process.stdout], [], [], limit)[0]:
                 self.close()
-                raise ReaderError(f"MuJoCo took over {self._seconds:g} s to read:\n{document}")
+                raise ReaderError(f"MuJoCo took over {limit:g} s to read:\n{document}")
             error, written, trusted = pickle.load(process.stdout)
         except (OSError, EOFError, pickle.UnpicklingError):
             self.close()

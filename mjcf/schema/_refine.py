@@ -9,6 +9,7 @@ steps ask the reader about values, one question at a time:
 * whether a keyword ignores case, which integers stand for keywords
   (``<headlight active="1">``), and in what order and combination a keyword list
   takes its words (``input="pos vel"``, never ``"vel pos"``);
+* which references take a list of names where one is documented;
 * which string attributes hold keyword lists (the reader's "invalid keyword:
   '(null)'"), with the candidates their documentation quotes;
 * that the grammars of ``values.TEXT_FORMATS`` named in ``_annotations.TEXT_FORMATS``
@@ -29,7 +30,7 @@ import re
 import struct
 
 from mjcf import values as _values
-from mjcf.schema import _annotations, _probe
+from mjcf.schema import _annotations, _probe, _reader
 from mjcf.schema._docs import Attribute, Element, SchemaError
 from mjcf.schema._probe import Probe
 
@@ -39,6 +40,11 @@ _TOO_LARGE = "number is too large"
 # Values tried for bounds: moderate ones, since some numbers are sizes the reader acts
 # on (a flexcomp of count="100 100 1" takes seconds to read), and within C floats.
 _INT_CANDIDATES = [-1000, -2, -1, 0, 1, 2, 10, 1000]
+# The largest 32-bit integer, tried where an attribute holds one number, for a size
+# the reader caps (a <numeric>'s size, at most 10,000,000); within a few seconds, since
+# the reader acts on some sizes first (a <replicate count="2147483647"> takes hours).
+_INT_LARGEST = 2**31 - 1
+_LARGEST_SECONDS = 5.0
 _REAL_CANDIDATES = [-1e30, -1.0, -1e-30, 0.0, 1e-30, 1.0, 1e30]
 # Texts for string attributes that may be keyword lists or follow a grammar.
 _FORMAT_SAMPLES = (
@@ -127,6 +133,23 @@ def blanks(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             attribute.blank = accepted
 
 
+def reference_lists(elements: dict[str, Element], root: str) -> None:
+    """References the reader takes as lists of names where the documentation has one
+    name (a flexcomp's material in MuJoCo 4: one material per element, or one for
+    all): with an element named "p" in every namespace, MuJoCo compiles ``" p  p "``
+    and writes it back as ``"p p"``, where a single name ``" p  p "`` is not found."""
+    prober = _probe.Prober(elements, root, prelude=_probe.NAMED_PRELUDE)
+    prober.set_paths()
+    for key, element in elements.items():
+        for attribute in element.attributes.values():
+            if attribute.kind != "reference" or attribute.is_list or not attribute.namespace:
+                continue
+            written = prober.written(Probe(key, {attribute.name: " p  p "}))
+            if written is not None and f'{attribute.name}="p p"' in written:
+                _note(f"{key}/{attribute.name}: documented one name, the reader takes a list")
+                attribute.is_list = True
+
+
 # -- numbers ---------------------------------------------------------------------------
 
 
@@ -183,6 +206,9 @@ def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
     for key, attribute in numbers:
         values = _candidates(attribute)
         found = [next(errors) for _ in values]
+        largest = _largest_refused(prober, key, attribute)
+        if largest is not None:
+            values, found = [*values, _INT_LARGEST], [*found, largest]
         accepted = [not _semantic(error, attribute.name) for error in found]
         if all(accepted):
             continue
@@ -204,6 +230,20 @@ def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         ):
             attribute.min_value = attribute.max_value = None
             attribute.min_exclusive = attribute.max_exclusive = False
+
+
+def _largest_refused(prober: _probe.Prober, key: str, attribute: Attribute) -> str | None:
+    """The reader's error for the largest 32-bit integer in a one-number integer
+    attribute; None if it takes it, or takes more than a few seconds to answer."""
+    if attribute.kind != "int" or _count(attribute) != 1:
+        return None
+    try:
+        error = prober.quick_error(
+            Probe(key, {attribute.name: str(_INT_LARGEST)}), _LARGEST_SECONDS
+        )
+    except _reader.ReaderError:
+        return None
+    return error if _semantic(error, attribute.name) else None
 
 
 def _bounds_found(
@@ -462,11 +502,24 @@ def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
     alone = dict(
         zip(names, prober.errors([Probe(key, {n: values[n]}) for n in names]), strict=True)
     )
+    # An objtype and its objname are always given together in probes (see
+    # `Prober.values`): whether the reader needs the other is asked leaving it out.
+    pairs = [
+        (a.name, a.namespace_from)
+        for a in element.attributes.values()
+        if a.namespace_from is not None
+    ]
+    pairs += [(second, first) for first, second in pairs]
+    left_out = [Probe(key, {n: values[n]}, omit=(other,)) for n, other in pairs]
+    without_partner = zip([n for n, _ in pairs], prober.errors(left_out), strict=True)
     found: list[dict] = []
-    for name, error in alone.items():
-        missing = re.search(r"required attribute missing: '(\w+)'", error or "")
+    for name, error in [*alone.items(), *without_partner]:
+        missing = re.search(r"required attribute missing: '(\w+)'", error or "") or re.search(
+            rf"^(?:XML Error: )?{name} is specified but (\w+) is not", error or ""
+        )
         together = re.search(r"attributes (.*) must be specified together", error or "")
-        if missing and missing.group(1) in element.attributes:
+        needed = element.attributes.get(missing.group(1)) if missing else None
+        if missing and needed and not needed.required:  # a required one is needed anyway
             found.append({"requires": [name, missing.group(1)], "message": _message(error or "")})
         elif together:
             group = re.findall(r"'(\w+)'", together.group(1))
@@ -486,9 +539,59 @@ def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
             _note(f"{key}: the reader refuses {sorted(refused)} together: {message}")
         else:
             found.append({"at_most_one": groups, "message": message})
-    for groups in prober.learned_one_of(key):
+    for groups in prober.learned_one_of(key) or _needs_one(prober, key, element):
         found.append({"one_of": groups, "message": f"one of {groups} must be specified"})
+    for kept in found:
+        if _blank_is_none(prober, key, kept, values):
+            kept["blank_is_none"] = True
     return found
+
+
+def _blank_is_none(prober: _probe.Prober, key: str, rule: dict, values: dict[str, str]) -> bool:
+    """Whether the reader takes an attribute a `requires` or `one_of` rule needs as not
+    given when its text is empty (a <numeric>'s data="": "custom field size must be
+    positive"), rather than given at all (a <connect>'s site1="")."""
+    if "requires" in rule:
+        first, needed = rule["requires"]
+        return prober.error(Probe(key, {first: values[first], needed: ""})) is not None
+    if "one_of" not in rule:
+        return False
+    group, *others = rule["one_of"]
+    chosen = {name: values[name] for name in group} | {group[0]: ""}
+    left_out = tuple(name for other in others for name in other if name not in group)
+    return prober.error(Probe(key, chosen, omit=left_out)) is not None
+
+
+def _needs_one(prober: _probe.Prober, key: str, element: Element) -> list[list[list[str]]]:
+    """A "one of" rule the reader keeps without saying so: the element refused with
+    none of its optional attributes and taken with any one of several (a <numeric>
+    with its size or its data: "custom field size must be positive")."""
+    filled = tuple(_probe.ALSO_FILL.get(key, ()))
+    bare = prober.error(Probe(key, omit=filled)) if filled else None
+    if bare is None:
+        return []
+    optional = [
+        a.name
+        for a in element.attributes.values()
+        if not a.required and a.kind not in ("identifier", "keyword")
+    ]
+    probes = [
+        Probe(
+            key,
+            {name: prober.value(element.attributes[name])},
+            omit=tuple(other for other in filled if other != name),
+        )
+        for name in optional
+    ]
+    errors = prober.errors(probes)
+    taken = [name for name, error in zip(optional, errors, strict=True) if error is None]
+    # Each attribute the probes fill in must be one of the alternatives, and each other
+    # attribute must leave the element refused as it is bare (not refused otherwise,
+    # as an <attach> whose self-attached body the probe does not name).
+    others_alike = all(error in (None, bare) for error in errors)
+    if len(taken) < 2 or not set(filled) <= set(taken) or not others_alike:
+        return []
+    return [[[name] for name in taken]]
 
 
 # Errors of the reader that state a rule between attributes rather than a meaning.

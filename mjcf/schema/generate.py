@@ -38,7 +38,8 @@ there even empty, and ``"rules"`` between attributes, when there are any). Attri
 specs have a ``type`` of ``identifier``, ``string``, ``file``, ``reference``
 (``namespace``, or ``namespace_from``/``namespace_map``; ``list``),
 ``keyword`` (``values``; ``list``) or ``int``/``real`` (``min``/``max``
-numbers, counting from 1; ``max`` null when unbounded; ``multiple_of``), with
+numbers, counting from 1; ``max`` null when unbounded; ``gaps``: counts between
+them refused; ``multiple_of``), with
 ``required`` and ``default``.
 """
 
@@ -184,6 +185,7 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
     _refine.bounds(prober, elements)
     _refine.keyword_forms(prober, elements)
     _refine.rules(prober, elements)
+    _refine.reference_lists(elements, ROOT)
     logger.info("probed MuJoCo's reader with %d documents", prober.parses)
 
 
@@ -343,14 +345,10 @@ def _number_kinds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
 
 def _arity(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
     arity = _probe.arity(prober, key, attribute)
-    attribute.min, attribute.max = arity.min, arity.max
+    attribute.min, attribute.max, attribute.gaps = arity.min, arity.max, arity.gaps
     documented = f"documented {attribute.count or 'model-dependent'} numbers"
     if attribute.count is not None and arity.max != attribute.count:
         _note(f"{key}/{attribute.name}: {documented}, the reader takes up to {arity.max}")
-    if arity.gaps:
-        _note(
-            f"{key}/{attribute.name}: the reader rejects {arity.gaps} of {arity.min}..{arity.max}"
-        )
 
 
 def _note(message: str) -> None:

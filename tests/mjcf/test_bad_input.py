@@ -184,3 +184,16 @@ def test_a_blank_connect_anchor_never_reaches_mujoco() -> None:
     with pytest.raises(mjcf.AttributeValueError, match="anchor"):
         connect.anchor = ""
     assert connect.anchor.tolist() == [0.0, 0.0, 1.0]
+
+
+def test_counts_mujoco_refuses_inside_the_range() -> None:
+    """A frame's scale takes one number or three, as MuJoCo's reader does: two is
+    refused when parsing and when set, and the other counts compile."""
+    text = '<mujoco><worldbody><frame scale="{}"><geom size="1"/></frame></worldbody></mujoco>'
+    with pytest.raises(mjcf.AttributeValueError, match=r"'scale' takes 1 or 3 numbers, got 2"):
+        mjcf.from_xml_string(text.format("1 2"))
+    root = mjcf.from_xml_string(text.format("2"))
+    frame = root.worldbody.frame[0]
+    _unchanged(root, lambda: setattr(frame, "scale", [1, 2]), mjcf.AttributeValueError, "1 or 3")
+    frame.scale = [3, 3, 3]
+    assert mujoco.MjModel.from_xml_string(root.to_xml_string()).geom_size[0, 0] == 3
