@@ -89,10 +89,31 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
+            "ignored by MuJoCo",
+            "an element MuJoCo's reader takes where it means nothing and leaves out of the "
+            "model (<body>, <frame> or <replicate> directly in <mujoco>) is refused, so that "
+            "nothing a model says is silently dropped",
+            stricter=True,
+        ),
+        Explanation(
             "checked later",
             "through the API, a reference may name an element added later and a required "
             "attribute may be set later: required attributes are checked when the model is "
             "written, names when MuJoCo compiles it, and both fail then",
+            stricter=False,
+        ),
+        Explanation(
+            "beyond memory",
+            "a size so large that MuJoCo's reader fails to allocate what it makes (a "
+            "flexcomp of 2147483647 points) is left to MuJoCo, as the machine's memory "
+            "decides it; MuJoCo fails on mjcf's model the same way",
+            stricter=False,
+        ),
+        Explanation(
+            "generated name",
+            "an element written without a name gets the one mjcf gives it, as dm_control "
+            "names it ('//unnamed_material_0'), so a material, texture or height field left "
+            "unnamed (or named '') compiles, where MuJoCo refuses its empty name",
             stricter=False,
         ),
         Explanation(
@@ -103,10 +124,11 @@ EXPLANATIONS = {
         ),
         Explanation(
             "meaning in context",
-            "MuJoCo's reader checks what a value means together with other attributes, "
-            "files or elements (a flexcomp's spacing against its radius, a texture's "
-            "gridlayout against its gridsize, the bodies of an attached model's file); "
-            "mjcf leaves these to MuJoCo's compile, where they fail the same way",
+            "MuJoCo's reader checks what a value means together with other values, "
+            "attributes, files or elements (a flexcomp's spacing against its radius, the "
+            "points its count makes against its elements, a texture's gridlayout against "
+            "its gridsize, the two axes of an xyaxes, the bodies of an attached model's "
+            "file); mjcf leaves these to MuJoCo's compile, where they fail the same way",
             stricter=False,
         ),
     )
@@ -138,9 +160,14 @@ _CONTEXT = re.compile(
             r"repeated name '.*' in",
             r"World body cannot have",
             r"objtype is specified but objname is not",
+            r"element \d+ has point id \d+, number of points is",
+            r"cross\(xaxis, yaxis\) too small",
         )
     )
 )
+_UNKNOWN = "Caught an unknown exception!"
+_HUGE = re.compile(r"\b[1-9]\d{9,}\b")  # a number of ten digits or more
+_EMPTY_NAME = re.compile(r"Error: empty name in ")
 _NOT_A_RANGE = re.compile(r"maxhullvert must be larger than|zero quaternion")
 
 
@@ -270,12 +297,26 @@ def _object_differences(a: object, b: object, prefix: str) -> list[str]:
     return differences
 
 
-def _explain_refusal(error: str) -> str | None:
+def _explain_refusal(error: str, case: Case) -> str | None:
     if _CONTEXT.search(error):
         return "meaning in context"
+    # MuJoCo 4.0.0's bindings report a failed allocation so (std::bad_alloc).
+    if error == _UNKNOWN and _HUGE.search(case.subject):
+        return "beyond memory"
     if _NOT_A_RANGE.search(error):
         return "not a range"
     return None
+
+
+def _ignored(case: Case) -> bool:
+    """Whether MuJoCo compiles a child case's document into the model it compiles
+    without the child."""
+    if case.baseline is None:
+        return False
+    with_child, without = compiled(case.document, FILES), compiled(case.baseline, FILES)
+    if isinstance(with_child, str) or isinstance(without, str):
+        return False
+    return not model_differences(with_child, without)
 
 
 def _locate(root: mjcf.RootElement, path: tuple[str, ...]) -> mjcf.Element:
@@ -336,7 +377,7 @@ class Judge:
             self.findings.append(Finding(case, "edit", verdict, f"crashes: {caught!r}"))
             return
         if expected is not None:
-            why = _explain_refusal(expected)
+            why = _explain_refusal(expected, case)
             try:
                 text, assets = base.to_xml_string(), base.get_assets()
             except mjcf.Error as caught:
@@ -351,7 +392,7 @@ class Judge:
 
     def _explain_parse(self, case: Case, expected: str | None, error: str | None) -> str | None:
         if expected is not None:
-            return _explain_refusal(expected)
+            return _explain_refusal(expected, case)
         error = error or ""
         if "the separator of attached models" in error or "separates the names" in error:
             return "name separator"
@@ -363,6 +404,8 @@ class Judge:
             return "not numbers"
         if "already used by another flex" in error:
             return "duplicate name"
+        if case.kind == "child" and "cannot have a <" in error and _ignored(case):
+            return "ignored by MuJoCo"
         kinds = (
             ("dangling references", "dangling reference"),
             ("already used by", "duplicate name"),
@@ -395,7 +438,8 @@ class Judge:
             if isinstance(reference, str) != isinstance(ours, str):
                 shown = reference if isinstance(reference, str) else "compiles"
                 got = ours if isinstance(ours, str) else "compiles"
-                self.findings.append(Finding(case, stage, shown, got))
+                why = "generated name" if _EMPTY_NAME.match(shown) else None
+                self.findings.append(Finding(case, stage, shown, got, why))
             return
         differences = model_differences(reference, ours)
         if differences:
