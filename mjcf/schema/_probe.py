@@ -85,6 +85,13 @@ ALSO_FILL = {
     "actuator-dcmotor": {"motorconst": "1 1", "resistance": "1"},  # must be positive
     "default-dcmotor": {"motorconst": "1 1", "resistance": "1"},
     "custom-numeric": {"data": "1"},  # size or data
+    # A flex that compiles: three points of the world body, two segments.
+    "deformable-flex": {
+        "dim": "1",
+        "body": "world world world",
+        "vertex": "0 0 0 1 0 0 2 0 0",
+        "element": "0 1 1 2",
+    },
     "custom-text": {"data": "probe"},  # text cannot be empty
     "extension-plugin": {"plugin": "mujoco.pid"},  # a plugin shipped with the wheel
 }

@@ -54,7 +54,7 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _annotations, _probe, _refine
+from mjcf.schema import _annotations, _probe, _refine, _rules
 from mjcf.schema._docs import (
     BODY,
     DEFAULT,
@@ -184,7 +184,7 @@ def complete_with_probes(elements: dict[str, Element], edges: list[tuple[str, st
     _refine.float_precision(prober, elements)
     _refine.bounds(prober, elements)
     _refine.keyword_forms(prober, elements)
-    _refine.rules(prober, elements)
+    _rules.rules(prober, elements)
     _refine.reference_lists(elements, ROOT)
     logger.info("probed MuJoCo's reader with %d documents", prober.parses)
 

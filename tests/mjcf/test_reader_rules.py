@@ -101,3 +101,14 @@ def test_a_body_outside_worldbody_is_refused_where_mujoco_drops_it(tag: str) -> 
     assert mujoco.MjModel.from_xml_string(xml).ngeom == 0  # read, and silently dropped
     with pytest.raises(mjcf.SchemaError, match=f"<mujoco> cannot have a <{tag}> child"):
         mjcf.from_xml_string(xml)
+
+
+def test_a_flex_material_is_a_list_of_materials_too() -> None:
+    xml = """<mujoco><asset><material name="red"/><material name="green"/></asset>
+      <deformable><flex name="rope" dim="1" body="world world world"
+        vertex="0 0 0 1 0 0 2 0 0" element="0 1 1 2" material="green red"/></deformable>
+    </mujoco>"""
+    root = _both_read(xml)
+    expected = mujoco.MjModel.from_xml_string(xml).flex_matid
+    assert mjcf.Physics.from_mjcf_model(root).model.flex_matid.tolist() == expected.tolist()
+    assert expected.tolist() == [1, 0]
