@@ -57,8 +57,9 @@ EXPLANATIONS = {
         Explanation(
             "count refused when compiling",
             "a count of numbers that is not a multiple MuJoCo's compiler needs (a mesh's "
-            "vertex: 3 per vertex) is refused when set; MuJoCo's reader takes it and its "
-            "compiler refuses it",
+            "vertex: 3 per vertex) is refused when set; MuJoCo's reader takes it, and its "
+            "compiler refuses it, or ignores it where it does not use it (a flex's "
+            "nodecoord without nodes)",
             stricter=True,
         ),
         Explanation(
@@ -309,8 +310,8 @@ def _explain_refusal(error: str, case: Case) -> str | None:
 
 
 def _ignored(case: Case) -> bool:
-    """Whether MuJoCo compiles a child case's document into the model it compiles
-    without the child."""
+    """Whether MuJoCo compiles a case's document into the model it compiles without
+    what the case adds (a child, an attribute)."""
     if case.baseline is None:
         return False
     with_child, without = compiled(case.document, FILES), compiled(case.baseline, FILES)
@@ -414,6 +415,8 @@ class Judge:
         for text, name in kinds:
             if text in error and isinstance(compiled(case.document, FILES), str):
                 return name
+        if "numbers, a multiple of" in error and case.kind == "value" and _ignored(case):
+            return "count refused when compiling"
         return None
 
     def _parse(self, document: str) -> tuple[mjcf.RootElement | None, str | None]:
