@@ -25,6 +25,7 @@ meaningless in its context still shows that the reader knows the attribute.
 from __future__ import annotations
 
 import itertools
+import logging
 import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -33,6 +34,8 @@ import mujoco
 
 from mjcf.schema._docs import Attribute, Element
 from mjcf.schema._reader import Reader
+
+logger = logging.getLogger(__name__)
 
 # A model file the probes may name: `<asset><model file=...>` loads it while reading.
 _MODEL_FILE = "probe_model.xml"
@@ -109,6 +112,12 @@ _NOT_ALLOWED = re.compile(
     r"unrecognized element|unrecognized model element|cannot have|cannot be a direct child"
     r"|Parent body must have name"
 )
+
+
+def note(message: str) -> None:
+    """Log what the probes found that the documentation does not say (shown by
+    ``python -m mjcf.schema.generate``)."""
+    logger.info("note: %s", message)
 
 
 class ProbeError(RuntimeError):
@@ -273,9 +282,7 @@ class Prober:
     def quick_error(self, probe: Probe, seconds: float) -> str | None:
         """MuJoCo's error for a document holding the probe, None if it reads it;
         raises ReaderError if reading takes more than ``seconds``."""
-        self.parses += 1
-        error, _ = self._reader.read(self.document([self.fragment(probe)]), seconds=seconds)
-        return None if error is None else " ".join(error.split())
+        return self._parse([self.fragment(probe)], seconds)
 
     def errors(self, probes: Sequence[Probe], mostly_rejected: bool = False) -> list[str | None]:
         """The error (or None) of each probe, parsing the accepted ones together.
@@ -333,9 +340,9 @@ class Prober:
         error, xml = self._reader.read(self.document([fragment]), write_back=True)
         return None if error is not None or xml is None else re.sub(r"probe\d+_", "probe_", xml)
 
-    def _parse(self, fragments: list[str]) -> str | None:
+    def _parse(self, fragments: list[str], seconds: float | None = None) -> str | None:
         self.parses += 1
-        error, _ = self._reader.read(self.document(fragments))
+        error, _ = self._reader.read(self.document(fragments), seconds=seconds)
         return None if error is None else " ".join(error.split())
 
     def document(self, fragments: list[str]) -> str:

@@ -25,16 +25,13 @@ of these shapes describes is logged as a note and left to the differential check
 from __future__ import annotations
 
 import itertools
-import logging
 import re
 import struct
 
 from mjcf import values as _values
 from mjcf.schema import _annotations, _probe, _reader
 from mjcf.schema._docs import Attribute, Element, SchemaError
-from mjcf.schema._probe import Probe
-
-logger = logging.getLogger(__name__)
+from mjcf.schema._probe import Probe, note
 
 _TOO_LARGE = "number is too large"
 # Values tried for bounds: moderate ones, since some numbers are sizes the reader acts
@@ -53,10 +50,6 @@ _FORMAT_SAMPLES = (
     "18446744073709551615", "18446744073709551616", "17179869183G", "17179869184G", "8191P",
     "16E", "\u00e9..",
 )  # fmt: skip
-
-
-def _note(message: str) -> None:
-    logger.info("note: %s", message)
 
 
 # -- the tree and blank values ---------------------------------------------------------
@@ -79,7 +72,7 @@ def repetition(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         repeated = len(parents) == len(every)
         if repeated != element.repeated:
             documented = "repeated" if element.repeated else "once"
-            _note(f"{child}: documented {documented}, the reader disagrees")
+            note(f"{child}: documented {documented}, the reader disagrees")
         element.repeated = repeated
         element.repeated_in = [] if repeated else parents
 
@@ -146,7 +139,7 @@ def reference_lists(elements: dict[str, Element], root: str) -> None:
                 continue
             written = prober.written(Probe(key, {attribute.name: " p  p "}))
             if written is not None and f'{attribute.name}="p p"' in written:
-                _note(f"{key}/{attribute.name}: documented one name, the reader takes a list")
+                note(f"{key}/{attribute.name}: documented one name, the reader takes a list")
                 attribute.is_list = True
 
 
@@ -211,11 +204,11 @@ def bounds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             continue
         first, last = accepted.index(True) if any(accepted) else -1, len(accepted) - 1
         if first < 0:
-            _note(f"{key}/{attribute.name}: the reader refuses every probed value")
+            note(f"{key}/{attribute.name}: the reader refuses every probed value")
             continue
         last = len(accepted) - 1 - accepted[::-1].index(True)
         if not all(accepted[first : last + 1]):
-            _note(f"{key}/{attribute.name}: the values the reader accepts are not one range")
+            note(f"{key}/{attribute.name}: the values the reader accepts are not one range")
             continue
         # A value refused for what it means in the probe's context (a flexcomp of
         # dim 3 needs more points) hides the reader's own check (dim at most 3) beyond
@@ -354,10 +347,10 @@ def _intrinsic(
                 chosen = {name: _text(attribute, word), other.name: _text(other, scale)}
                 others.append(Probe(key, chosen))
     if any(error is None for error in prober.errors(places, mostly_rejected=True)):
-        _note(f"{key}/{name}: bounded in some places only; no bound kept")
+        note(f"{key}/{name}: bounded in some places only; no bound kept")
         return False
     if any(error is None for error in prober.errors(others, mostly_rejected=True)):
-        _note(f"{key}/{name}: its bound depends on other attributes; no bound kept")
+        note(f"{key}/{name}: its bound depends on other attributes; no bound kept")
         return False
     return True
 
@@ -399,7 +392,7 @@ def _case(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
     if all(accepted):
         attribute.case_insensitive = True
     elif any(accepted):
-        _note(f"{key}/{attribute.name}: the reader ignores case for some keywords only")
+        note(f"{key}/{attribute.name}: the reader ignores case for some keywords only")
 
 
 def _integers(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
@@ -410,7 +403,7 @@ def _integers(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
     if not taken:
         return
     if taken != list(range(taken[0], taken[-1] + 1)):
-        _note(f"{key}/{attribute.name}: the reader takes the integers {taken}")
+        note(f"{key}/{attribute.name}: the reader takes the integers {taken}")
         return
     attribute.integers = (taken[0], taken[-1])
 
@@ -461,7 +454,7 @@ def keyword_lists(prober: _probe.Prober, elements: dict[str, Element]) -> None:
             values = [word for word, ok in zip(candidates, accepted, strict=True) if ok]
             if not values:
                 raise SchemaError(f"{key}/{attribute.name}: a keyword list, but no keyword found")
-            _note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
+            note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
             attribute.kind, attribute.values, attribute.is_list = "keyword", values, True
 
 

@@ -8,18 +8,11 @@ given for them. Each rule is kept with the reader's message (see
 from __future__ import annotations
 
 import itertools
-import logging
 import re
 
 from mjcf.schema import _probe
 from mjcf.schema._docs import Element
-from mjcf.schema._probe import Probe
-
-logger = logging.getLogger(__name__)
-
-
-def _note(message: str) -> None:
-    logger.info("note: %s", message)
+from mjcf.schema._probe import Probe, note
 
 
 def rules(prober: _probe.Prober, elements: dict[str, Element]) -> None:
@@ -68,7 +61,7 @@ def _rules_of(prober: _probe.Prober, key: str, element: Element) -> list[dict]:
     for message, refused in conflicts.items():
         groups = _groups(message, refused) if _RULE_MESSAGE.search(message) else None
         if groups is None:
-            _note(f"{key}: the reader refuses {sorted(refused)} together: {message}")
+            note(f"{key}: the reader refuses {sorted(refused)} together: {message}")
         else:
             found.append({"at_most_one": groups, "message": message})
     for groups in prober.learned_one_of(key) or _needs_one(prober, key, element):

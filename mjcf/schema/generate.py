@@ -68,7 +68,7 @@ from mjcf.schema._docs import (
     elements_from_docs,
     listed_values,
 )
-from mjcf.schema._probe import Probe
+from mjcf.schema._probe import Probe, note
 
 OUTPUT = Path(__file__).with_name("mjcf_schema.json")
 # Elements holding the kinematic tree; their children are probed.
@@ -205,7 +205,7 @@ def _object_types(prober: _probe.Prober, elements: dict[str, Element]) -> None:
     for key, attribute in documented:
         attribute.values = object_types
         if len(accepted[key, attribute.name]) == len(_probe.OBJECT_TYPES):
-            _note(f"{key}/{attribute.name}: the reader accepts any object type name")
+            note(f"{key}/{attribute.name}: the reader accepts any object type name")
     assign_namespaces(elements, object_types)
 
 
@@ -218,7 +218,7 @@ def _tree_holders(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         allowed = _probe.allowed_children(prober, key, candidates)
         elements[key].children = allowed
         if key == BODY and allowed != documented:
-            _note(f"body: documented children {documented}, the reader accepts {allowed}")
+            note(f"body: documented children {documented}, the reader accepts {allowed}")
     by_tag = {elements[key].tag: key for key in candidates}
     by_tag.update({elements[key].tag: key for key in default.children})
     allowed = _probe.allowed_children(prober, DEFAULT, list(by_tag.values()))
@@ -238,12 +238,12 @@ def _enumerated_strings(prober: _probe.Prober, elements: dict[str, Element]) -> 
             if error is None or _probe.LIST_READER in error:  # lists: _refine.keyword_lists
                 continue
             if not _probe.bad_keyword(error, "probe_text"):
-                _note(f"{key}/{attribute.name}: the reader checks the text: {error}")
+                note(f"{key}/{attribute.name}: the reader checks the text: {error}")
                 continue
             values = listed_values(attribute.description)
             if not values:
                 raise SchemaError(f"{key}/{attribute.name}: a keyword, but no values documented")
-            _note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
+            note(f"{key}/{attribute.name}: documented string, the reader takes keywords {values}")
             attribute.kind, attribute.values = "keyword", values
 
 
@@ -256,7 +256,7 @@ def _required(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         for key, error in zip(keys, errors, strict=True):
             missing = re.search(r"required attribute missing: '(\w+)'", error or "")
             if missing:
-                _note(f"{key}/{missing.group(1)}: documented optional, the reader requires it")
+                note(f"{key}/{missing.group(1)}: documented optional, the reader requires it")
                 elements[key].attributes[missing.group(1)].required = True
                 pending.append(key)
 
@@ -268,9 +268,7 @@ def _minimal(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         for attribute in element.attributes.values():
             omitted = Probe(key, omit=(attribute.name,))
             if attribute.required and prober.error(omitted) is None:
-                _note(
-                    f"{key}/{attribute.name}: documented required, the reader does not require it"
-                )
+                note(f"{key}/{attribute.name}: documented required, the reader does not require it")
                 attribute.required = False
 
 
@@ -305,10 +303,10 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         if error and _probe.unrecognized(error, attribute.name):
             unknown.append(f"{key}/{attribute.name}")
         elif error and attribute.count and _probe.bad_count(error, attribute.name):
-            _note(f"{key}/{attribute.name}: the reader rejects the documented {attribute.count}")
+            note(f"{key}/{attribute.name}: the reader rejects the documented {attribute.count}")
             attribute.count = None  # probe from scratch
         elif error and _probe.bad_keyword(error, value):
-            _note(f"{key}/{attribute.name}: the reader rejects documented keyword {value!r}")
+            note(f"{key}/{attribute.name}: the reader rejects documented keyword {value!r}")
             attribute.values.remove(value)
     if unknown:
         raise SchemaError("documented attributes MuJoCo's reader does not know: " + str(unknown))
@@ -318,7 +316,7 @@ def _values(prober: _probe.Prober, elements: dict[str, Element]) -> None:
                 continue
             error = prober.error(Probe(key, {attribute.name: "probe_keyword"}))
             if not (error and _probe.bad_keyword(error, "probe_keyword", attribute.name)):
-                _note(f"{key}/{attribute.name}: the reader accepts any keyword")
+                note(f"{key}/{attribute.name}: the reader accepts any keyword")
             elif _probe.LIST_READER in error and not attribute.is_list:  # a list? try two
                 pair = {attribute.name: " ".join(attribute.values[:2])}
                 attribute.is_list = prober.error(Probe(key, pair)) is None
@@ -339,7 +337,7 @@ def _number_kinds(prober: _probe.Prober, elements: dict[str, Element]) -> None:
         error = errors[index] if index in errors else prober.error(probes[index])
         kind = "int" if error and _probe.bad_count(error, attribute.name) else "real"
         if kind != attribute.kind:
-            _note(f"{key}/{attribute.name}: documented {attribute.kind}, the reader reads {kind}")
+            note(f"{key}/{attribute.name}: documented {attribute.kind}, the reader reads {kind}")
             attribute.kind = kind
 
 
@@ -348,11 +346,7 @@ def _arity(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
     attribute.min, attribute.max, attribute.gaps = arity.min, arity.max, arity.gaps
     documented = f"documented {attribute.count or 'model-dependent'} numbers"
     if attribute.count is not None and arity.max != attribute.count:
-        _note(f"{key}/{attribute.name}: {documented}, the reader takes up to {arity.max}")
-
-
-def _note(message: str) -> None:
-    logger.info("note: %s", message)
+        note(f"{key}/{attribute.name}: {documented}, the reader takes up to {arity.max}")
 
 
 # -- output -------------------------------------------------------------------------
