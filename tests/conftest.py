@@ -10,10 +10,19 @@ os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: it reads
 from pathlib import Path
 
 import gymnasium
+import hypothesis
 import mujoco
 import pytest
 
 from entities import menagerie as shipped
+
+# Property tests are deterministic by default (the README's test command, CI): the same
+# examples on every run and no example database, so a run's outcome never depends on an
+# earlier one. `HYPOTHESIS_PROFILE=explore` searches with fresh random examples by hand,
+# keeping failures in `.hypothesis/` to replay them (`--hypothesis-seed=N` picks a seed).
+hypothesis.settings.register_profile("ci", derandomize=True, database=None)
+hypothesis.settings.register_profile("explore", derandomize=False)
+hypothesis.settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 REPO = Path(__file__).resolve().parents[1]
 GYM_ASSETS = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets"

@@ -26,6 +26,18 @@ def _accepted(attribute: schema.AttributeSpec, value: object) -> bool:
     return True
 
 
+def _counts(attribute: schema.AttributeSpec) -> list[int]:
+    """Every count of numbers the schema accepts (up to 6 past the minimum when unbounded):
+    inside the arity bounds, a multiple where one is asked, and none of the gaps MuJoCo
+    refuses between the bounds (a frame's scale takes 1 or 3 numbers, not 2)."""
+    low = max(attribute.min, 1)
+    high = attribute.max if attribute.max is not None else low + 6
+    step = attribute.multiple_of or 1
+    counts = [n for n in range(low, high + 1) if n % step == 0 and n not in attribute.gaps]
+    assert counts, f"no count accepted by {attribute!r}"
+    return counts
+
+
 def _value(attribute: schema.AttributeSpec) -> st.SearchStrategy:
     kind = attribute.kind
     if kind == "keyword":
@@ -42,14 +54,13 @@ def _value(attribute: schema.AttributeSpec) -> st.SearchStrategy:
         numbers = _INTS if kind == "int" else _FLOATS
         if attribute.min_value is not None or attribute.max_value is not None:
             numbers = numbers.filter(lambda number: _accepted(attribute, number))
-        low = max(attribute.min, 1)
-        high = attribute.max if attribute.max is not None else low + 6
-        step = attribute.multiple_of or 1
-        counts = st.integers(low, max(low, high)).map(lambda n: max(step, n - n % step))
         if attribute.scalar:
             return numbers
-        return counts.flatmap(lambda n: st.lists(numbers, min_size=n, max_size=n))
-    return _TEXT  # plain strings, with characters that need escaping
+        return st.sampled_from(_counts(attribute)).flatmap(
+            lambda n: st.lists(numbers, min_size=n, max_size=n)
+        )
+    # Plain strings, with characters that need escaping; blank only where the schema takes it.
+    return _TEXT.filter(lambda text: _accepted(attribute, text))
 
 
 def _settable(spec: schema.ElementSpec) -> list[schema.AttributeSpec]:
