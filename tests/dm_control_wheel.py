@@ -1,0 +1,241 @@
+"""dm_control's published wheel, fetched at test time, with its imports rewritten to ours.
+
+    root = dm_control_wheel.rewritten()          # pytest.skip when the index is unreachable
+    outcomes = dm_control_wheel.run_unittest_file("composer/entity_test.py")
+    module = dm_control_wheel.import_module("dm_control.locomotion.walkers.ant")
+
+How dm_control's own code and tests are measured against ours: the wheel of
+`dm-control==VERSION` is downloaded from the package index (`pip download --no-deps`,
+nothing installed) into a cache outside the repository, unpacked, and every source file is
+rewritten so that `from dm_control import mjcf` / `composer` and `from dm_control.mjcf...`
+/ `dm_control.composer...` import our packages. dm_control's own implementation of `mjcf`
+and `composer` is deleted from the rewritten tree, so a reference the rewrite missed fails
+loudly instead of running their code; what stays there are their tests, the modules those
+tests share (`hooks_test_utils`, `fake_physics`, `code_for_debugging_test`), data files,
+and everything outside the two packages (`locomotion`, `manipulation`, `entities`,
+`utils`, `mujoco` ...), which then runs on our `mjcf` and `composer`.
+
+Nothing of it is copied into the repository: the cache is `$COMPOSER_TEST_CACHE` or the
+system's temporary folder. Processes (pytest-xdist workers) share it under a file lock.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+import zipfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+VERSION = "1.0.50"
+_OURS = ("mjcf", "composer")
+# Modules of dm_control's mjcf/composer that its tests import and that are not part of the
+# implementation: kept (rewritten), and imported under their dm_control names.
+_SUPPORT = re.compile(r"(_test|test_utils|fake_physics)$")
+_FROM_TOP = re.compile(r"^(?P<indent>[ \t]*)from dm_control import (?P<names>[^(\n]+)$", re.M)
+_FROM_SUB = re.compile(
+    r"^(?P<indent>[ \t]*)from dm_control\.(?P<package>mjcf|composer)(?P<rest>(?:\.\w+)*)"
+    r" import (?P<names>[^(\n]+)$",
+    re.M,
+)
+_IMPORT_SUB = re.compile(
+    r"^(?P<indent>[ \t]*)import dm_control\.(?P<module>(?:mjcf|composer)\S*)", re.M
+)
+
+
+def _cache() -> Path:
+    base = os.environ.get("COMPOSER_TEST_CACHE") or tempfile.gettempdir()
+    return Path(base) / f"mujoco-composer-dm_control-{VERSION}"
+
+
+@contextmanager
+def _locked(path: Path) -> Iterator[None]:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w") as handle:
+        try:
+            import fcntl
+        except ImportError:  # no fcntl (Windows): one process at a time is the caller's care
+            yield
+            return
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def _is_support(module: str) -> bool:
+    """Whether dm_control module `module` (dotted, under mjcf or composer) is one kept."""
+    return bool(_SUPPORT.search(module.rsplit(".", 1)[-1]))
+
+
+def _split_names(names: str) -> list[tuple[str, str]]:
+    """'a, b as c' -> [('a', 'a'), ('b', 'c')] (the imported name and the bound one)."""
+    found = []
+    for part in names.split("#", 1)[0].split(","):
+        words = part.split()
+        if words:
+            found.append((words[0], words[-1]))
+    return found
+
+
+def _as_clause(name: str, bound: str) -> str:
+    return name if name == bound else f"{name} as {bound}"
+
+
+def rewrite(source: str) -> str:
+    """`source` with its imports of dm_control's mjcf and composer turned into ours."""
+
+    def top(match: re.Match[str]) -> str:
+        indent, statements = match["indent"], []
+        kept = []
+        for name, bound in _split_names(match["names"]):
+            if name in _OURS:
+                statements.append(f"import {_as_clause(name, bound)}")
+            else:
+                kept.append(_as_clause(name, bound))
+        if kept:
+            statements.append(f"from dm_control import {', '.join(kept)}")
+        return indent + "; ".join(statements)
+
+    def sub(match: re.Match[str]) -> str:
+        indent, module = match["indent"], match["package"] + match["rest"]
+        if _is_support(module):
+            return match[0]
+        ours, theirs = [], []
+        for name, bound in _split_names(match["names"]):
+            (theirs if _is_support(f"{module}.{name}") else ours).append(_as_clause(name, bound))
+        statements = []
+        if ours:
+            statements.append(f"from {module} import {', '.join(ours)}")
+        if theirs:
+            statements.append(f"from dm_control.{module} import {', '.join(theirs)}")
+        return indent + "; ".join(statements)
+
+    def plain(match: re.Match[str]) -> str:
+        return f"{match['indent']}import {match['module']}"
+
+    source = re.sub(r"^([ \t]*)import mock$", r"\1from unittest import mock", source, flags=re.M)
+    source = _FROM_TOP.sub(top, source)
+    source = _FROM_SUB.sub(sub, source)
+    return _IMPORT_SUB.sub(plain, source)
+
+
+def _download(folder: Path) -> Path:
+    wheels = sorted(folder.glob(f"dm_control-{VERSION}-*.whl"))
+    if wheels:
+        return wheels[0]
+    result = subprocess.run(
+        [sys.executable, "-m", "pip", "download", "--no-deps", "--only-binary=:all:",
+         "--disable-pip-version-check", f"dm-control=={VERSION}", "-d", str(folder)],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    wheels = sorted(folder.glob(f"dm_control-{VERSION}-*.whl"))
+    if result.returncode or not wheels:
+        tail = (result.stderr or result.stdout).strip().splitlines()[-1:] or ["no output"]
+        pytest.skip(f"dm-control {VERSION} could not be fetched from the package index: {tail[0]}")
+    return wheels[0]
+
+
+def _unpack(wheel: Path, target: Path) -> None:
+    staging = target.with_name(target.name + ".partial")
+    shutil.rmtree(staging, ignore_errors=True)
+    with zipfile.ZipFile(wheel) as archive:
+        archive.extractall(staging)
+    package = staging / "dm_control"
+    for name in _OURS:
+        for path in sorted((package / name).rglob("*.py")):
+            relative = path.relative_to(package).with_suffix("")
+            if path.name == "__init__.py":
+                path.write_text("")  # a plain namespace for the kept modules
+            elif not _is_support(".".join(relative.parts)):
+                path.unlink()  # their implementation: ours replaces it
+    for path in package.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        rewritten = rewrite(text)
+        if rewritten != text:
+            path.write_text(rewritten, encoding="utf-8")
+    os.replace(staging, target)
+
+
+def rewritten() -> Path:
+    """The folder holding the rewritten `dm_control` package (on `sys.path` after this
+    call). Skips the calling test when the wheel cannot be fetched."""
+    cache = _cache()
+    target = cache / "rewritten"
+    if not (target / "dm_control").is_dir():
+        with _locked(cache / "lock"):
+            if not (target / "dm_control").is_dir():
+                _unpack(_download(cache), target)
+    if str(target) not in sys.path:
+        sys.path.insert(0, str(target))
+    return target
+
+
+def import_module(name: str) -> ModuleType:
+    """Import `name` (a dm_control module, e.g. 'dm_control.locomotion.walkers.ant') from
+    the rewritten wheel; skips like `rewritten`."""
+    rewritten()
+    return importlib.import_module(name)
+
+
+class _Outcomes(unittest.TestResult):
+    def __init__(self) -> None:
+        super().__init__()
+        self.outcomes: dict[str, str] = {}
+
+    @staticmethod
+    def _name(test: unittest.TestCase) -> str:
+        return f"{type(test).__name__}.{test._testMethodName}"
+
+    def addSuccess(self, test: unittest.TestCase) -> None:
+        self.outcomes[self._name(test)] = "passed"
+
+    def addFailure(self, test: unittest.TestCase, err: object) -> None:
+        self.outcomes[self._name(test)] = "failed: " + self._exc_info_to_string(err, test)
+
+    def addError(self, test: unittest.TestCase, err: object) -> None:
+        self.outcomes[self._name(test)] = "error: " + self._exc_info_to_string(err, test)
+
+    def addSkip(self, test: unittest.TestCase, reason: str) -> None:
+        self.outcomes[self._name(test)] = f"skipped: {reason}"
+
+    def addExpectedFailure(self, test: unittest.TestCase, err: object) -> None:
+        self.outcomes[self._name(test)] = "passed"
+
+    def addUnexpectedSuccess(self, test: unittest.TestCase) -> None:
+        self.outcomes[self._name(test)] = "failed: unexpected success"
+
+
+def run_unittest_file(relative: str) -> dict[str, str]:
+    """Run dm_control's test file `relative` (e.g. 'composer/entity_test.py', under
+    dm_control/) in this process; each test's outcome by 'Class.method': 'passed', or
+    'failed: ...', 'error: ...', 'skipped: ...' with the traceback or reason. A file that
+    does not import is one outcome, 'import' -> 'error: ...'."""
+    rewritten()
+    from absl import flags
+
+    if not flags.FLAGS.is_parsed():
+        flags.FLAGS.mark_as_parsed()
+    name = "dm_control." + relative.removesuffix(".py").replace("/", ".")
+    try:
+        module = importlib.import_module(name)
+    except Exception as e:  # what is missing on our side shows here first
+        return {"import": f"error: {type(e).__name__}: {e}"}
+    suite = unittest.defaultTestLoader.loadTestsFromModule(module)
+    result = _Outcomes()
+    suite.run(result)
+    for test, err in result.errors:  # setUpClass and module fixtures fail outside a test
+        if not isinstance(test, unittest.TestCase):
+            result.outcomes[str(test)] = f"error: {err}"
+    return result.outcomes
