@@ -104,7 +104,7 @@ class MJCFVariator:
                 for changed, old in reversed(done):
                     changed.set_attributes(**old)
                 raise errors.VariationError(
-                    f"{element.path}: a variation gave an invalid value: {e}"
+                    f"MJCFVariator could not apply {sorted(values)}: {e}"
                 ) from e
             done.append((element, previous))
 
