@@ -5,8 +5,8 @@ initial poses and observation noise (dm_control's `composer.variation`, module f
     from composer.variation import distributions, noises, rotations, colors
     size = distributions.Uniform(0.05, 0.1)                  # shaped like the attribute
     variator = variation.MJCFVariator()
-    variator.bind_attributes(geom, size=size, rgba=colors.HsvVariation(
-        h=distributions.Uniform(0, 1), s=0.8, v=0.9))
+    hue = distributions.Uniform(0, 1, single_sample=True)     # one number, not one per rgba
+    variator.bind_attributes(geom, size=size, rgba=colors.HsvVariation(h=hue, s=0.8, v=0.9))
     variator.apply_variations(random_state)                  # in initialize_episode_mjcf
     mass = noises.Multiplicative(distributions.LogNormal(0, 0.1))   # PhysicsVariator
     observable.corruptor = noises.Additive(distributions.Normal(0, 0.01))

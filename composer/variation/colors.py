@@ -5,7 +5,9 @@
     GrayVariation(Uniform(0.2, 0.8))
 
 Channels are evaluated in order (r, g, b, alpha or h, s, v, alpha); the value is a numpy
-array [r, g, b, alpha].
+array [r, g, b, alpha]. Each channel gets the call's arguments: to vary an `rgba` that is
+already set, give a channel's distribution `single_sample=True`, or it draws four numbers
+(one per element of the initial value) for one channel.
 """
 
 from __future__ import annotations
