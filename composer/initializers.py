@@ -48,8 +48,9 @@ class PropPlacer(Initializer):
         ignore_collisions: bool = False,
         max_attempts_per_prop: int = 20,
     ) -> None:
-        """`position` and `quaternion` are constants or variations drawn per attempt
-        (None keeps the orientation). Raises PlacementError for no props or attempts < 1."""
+        """`position` and `quaternion` are constants or variations drawn per attempt, called
+        with the prop's pose before placing as initial value (None keeps the orientation).
+        Raises PlacementError for no props or attempts < 1."""
         if not props:
             raise errors.PlacementError("PropPlacer needs at least one prop")
         if max_attempts_per_prop < 1:
@@ -68,9 +69,14 @@ class PropPlacer(Initializer):
         geoms = [_geom_ids(physics, prop) for prop in self._props]
         for index, prop in enumerate(self._props):
             unplaced = np.concatenate([np.zeros(0, np.intp), *geoms[index + 1 :]])
+            # As dm_control: a variation gets the prop's pose before placing (a distribution
+            # draws in its shape, a noise adds to it) and the last attempt's.
+            initial_position, initial_quaternion = position, quaternion = prop.get_pose(physics)
             for _ in range(self._max_attempts):
-                position = evaluate(self._position, random_state=random_state)
-                quaternion = evaluate(self._quaternion, random_state=random_state)
+                position = evaluate(self._position, initial_position, position, random_state)
+                quaternion = evaluate(
+                    self._quaternion, initial_quaternion, quaternion, random_state
+                )
                 prop.set_pose(physics, position, quaternion)
                 physics.forward()
                 if self._ignore_collisions or not _penetrates(physics, geoms[index], unplaced):

@@ -3,6 +3,7 @@
     root = dm_control_wheel.rewritten()          # pytest.skip when the index is unreachable
     outcomes = dm_control_wheel.run_unittest_file("composer/entity_test.py")
     module = dm_control_wheel.import_module("dm_control.locomotion.walkers.ant")
+    archive = dm_control_wheel.wheel()           # the unchanged wheel file
 
 How dm_control's own code and tests are measured against ours: the wheel of
 `dm-control==VERSION` is downloaded from the package index (`pip download --no-deps`,
@@ -166,6 +167,14 @@ def _unpack(wheel: Path, target: Path) -> None:
         if rewritten != text:
             path.write_text(rewritten, encoding="utf-8")
     os.replace(staging, target)
+
+
+def wheel() -> Path:
+    """The downloaded wheel file itself, unchanged (dm_control's own implementation, e.g.
+    as the reference of a differential test). Skips like `rewritten`."""
+    cache = _cache()
+    with _locked(cache / "lock"):
+        return _download(cache)
 
 
 def rewritten() -> Path:

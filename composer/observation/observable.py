@@ -12,9 +12,10 @@ Options, all counted in physics steps from the episode's reset: a sample is take
 every `update_interval`-th step; it becomes visible `delay` steps later; the observation
 holds the `buffer_size` most recent visible samples (leading axis, oldest first, when
 `buffer_size > 1`), reduced over that axis by `aggregator` ('mean', 'max', 'min', 'sum' or
-a callable `f(buffer, axis=0)`). `corruptor(value, random_state)` changes each sample when
-it is taken, with the environment's random state. Before the episode the feature is taken
-to have held its reset value, so early observations repeat it.
+a callable `f(buffer, axis=0)`). `corruptor(value, random_state=...)` changes each sample
+when it is taken, with the environment's random state passed by keyword as dm_control
+passes it (so `variation.noises.Additive(...)` is seeded). Before the episode the feature
+is taken to have held its reset value, so early observations repeat it.
 
 Bounds: `bounds=(low, high)` (broadcast to the value's shape) give the observation space's
 Box; they are carried through buffers and aggregators ('sum' scales them by the buffer
@@ -53,7 +54,7 @@ class Observable:
         buffer_size: int = 1,
         delay: int = 0,
         aggregator: str | Callable[..., np.ndarray] | None = None,
-        corruptor: Callable[[np.ndarray, np.random.RandomState], np.ndarray] | None = None,
+        corruptor: Callable[..., np.ndarray] | None = None,  # (value, random_state=...)
         bounds: Bounds | None = None,
         aggregator_bounds: Bounds | None = None,
         enabled: bool = False,

@@ -140,7 +140,9 @@ class _Channel:
     def _record(self, step: int) -> None:
         value = self.read()
         if self.corruptor is not None:
-            value = self.corruptor(np.asarray(value, dtype=self.dtype), self.random_state)
+            value = self.corruptor(
+                np.asarray(value, dtype=self.dtype), random_state=self.random_state
+            )
         slot = self.size % self.ring_size
         self.ring[slot] = value
         self.times[slot] = step

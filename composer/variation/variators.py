@@ -1,5 +1,5 @@
-"""Variators: apply variations to MJCF attributes (before compile) or to physics fields
-(after compile), once per episode.
+"""Variators: apply variations to MJCF attributes (before compiling) or to physics fields
+(after compiling), once per episode.
 
     class Ball(composer.Entity):
         def _build(self):
@@ -16,102 +16,170 @@
         def initialize_episode(self, physics, random_state):
             self._physics_variator.apply_variations(physics, random_state)   # no recompile
 
-Each variation is called with the attribute's value when it was bound (MJCF) or when the
-model was compiled (physics) as `initial_value`, and its value now as `current_value`.
+A variation is a fixed value or any callable `f(initial_value, current_value,
+random_state)`: `initial_value` is the attribute's value when bound (MJCF), or the field's
+value in the compiled model when first applied (physics), and `current_value` its value
+now. Binding an attribute again replaces its variation; binding it to None forgets it.
+Each element's attributes are evaluated in the order bound, elements in the order first
+bound, so a seeded random state gives dm_control's values.
 """
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import numpy as np
 
 import mjcf
 from composer import errors
-from composer.variation.distributions import evaluate
+from composer.variation.variation_values import evaluate
 
 
-def _copy(value: Any) -> Any:
-    return value.copy() if isinstance(value, np.ndarray) else value
+class VariationAttributeError(errors.VariationError, AttributeError):
+    """A variator was bound to an attribute, or a physics field, its element does not
+    have."""
+
+
+class _Bound:
+    """A bound variation and the initial value it is given (None: not read yet)."""
+
+    __slots__ = ("initial_value", "variation")
+
+    def __init__(self, variation: Any, initial_value: Any = None) -> None:
+        self.variation = variation
+        self.initial_value = initial_value
+
+
+def _bind(
+    bound: dict[mjcf.Element, dict[str, _Bound]], element: mjcf.Element, name: str, variation: Any
+) -> bool:
+    """Forget `name` for a None variation that is bound; True when it is to be bound."""
+    if variation is None and name in bound.get(element, {}):
+        del bound[element][name]
+        return False
+    return True
 
 
 class MJCFVariator:
-    """Varies attributes of MJCF elements; changing the model makes the environment
-    recompile it at the next reset."""
+    """Varies attributes of MJCF elements; a changed model is recompiled by the environment
+    at the next reset."""
 
     def __init__(self) -> None:
         """An empty variator."""
-        self._bound: list[tuple[mjcf.Element, str, Any, Any]] = []
+        self._variations: dict[mjcf.Element, dict[str, _Bound]] = {}
 
     def bind_attributes(self, element: mjcf.Element, **variations: Any) -> None:
-        """Vary `element.<attribute>` by each variation; raises VariationError for an
-        attribute the element does not have."""
-        for attribute, variation in variations.items():
+        """Vary `element.<attribute>` by each variation (a value or callable); its current
+        value is the initial value. Raises VariationAttributeError for an attribute the
+        element does not have (nothing is bound then)."""
+        initial = {}
+        for name in variations:
             try:
-                initial = getattr(element, attribute)
-            except mjcf.Error as e:
-                raise errors.VariationError(
-                    f"{element.path}: cannot vary {attribute!r}: {e}"
-                ) from e
-            self._bound.append((element, attribute, variation, _copy(initial)))
+                initial[name] = copy.copy(getattr(element, name))
+            except AttributeError as e:
+                raise VariationAttributeError(f"{element.path}: cannot vary {name!r}: {e}") from e
+        for name, variation in variations.items():
+            if _bind(self._variations, element, name, variation):
+                self._variations.setdefault(element, {})[name] = _Bound(variation, initial[name])
 
-    def apply_variations(self, random_state: np.random.RandomState) -> None:
+    def apply_variations(self, random_state: Any) -> None:
         """Set every bound attribute to a new value. Raises VariationError naming the
-        element and attribute when the value is invalid for it."""
-        for element, attribute, variation, initial in self._bound:
-            current = getattr(element, attribute)
-            value = evaluate(variation, initial, current, random_state)
+        element and attribute when a value is invalid for it; then no attribute changes."""
+        updates = []
+        for element, attributes in self._variations.items():
+            values = {}
+            for name, bound in attributes.items():
+                current = getattr(element, name)
+                if bound.initial_value is None:
+                    bound.initial_value = copy.copy(current)
+                values[name] = evaluate(bound.variation, bound.initial_value, current, random_state)
+            updates.append((element, values))
+        done: list[tuple[mjcf.Element, dict[str, Any]]] = []
+        for element, values in updates:
+            previous = {name: copy.copy(getattr(element, name)) for name in values}
             try:
-                setattr(element, attribute, value)
+                element.set_attributes(**values)
             except mjcf.Error as e:
+                for changed, old in reversed(done):
+                    changed.set_attributes(**old)
                 raise errors.VariationError(
-                    f"{element.path}: variation of {attribute!r} gave an invalid value: {e}"
+                    f"MJCFVariator could not apply {sorted(values)}: {e}"
                 ) from e
+            done.append((element, previous))
 
     def clear(self) -> None:
         """Forget every bound attribute (their values stay as last set)."""
-        self._bound.clear()
+        self._variations.clear()
+
+    def reset_initial_values(self) -> None:
+        """Take each attribute's value at the next `apply_variations` as its initial
+        value."""
+        for attributes in self._variations.values():
+            for bound in attributes.values():
+                bound.initial_value = None
 
 
 class PhysicsVariator:
     """Varies simulation fields of bound elements (`physics.bind(element).<field>`), e.g.
-    `mass`, `friction`, `rgba`, `damping`; no recompile needed."""
+    `mass`, `friction`, `rgba`, `damping`; no recompile needed. The initial value of a
+    field is its value in the compiled model when first applied, read again after the
+    model is recompiled (unlike dm_control, which keeps the first model's)."""
 
     def __init__(self) -> None:
         """An empty variator."""
-        self._bound: list[tuple[mjcf.Element, str, Any]] = []
+        self._variations: dict[mjcf.Element, dict[str, _Bound]] = {}
         self._model: Any = None
-        self._initial: list[Any] = []
 
     def bind_attributes(self, element: mjcf.Element, **variations: Any) -> None:
-        """Vary field `<name>` of `element`'s binding by each variation."""
-        for field, variation in variations.items():
-            self._bound.append((element, field, variation))
+        """Vary field `<name>` of `element`'s binding by each variation (a value or
+        callable); the field is checked when first applied."""
+        for name, variation in variations.items():
+            if _bind(self._variations, element, name, variation):
+                self._variations.setdefault(element, {})[name] = _Bound(variation)
 
-    def apply_variations(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Write a new value to every bound field. Raises VariationError naming the element
-        and field when it cannot be bound or written."""
+    def apply_variations(self, physics: mjcf.Physics, random_state: Any) -> None:
+        """Write a new value to every bound field. Raises VariationAttributeError for a
+        field the element's binding does not have, VariationError for a value it cannot
+        take (then no field changes)."""
         if physics.model is not self._model:  # compiled anew: its values are the initial ones
-            self._initial = []
+            self.reset_initial_values()
             self._model = physics.model
-        for element, field, _ in self._bound[len(self._initial) :]:  # bound since
-            self._initial.append(_read(physics, element, field))
-        for (element, field, variation), initial in zip(self._bound, self._initial, strict=True):
-            current = _read(physics, element, field)
-            value = evaluate(variation, initial, current, random_state)
+        updates = []
+        for element, fields in self._variations.items():
+            binding = physics.bind(element)
+            for name, bound in fields.items():
+                current = _read(binding, element, name)
+                if bound.initial_value is None:
+                    bound.initial_value = current.copy()
+                value = evaluate(bound.variation, bound.initial_value, current, random_state)
+                updates.append((element, binding, name, value, current))
+        for done, (element, binding, name, value, _) in enumerate(updates):
             try:
-                setattr(physics.bind(element), field, value)
+                setattr(binding, name, value)
             except mjcf.Error as e:
+                for _, written, field, _, previous in reversed(updates[:done]):
+                    setattr(written, field, previous)
                 raise errors.VariationError(
-                    f"{element.path}: cannot set physics field {field!r} to {value!r}: {e}"
+                    f"{element.path}: cannot set physics field {name!r} to {value!r}: {e}"
                 ) from e
 
+    def clear(self) -> None:
+        """Forget every bound field (their values stay as last set)."""
+        self._variations.clear()
 
-def _read(physics: mjcf.Physics, element: mjcf.Element, field: str) -> np.ndarray:
-    """A copy of `physics.bind(element).<field>`; raises VariationError naming both."""
+    def reset_initial_values(self) -> None:
+        """Take each field's value at the next `apply_variations` as its initial value."""
+        for fields in self._variations.values():
+            for bound in fields.values():
+                bound.initial_value = None
+
+
+def _read(binding: Any, element: mjcf.Element, name: str) -> np.ndarray:
+    """A copy of `binding.<name>`; raises VariationAttributeError naming the element."""
     try:
-        return np.array(getattr(physics.bind(element), field))
-    except mjcf.Error as e:
-        raise errors.VariationError(
-            f"{element.path}: cannot vary physics field {field!r}: {e}"
+        return np.array(getattr(binding, name))
+    except AttributeError as e:
+        raise VariationAttributeError(
+            f"{element.path}: cannot vary physics field {name!r}: {e}"
         ) from e

@@ -93,7 +93,10 @@ class _Channel:
         if self.corruptor is not None:
             corrupt, dtype = self.corruptor, self.dtype
             pairs = zip(values, states, strict=True)
-            samples = [corrupt(np.asarray(value, dtype=dtype), state) for value, state in pairs]
+            samples = [
+                corrupt(np.asarray(value, dtype=dtype), random_state=state)
+                for value, state in pairs
+            ]
         slot = self.size[ids] % self.ring_size
         self.ring[ids, slot] = samples
         self.times[ids, slot] = steps

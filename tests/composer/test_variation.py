@@ -21,7 +21,7 @@ def rs(seed: int = 0) -> np.random.RandomState:
         (variation.Uniform(-1, 2), lambda r, size: r.uniform(-1, 2, size)),
         (variation.Normal(3, 0.5), lambda r, size: r.normal(3, 0.5, size)),
         (variation.LogNormal(0, 0.2), lambda r, size: r.lognormal(0, 0.2, size)),
-        (variation.Bernoulli(0.3), lambda r, size: r.uniform(size=size or ()) < 0.3),
+        (variation.Bernoulli(0.3), lambda r, size: r.binomial(1, 0.3, size)),
     ],
 )
 def test_distributions_draw_from_the_random_state_in_the_initial_value_shape(distribution, draw):

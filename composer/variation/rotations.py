@@ -1,0 +1,162 @@
+"""Rotations: variations of quaternions ([w, x, y, z], MuJoCo's order).
+
+    UniformQuaternion()                                               # any orientation
+    QuaternionFromAxisAngle(axis=(0, 0, 1), angle=Uniform(-np.pi, np.pi, single_sample=True))
+    QuaternionPreMultiply(QuaternionFromAxisAngle((1, 0, 0), 0.1))   # tilt the initial quat
+    QuaternionRotate(quat=UniformQuaternion(), vec=(1, 0, 0))        # a rotated vector
+
+`single_sample=True` on a scalar distribution inside matters when the varied attribute is
+a quaternion: without it the distribution draws one value per element of the initial
+value (four angles instead of one).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from composer.variation import base
+from composer.variation.variation_values import evaluate
+
+IDENTITY_QUATERNION = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+def _multiply(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """The Hamilton product first * second of quaternions (..., 4)."""
+    w1, x1, y1, z1 = np.moveaxis(np.asarray(first, dtype=np.float64), -1, 0)
+    w2, x2, y2, z2 = np.moveaxis(np.asarray(second, dtype=np.float64), -1, 0)
+    return np.stack(
+        [
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ],
+        axis=-1,
+    )
+
+
+def _rotate(quaternion: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    """`vector` (3,) rotated by `quaternion` (4,): the vector part of q (0, v) q*, which
+    for a quaternion that is not unit also scales by its squared norm."""
+    pure = np.concatenate([[0.0], np.asarray(vector, dtype=np.float64)])
+    conjugate = np.asarray(quaternion, dtype=np.float64) * [1.0, -1.0, -1.0, -1.0]
+    return _multiply(_multiply(quaternion, pure), conjugate)[1:]
+
+
+def _from_axis_angle(axis_angle: np.ndarray) -> np.ndarray:
+    """The unit quaternion rotating by |axis_angle| about its direction (identity for a
+    zero vector)."""
+    axis_angle = np.asarray(axis_angle, dtype=np.float64)
+    angle = np.linalg.norm(axis_angle, axis=-1, keepdims=True)
+    zero = angle <= 0.0
+    axis = np.where(zero, [1.0, 0.0, 0.0], axis_angle / np.where(zero, 1.0, angle))
+    half = np.where(zero, 0.0, angle) / 2
+    return np.concatenate([np.cos(half), axis * np.sin(half)], axis=-1)
+
+
+class UniformQuaternion(base.Variation):
+    """Unit quaternions uniformly distributed over rotations (one per call)."""
+
+    def __call__(
+        self, initial_value: Any = None, current_value: Any = None, random_state: Any = None
+    ) -> Any:
+        """A random unit quaternion: three uniform draws (Shoemake's method)."""
+        u1, u2, u3 = base.random_state_or_global(random_state).uniform(
+            [0.0] * 3, [1.0, 2.0 * np.pi, 2.0 * np.pi]
+        )
+        far, near = np.sqrt(1.0 - u1), np.sqrt(u1)
+        return np.array([far * np.sin(u2), far * np.cos(u2), near * np.sin(u3), near * np.cos(u3)])
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, UniformQuaternion)
+
+    def __repr__(self) -> str:
+        return "UniformQuaternion()"
+
+
+class QuaternionFromAxisAngle(base.Variation):
+    """The quaternion rotating by `angle` (radians) about `axis`; either may vary."""
+
+    def __init__(self, axis: Any, angle: Any) -> None:
+        """Rotate about `axis` (a 3-vector, taken as given: pass a unit one) by `angle`."""
+        self._axis = axis
+        self._angle = angle
+
+    def __call__(
+        self, initial_value: Any = None, current_value: Any = None, random_state: Any = None
+    ) -> Any:
+        """The quaternion of axis * angle (axis first, then angle, evaluated)."""
+        axis = evaluate(self._axis, initial_value, current_value, random_state)
+        angle = evaluate(self._angle, initial_value, current_value, random_state)
+        return _from_axis_angle(np.asarray(axis) * angle)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, QuaternionFromAxisAngle):
+            return False
+        return base.equal(self._axis, other._axis) and base.equal(self._angle, other._angle)
+
+    def __repr__(self) -> str:
+        return f"QuaternionFromAxisAngle(axis={self._axis}, angle={self._angle})"
+
+
+class QuaternionPreMultiply(base.Variation):
+    """`quat * q` for the initial quaternion q (the current one when `cumulative`)."""
+
+    def __init__(self, quat: Any, cumulative: bool = False) -> None:
+        """Pre-multiply by `quat`, a variation or constant quaternion."""
+        self._quat = quat
+        self._cumulative = cumulative
+
+    def __call__(
+        self, initial_value: Any = None, current_value: Any = None, random_state: Any = None
+    ) -> Any:
+        """The product of a new `quat` and the base quaternion."""
+        quat = evaluate(self._quat, initial_value, current_value, random_state)
+        base_quat = current_value if self._cumulative else initial_value
+        return _multiply(np.asarray(quat), np.asarray(base_quat))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, QuaternionPreMultiply):
+            return False
+        return base.equal(self._quat, other._quat) and self._cumulative == other._cumulative
+
+    def __repr__(self) -> str:
+        return f"QuaternionPreMultiply(quat={self._quat}, cumulative={self._cumulative})"
+
+
+class QuaternionRotate(base.Variation):
+    """A vector rotated by `quat`: `vec` (a variation or constant) when given, else the
+    initial value (the current one when `cumulative`)."""
+
+    def __init__(self, quat: Any, vec: Any = None, cumulative: bool = False) -> None:
+        """Rotate `vec`, or the varied attribute, by `quat`."""
+        self._quat = quat
+        self._vec = vec
+        self._cumulative = cumulative
+
+    def __call__(
+        self, initial_value: Any = None, current_value: Any = None, random_state: Any = None
+    ) -> Any:
+        """The rotated 3-vector (the quaternion evaluated first, then the vector)."""
+        quat = evaluate(self._quat, initial_value, current_value, random_state)
+        if self._vec is None:
+            vec = current_value if self._cumulative else initial_value
+        else:
+            vec = evaluate(self._vec, initial_value, current_value, random_state)
+        return _rotate(np.asarray(quat), np.asarray(vec))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, QuaternionRotate):
+            return False
+        return (
+            base.equal(self._quat, other._quat)
+            and base.equal(self._vec, other._vec)
+            and self._cumulative == other._cumulative
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"QuaternionRotate(quat={self._quat}, vec={self._vec}, cumulative={self._cumulative})"
+        )
