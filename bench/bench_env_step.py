@@ -28,6 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import composer
+from arenas import Floor
 
 ROUNDS = 15
 STEPS = 300
@@ -37,7 +38,7 @@ RESETS = 2000
 def make_env(path: str, substeps: int) -> composer.Environment:
     """The model at `path` in an arena, default observables, NullTask."""
     robot = composer.Entity.from_path(path)
-    arena = composer.Arena()
+    arena = Floor()
     setting = robot.mjcf_model.compiler.inertiafromgeom  # compiler settings must agree
     if setting is not None:
         arena.mjcf_model.compiler.inertiafromgeom = setting

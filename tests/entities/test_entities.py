@@ -7,12 +7,13 @@ import pytest
 
 import composer
 import entities
+from arenas import Floor
 from entities import features
 
 
 def serve(*parts: composer.Entity, enable: bool = True) -> composer.Environment:
     """An environment of the parts attached to a floor, their observables enabled."""
-    arena = composer.Arena(floor_size=(3, 3))
+    arena = Floor(size=(3, 3))
     for part in parts:
         arena.attach(part)
         if enable:
