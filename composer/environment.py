@@ -283,8 +283,10 @@ class Environment(gymnasium.Env):
             mjcf_hooks = hooks.overriders(everyone, "initialize_episode_mjcf")
             for hook in (*mjcf_hooks, *self._extra_hooks["initialize_episode_mjcf"]):
                 hook(random_state)
+            # True and False are dm_control's: a compile every episode, or at the first
+            # reset only (their block runs once); None: when the model changed.
             changed = task.root_entity.mjcf_model.version != self._version
-            if changed or self._recompile_every_episode:
+            if changed or self._recompile_every_episode is not None:
                 self._recompile()
             self._mjcf_compiled_for_episode = True
         if self._fixed_initial_state:

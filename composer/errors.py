@@ -68,6 +68,10 @@ class VariationError(Error):
     """A variation or variator was given values it cannot use."""
 
 
+class InitializerError(Error, ValueError):
+    """An initializer was given arguments it cannot use (no props, attempts below 1)."""
+
+
 class PlacementError(EpisodeInitializationError):
     """An initializer found no valid pose for a prop within its attempts."""
 

@@ -73,16 +73,16 @@ class PropPlacer(Initializer):
         raise_exception_on_settle_failure: bool = False,
     ) -> None:
         """`position` and `quaternion` are constants or variations drawn per attempt
-        (None keeps that part of the pose). Raises PlacementError for no props, or
-        attempts below 1."""
+        (None keeps that part of the pose). Raises InitializerError (a ValueError) for no
+        props, or attempts below 1."""
         if not props:
-            raise errors.PlacementError("PropPlacer needs at least one prop")
+            raise errors.InitializerError("PropPlacer needs at least one prop")
         for label, value in (
             ("max_attempts_per_prop", max_attempts_per_prop),
             ("max_settle_physics_attempts", max_settle_physics_attempts),
         ):
             if value < 1:
-                raise errors.PlacementError(f"{label} must be >= 1, got {value!r}")
+                raise errors.InitializerError(f"{label} must be >= 1, got {value!r}")
         self._props = list(props)
         self._position = position
         self._quaternion = quaternion

@@ -57,7 +57,7 @@ def test_no_room_raises_naming_the_prop_after_the_attempts():
 
 def test_bad_arguments_are_refused():
     blocks, _ = scene(1)
-    with pytest.raises(composer.PlacementError, match="at least one prop"):
+    with pytest.raises(composer.InitializerError, match="at least one prop"):
         composer.PropPlacer([], position=[0, 0, 0])
-    with pytest.raises(composer.PlacementError, match="max_attempts_per_prop"):
+    with pytest.raises(composer.InitializerError, match="max_attempts_per_prop"):
         composer.PropPlacer(blocks, position=[0, 0, 0], max_attempts_per_prop=0)
