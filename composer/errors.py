@@ -64,7 +64,7 @@ class EpisodeError(Error):
     episode ended, or with an action of the wrong shape."""
 
 
-class VariationError(Error):
+class VariationError(Error, ValueError):
     """A variation or variator was given values it cannot use."""
 
 
