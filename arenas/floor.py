@@ -25,7 +25,7 @@ class Floor(composer.Arena):
     the origin from `camera_distance` m; the free camera's `azimuth`/`elevation` in
     degrees."""
 
-    def _build(
+    def _build(  # type: ignore[override]  # its own world: no xml_path
         self,
         name: str = "floor",
         size: Sequence[float] = (8.0, 8.0),

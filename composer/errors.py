@@ -17,7 +17,7 @@ class Error(Exception):
     """Base class of every error composer raises."""
 
 
-class _PlainMessage:
+class _PlainMessage(Exception):
     """Shows the message as given (KeyError alone would show its repr)."""
 
     def __str__(self) -> str:

@@ -152,7 +152,7 @@ class FixedFrame:
     def world_xmat(self) -> np.ndarray:
         """The frame's orientation in the world, (3, 3): its parent body's, then its own."""
         parent = self._frame.parent
-        if parent.tag == "frame":
+        if parent is None or parent.tag == "frame":
             raise errors.EntityError(
                 f"{self._frame.path}: a frame inside a <frame> has no world orientation here"
             )

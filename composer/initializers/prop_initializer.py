@@ -217,8 +217,9 @@ class _ContactSwitch:
         geoms = entity.mjcf_model.find_all("geom")
         self._physics = physics
         self._binding = physics.bind(geoms) if geoms else None
-        self._ids = np.atleast_1d(self._binding.element_id) if geoms else np.zeros(0, int)
+        self._ids = np.zeros(0, np.intp)
         if self._binding is not None:
+            self._ids = np.atleast_1d(self._binding.element_id)
             self._contype = np.array(self._binding.contype)
             self._conaffinity = np.array(self._binding.conaffinity)
         self._off = False

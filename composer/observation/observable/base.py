@@ -360,10 +360,15 @@ class GaussianNoise:
         return np.full_like(low, -np.inf), np.full_like(high, np.inf)
 
 
-_IMAGE_KINDS = {
+_IMAGE_KINDS: dict[str, tuple[int, type]] = {
     "rgb": (3, np.uint8),
     "depth": (1, np.float32),
     "segmentation": (2, np.int32),
+}
+_IMAGE_BOUNDS: dict[str, tuple[float, float]] = {
+    "rgb": (0, 255),
+    "depth": (0.0, np.inf),
+    "segmentation": (-1, int(np.iinfo(np.int32).max)),
 }
 
 
@@ -378,12 +383,7 @@ def image_spec(kind: str, height: int, width: int) -> Any:
             "array_spec is a dm_env spec: install dm-env (pip install 'mujoco-composer[dm]')"
         ) from None
     channels, dtype = _IMAGE_KINDS[kind]
-    if kind == "depth":
-        low, high = 0.0, np.inf
-    elif kind == "segmentation":
-        low, high = -1, np.iinfo(dtype).max
-    else:
-        low, high = np.iinfo(dtype).min, np.iinfo(dtype).max
+    low, high = _IMAGE_BOUNDS[kind]
     return specs.BoundedArray(
         shape=(height, width, channels), dtype=dtype, minimum=low, maximum=high
     )
