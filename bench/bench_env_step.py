@@ -4,7 +4,7 @@ cost of a reset that does not change the model.
     python bench/bench_env_step.py               # gymnasium's humanoid, 5 substeps
     python bench/bench_env_step.py ant.xml 5     # any MJCF file, substeps
 
-The scene is the model loaded with `composer.Entity.from_path` in a `composer.Arena`, with
+The scene is the model loaded with `composer.Entity.from_path` in an `arenas.Floor`, with
 its default observables (joint positions and velocities; actuator activations when it has
 any, sensors when it has any). The raw loop steps the same compiled MjModel on its own
 MjData: write ctrl, `mj_step(model, data, substeps)`, copy the same observation rows. Both
