@@ -125,8 +125,10 @@ def test_a_fixed_prop_has_no_free_joint_and_is_posed_by_its_frame():
         pillar.set_velocity(physics, [0, 0, 1])
     before = np.array(physics.bind(pillar.geom).xpos)
     position, _ = pillar.get_pose(physics)
-    pillar.set_pose(physics, position=position + [0, 0, 1])  # its frame moves, as dm_control's
-    np.testing.assert_allclose(physics.bind(pillar.geom).xpos, before + [0, 0, 1])
+    pillar.set_pose(
+        physics, position=np.add(position, [0, 0, 1])
+    )  # its frame moves, as dm_control's
+    np.testing.assert_allclose(physics.bind(pillar.geom).xpos, np.add(before, [0, 0, 1]))
     np.testing.assert_allclose(physics.bind(pillar.geom).rgba, [1, 0, 0, 1])
 
 
