@@ -8,8 +8,9 @@
     terrain = arenas.RoughTerrain(seed=7, max_height=0.2)
 
 Every arena is a `composer.Arena` (an Entity at the root of a scene): attach entities to
-it, or `add_free_entity` for things that move freely. `Floor` is the base of the others:
-a checkered floor, a skybox, lights and an `overview` camera.
+it, or `add_free_entity` for things that move freely. `Floor` is the base of the others and
+builds its own world (where `composer.Arena` is dm_control's empty one): MuJoCo's default
+physics options, a checkered floor, a skybox, lights and an `overview` camera.
 """
 
 from arenas.corridor import Corridor

@@ -4,8 +4,12 @@
     arena.attach(robot)
     arena.add_free_entity(ball)
 
-`composer.Arena` already makes the floor, skybox and top light; `Floor` adds a fill light,
-a fixed overview camera `overview`, and lets the free camera's default view be set.
+The floor every shipped arena stands on. It builds its own world rather than
+`composer.Arena`'s dm_control settings: MuJoCo's default physics options (pyramidal
+friction cones, no noslip iterations) and compiler settings, which the shipped tasks are
+tuned for, a headlight, a checkered floor (or a plain `floor_rgba` one) and a gradient
+skybox, a top light and a fill light, a fixed overview camera `overview`, and the free
+camera's default view.
 """
 
 from __future__ import annotations
@@ -13,13 +17,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import composer
+import mjcf
 
 
 class Floor(composer.Arena):
-    """`composer.Arena` plus a fill light and the camera `overview` looking at the origin
-    from `camera_distance` m, and the free camera's `azimuth`/`elevation` in degrees."""
+    """A floor of half sizes `size`, lights, a skybox, and the camera `overview` looking at
+    the origin from `camera_distance` m; the free camera's `azimuth`/`elevation` in
+    degrees."""
 
-    def _build(
+    def _build(  # type: ignore[override]  # its own world: no xml_path
         self,
         name: str = "floor",
         size: Sequence[float] = (8.0, 8.0),
@@ -30,8 +36,29 @@ class Floor(composer.Arena):
     ) -> None:
         """Make the arena named `name` with a floor of half sizes `size` (m); a plain
         `floor_rgba` replaces the checker."""
-        super()._build(name=name, floor_size=size, floor_rgba=floor_rgba)
-        root = self.mjcf_model
+        root = self._mjcf_root = mjcf.RootElement(model=name)
+        root.visual.headlight.ambient = [0.4, 0.4, 0.4]
+        root.visual.headlight.diffuse = [0.6, 0.6, 0.6]
+        root.asset.add(
+            "texture", name="skybox", type="skybox", builtin="gradient",
+            rgb1=[0.4, 0.6, 0.8], rgb2=[0.0, 0.0, 0.0], width=256, height=256,
+        )  # fmt: skip
+        self.floor = root.worldbody.add(
+            "geom", name="floor", type="plane", size=[*size, 0.1], condim=3
+        )
+        if floor_rgba is None:
+            root.asset.add(
+                "texture", name="grid", type="2d", builtin="checker", width=256, height=256,
+                rgb1=[0.2, 0.3, 0.4], rgb2=[0.1, 0.2, 0.3], mark="edge", markrgb=[0.8] * 3,
+            )  # fmt: skip
+            grid = root.asset.add(
+                "material", name="grid", texture="grid", texrepeat=[1, 1], texuniform=True,
+                reflectance=0.2,
+            )  # fmt: skip
+            self.floor.material = grid
+        else:
+            self.floor.rgba = floor_rgba
+        root.worldbody.add("light", name="top", pos=[0, 0, 6], dir=[0, 0, -1], directional=True)
         global_ = getattr(root.visual, "global")
         global_.azimuth = azimuth
         global_.elevation = elevation

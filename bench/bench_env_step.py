@@ -4,7 +4,7 @@ cost of a reset that does not change the model.
     python bench/bench_env_step.py               # gymnasium's humanoid, 5 substeps
     python bench/bench_env_step.py ant.xml 5     # any MJCF file, substeps
 
-The scene is the model loaded with `composer.Entity.from_path` in a `composer.Arena`, with
+The scene is the model loaded with `composer.Entity.from_path` in an `arenas.Floor`, with
 its default observables (joint positions and velocities; actuator activations when it has
 any, sensors when it has any). The raw loop steps the same compiled MjModel on its own
 MjData: write ctrl, `mj_step(model, data, substeps)`, copy the same observation rows. Both
@@ -28,6 +28,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import composer
+from arenas import Floor
 
 ROUNDS = 15
 STEPS = 300
@@ -37,7 +38,7 @@ RESETS = 2000
 def make_env(path: str, substeps: int) -> composer.Environment:
     """The model at `path` in an arena, default observables, NullTask."""
     robot = composer.Entity.from_path(path)
-    arena = composer.Arena()
+    arena = Floor()
     setting = robot.mjcf_model.compiler.inertiafromgeom  # compiler settings must agree
     if setting is not None:
         arena.mjcf_model.compiler.inertiafromgeom = setting

@@ -1,7 +1,7 @@
 """composer: entities, arenas and tasks composed into a Gymnasium environment on `mjcf`.
 
-    import composer
-    arena = composer.Arena()
+    import arenas, composer
+    arena = arenas.Floor()                                 # or composer.Arena(): empty
     robot = composer.Entity.from_path('humanoid.xml')      # default observables enabled
     arena.add_free_entity(robot)
     env = composer.Environment(composer.NullTask(arena), time_limit=10.0)
@@ -16,33 +16,67 @@ promised). Observables, variations and initializers live in `composer.observatio
 environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
 written once in batched form run in both, a single environment being a batch of one
 (`composer.batched`, `composer.BatchOfOne`). Every error is a `composer.Error`.
+
+dm_control's Composer code runs with its imports changed (`from dm_control import
+composer` -> `import composer`): the same names and module paths (`composer.define`,
+`composer.observation.observable.base`, `composer.initializers.prop_initializer` ...);
+docs/dm_control_composer.md says what differs on purpose.
 """
 
-from composer import observation, variation, vector
+from composer import (
+    arena,
+    constants,
+    define,
+    entity,
+    environment,
+    initializer,
+    initializers,
+    observation,
+    robot,
+    task,
+    variation,
+    vector,
+)
 from composer.arena import Arena
 from composer.batch_of_one import BatchOfOne
 from composer.batched import BatchedTask, BatchPhysics
-from composer.entity import Entity, ModelEntity, Observables, observable
-from composer.environment import Environment
+from composer.constants import SENSOR_SITES_GROUP
+from composer.define import cached_property, observable
+from composer.entity import (
+    Entity,
+    FreePropObservableMixin,
+    ModelEntity,
+    ModelWrapperEntity,
+    Observables,
+)
+from composer.environment import Environment, ObservationPadding
 from composer.errors import (
     BatchError,
     DivergenceWarning,
     EntityError,
     EpisodeError,
+    EpisodeInitializationError,
     Error,
+    InitializerError,
     ObservableError,
     ObservableNotFoundError,
+    ObservableOptionError,
     PlacementError,
+    PoseError,
     TaskError,
+    UnknownAggregatorError,
     VariationError,
 )
 from composer.hooks import HOOK_NAMES
-from composer.initializers import Initializer, PropPlacer
+from composer.initializer import Initializer
+from composer.initializers import PropPlacer
+from composer.robot import Robot
 from composer.task import NullTask, Task
 from composer.vector import VectorEnvironment
 
 __all__ = [
     "HOOK_NAMES",
+    "SENSOR_SITES_GROUP",
     "Arena",
     "BatchError",
     "BatchOfOne",
@@ -53,21 +87,40 @@ __all__ = [
     "EntityError",
     "Environment",
     "EpisodeError",
+    "EpisodeInitializationError",
     "Error",
+    "FreePropObservableMixin",
     "Initializer",
+    "InitializerError",
     "ModelEntity",
+    "ModelWrapperEntity",
     "NullTask",
     "ObservableError",
     "ObservableNotFoundError",
+    "ObservableOptionError",
     "Observables",
+    "ObservationPadding",
     "PlacementError",
+    "PoseError",
     "PropPlacer",
+    "Robot",
     "Task",
     "TaskError",
+    "UnknownAggregatorError",
     "VariationError",
     "VectorEnvironment",
+    "arena",
+    "cached_property",
+    "constants",
+    "define",
+    "entity",
+    "environment",
+    "initializer",
+    "initializers",
     "observable",
     "observation",
+    "robot",
+    "task",
     "variation",
     "vector",
 ]

@@ -1,64 +1,72 @@
-"""Arenas: the entity at the root of a scene, with a floor, lights and a sky.
+"""Arenas: the entity at the root of a scene, holding the scene's global settings.
 
-    arena = composer.Arena(floor_size=(4, 4))
+    arena = composer.Arena()                            # an empty world, as in dm_control
+    arena.mjcf_model.worldbody.add('geom', type='plane', size=[4, 4, 0.1])
     arena.attach(robot)                                 # fixed at the world origin
-    arena.attach(robot, attach_site=arena.mjcf_model.find('site', 'mount'))
     frame = arena.add_free_entity(ball)                 # a frame with a free joint
     frame.pos = [0, 0, 1]                               # its initial position (qpos0)
-    arena.add_free_entity(composer.Entity.from_path('ant.xml'))   # floats already
+    arena = composer.Arena(xml_path='room.xml')         # a model of your own instead
+
+`composer.Arena` is dm_control's base arena: no floor, no lights, and the global settings
+dm_control's Composer defines (`GLOBAL_SETTINGS`: radians, xyz euler sequence, mass and
+inertia bounds, elliptic friction cones with five noslip iterations, the 2 ms timestep,
+the headlight and the sizes of drawn decorations), so that dm_control arena subclasses
+(which add their floors and lights in `_build` after `super()._build(name=...)`) build the
+world they build there. The shipped arenas (`arenas.Floor` and those built on it) make
+their own worlds, with a checkered floor, a skybox and lights.
 
 A model that floats already (a standalone robot file whose top body has a free joint,
 such as gymnasium's ant or humanoid) keeps its own free joint when added as a free
 entity, and its world body (a ground plane of its own, say) stays static.
-
-An arena is an `Entity`: subclasses call `super()._build(...)` and add walls, tables or
-terrain to `self.mjcf_model`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import os
+from typing import Any
 
 import mjcf
 import mjcf.defaults
 from composer.entity import Entity
 from composer.errors import EntityError
 
+# dm_control's base arena settings: {section path: {attribute: value}}.
+GLOBAL_SETTINGS: dict[str, dict[str, Any]] = {
+    "compiler": {"angle": "radian", "eulerseq": "xyz", "boundmass": 1e-5, "boundinertia": 1e-11},
+    "option": {"cone": "elliptic", "noslip_iterations": 5, "noslip_tolerance": 0.0,
+               "timestep": 0.002},
+    "visual.map": {"znear": 0.01},
+    "visual.headlight": {"diffuse": [0.6] * 3, "ambient": [0.3] * 3, "specular": [0.0] * 3},
+    "visual.scale": {"forcewidth": 0.01, "contactwidth": 0.06, "contactheight": 0.01,
+                     "jointwidth": 0.01, "framewidth": 0.01, "framelength": 0.3},
+}  # fmt: skip
+
+
+def _with_global_settings(name: str) -> mjcf.RootElement:
+    root = mjcf.RootElement(model=name)
+    for path, attributes in GLOBAL_SETTINGS.items():
+        section: Any = root
+        for part in path.split("."):
+            section = getattr(section, part)
+        section.set_attributes(**attributes)
+    return root
+
 
 class Arena(Entity):
-    """A flat checkered floor, a gradient skybox, a headlight and a top light."""
+    """An empty world with dm_control's global settings (see the module docstring)."""
 
     def _build(
-        self,
-        name: str = "arena",
-        floor_size: Sequence[float] = (8.0, 8.0),
-        floor_rgba: Sequence[float] | None = None,
+        self, name: str | None = None, xml_path: str | os.PathLike[str] | None = None
     ) -> None:
-        """Make the arena model named `name` with a floor plane of half sizes `floor_size`
-        (a plain `floor_rgba` color instead of the checker if given)."""
-        root = self._mjcf_root = mjcf.RootElement(model=name)
-        root.visual.headlight.ambient = [0.4, 0.4, 0.4]
-        root.visual.headlight.diffuse = [0.6, 0.6, 0.6]
-        root.asset.add(
-            "texture", name="skybox", type="skybox", builtin="gradient",
-            rgb1=[0.4, 0.6, 0.8], rgb2=[0.0, 0.0, 0.0], width=256, height=256,
-        )  # fmt: skip
-        self.floor = root.worldbody.add(
-            "geom", name="floor", type="plane", size=[*floor_size, 0.1], condim=3
-        )
-        if floor_rgba is None:
-            root.asset.add(
-                "texture", name="grid", type="2d", builtin="checker", width=256, height=256,
-                rgb1=[0.2, 0.3, 0.4], rgb2=[0.1, 0.2, 0.3], mark="edge", markrgb=[0.8] * 3,
-            )  # fmt: skip
-            grid = root.asset.add(
-                "material", name="grid", texture="grid", texrepeat=[1, 1], texuniform=True,
-                reflectance=0.2,
-            )  # fmt: skip
-            self.floor.material = grid
+        """Make the arena model: dm_control's global settings in a model named `name`
+        ('arena' if None), or the model in the MJCF file `xml_path` (renamed `name` if
+        given). Raises mjcf.Error subclasses when that file does not parse."""
+        if xml_path is None:
+            self._mjcf_root = _with_global_settings(name or "arena")
         else:
-            self.floor.rgba = floor_rgba
-        root.worldbody.add("light", name="top", pos=[0, 0, 6], dir=[0, 0, -1], directional=True)
+            self._mjcf_root = mjcf.from_path(os.fspath(xml_path))
+            if name:
+                self._mjcf_root.model = name
 
     def add_free_entity(self, entity: Entity) -> mjcf.Element:
         """Attach `entity` at the world body with a free joint, and return the frame. An

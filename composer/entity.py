@@ -9,145 +9,66 @@
             self._mjcf_root.actuator.add('motor', joint=self.joints[0], ctrlrange=[-1, 1])
             self.wrist = body.add('site', name='wrist', pos=[length, 0, 0])
 
+        @property
+        def attachment_site(self):                   # where attach() mounts by default
+            return self.wrist
+
         @composer.observable
         def joint_positions(self):
             return composer.observation.MJCFFeature('qpos', self.joints)
 
-    arm = Arm()
-    arm.attach(gripper, attach_site=arm.wrist)       # gripper: another entity
-    arm.observables.joint_positions.enabled = True   # observables start disabled
+    arm = Arm(observable_options={'joint_positions': {'enabled': True}})
+    arm.attach(gripper)                              # at arm.attachment_site: the wrist
     humanoid = composer.Entity.from_path('humanoid.xml')   # no class needed
 
-An entity's observables are built on first access to `observables` by `_build_observables()`
-(override it to return an `Observables` subclass, dm_control style); methods decorated with
-`@observable` on the entity or on that subclass become its observables. Hooks (see
+An entity builds its model in `_build(*args, **kwargs)`, then its observables with
+`_build_observables()` (override it to return an `Observables` subclass, dm_control style;
+methods decorated with `@observable` on the entity or on that subclass become its
+observables), then applies `observable_options` (see `Observables.set_options`). Hooks (see
 `composer.hooks` for their order) are no-ops unless overridden; only overridden hooks run.
+
+Poses, as dm_control: `set_pose`/`get_pose` of an entity with a free joint are its world
+pose; of an entity attached without one, the pose of its attachment frame relative to the
+body it is attached in (moved in the compiled simulation: `composer.poses`).
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator
 from typing import Any
 
 import mujoco
 import numpy as np
 
 import mjcf
-from composer import errors, hooks
-from composer.observation import MJCFFeature, Observable
+from composer import errors, hooks, poses
+from composer.define import observable
+from composer.observables import FreePropObservableMixin, Observables
+from composer.observation import MJCFFeature
 
-
-class observable:
-    """Decorate a method returning an `Observable` to declare it as one, named after the
-    method. On an entity, `entity.name_of_method` and `entity.observables.name_of_method`
-    are the same object."""
-
-    def __init__(self, function: Callable[[Any], Observable]) -> None:
-        """Wrap `function(owner) -> Observable` (owner: the entity or its Observables)."""
-        self.function = function
-        self.name = function.__name__
-        self.__doc__ = function.__doc__
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    def __get__(self, instance: Any, owner: type | None = None) -> Any:
-        if instance is None:
-            return self
-        observables = instance if isinstance(instance, Observables) else instance.observables
-        return observables[self.name]
-
-
-def _declared(cls: type) -> dict[str, observable]:
-    found: dict[str, observable] = {}
-    for klass in reversed(cls.__mro__):
-        for name, value in vars(klass).items():
-            if isinstance(value, observable):
-                found[name] = value
-    return found
-
-
-class Observables(Mapping[str, Observable]):
-    """The named observables of one entity, a read-only mapping: `obs['name']`,
-    `obs.name`, `obs.items()`. Subclass it with `@observable` methods that use
-    `self._entity`."""
-
-    def __init__(self, entity: Entity) -> None:
-        """Create every `@observable` of `entity`'s class and of this class."""
-        self._entity = entity
-        self._items: dict[str, Observable] = {}
-        for owner in (entity, self):
-            for name, declared in _declared(type(owner)).items():
-                made = declared.function(owner)
-                if not isinstance(made, Observable):
-                    raise errors.ObservableError(
-                        f"entity {entity.name!r}: @observable {name!r} returned "
-                        f"{type(made).__name__}, expected an Observable"
-                    )
-                self._items[name] = made
-
-    def add_observable(self, name: str, observable: Observable, enabled: bool = True) -> None:
-        """Add `observable` under `name`; raises ObservableError if the name is taken."""
-        if name in self._items:
-            raise errors.ObservableError(
-                f"entity {self._entity.name!r} already has an observable {name!r}"
-            )
-        if not isinstance(observable, Observable):
-            raise errors.ObservableError(
-                f"entity {self._entity.name!r}: {name!r} must be an Observable, "
-                f"got {type(observable).__name__}"
-            )
-        observable.enabled = enabled
-        self._items[name] = observable
-
-    def enable_all(self) -> None:
-        """Enable every observable of this entity."""
-        for item in self._items.values():
-            item.enabled = True
-
-    def disable_all(self) -> None:
-        """Disable every observable of this entity."""
-        for item in self._items.values():
-            item.enabled = False
-
-    def __getitem__(self, name: str) -> Observable:
-        found = self._items.get(name)
-        if found is None:
-            raise errors.ObservableNotFoundError(
-                f"entity {self._entity.name!r} has no observable {name!r}; "
-                f"it has {sorted(self._items)}"
-            )
-        return found
-
-    def __getattr__(self, name: str) -> Observable:
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return self[name]
-
-    def get(self, name: str, default: Any = None) -> Any:
-        """The observable `name`, or `default`."""
-        return self._items.get(name, default)
-
-    def __contains__(self, name: object) -> bool:
-        return name in self._items
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._items)
-
-    def __len__(self) -> int:
-        return len(self._items)
+__all__ = [
+    "Entity",
+    "FreePropObservableMixin",
+    "ModelEntity",
+    "ModelWrapperEntity",
+    "Observables",
+    "observable",
+]
 
 
 class Entity(hooks.EpisodeHooks):
     """A part of a scene that owns an MJCF model. Subclasses build it in `_build`."""
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        """Build the entity with `_build(*args, **kwargs)`."""
+    def __init__(self, *args: Any, observable_options: Any = None, **kwargs: Any) -> None:
+        """Build the entity with `_build(*args, **kwargs)`, then its observables, configured
+        by `observable_options` (see `Observables.set_options`)."""
         self._parent: Entity | None = None
         self._children: list[Entity] = []
         self._observables: Observables | None = None
         self._build(*args, **kwargs)
+        self._observables = self._build_observables()
+        self._observables.set_options(observable_options)
 
     def _build(self, *args: Any, **kwargs: Any) -> None:
         """Make the MJCF model: set `self._mjcf_root` (or override `mjcf_model`)."""
@@ -182,7 +103,7 @@ class Entity(hooks.EpisodeHooks):
 
     @property
     def observables(self) -> Observables:
-        """The entity's observables, built on first access."""
+        """The entity's observables."""
         if self._observables is None:
             self._observables = self._build_observables()
         return self._observables
@@ -207,22 +128,30 @@ class Entity(hooks.EpisodeHooks):
             current = current._parent
         return "/".join(reversed(parts))
 
-    def iter_entities(self) -> Iterator[Entity]:
-        """This entity, then its attached entities depth first, in attachment order."""
-        yield self
+    def iter_entities(self, exclude_self: bool = False) -> Iterator[Entity]:
+        """This entity (unless `exclude_self`), then its attached entities depth first, in
+        attachment order."""
+        if not exclude_self:
+            yield self
         for child in self._children:
             yield from child.iter_entities()
 
+    @property
+    def attachment_site(self) -> mjcf.Element:
+        """Where `attach` mounts an entity when given no site: here the model's root (its
+        world body); subclasses override it (an arm's wrist site)."""
+        return self.mjcf_model
+
     def attach(self, entity: Entity, attach_site: mjcf.Element | None = None) -> mjcf.Element:
-        """Attach `entity` at `attach_site` (a site, body or frame of this model; the world
-        body if None) and return its attachment frame. Raises EntityError if `entity` is
-        attached already, or if its model cannot be attached there."""
+        """Attach `entity` at `attach_site` (a site, body or frame of this model; None:
+        `self.attachment_site`) and return its attachment frame. Raises EntityError if
+        `entity` is attached already, or if its model cannot be attached there."""
         if entity._parent is not None:
             raise errors.EntityError(
                 f"entity {entity.name!r} is already attached to {entity._parent.name!r}; "
                 "detach it first"
             )
-        place = self.mjcf_model.worldbody if attach_site is None else attach_site
+        place = self.attachment_site if attach_site is None else attach_site
         try:
             frame = place.attach(entity.mjcf_model)
         except mjcf.Error as e:
@@ -234,7 +163,8 @@ class Entity(hooks.EpisodeHooks):
         return frame
 
     def detach(self) -> None:
-        """Detach this entity from its parent; raises EntityError if it is not attached."""
+        """Detach this entity from its parent; raises EntityError (a RuntimeError) if it is
+        not attached."""
         if self._parent is None:
             raise errors.EntityError(f"entity {self.name!r} is not attached to any entity")
         self.mjcf_model.detach()
@@ -246,51 +176,160 @@ class Entity(hooks.EpisodeHooks):
         """The frame this entity's model is attached with, or None."""
         return mjcf.get_attachment_frame(self.mjcf_model)
 
+    @property
+    def root_body(self) -> mjcf.Element:
+        """The entity's attachment frame when attached, else its model's world body."""
+        if self._parent is not None:
+            frame = self.attachment_frame
+            if frame is not None:
+                return frame
+        return self.mjcf_model.worldbody
+
+    # -- frames ----------------------------------------------------------------------------
+
+    def _root_xmat(self, physics: mjcf.Physics) -> np.ndarray:
+        """The world orientation (3, 3) of the entity's root body."""
+        frame = self.attachment_frame
+        if frame is not None and not frame.compiles_to_body():
+            return poses.FixedFrame.of(self, physics).world_xmat()
+        return np.reshape(physics.bind(self.root_body).xmat, (3, 3))
+
+    def global_vector_to_local_frame(self, physics: mjcf.Physics, vec_in_world_frame: Any) -> Any:
+        """A world-frame vector (last axis of size 3, or 2 for the xy plane) expressed in
+        the axes of the entity's root body, same shape. Raises PoseError for another size."""
+        vec = np.asarray(vec_in_world_frame)
+        xmat = self._root_xmat(physics)
+        if vec.shape[-1:] == (2,):
+            return np.dot(vec, xmat[:2, :2])
+        if vec.shape[-1:] == (3,):
+            return np.dot(vec, xmat)
+        raise errors.PoseError(
+            f"`vec_in_world_frame` should have shape with final dimension 2 or 3: got {vec.shape}"
+        )
+
+    def global_xmat_to_local_frame(self, physics: mjcf.Physics, xmat: Any) -> np.ndarray:
+        """Another frame's world orientation `xmat` ((3, 3) or (9,)) expressed relative to
+        the entity's root body, same shape. Raises PoseError for another shape."""
+        xmat = np.asarray(xmat)
+        shape = xmat.shape
+        if shape not in ((3, 3), (9,)):
+            raise errors.PoseError(f"`xmat` should have shape (3, 3) or (9,): got {shape}")
+        own = self._root_xmat(physics)
+        return np.reshape(own.T @ xmat.reshape(3, 3), shape)
+
     # -- pose ------------------------------------------------------------------------------
 
-    def _free_joint(self) -> mjcf.Element:
+    def _free_joint(self) -> mjcf.Element | None:
+        """The free joint posing this entity: its attachment frame's, or its single top
+        body's (a standalone robot file that floats already); None if it has none."""
         joint = mjcf.get_frame_freejoint(self.mjcf_model)
         if joint is None:
             bodies = self.mjcf_model.worldbody.get_children("body")
             if len(bodies) == 1:
                 joint = mjcf.get_freejoint(bodies[0])
-        if joint is None:
-            raise errors.EntityError(
-                f"entity {self.name!r} has no free joint to pose: attach it with "
-                "arena.add_free_entity(entity), or give its single top body a free joint"
-            )
         return joint
 
+    def _fixed_frame(self, physics: mjcf.Physics) -> poses.FixedFrame | poses.BodyFrame:
+        frame = self.attachment_frame
+        if frame is None:
+            raise errors.EntityError(
+                f"entity {self.name!r} has no free joint and is not attached: it has no pose "
+                "(attach it, or add it with arena.add_free_entity(entity))"
+            )
+        if frame.compiles_to_body():  # joints other than a free one: its body is the pose
+            return poses.BodyFrame(frame, physics)
+        return poses.FixedFrame.of(self, physics)
+
     def set_pose(self, physics: mjcf.Physics, position: Any = None, quaternion: Any = None) -> None:
-        """Place a free entity: world `position` (3,) and/or `quaternion` (4,, w first).
-        Raises EntityError for an entity without a free joint."""
-        qpos = physics.bind(self._free_joint()).qpos
+        """Place the entity: with a free joint, its world `position` (3,) and/or
+        `quaternion` (4,, w first, normalized here); else its attachment frame's, relative
+        to the body it is attached in. Raises EntityError for an entity not attached."""
+        joint = self._free_joint()
+        if joint is None:
+            self._fixed_frame(physics).set_pose(position, quaternion)
+            return
+        bound = physics.bind(joint)
+        qpos = np.array(bound.qpos)
         if position is not None:
             qpos[:3] = position
         if quaternion is not None:
-            qpos[3:] = quaternion
+            quaternion = np.asarray(quaternion, dtype=np.float64)
+            qpos[3:] = quaternion / np.linalg.norm(quaternion)
+        bound.qpos = qpos
 
     def get_pose(self, physics: mjcf.Physics) -> tuple[np.ndarray, np.ndarray]:
-        """(position, quaternion) of a free entity, copies. Raises EntityError as set_pose."""
-        qpos = physics.bind(self._free_joint()).qpos
-        return qpos[:3].copy(), qpos[3:].copy()
+        """(position, quaternion), copies: as `set_pose` sets them. Raises EntityError as
+        set_pose."""
+        joint = self._free_joint()
+        if joint is None:
+            return self._fixed_frame(physics).pose()
+        qpos = physics.bind(joint).qpos
+        return np.array(qpos[:3]), np.array(qpos[3:])
+
+    def shift_pose(
+        self,
+        physics: mjcf.Physics,
+        position: Any = None,
+        quaternion: Any = None,
+        rotate_velocity: bool = False,
+    ) -> None:
+        """`set_pose` relative to the current pose: `position` added, `quaternion`
+        premultiplied; with `rotate_velocity` a free entity's linear velocity turns with
+        it (its angular velocity, in its own frame, already does)."""
+        current_position, current_quaternion = self.get_pose(physics)
+        new_position = new_quaternion = None
+        if position is not None:
+            new_position = current_position + np.asarray(position, dtype=np.float64)
+        if quaternion is not None:
+            quaternion = np.asarray(quaternion, dtype=np.float64)
+            new_quaternion = np.empty(4)
+            mujoco.mju_mulQuat(new_quaternion, quaternion, current_quaternion)
+            joint = mjcf.get_frame_freejoint(self.mjcf_model)
+            if joint is not None and rotate_velocity:
+                velocity = np.array(physics.bind(joint).qvel[:3])
+                rotated = np.empty(3)
+                mujoco.mju_rotVecQuat(rotated, velocity, quaternion)
+                self.set_velocity(physics, rotated)
+        self.set_pose(physics, new_position, new_quaternion)
+
+    def get_velocity(self, physics: mjcf.Physics) -> tuple[np.ndarray, np.ndarray]:
+        """(linear velocity in the world frame, angular velocity in the entity's own
+        frame), copies, of a free entity (its free joint's qvel). Raises PoseError (a
+        ValueError) for an entity without a free joint."""
+        joint = self._free_joint()
+        if joint is None:
+            raise errors.PoseError(
+                f"get_velocity cannot be used on a non-free entity: {self.name!r} has no free joint"
+            )
+        qvel = physics.bind(joint).qvel
+        return np.array(qvel[:3]), np.array(qvel[3:])
 
     def set_velocity(
         self, physics: mjcf.Physics, velocity: Any = None, angular_velocity: Any = None
     ) -> None:
-        """Set a free entity's linear and/or angular velocity, both in the world frame
-        (MuJoCo keeps the angular one in the body frame: converted here). Raises
-        EntityError for an entity without a free joint."""
-        joint = physics.bind(self._free_joint())
-        qvel = joint.qvel
+        """Set a free entity's linear velocity (world frame) and/or angular velocity (in
+        its own frame, as MuJoCo's free joint and dm_control take it). Raises PoseError
+        for an entity without a free joint."""
+        joint = self._free_joint()
+        if joint is None:
+            raise errors.PoseError(
+                f"entity {self.name!r} has no free joint: its velocity cannot be set (add it "
+                "with arena.add_free_entity(entity))"
+            )
+        bound = physics.bind(joint)
+        qvel = np.array(bound.qvel)
         if velocity is not None:
             qvel[:3] = velocity
         if angular_velocity is not None:
-            inverse = np.empty(4)
-            mujoco.mju_negQuat(inverse, joint.qpos[3:])
-            local = np.empty(3)
-            mujoco.mju_rotVecQuat(local, np.asarray(angular_velocity, np.float64), inverse)
-            qvel[3:] = local
+            qvel[3:] = angular_velocity
+        bound.qvel = qvel
+
+    def configure_joints(self, physics: mjcf.Physics, position: Any) -> None:
+        """Set the qpos of this entity's own joints (not of attached entities), in model
+        order; subclasses with actuated joints may override it to keep their actuators'
+        targets in step."""
+        joints = self.mjcf_model.find_all("joint", exclude_attachments=True)
+        physics.bind(joints).qpos = position
 
     # -- hooks (see composer.hooks for the order; the others are in hooks.EpisodeHooks) --
 
@@ -322,19 +361,23 @@ class Entity(hooks.EpisodeHooks):
         return f"<{type(self).__name__} {self.name!r}>"
 
 
-class ModelEntity(Entity):
-    """An entity made from any MJCF model. Its observables, enabled, are those of its own
-    elements that exist: `joint_positions` and `joint_velocities` (every joint, free joints
-    included), `actuator_activations` (left out of observations when no actuator has an
-    activation) and `sensors` (all sensor data). Its actuators are the action."""
+class ModelWrapperEntity(Entity):
+    """An entity made from any MJCF model, with no observables of its own (dm_control's)."""
 
     def _build(self, mjcf_model: mjcf.RootElement) -> None:
         """Own `mjcf_model`; raises EntityError for anything else."""
         if not isinstance(mjcf_model, mjcf.RootElement):
             raise errors.EntityError(
-                f"ModelEntity needs an mjcf.RootElement, got {type(mjcf_model).__name__}"
+                f"{type(self).__name__} needs an mjcf.RootElement, got {type(mjcf_model).__name__}"
             )
         self._mjcf_root = mjcf_model
+
+
+class ModelEntity(ModelWrapperEntity):
+    """An entity made from any MJCF model. Its observables, enabled, are those of its own
+    elements that exist: `joint_positions` and `joint_velocities` (every joint, free joints
+    included), `actuator_activations` (left out of observations when no actuator has an
+    activation) and `sensors` (all sensor data). Its actuators are the action."""
 
     def _build_observables(self) -> Observables:
         observables = Observables(self)

@@ -21,10 +21,24 @@ What it promises:
   limit is reached (after ceil(time_limit / control_timestep) steps) or when MuJoCo reported
   an invalid state (bad qacc, NaN): then `info['physics_error']` holds the message, the
   reward is 0.0, a `DivergenceWarning` is emitted, and the next `reset()` starts afresh.
-- Randomness: hooks and corruptors get a `numpy.random.RandomState` (dm_control's API) that
-  draws from the same bit generator as `env.np_random`; `reset(seed=s)` reseeds both, so the
-  same seed and actions give bit-identical episodes. `random_state` at construction (an
-  int, a RandomState or a Generator) is used until a seeded reset.
+- Randomness: every draw the framework makes or hands on (hooks, initializers, corruptors,
+  called `corruptor(value, random_state=...)`) is from one `numpy.random.RandomState`
+  (dm_control's API) drawing from the same bit generator as `env.np_random`, never from
+  numpy's global one; `reset(seed=s)` reseeds both, so the same seed and actions give
+  bit-identical episodes. `random_state` at construction (an int, a RandomState or a
+  Generator) is used until a seeded reset. With `fixed_initial_state=True` every episode
+  starts from the random state the environment had at construction or at its last
+  seeded reset, so its initial state is the same.
+- dm_control's options: `max_reset_attempts` retries a reset whose hooks raised
+  `composer.EpisodeInitializationError` (the last one propagates); `n_sub_steps` overrides
+  the task's physics steps per control step; `raise_exception_on_physics_error=True`
+  raises `mjcf.PhysicsError` instead of truncating; `strip_singleton_obs_buffer_dim=False`
+  and `delayed_observation_padding` shape observations as `composer.observation.Updater`
+  says; `legacy_step` is `env.physics.legacy_step`; `recompile_mjcf_every_episode=True`
+  recompiles every episode, as dm_control does, False never after the first reset (and
+  runs `initialize_episode_mjcf` only then), None (the default) only when the model
+  changed; `add_extra_hook(name, callable)` runs a callable after the task's and entities'
+  hook of that name (`before_step` and `before_substep` ones get the action too).
 - Actions: a NaN or infinite action raises `EpisodeError` (it would silently corrupt the
   simulation); finite actions outside the action space are clipped to its bounds (the
   actuators' ctrlrange) before the task applies them.
@@ -42,7 +56,10 @@ What it promises:
 
 from __future__ import annotations
 
+import logging
 import math
+import warnings
+from collections.abc import Callable
 from typing import Any
 
 import gymnasium
@@ -51,10 +68,21 @@ import numpy as np
 import mjcf
 from composer import errors, hooks, stepping
 from composer.batch_of_one import BatchOfOne
-from composer.observation import Updater
+from composer.errors import EpisodeInitializationError
+from composer.hooks import HOOK_NAMES
+from composer.observation import ObservationPadding, Updater
 from composer.task import Task
 
 RENDER_MODES = ("rgb_array", "depth_array")
+_LOG = logging.getLogger(__name__)
+
+__all__ = [
+    "HOOK_NAMES",
+    "RENDER_MODES",
+    "Environment",
+    "EpisodeInitializationError",
+    "ObservationPadding",
+]
 
 
 class Environment(gymnasium.Env):
@@ -70,33 +98,68 @@ class Environment(gymnasium.Env):
         task: Task,
         time_limit: float = math.inf,
         random_state: int | np.random.RandomState | np.random.Generator | None = None,
+        n_sub_steps: int | None = None,
+        raise_exception_on_physics_error: bool = False,
+        strip_singleton_obs_buffer_dim: bool = True,
+        max_reset_attempts: int = 1,
+        recompile_mjcf_every_episode: bool | None = None,
+        fixed_initial_state: bool = False,
+        delayed_observation_padding: ObservationPadding = ObservationPadding.INITIAL_VALUE,
+        legacy_step: bool = True,
+        *,
         flatten_observations: bool = False,
         render_mode: str | None = None,
         render_height: int = 240,
         render_width: int = 320,
         render_camera: int | str = -1,
     ) -> None:
-        """Compile `task`'s scene and build the spaces. Raises TaskError for a bad time
-        limit, render mode or timesteps, ObservableError for an observable that cannot be
-        read, and mjcf.CompileError when MuJoCo rejects the scene."""
+        """Compile `task`'s scene and build the spaces (the options: see the module
+        docstring). Raises TaskError for a bad time limit, render mode, option or
+        timesteps, ObservableError for an observable that cannot be read, and
+        mjcf.CompileError when MuJoCo rejects the scene."""
         if render_mode is not None and render_mode not in RENDER_MODES:
             raise errors.TaskError(
                 f"render_mode must be one of {RENDER_MODES} or None, got {render_mode!r}"
             )
         if not (isinstance(time_limit, int | float) and time_limit > 0):
             raise errors.TaskError(f"time_limit must be a positive number, got {time_limit!r}")
+        _check_count("max_reset_attempts", max_reset_attempts)
+        if n_sub_steps is not None:
+            _check_count("n_sub_steps", n_sub_steps)
+            warnings.warn(
+                "n_sub_steps is deprecated (as in dm_control): set the task's control "
+                "timestep instead",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+        if not isinstance(delayed_observation_padding, ObservationPadding):
+            raise errors.TaskError(
+                "delayed_observation_padding must be an ObservationPadding, got "
+                f"{delayed_observation_padding!r}"
+            )
         self._task = task
         self._time_limit = float(time_limit)
         self._random_state = _as_random_state(random_state)
+        self._n_sub_steps = n_sub_steps
+        self._raise_on_physics_error = raise_exception_on_physics_error
+        self._strip = strip_singleton_obs_buffer_dim
+        self._padding = delayed_observation_padding
+        self._max_reset_attempts = max_reset_attempts
+        self._recompile_every_episode = recompile_mjcf_every_episode
+        self._fixed_initial_state = fixed_initial_state
+        self._extra_hooks: dict[str, list[Callable[..., Any]]] = {n: [] for n in HOOK_NAMES}
         self._flatten = flatten_observations
         self.render_mode = render_mode
         self._render_size = (int(render_height), int(render_width))
         self._render_camera = render_camera
         self._physics = mjcf.Physics.from_mjcf_model(task.root_entity.mjcf_model)
+        self._physics.legacy_step = legacy_step
         self._after_compile()
+        self._mjcf_compiled_for_episode = False
         self.observation_space = self._updater.observation_space
         self.action_space = self._action_space
-        self.metadata = {**self.metadata, "render_fps": 1.0 / task.control_timestep}
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_timestep}
+        self._fixed_state = self.random_state.get_state(legacy=False)
         self._episode_over = True
 
     # -- properties ----------------------------------------------------------------------
@@ -123,6 +186,18 @@ class Environment(gymnasium.Env):
         """Seconds of simulation per `step()`."""
         return self._substeps * self._physics.timestep()
 
+    def add_extra_hook(self, hook_name: str, hook_callable: Callable[..., Any]) -> None:
+        """Run `hook_callable` after the task's and the entities' hook `hook_name` (one of
+        HOOK_NAMES), with the same arguments (`before_step` and `before_substep` ones get
+        `(physics, action, random_state)`). Raises TaskError for another name or a value
+        that is not callable."""
+        if hook_name not in HOOK_NAMES:
+            raise errors.TaskError(f"{hook_name!r} is not a valid hook name: {HOOK_NAMES}")
+        if not callable(hook_callable):
+            raise errors.TaskError(f"{hook_callable!r} is not a callable")
+        self._extra_hooks[hook_name].append(hook_callable)
+        self._resolve_hooks()
+
     @property
     def updater(self) -> Updater:
         """The observation pipeline of the current compile (rebuilt by a recompile); a
@@ -135,18 +210,27 @@ class Environment(gymnasium.Env):
         """After a compile: hooks, observation pipeline, spaces, step plan."""
         task, physics = self._task, self._physics
         self._version = task.root_entity.mjcf_model.version
-        self._hooks = hooks.Hooks(task)
+        self._methods = stepping.TaskStep(task)
+        self._resolve_hooks()
         for hook in self._hooks.after_compile:
             hook(physics, self.random_state)
-        self._substeps = task.physics_steps_per_control_step
+        self._substeps = (
+            task.physics_steps_per_control_step if self._n_sub_steps is None else self._n_sub_steps
+        )
         physics.reset()
-        self._updater = Updater(task.enabled_observables(), physics, self._substeps, self._flatten)
+        self._updater = Updater(
+            task.enabled_observables(), physics, self._substeps, self._flatten, self._strip,
+            self._padding,
+        )  # fmt: skip
         self._action_space = task.action_space(physics)
         self._actions = stepping.ActionRule(self._action_space)
-        self._step_limit = stepping.step_limit(self._time_limit, task.control_timestep)
+        self._step_limit = stepping.step_limit(self._time_limit, self.control_timestep)
         # What the task's batched methods get: this physics as a batch of one.
         self._batch = BatchOfOne(physics, task, lambda: self.random_state).serve()
-        self._methods = stepping.TaskStep(task)
+
+    def _resolve_hooks(self) -> None:
+        """The hooks of the task, its entities and the extra ones, and what a step runs."""
+        self._hooks = hooks.Hooks(self._task, self._extra_hooks)
         self._applies_each = self._methods.applies_each(self._hooks)
         self._finishes_each = self._methods.finishes_each(self._hooks)
         self._substep_hooks = self._run_substep_hooks if self._hooks.has_substep_hooks else None
@@ -172,17 +256,41 @@ class Environment(gymnasium.Env):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
         """Start an episode (see the module docstring for the hooks run); `seed` reseeds
-        the environment's random state. `options` are not used. Returns (obs, info)."""
+        the environment's random state. `options` are not used. Returns (obs, info).
+        Raises EpisodeInitializationError when every one of `max_reset_attempts` attempts
+        raised it."""
         super().reset(seed=seed)
         if seed is not None:
             self._random_state = np.random.RandomState(self.np_random.bit_generator)
+            self._fixed_state = self._random_state.get_state(legacy=False)
+        self._episode_over = True
+        for attempt in range(1, self._max_reset_attempts + 1):
+            try:
+                return self._reset_attempt()
+            except EpisodeInitializationError as e:
+                if attempt == self._max_reset_attempts:
+                    raise
+                _LOG.warning("episode initialization failed (attempt %d): %r", attempt, e)
+        raise AssertionError("unreachable: max_reset_attempts >= 1")
+
+    def _reset_attempt(self) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
         random_state = self.random_state
         task = self._task
-        everyone = [task, *task.root_entity.iter_entities()]
-        for hook in hooks.overriders(everyone, "initialize_episode_mjcf"):
-            hook(random_state)
-        if task.root_entity.mjcf_model.version != self._version:
-            self._recompile()
+        if self._recompile_every_episode is not False or not self._mjcf_compiled_for_episode:
+            if self._fixed_initial_state:
+                random_state.set_state(self._fixed_state)
+            everyone = [task, *task.root_entity.iter_entities()]
+            mjcf_hooks = hooks.overriders(everyone, "initialize_episode_mjcf")
+            for hook in (*mjcf_hooks, *self._extra_hooks["initialize_episode_mjcf"]):
+                hook(random_state)
+            # True and False are dm_control's: a compile every episode, or at the first
+            # reset only (their block runs once); None: when the model changed.
+            changed = task.root_entity.mjcf_model.version != self._version
+            if changed or self._recompile_every_episode is not None:
+                self._recompile()
+            self._mjcf_compiled_for_episode = True
+        if self._fixed_initial_state:
+            random_state.set_state(self._fixed_state)
         physics = self._physics
         with physics.reset_context():
             for hook in self._hooks.initialize_episode:
@@ -225,6 +333,8 @@ class Environment(gymnasium.Env):
         message = stepping.invalid_state(physics)
         if message is not None:
             self._episode_over = True
+            if self._raise_on_physics_error:
+                physics.check_invalid_state()  # raises mjcf.PhysicsError with the message
             return observation, 0.0, False, True, stepping.diverged(message, stacklevel=2)
         reward, terminated, info = methods.outcome_of_one(batch, task, physics)
         truncated = self._steps >= self._step_limit
@@ -253,6 +363,11 @@ class Environment(gymnasium.Env):
     def close(self) -> None:
         """Free rendering resources; safe to call more than once."""
         self._physics.close()
+
+
+def _check_count(label: str, value: Any) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise errors.TaskError(f"{label} must be a positive int, got {value!r}")
 
 
 def _as_random_state(

@@ -17,21 +17,46 @@ class Error(Exception):
     """Base class of every error composer raises."""
 
 
-class EntityError(Error):
+class _PlainMessage(Exception):
+    """Shows the message as given (KeyError alone would show its repr)."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+class EntityError(Error, RuntimeError):
     """An entity was attached, detached or posed in a way its model does not allow."""
 
 
-class ObservableError(Error):
+class PoseError(EntityError, ValueError):
+    """A pose, velocity, vector or matrix an entity cannot take: the wrong shape, or a
+    velocity of an entity without a free joint."""
+
+
+class ObservableError(Error, ValueError):
     """An observable is misconfigured, or its value does not match its declared shape."""
 
 
-class ObservableNotFoundError(ObservableError, AttributeError):
-    """An entity has no observable of the name asked for."""
+class ObservableNotFoundError(_PlainMessage, ObservableError, AttributeError, KeyError):
+    """An entity has no observable of the name asked for (by attribute or by key)."""
 
 
-class TaskError(Error):
+class ObservableOptionError(ObservableError, AttributeError):
+    """`configure` or `set_options` was given an option observables do not have."""
+
+
+class UnknownAggregatorError(_PlainMessage, ObservableError, KeyError):
+    """An aggregator was named that is not one of `AGGREGATORS`."""
+
+
+class TaskError(Error, ValueError):
     """A task is misconfigured: timesteps that do not divide, a missing root entity, an
     action or observation space that changed after a recompile."""
+
+
+class EpisodeInitializationError(Error, RuntimeError):
+    """An episode could not be set up (e.g. an initializer found no valid pose); the
+    environment retries the reset, up to its `max_reset_attempts`, as dm_control does."""
 
 
 class EpisodeError(Error):
@@ -43,7 +68,11 @@ class VariationError(Error, ValueError):
     """A variation or variator was given values it cannot use."""
 
 
-class PlacementError(Error):
+class InitializerError(Error, ValueError):
+    """An initializer was given arguments it cannot use (no props, attempts below 1)."""
+
+
+class PlacementError(EpisodeInitializationError):
     """An initializer found no valid pose for a prop within its attempts."""
 
 

@@ -6,15 +6,16 @@
 
 Order (see `composer.environment` for when each hook runs): every hook runs first on the
 task, then on each entity of `task.root_entity.iter_entities()` (the root entity, then its
-attached entities depth first, in the order they were attached). A hook is dispatched to
-an object only if its class overrides the base class's no-op, so a hook nobody overrides
-costs nothing per step. The task's `before_step` and `before_substep` receive the action;
-entities' do not (as in dm_control).
+attached entities depth first, in the order they were attached), then on the
+environment's extra hooks (`Environment.add_extra_hook`). A hook is dispatched to an object
+only if its class overrides the base class's no-op, so a hook nobody overrides costs
+nothing per step. The task's `before_step` and `before_substep` receive the action, and so
+do extra hooks of those names; entities' do not (as in dm_control).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
 if TYPE_CHECKING:
@@ -87,23 +88,41 @@ class EpisodeHooks:
 class Hooks:
     """The hook methods of a task and its entities, resolved once per entity tree."""
 
-    def __init__(self, task: Task) -> None:
-        """Collect the overriding hooks of `task` and every entity of its root entity."""
+    def __init__(
+        self, task: Task, extra: Mapping[str, Sequence[Callable[..., Any]]] | None = None
+    ) -> None:
+        """Collect the overriding hooks of `task` and every entity of its root entity, and
+        the `extra` callables by hook name, which run last."""
+        extra = extra or {}
         entities = list(task.root_entity.iter_entities())
         everyone = [task, *entities]
-        self.initialize_episode_mjcf = overriders(everyone, "initialize_episode_mjcf")
-        self.after_compile = overriders(everyone, "after_compile")
-        self.initialize_episode = overriders(everyone, "initialize_episode")
+
+        def last(name: str) -> tuple[Callable[..., Any], ...]:
+            return tuple(extra.get(name, ()))
+
+        self.initialize_episode_mjcf = overriders(everyone, "initialize_episode_mjcf") + last(
+            "initialize_episode_mjcf"
+        )
+        self.after_compile = overriders(everyone, "after_compile") + last("after_compile")
+        self.initialize_episode = overriders(everyone, "initialize_episode") + last(
+            "initialize_episode"
+        )
         # The task's before_step and after_step have batched forms, which
-        # `composer.stepping.TaskStep` runs: these are the entities'. The task's
-        # before_substep takes the action: kept apart.
+        # `composer.stepping.TaskStep` runs: these are the entities' (and the extra
+        # after_step ones). The task's before_substep and the extra before_step and
+        # before_substep ones take the action: kept apart.
         self.before_step = overriders(entities, "before_step")
+        self.extra_before_step = last("before_step")
         self.task_before_substep = overriders([task], "before_substep")
         self.before_substep = overriders(entities, "before_substep")
-        self.after_substep = overriders(everyone, "after_substep")
-        self.after_step = overriders(entities, "after_step")
+        self.extra_before_substep = last("before_substep")
+        self.after_substep = overriders(everyone, "after_substep") + last("after_substep")
+        self.after_step = overriders(entities, "after_step") + last("after_step")
 
     @property
     def has_substep_hooks(self) -> bool:
-        """Whether any object overrides `before_substep` or `after_substep`."""
-        return bool(self.task_before_substep or self.before_substep or self.after_substep)
+        """Whether anything runs before or after each physics step."""
+        return bool(
+            self.task_before_substep or self.before_substep or self.extra_before_substep
+            or self.after_substep
+        )  # fmt: skip

@@ -136,6 +136,8 @@ def substep_hooks(
             hook(physics, action, random_state)
         for hook in task_hooks.before_substep:
             hook(physics, random_state)
+        for hook in task_hooks.extra_before_substep:
+            hook(physics, action, random_state)
     else:
         for hook in task_hooks.after_substep:
             hook(physics, random_state)
@@ -251,7 +253,7 @@ class TaskStep:
 
     def applies_each(self, task_hooks: hooks.Hooks) -> bool:
         """Whether `apply_each` has anything to run."""
-        return self._before is None or bool(task_hooks.before_step)
+        return self._before is None or bool(task_hooks.before_step or task_hooks.extra_before_step)
 
     def apply_each(
         self,
@@ -262,11 +264,13 @@ class TaskStep:
         random_state: np.random.RandomState,
     ) -> None:
         """In one environment: the task's single `before_step` (unless batched), then the
-        entities' `before_step` hooks."""
+        entities' `before_step` hooks, then the extra ones (with the action)."""
         if self._before is None:
             task.before_step(physics, action, random_state)
         for hook in task_hooks.before_step:
             hook(physics, random_state)
+        for hook in task_hooks.extra_before_step:
+            hook(physics, action, random_state)
 
     def finishes_each(self, task_hooks: hooks.Hooks) -> bool:
         """Whether `finish_each` has anything to run."""

@@ -30,6 +30,7 @@ environments and returns (n,) rows; a single Environment runs it with a batch of
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import mujoco
@@ -127,6 +128,18 @@ class Task(hooks.EpisodeHooks):
                     )
                 found[full] = item
         return found
+
+    def iter_entities(self) -> Iterator[Entity]:
+        """The root entity and every entity attached under it (`Entity.iter_entities`)."""
+        return self.root_entity.iter_entities()
+
+    def get_reward_spec(self) -> Any:
+        """dm_control's hook for a non-scalar reward's dm_env spec; None: a float reward."""
+        return None
+
+    def get_discount_spec(self) -> Any:
+        """dm_control's hook for a non-scalar discount's dm_env spec; None: a float."""
+        return None
 
     def enabled_observables(self) -> dict[str, Observable]:
         """The enabled ones of `observables`: what observations contain."""

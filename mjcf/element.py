@@ -660,3 +660,12 @@ else:
         plain attributes (see `_from_xml`)."""
 
         __slots__ = Element.__slots__
+
+
+def __getattr__(name: str) -> Any:
+    """`mjcf.element.RootElement`, where dm_control code finds it (defined in `mjcf.root`)."""
+    if name == "RootElement":
+        from mjcf.root import RootElement  # cycle: root -> element
+
+        return RootElement
+    raise AttributeError(f"module 'mjcf.element' has no attribute {name!r}")

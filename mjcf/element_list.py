@@ -52,6 +52,20 @@ class ElementList(list["Element"]):
             raise errors.NotFoundError(f"no element named {key!r} among {self.tags()}")
         return super().__getitem__(key)
 
+    def clear(self) -> None:
+        """Remove the listed elements of this list's own model from the model, as
+        dm_control's `model.actuator.motor.clear()` does (those of attached models stay)."""
+        for element in [e for e in self if self.root is None or e.root is self.root]:
+            element.remove()
+            super().remove(element)
+
+    def __delitem__(self, key: SupportsIndex | str | slice) -> None:
+        """Remove the element(s) `key` picks from the model, as dm_control does."""
+        found = self[key]
+        for element in found if isinstance(found, list) else [found]:
+            element.remove()
+            super().remove(element)
+
     def tags(self) -> str:
         """The tags of the listed elements, for messages."""
         return ", ".join(sorted({f"<{e.tag}>" for e in self})) or "no elements"

@@ -48,6 +48,26 @@ class Axis:
     kind: mujoco.mjtObj
     names: tuple[str, ...]
 
+    def convert_key_item(self, key: Any) -> Any:
+        """`key` with object names turned into row indices, as dm_control's axes do: a
+        name gives its row (an int) or rows (a slice), a list or array of names the
+        concatenated rows; anything else is returned as it is. Raises NotFoundError for a
+        name that owns no row."""
+        if isinstance(key, str):
+            rows = self._rows(key)
+            return int(rows[0]) if rows.size == 1 else slice(int(rows[0]), int(rows[-1]) + 1)
+        if isinstance(key, list | tuple | np.ndarray) and any(isinstance(k, str) for k in key):
+            parts = [self._rows(k) if isinstance(k, str) else np.atleast_1d(k) for k in key]
+            return np.concatenate(parts).astype(np.intp)
+        return key
+
+    def _rows(self, name: str) -> np.ndarray:
+        rows = np.flatnonzero(np.asarray(self.names, dtype=object) == name)
+        if not rows.size:
+            hint = errors.did_you_mean(name, [n for n in self.names if n])
+            raise errors.NotFoundError(f"no row named {name!r}{hint}")
+        return rows
+
 
 @dataclasses.dataclass(frozen=True)
 class Axes:

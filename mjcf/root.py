@@ -166,6 +166,11 @@ class RootElement(Element):
         """The model this model is attached to, or None."""
         return None if self._frame is None else self._frame.root
 
+    @property
+    def root_model(self) -> RootElement:
+        """The outermost model this model is attached into (itself if not attached)."""
+        return self if self._frame is None else self._frame.root.root_model
+
     def attach(self, child: RootElement) -> Element:
         """Attach `child` to this model's world body; see `Element.attach`."""
         return self._section("worldbody").attach(child)

@@ -18,10 +18,15 @@ and everything outside the two packages (`locomotion`, `manipulation`, `entities
 
 Nothing of it is copied into the repository: the cache is `$COMPOSER_TEST_CACHE` or the
 system's temporary folder. Processes (pytest-xdist workers) share it under a file lock.
+
+Native packages dm_control imports at module level for features the tests leave alone
+(`labmaze`, for mazes, imported by `dm_control.locomotion.arenas`) are stood in for when
+they are not installed: importing works, and using them raises ModuleNotFoundError.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import os
 import re
@@ -35,6 +40,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import pytest
 
@@ -177,17 +183,58 @@ def wheel() -> Path:
         return _download(cache)
 
 
+_OPTIONAL_NATIVE = ("labmaze",)
+
+
+class _AbsentMeta(type):
+    """What a missing package's names are: classes one can subclass (dm_control's mazes
+    subclass `labmaze.BaseMaze`) whose attributes are more of them, and calling one, or
+    making an instance, raises."""
+
+    def __getattr__(cls, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return _AbsentMeta(f"{cls.__name__}.{name}", (), {})
+
+    def __call__(cls, *args: Any, **kwargs: Any) -> Any:
+        raise ModuleNotFoundError(
+            f"{cls.__name__.split('.')[0]} is not installed: dm_control needs it for this"
+        )
+
+
+class _Absent(ModuleType):
+    """A stand-in for a native package that is not installed (see `_AbsentMeta`)."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return _AbsentMeta(f"{self.__name__}.{name}", (), {})
+
+
+def _stand_in_for_absent_native_packages() -> None:
+    for name in _OPTIONAL_NATIVE:
+        if name in sys.modules:
+            continue
+        try:
+            importlib.import_module(name)
+        except ImportError:
+            sys.modules[name] = _Absent(name)
+
+
 def rewritten() -> Path:
     """The folder holding the rewritten `dm_control` package (on `sys.path` after this
     call). Skips the calling test when the wheel cannot be fetched."""
     cache = _cache()
-    target = cache / "rewritten"
+    # Named by this file's contents: a change of the rewriting rules rewrites the tree anew.
+    digest = hashlib.sha1(Path(__file__).read_bytes()).hexdigest()[:12]
+    target = cache / f"rewritten-{digest}"
     if not (target / "dm_control").is_dir():
         with _locked(cache / "lock"):
             if not (target / "dm_control").is_dir():
                 _unpack(_download(cache), target)
     if str(target) not in sys.path:
         sys.path.insert(0, str(target))
+    _stand_in_for_absent_native_packages()
     return target
 
 

@@ -1,30 +1,51 @@
 """Observables and the pipeline that samples them; see `observable` and `updater`.
 
-from composer import observation
-obs = observation.MJCFFeature('qpos', joints, buffer_size=2)
-obs.corruptor = observation.GaussianNoise(0.01)
+    from composer import observation
+    obs = observation.MJCFFeature('qpos', joints, buffer_size=2)
+    obs.corruptor = observation.GaussianNoise(0.01)
+
+`observation.observable` holds them under dm_control's module paths (`observable.base`,
+`observable.mjcf`).
 """
 
+from composer.observation import observable
 from composer.observation.observable import (
     AGGREGATORS,
+    Aggregator,
     BatchGeneric,
     GaussianNoise,
     Generic,
     MJCFCamera,
     MJCFFeature,
+    MujocoCamera,
+    MujocoFeature,
     Observable,
     reader_of,
 )
-from composer.observation.updater import Updater
+from composer.observation.updater import (
+    DEFAULT_BUFFER_SIZE,
+    DEFAULT_DELAY,
+    DEFAULT_UPDATE_INTERVAL,
+    ObservationPadding,
+    Updater,
+)
 
 __all__ = [
     "AGGREGATORS",
+    "DEFAULT_BUFFER_SIZE",
+    "DEFAULT_DELAY",
+    "DEFAULT_UPDATE_INTERVAL",
+    "Aggregator",
     "BatchGeneric",
     "GaussianNoise",
     "Generic",
     "MJCFCamera",
     "MJCFFeature",
+    "MujocoCamera",
+    "MujocoFeature",
     "Observable",
+    "ObservationPadding",
     "Updater",
+    "observable",
     "reader_of",
 ]

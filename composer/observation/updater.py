@@ -18,10 +18,16 @@ physics step. It repeats every `period` control steps. Observables whose value i
 (e.g. activations of a model with none) are left out. An observable is read with
 `observation.reader_of(observable, physics)`: with its batched reader and a batch of one
 where that is the form it defines.
+
+Two choices dm_control offers: `strip_singleton_buffer_dim=False` gives an observation of
+`buffer_size` 1 (and no aggregator) its leading buffer axis of length 1, and
+`padding=ObservationPadding.ZERO` fills the buffer with zeros before the first samples are
+visible, where by default (INITIAL_VALUE) the reset value fills it.
 """
 
 from __future__ import annotations
 
+import enum
 import math
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -30,22 +36,30 @@ import numpy as np
 from gymnasium import spaces
 
 from composer import errors
-from composer.observation.observable import Observable, reader_of
+from composer.observation.observable import Aggregator, Observable, reader_of
 
 Sample = Callable[[int], None]
 
-_REDUCERS: dict[str, Callable[..., np.ndarray]] = {
-    "mean": np.mean,
-    "max": np.max,
-    "min": np.min,
-    "sum": np.sum,
-}
+# What an option left None means, as dm_control names them.
+DEFAULT_UPDATE_INTERVAL = 1
+DEFAULT_BUFFER_SIZE = 1
+DEFAULT_DELAY = 0
+
+
+class ObservationPadding(enum.Enum):
+    """What a buffer holds before its first samples are visible (dm_control's enum):
+    the reset value (INITIAL_VALUE) or zeros (ZERO)."""
+
+    INITIAL_VALUE = -1
+    ZERO = 0
 
 
 class _Channel:
     """One observable's reader, samples and output array."""
 
-    def __init__(self, name: str, observable: Observable, physics: Any) -> None:
+    def __init__(
+        self, name: str, observable: Observable, physics: Any, strip: bool, zero_padding: bool
+    ) -> None:
         observable.validate(name)
         self.name = name
         self.observable = observable
@@ -61,29 +75,39 @@ class _Channel:
         dtype = value.dtype if value.dtype.kind in "fiu" else np.dtype(np.float64)
         self.shape = value.shape
         self.interval = int(observable.update_interval)
-        self.buffer_size = int(observable.buffer_size)
-        self.delay = int(observable.delay)
+        self.buffer_size = int(_or_default(observable.buffer_size, DEFAULT_BUFFER_SIZE))
+        self.delay = int(_or_default(observable.delay, DEFAULT_DELAY))
         self.corruptor = observable.corruptor
-        aggregator = observable.aggregator
-        self.reduce: Callable[..., np.ndarray] | None = (
-            _REDUCERS[aggregator] if isinstance(aggregator, str) else aggregator
-        )  # a name Observable checked, a function or None
+        self.reduce: Callable[[np.ndarray], np.ndarray] | None = observable.aggregator
         floating = np.issubdtype(dtype, np.floating)
         if (self.reduce is not None or self.corruptor is not None) and not floating:
             dtype = np.dtype(np.float64)  # a mean of integers, or noise, is not an integer
         self.dtype = dtype
+        self.zero_padding = zero_padding
+        if self.reduce is not None:
+            self.output_shape = self._reduced_shape(np.zeros((self.buffer_size, *self.shape)))
+        elif self.buffer_size == 1 and strip:
+            self.output_shape = self.shape
+        else:
+            self.output_shape = (self.buffer_size, *self.shape)
         self.low, self.high = self._bounds(observable, value)
         # Observations with one sample, on time, unchanged are copied straight to the output.
         self.direct = (
-            self.buffer_size == 1 and self.delay == 0 and self.corruptor is None
+            self.output_shape == self.shape and self.delay == 0 and self.corruptor is None
             and self.reduce is None
-        )  # fmt: skip
-        self.output_shape = (
-            self.shape if self.buffer_size == 1 or self.reduce is not None
-            else (self.buffer_size, *self.shape)
         )  # fmt: skip
         self.size = self.ring_size = 0
         self.random_state: Any = None
+
+    def _reduced_shape(self, buffer: np.ndarray) -> tuple[int, ...]:
+        """The shape the aggregator makes of a buffer (dm_control learns it so, too)."""
+        try:
+            return np.shape(self.reduce(buffer))  # type: ignore[misc]
+        except Exception as e:
+            raise errors.ObservableError(
+                f"observable {self.name!r}: its aggregator failed on a buffer of shape "
+                f"{buffer.shape}: {type(e).__name__}: {e}"
+            ) from e
 
     def _bounds(self, observable: Observable, value: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         given = observable.bounds
@@ -106,15 +130,18 @@ class _Channel:
                 low, high = np.full_like(low, -np.inf), np.full_like(high, np.inf)
         reduce = observable.aggregator
         if reduce is None:
-            if self.buffer_size > 1:
-                low = np.broadcast_to(low, (self.buffer_size, *low.shape)).copy()
-                high = np.broadcast_to(high, (self.buffer_size, *high.shape)).copy()
-        elif reduce == "sum":
+            if self.output_shape != self.shape:
+                low = np.broadcast_to(low, self.output_shape).copy()
+                high = np.broadcast_to(high, self.output_shape).copy()
+        elif isinstance(reduce, Aggregator) and not reduce.preserves_bounds:  # a sum
             low, high = low * self.buffer_size, high * self.buffer_size
-        elif callable(reduce):
-            bounds = observable.aggregator_bounds or (-np.inf, np.inf)
-            low = np.broadcast_to(np.asarray(bounds[0], np.float64), value.shape).copy()
-            high = np.broadcast_to(np.asarray(bounds[1], np.float64), value.shape).copy()
+        elif observable.aggregator_bounds is not None:
+            bounds = observable.aggregator_bounds
+            low = np.broadcast_to(np.asarray(bounds[0], np.float64), self.output_shape).copy()
+            high = np.broadcast_to(np.asarray(bounds[1], np.float64), self.output_shape).copy()
+        elif not getattr(reduce, "preserves_bounds", False) or self.output_shape != self.shape:
+            low = np.full(self.output_shape, -np.inf)
+            high = np.full(self.output_shape, np.inf)
         return low, high
 
     def allocate(self, out: np.ndarray) -> None:
@@ -156,7 +183,11 @@ class _Channel:
             return
         self.size = 0
         self._record(0)
-        self.ring[:] = self.ring[0]  # before the episode, the reset value held
+        # Before the episode, the reset value held (or zeros, with zero padding).
+        if self.zero_padding:
+            self.ring[1:] = 0
+        else:
+            self.ring[:] = self.ring[0]
         self.times[:] = -np.inf
         self.times[0] = 0
 
@@ -170,11 +201,9 @@ class _Channel:
         buffer = self.buffer
         np.take(self.ring, (end - self.buffer_size + self.window) % ring_size, axis=0, out=buffer)
         if self.reduce is not None:
-            self.out[...] = self.reduce(buffer, axis=0)
-        elif self.buffer_size == 1:
-            self.out[...] = buffer[0]
+            self.out[...] = self.reduce(buffer)
         else:
-            self.out[...] = buffer
+            self.out[...] = buffer.reshape(self.output_shape)
 
     def needed(self, step: int, substeps: int) -> bool:
         """Whether a sample at physics step `step` will ever be in an observation, given
@@ -197,12 +226,18 @@ class Updater:
         physics: Any,
         substeps: int,
         flatten: bool = False,
+        strip_singleton_buffer_dim: bool = True,
+        padding: ObservationPadding = ObservationPadding.INITIAL_VALUE,
     ) -> None:
         """Resolve every observable in `physics` (sampled once to learn its shape and
         type); raises ObservableError naming the observable that cannot be read."""
         self.substeps = substeps
         self.flatten = flatten
-        channels = [_Channel(name, observables[name], physics) for name in sorted(observables)]
+        zero = padding is ObservationPadding.ZERO
+        channels = [
+            _Channel(name, observables[name], physics, strip_singleton_buffer_dim, zero)
+            for name in sorted(observables)
+        ]
         self.channels = [c for c in channels if math.prod(c.output_shape) > 0]
         self.names = [c.name for c in self.channels]
         self._allocate()
@@ -278,6 +313,10 @@ class Updater:
         if self.flatten:
             return self.flat.copy()
         return {name: out.copy() for name, out in self.outputs}
+
+
+def _or_default(value: Any, default: int) -> Any:
+    return default if value is None else value
 
 
 def _box(low: np.ndarray, high: np.ndarray, dtype: np.dtype) -> spaces.Box:

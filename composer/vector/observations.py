@@ -10,7 +10,8 @@ from its materialized MjData, with the reader a single environment uses. The sch
 (update interval, delay, buffer, aggregator, corruptor) is that of
 `composer.observation.Updater`, per environment: environments reset at different steps,
 so each keeps its own phase and ring of samples. Corruptors run once per environment with
-its random state; callable aggregators once per environment.
+its random state (`corruptor(value, random_state=state)`); named aggregators reduce every
+environment at once, callable ones run once per environment.
 """
 
 from __future__ import annotations
@@ -21,11 +22,8 @@ from typing import Any
 import numpy as np
 
 from composer.errors import BatchError
-from composer.observation import MJCFFeature, Observable, Updater
+from composer.observation import Aggregator, MJCFFeature, Observable, Updater
 from composer.vector.physics import VectorPhysics
-
-# Aggregators reduced over all environments at once (axis 1); callables run per environment.
-_VECTOR_REDUCERS = (np.mean, np.max, np.min, np.sum)
 
 
 def _feature_reader(item: MJCFFeature, physics: VectorPhysics) -> Callable[[], np.ndarray] | None:
@@ -109,12 +107,12 @@ class _Channel:
         slots = (end[:, None] + self.window) % self.ring_size
         buffer = self.ring[ids[:, None], slots]  # (n, buffer_size, *shape)
         if self.reduce is None:
-            self.out[ids] = buffer[:, 0] if self.buffer_size == 1 else buffer
-        elif self.reduce in _VECTOR_REDUCERS:
-            self.out[ids] = self.reduce(buffer, axis=1)
+            self.out[ids] = buffer.reshape((len(ids), *self.out.shape[1:]))
+        elif isinstance(self.reduce, Aggregator):  # reduced for every environment at once
+            self.out[ids] = self.reduce.reducer(buffer, axis=1)
         else:
             for row, i in zip(buffer, ids, strict=True):
-                self.out[i] = self.reduce(row, axis=0)
+                self.out[i] = self.reduce(row)
 
 
 class BatchObservations:

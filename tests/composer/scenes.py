@@ -6,6 +6,7 @@ import numpy as np
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import observation
 
 
@@ -66,7 +67,7 @@ class SwingTask(composer.Task):
     """Keep a pendulum near its lowest point; starts at a random angle."""
 
     def __init__(self, gear: float = 1.0, substeps: int = 4, terminate_above: float = np.inf):
-        self._arena = composer.Arena(floor_size=(2, 2))
+        self._arena = Floor(size=(2, 2))
         self.pendulum = Pendulum(gear=gear)
         self._arena.attach(self.pendulum)
         self.pendulum.orientation.enabled = True

@@ -8,11 +8,12 @@ import pytest
 
 import composer
 import mjcf
+from arenas import Floor
 from tests.composer.scenes import Block, Pendulum
 
 
 def test_attach_detach_and_iterate_the_entity_tree():
-    arena, arm, gripper = composer.Arena(), Pendulum("arm"), Pendulum("gripper")
+    arena, arm, gripper = Floor(name="arena"), Pendulum("arm"), Pendulum("gripper")
     frame = arena.attach(arm)
     arm.attach(gripper, attach_site=arm.tip)
     assert [e.name for e in arena.iter_entities()] == ["arena", "arm", "gripper"]
@@ -50,17 +51,28 @@ def test_actuators_are_the_entity_own():
     assert arm.actuators == [arm.motor] and gripper.actuators == [gripper.motor]
 
 
-def test_arena_has_floor_light_and_sky_and_compiles():
-    arena = composer.Arena(name="room", floor_size=(3, 4))
+def test_the_base_arena_is_an_empty_world_with_dm_control_settings():
+    """dm_control's arena subclasses add their own floor and lights: the base adds none."""
+    arena = composer.Arena()
     physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
-    np.testing.assert_array_equal(physics.bind(arena.floor).size, [3, 4, 0.1])
-    assert physics.model.nlight == 1 and physics.model.ntex == 2
-    plain = composer.Arena(floor_rgba=[1, 0, 0, 1])
-    np.testing.assert_array_equal(plain.floor.rgba, [1, 0, 0, 1])
+    model = physics.model
+    assert (model.ngeom, model.nlight, model.ntex, model.nbody) == (0, 0, 0, 1)
+    assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC and model.opt.noslip_iterations == 5
+    assert arena.mjcf_model.compiler.angle == "radian"
+    assert composer.Arena(name="room").name == "room"
+
+
+def test_an_arena_from_a_file(tmp_path):
+    path = tmp_path / "room.xml"
+    path.write_text('<mujoco model="room"><worldbody><geom type="plane" size="1 1 .1"/>'
+                    "</worldbody></mujoco>")  # fmt: skip
+    arena = composer.Arena(xml_path=path)
+    assert arena.name == "room" and len(arena.mjcf_model.find_all("geom")) == 1
+    assert composer.Arena(name="hall", xml_path=path).name == "hall"
 
 
 def free_block_scene():
-    arena, block = composer.Arena(), Block()
+    arena, block = Floor(), Block()
     arena.add_free_entity(block)
     return arena, block, mjcf.Physics.from_mjcf_model(arena.mjcf_model)
 
@@ -78,27 +90,74 @@ def test_set_pose_and_get_pose_of_a_free_entity():
     np.testing.assert_allclose(block.get_pose(physics)[1], quat)
 
 
-def test_set_velocity_takes_world_frame_angular_velocity():
+def test_set_velocity_takes_the_angular_velocity_in_the_body_frame_as_dm_control():
     _, block, physics = free_block_scene()
     block.set_pose(physics, quaternion=[np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)])
     block.set_velocity(physics, velocity=[1, 0, 0], angular_velocity=[1, 0, 0])
-    physics.forward()
     qvel = physics.bind(mjcf.get_frame_freejoint(block.mjcf_model)).qvel
-    np.testing.assert_allclose(qvel[:3], [1, 0, 0])
-    np.testing.assert_allclose(qvel[3:], [0, -1, 0], atol=1e-12)  # x in the rotated body frame
-    velocity = np.zeros(6)
+    np.testing.assert_array_equal(qvel, [1, 0, 0, 1, 0, 0])  # the free joint's own
+    velocity, angular = block.get_velocity(physics)
+    np.testing.assert_array_equal(velocity, [1, 0, 0])
+    np.testing.assert_array_equal(angular, [1, 0, 0])
+    physics.forward()
+    world = np.zeros(6)
     mujoco.mj_objectVelocity(
         physics.model, physics.data, mujoco.mjtObj.mjOBJ_BODY, physics.bind(block.body).ids,
-        velocity, 0,
+        world, 0,
     )  # fmt: skip
-    np.testing.assert_allclose(velocity[:3], [1, 0, 0], atol=1e-12)  # world angular velocity
+    np.testing.assert_allclose(world[:3], [0, 1, 0], atol=1e-12)  # body x is world y
 
 
-def test_posing_a_fixed_entity_is_an_error_naming_it():
-    arena, arm = composer.Arena(), Pendulum("arm")
+def test_velocities_of_a_fixed_entity_are_an_error_naming_it():
+    arena, arm = Floor(), Pendulum("arm")
     arena.attach(arm)
     physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
-    with pytest.raises(composer.EntityError, match="entity 'arm' has no free joint"):
+    with pytest.raises(composer.PoseError, match="non-free entity: 'arm'"):
+        arm.get_velocity(physics)
+    with pytest.raises(ValueError, match="'arm' has no free joint"):
+        arm.set_velocity(physics, [1, 0, 0])
+
+
+def _fixed_scene(position=None, quaternion=None):
+    """An arena with a fixed pendulum attached at a rotated site; the pendulum's frame
+    placed at `position`/`quaternion` in the MJCF when given."""
+    arena, arm = Floor(), Pendulum("arm")
+    site = arena.mjcf_model.worldbody.add("site", name="mount", pos=[0.5, 0, 1], euler=[0, 0, 30])
+    frame = arena.attach(arm, attach_site=site)
+    if position is not None:
+        frame.pos, frame.quat = position, quaternion
+        del frame.euler
+    return arena, arm, mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+
+
+def test_set_pose_of_a_fixed_entity_moves_it_as_a_recompile_with_the_frame_moved():
+    """dm_control moves the attachment frame; here the frame is a MuJoCo <frame>, folded into
+    what it holds: moving those gives what compiling the moved frame gives."""
+    _, arm, physics = _fixed_scene()
+    position, quaternion = arm.get_pose(physics)
+    np.testing.assert_allclose(position, [0.5, 0, 1])
+    np.testing.assert_allclose(quaternion, [np.cos(np.pi / 12), 0, 0, np.sin(np.pi / 12)])
+    target = ([0.1, -0.2, 1.5], [np.cos(0.3), np.sin(0.3), 0, 0])
+    arm.set_pose(physics, *target)
+    np.testing.assert_allclose(arm.get_pose(physics)[0], target[0])
+    physics.forward()
+    _, moved_arm, expected = _fixed_scene(*target)
+    expected.forward()
+    for field in ("xpos", "xquat"):
+        np.testing.assert_allclose(
+            getattr(physics.bind(arm.mjcf_model.find_all("body")), field),
+            getattr(expected.bind(moved_arm.mjcf_model.find_all("body")), field),
+            atol=1e-12,
+        )
+    np.testing.assert_allclose(physics.model.body_pos, expected.model.body_pos, atol=1e-12)
+    arm.shift_pose(physics, position=[0, 0, 0.5])
+    np.testing.assert_allclose(arm.get_pose(physics)[0], [0.1, -0.2, 2.0])
+
+
+def test_posing_an_unattached_entity_is_an_error_naming_it():
+    arm = Pendulum("arm")
+    physics = mjcf.Physics.from_mjcf_model(arm.mjcf_model)
+    with pytest.raises(composer.EntityError, match="entity 'arm' has no free joint and is not"):
         arm.set_pose(physics, position=[0, 0, 1])
 
 
@@ -109,7 +168,7 @@ class _Stand(composer.Task):
     """Entities from files, free or attached, in an arena; a reward of the height."""
 
     def __init__(self, paths, free=True):
-        self._arena = composer.Arena()
+        self._arena = Floor()
         self.entities = [composer.Entity.from_path(path) for path in paths]
         for entity in self.entities:
             if free:
@@ -174,7 +233,7 @@ def test_a_file_whose_body_does_not_float_gets_the_free_joint_or_a_clear_error(t
         '<mujoco model="crate"><worldbody><body name="box"><geom type="box" size=".1 .1 .1"/>'
         "</body></worldbody></mujoco>"
     )
-    arena = composer.Arena()
+    arena = Floor(name="arena")
     crate = composer.Entity.from_path(path)
     frame = arena.add_free_entity(crate)
     assert mjcf.get_frame_freejoint(frame) is not None

@@ -7,12 +7,13 @@ import pytest
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import variation
 from tests.composer.scenes import Block
 
 
 def scene(count: int, half: float = 0.05):
-    arena = composer.Arena()
+    arena = Floor()
     blocks = [Block(name=f"block{i}", half=half) for i in range(count)]
     for block in blocks:
         arena.add_free_entity(block)
@@ -44,9 +45,11 @@ def test_props_are_placed_at_random_without_penetration():
 
 def test_no_room_raises_naming_the_prop_after_the_attempts():
     blocks, physics = scene(2)
-    placer = composer.PropPlacer(blocks, position=[0, 0, 0.05], max_attempts_per_prop=3)
-    with pytest.raises(composer.PlacementError, match="'block1' without penetration in 3 attempts"):
+    placer = composer.PropPlacer(blocks, position=[0, 0, 0.06], max_attempts_per_prop=3)
+    with pytest.raises(composer.PlacementError, match="'block1' without collisions in 3 attempts"):
         placer(physics, np.random.RandomState(0))
+    # An EpisodeInitializationError: the environment retries the episode.
+    assert issubclass(composer.PlacementError, composer.EpisodeInitializationError)
     composer.PropPlacer(blocks, position=[0, 0, 0.05], ignore_collisions=True)(
         physics, np.random.RandomState(0)
     )
@@ -54,7 +57,7 @@ def test_no_room_raises_naming_the_prop_after_the_attempts():
 
 def test_bad_arguments_are_refused():
     blocks, _ = scene(1)
-    with pytest.raises(composer.PlacementError, match="at least one prop"):
+    with pytest.raises(composer.InitializerError, match="at least one prop"):
         composer.PropPlacer([], position=[0, 0, 0])
-    with pytest.raises(composer.PlacementError, match="max_attempts_per_prop"):
+    with pytest.raises(composer.InitializerError, match="max_attempts_per_prop"):
         composer.PropPlacer(blocks, position=[0, 0, 0], max_attempts_per_prop=0)

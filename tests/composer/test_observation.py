@@ -9,6 +9,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 import composer
+from arenas import Floor
 from composer import observation
 from tests.composer.scenes import Pendulum
 from tests.conftest import gym_model
@@ -26,7 +27,7 @@ class ClockTask(composer.Task):
     """Serves the given task observables; 5 physics steps of 0.01 s per control step."""
 
     def __init__(self, **observables: observation.Observable) -> None:
-        self._arena = composer.Arena()
+        self._arena = Floor()
         self._observables = observables
         for item in observables.values():
             item.enabled = True
@@ -103,6 +104,7 @@ def test_buffer_with_interval_and_delay_matches_the_schedule_by_hand(task_class)
         ("max", [0, 2, 6, 12, 16]),
         ("min", [0, 0, 2, 8, 12]),
         ("sum", [0, 2, 12, 30, 42]),
+        ("median", [0, 0, 4, 10, 14]),
     ],
 )
 def test_aggregators_reduce_the_buffer(aggregator, expected):
@@ -148,7 +150,10 @@ def test_bounds_survive_buffers_and_aggregators():
             max=unit(buffer_size=3, aggregator="max"),
             total=unit(buffer_size=3, aggregator="sum"),
             noisy=unit(corruptor=observation.GaussianNoise(0.1)),
-            custom=unit(buffer_size=2, aggregator=np.median, aggregator_bounds=(-1, 1)),
+            custom=unit(
+                buffer_size=2, aggregator=lambda b: np.median(b, axis=0), aggregator_bounds=(-1, 1)
+            ),
+            whole=unit(buffer_size=2, aggregator=np.median),  # called f(buffer): one number
         )
     )
     space = env.observation_space
@@ -157,6 +162,7 @@ def test_bounds_survive_buffers_and_aggregators():
     assert space["mean"] == space["max"] == space["custom"] == space["plain"]
     assert space["total"] == spaces.Box(-3.0, 3.0, (2,), np.float64)
     assert space["noisy"] == spaces.Box(-np.inf, np.inf, (2,), np.float64)
+    assert space["whole"] == spaces.Box(-np.inf, np.inf, (), np.float64)
     obs, _ = env.reset(seed=0)
     assert obs in space
 
@@ -164,8 +170,9 @@ def test_bounds_survive_buffers_and_aggregators():
 def test_invalid_options_name_the_observable():
     with pytest.raises(composer.ObservableError, match=r"'clock'.*buffer_size"):
         composer.Environment(ClockTask(clock=observation.Generic(step_count, buffer_size=0)))
-    with pytest.raises(composer.ObservableError, match=r"'clock'.*aggregator"):
-        composer.Environment(ClockTask(clock=observation.Generic(step_count, aggregator="median")))
+    with pytest.raises(composer.UnknownAggregatorError, match=r"'mode'.*'median'"):
+        observation.Generic(step_count, aggregator="mode")
+    assert issubclass(composer.UnknownAggregatorError, KeyError)
     with pytest.raises(composer.ObservableError, match="'clock' could not be read"):
         composer.Environment(ClockTask(clock=observation.Generic(lambda physics: 1 / 0)))
     with pytest.raises(composer.ObservableError, match="no option 'interval'"):

@@ -13,6 +13,7 @@ from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.vector import SyncVectorEnv
 
 import composer
+from arenas import Floor
 from composer import BatchOfOne, observation, stepping
 from composer.vector import VectorEnvironment, info_layout
 from tests.composer.vector_scenes import BatchedSwing
@@ -35,7 +36,7 @@ def test_single_forms_of_a_batched_task_run_its_batched_methods_with_a_batch_of_
 
 
 def test_task_defaults_and_null_task_in_both_forms():
-    env = composer.Environment(composer.NullTask(composer.Arena()))
+    env = composer.Environment(composer.NullTask(Floor()))
     env.reset(seed=0)
     task, physics = env.task, env.physics
     one = BatchOfOne(physics)
@@ -47,7 +48,7 @@ def test_task_defaults_and_null_task_in_both_forms():
     assert (reward, terminated, truncated, info) == (0.0, False, False, {"discount": 1.0})
 
     class Lazy(composer.Task):
-        root_entity = composer.Arena()
+        root_entity = Floor()
 
     with pytest.raises(NotImplementedError, match=r"get_reward\(physics\) or get_reward_batch"):
         Lazy().get_reward(physics)

@@ -7,6 +7,7 @@ import pytest
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import observation
 from tests.composer.scenes import Pendulum, SwingTask
 from tests.conftest import gym_model
@@ -33,12 +34,12 @@ def test_timesteps_that_do_not_divide_are_refused():
 
 
 def test_defaults_without_timesteps_are_mujoco_own():
-    task = composer.NullTask(composer.Arena())
+    task = composer.NullTask(Floor())
     assert task.physics_timestep == 0.002 and task.physics_steps_per_control_step == 1
 
 
 def test_action_space_is_bounded_by_ctrlrange_where_limited():
-    arena, pendulum = composer.Arena(), Pendulum()
+    arena, pendulum = Floor(), Pendulum()
     arena.attach(pendulum)
     hinge = pendulum.hinge
     pendulum.mjcf_model.actuator.add("motor", joint=hinge, ctrlrange=[-2, 3])
@@ -81,7 +82,7 @@ def test_a_recompile_that_changes_a_space_is_refused():
 
 
 def test_an_entity_timestep_is_the_scene_timestep_and_set_timesteps_keeps_them_agreeing():
-    arena, humanoid = composer.Arena(), composer.Entity.from_path(gym_model("humanoid"))
+    arena, humanoid = Floor(), composer.Entity.from_path(gym_model("humanoid"))
     arena.mjcf_model.compiler.inertiafromgeom = "true"  # as humanoid.xml sets it
     arena.attach(humanoid)
     task = composer.NullTask(arena)

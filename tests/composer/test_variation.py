@@ -7,6 +7,7 @@ import pytest
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import variation
 from tests.composer.scenes import Block
 
@@ -76,7 +77,7 @@ class VariedTask(composer.Task):
     """A block whose size varies in the MJCF and whose mass varies in the physics."""
 
     def __init__(self, vary_mjcf: bool) -> None:
-        self._arena = composer.Arena()
+        self._arena = Floor()
         self.block = Block()
         self._arena.add_free_entity(self.block)
         self.vary_mjcf = vary_mjcf

@@ -6,6 +6,7 @@ import numpy as np
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import BatchPhysics, observation
 from composer.observation import BatchGeneric
 from tests.composer.scenes import Pendulum, SwingTask
@@ -98,7 +99,7 @@ class HookedSwing(composer.Task):
     """The pendulum with entity hooks; the reward reads what its before_step wrote."""
 
     def __init__(self) -> None:
-        self._arena = composer.Arena(floor_size=(2, 2))
+        self._arena = Floor(size=(2, 2))
         self.pendulum = HookedPendulum()
         self._arena.attach(self.pendulum)
         self.pendulum.joint_positions.enabled = True

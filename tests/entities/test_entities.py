@@ -7,12 +7,13 @@ import pytest
 
 import composer
 import entities
+from arenas import Floor
 from entities import features
 
 
 def serve(*parts: composer.Entity, enable: bool = True) -> composer.Environment:
     """An environment of the parts attached to a floor, their observables enabled."""
-    arena = composer.Arena(floor_size=(3, 3))
+    arena = Floor(size=(3, 3))
     for part in parts:
         arena.attach(part)
         if enable:
@@ -115,13 +116,20 @@ def test_free_props_have_their_mass_and_fall(prop, geom_type):
     assert obs[f"{prop.name}/velocity"].shape == (6,)
 
 
-def test_a_fixed_prop_has_no_free_joint_and_stays_put():
+def test_a_fixed_prop_has_no_free_joint_and_is_posed_by_its_frame():
     pillar = entities.Cylinder(radius=0.1, half_length=0.5, free=False, rgba=(1, 0, 0, 1))
     env = serve(pillar)
+    physics = env.physics
     assert "cylinder/velocity" not in env.observation_space.spaces
     with pytest.raises(composer.EntityError, match="no free joint"):
-        pillar.set_pose(env.physics, position=[0, 0, 1])
-    np.testing.assert_allclose(env.physics.bind(pillar.geom).rgba, [1, 0, 0, 1])
+        pillar.set_velocity(physics, [0, 0, 1])
+    before = np.array(physics.bind(pillar.geom).xpos)
+    position, _ = pillar.get_pose(physics)
+    pillar.set_pose(
+        physics, position=np.add(position, [0, 0, 1])
+    )  # its frame moves, as dm_control's
+    np.testing.assert_allclose(physics.bind(pillar.geom).xpos, np.add(before, [0, 0, 1]))
+    np.testing.assert_allclose(physics.bind(pillar.geom).rgba, [1, 0, 0, 1])
 
 
 def test_mesh_prop_loads_its_file_scaled(tmp_path):

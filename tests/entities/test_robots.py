@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import composer
+from arenas import Floor
 from entities import menagerie, robots
 
 TINY_ROBOT = """<mujoco model="tiny">
@@ -142,7 +143,7 @@ def test_the_shipped_robots_come_before_the_package_and_after_menagerie_root(mon
 
 def test_real_ur5e_with_robotiq_2f85():
     robot = robots.ur5e_with_2f85()
-    arena = composer.Arena()
+    arena = Floor()
     arena.attach(robot)
     env = composer.Environment(composer.NullTask(arena))
     assert env.action_space.shape == (7,)  # six arm servos and the gripper
