@@ -21,6 +21,7 @@ system's temporary folder. Processes (pytest-xdist workers) share it under a fil
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import os
 import re
@@ -172,7 +173,10 @@ def rewritten() -> Path:
     """The folder holding the rewritten `dm_control` package (on `sys.path` after this
     call). Skips the calling test when the wheel cannot be fetched."""
     cache = _cache()
-    target = cache / "rewritten"
+    # One rewritten tree per version of this file, so a changed rewrite is never served a
+    # tree an older one made (the downloaded wheel is shared).
+    digest = hashlib.sha1(Path(__file__).read_bytes()).hexdigest()[:12]
+    target = cache / f"rewritten-{digest}"
     if not (target / "dm_control").is_dir():
         with _locked(cache / "lock"):
             if not (target / "dm_control").is_dir():
@@ -196,6 +200,8 @@ class _Outcomes(unittest.TestResult):
 
     @staticmethod
     def _name(test: unittest.TestCase) -> str:
+        if not isinstance(test, unittest.TestCase):  # a failed setUpClass or module fixture
+            return str(test)
         return f"{type(test).__name__}.{test._testMethodName}"
 
     def addSuccess(self, test: unittest.TestCase) -> None:
@@ -235,7 +241,4 @@ def run_unittest_file(relative: str) -> dict[str, str]:
     suite = unittest.defaultTestLoader.loadTestsFromModule(module)
     result = _Outcomes()
     suite.run(result)
-    for test, err in result.errors:  # setUpClass and module fixtures fail outside a test
-        if not isinstance(test, unittest.TestCase):
-            result.outcomes[str(test)] = f"error: {err}"
     return result.outcomes
