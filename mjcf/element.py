@@ -660,3 +660,12 @@ else:
         plain attributes (see `_from_xml`)."""
 
         __slots__ = Element.__slots__
+
+
+def __getattr__(name: str) -> Any:
+    """`mjcf.element.RootElement`: the model class at dm_control's module path."""
+    if name == "RootElement":
+        from mjcf.root import RootElement  # cycle: root -> element
+
+        return RootElement
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
