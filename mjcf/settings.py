@@ -18,7 +18,8 @@ model compiles every model's elements as that model alone would:
 - settings that do not change an attached model's compiled values (`usethread`,
   `passthrough` ...) are the output model's; files are resolved per model, so
   `meshdir`, `texturedir`, `assetdir` and `strippath` are never written; every other
-  compiler setting must agree.
+  compiler setting that two models both set must agree, and one that a single model
+  sets is the composed model's (`boundmass` of a scene bounds its robots' masses too).
 
 `option`, `visual` and `statistic` values merge attribute by attribute, a conflict
 between two explicit values being an `AttachmentError`; `size` values are capacities
@@ -94,18 +95,20 @@ def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> M
 
 
 def check_compatible(parent: RootElement, child: RootElement, inertia: bool = True) -> None:
-    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: a
-    compiler setting that is not converted differs, their inertia settings cannot be
-    reconciled (checked unless `inertia` is false), or a setting both models give
-    explicitly differs."""
+    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: both
+    models set a compiler setting that is not converted to different values, their
+    inertia settings cannot be reconciled (checked unless `inertia` is false), or a
+    setting both models give explicitly differs. A setting one model leaves unset never
+    conflicts: the composed model has the other's, as for `<option>`."""
     for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
         if name in FILE_SETTINGS or name in CONVERTED_SETTINGS or name in OUTPUT_SETTINGS:
             continue
-        mine, theirs = setting(parent, name), setting(child, name)
-        if not same(attribute, mine, theirs):
+        mine, theirs = _explicit_setting(parent, name), _explicit_setting(child, name)
+        if mine is not None and theirs is not None and not same(attribute, mine, theirs):
             raise errors.AttachmentError(
                 f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
-                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on both"
+                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on "
+                "both, or on one of them only"
             )
     total = setting(parent, "settotalmass")
     if parent.parent_model is None and total is not None and total > 0:
@@ -186,6 +189,12 @@ def same(attribute: AttributeSpec, a: object, b: object) -> bool:
         a_array, b_array = np.asarray(a), np.asarray(b)
         return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
     return a == b
+
+
+def _explicit_setting(model: RootElement, name: str) -> Any:
+    """A compiler setting `model` sets itself, or None."""
+    compiler = model._section("compiler")
+    return compiler._get_value(compiler._spec.attributes[name])
 
 
 def setting(model: RootElement, name: str) -> Any:

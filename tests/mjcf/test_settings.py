@@ -80,3 +80,49 @@ def test_changing_the_scene_angle_after_attaching_converts_again(menagerie) -> N
     turned.euler = [0, 0, np.pi / 2]
     scene.find("joint", "hinge").range = [-np.pi / 4, np.pi / 4]
     _assert_own_units(scene, "radian")
+
+
+# -- compiler settings one model leaves unset (issue 25) -----------------------------------
+
+
+def _bounded_scene() -> mjcf.RootElement:
+    """A scene that bounds masses and inertias, as dm_control's arenas and many scenes do."""
+    scene = mjcf.RootElement(model="scene")
+    scene.compiler.boundmass = 1e-5
+    scene.compiler.boundinertia = 1e-11
+    scene.worldbody.add("geom", type="plane", size=[5, 5, 0.1])
+    return scene
+
+
+def test_a_compiler_setting_the_child_leaves_unset_never_conflicts() -> None:
+    ant_alone = mujoco.MjModel.from_xml_path(str(gym_model("ant")))
+    scene = _bounded_scene()
+    scene.attach(mjcf.from_path(gym_model("ant")))  # sets no boundmass, no boundinertia
+    written = re.search(r"<compiler[^>]*>", scene.to_xml_string())
+    assert written and 'boundmass="1e-05"' in written.group(0)
+    composed = mjcf.Physics.from_mjcf_model(scene).model
+    torso = mujoco.mj_name2id(composed, Obj.mjOBJ_BODY, "ant/torso")
+    assert np.allclose(composed.body_mass[torso:], ant_alone.body_mass[1:])
+
+
+def test_a_compiler_setting_of_the_child_alone_is_the_composed_models() -> None:
+    scene = mjcf.RootElement(model="scene")
+    child = mjcf.RootElement(model="light")
+    child.compiler.boundmass = 1e-5
+    body = child.worldbody.add("body", name="feather")
+    body.add("inertial", pos=[0, 0, 0], mass=1e-7, diaginertia=[1e-3] * 3)
+    body.add("joint", type="slide")
+    scene.attach(child)
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    assert physics.named.model.body_mass["light/feather"] == pytest.approx(1e-5)
+
+
+def test_two_explicit_different_compiler_settings_still_conflict() -> None:
+    scene = _bounded_scene()
+    child = mjcf.from_path(gym_model("ant"))
+    child.compiler.boundmass = 1e-3
+    with pytest.raises(mjcf.AttachmentError, match="boundmass"):
+        scene.attach(child)
+    assert not scene.find_all("attachment_frame")  # a failed attach changes nothing
+    child.compiler.boundmass = 1e-5  # the same value twice is no conflict
+    scene.attach(child)
