@@ -36,6 +36,7 @@ from mjcf.namescope import unescape as _unescape
 from mjcf.values import format_number
 
 if TYPE_CHECKING:
+    from mjcf.assets import FileNamer
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
@@ -286,6 +287,9 @@ class Composition:
         # (XML, assets, element of each line) of the output compiled, which is the same
         # for every compile of this composition: set by mjcf.serializer.
         self.compiled_text: tuple[str, dict[str, bytes], list] | None = None
+        # The names of the files of this composition's output (to_xml_string,
+        # get_assets), which every such output gives alike: set by mjcf.serializer.
+        self.file_names: FileNamer | None = None
         self._inertia: str | None = None
         self._checked = False
         self._merged: dict[str, settings.MergedSettings] = {}

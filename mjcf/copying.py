@@ -23,7 +23,7 @@ from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from mjcf import attachment, bulk, errors
+from mjcf import assets, attachment, bulk, errors
 from mjcf import values as _values
 from mjcf.assets import Asset
 from mjcf.element import Element
@@ -87,7 +87,7 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
                     "override_attributes=True to take the included value"
                 )
             continue
-        attributes[name] = _copy_value(value)
+        attributes[name] = _copied_value(source, name, value)
     children = []
     for child in source._children:
         if child._spec.repeated:
@@ -118,7 +118,9 @@ def _check_names(target: Element, plan: list) -> None:
 def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
     cls = type(element)
     clone = cls._make(element._spec, parent, parent.root)
-    object.__setattr__(clone, "_attrs", {k: _copy_value(v) for k, v in element._attrs.items()})
+    object.__setattr__(
+        clone, "_attrs", {k: _copied_value(element, k, v) for k, v in element._attrs.items()}
+    )
     clones[id(element)] = clone
     if isinstance(element, attachment.AttachmentFrame):
         frame = cast(attachment.AttachmentFrame, clone)  # made by type(element)
@@ -140,8 +142,16 @@ def _relink_references(clones: dict[int, Element]) -> None:
                 ]
 
 
-def _copy_value(value: Any) -> Any:
-    return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value
+def _copied_value(element: Element, name: str, value: Any) -> Any:
+    """The value a copy of `element` gets for attribute `name`: a file as the `Asset`
+    the source finds (its model's directory and assets are not the copy's), shared as
+    dm_control shares it; arrays copied."""
+    if type(value) is str:
+        attribute = element._spec.attributes[name]
+        if attribute.kind == "file" and value:
+            return element._get_value(attribute)
+        return value
+    return value.copy() if hasattr(value, "copy") else value
 
 
 # -- copy.deepcopy ------------------------------------------------------------------------
@@ -202,7 +212,7 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
             if hasattr(value, "shape"):
                 attrs[name] = _values.track(np.array(value), target)
             elif isinstance(value, Asset):
-                attrs[name] = copy.copy(value)
+                attrs[name] = assets.owned_copy(value, target)
             elif isinstance(value, list):
                 attrs[name] = list(value)
         if converted:

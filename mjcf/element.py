@@ -341,8 +341,11 @@ class Element(ModelOperations):
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
-        elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
-            self._rename_after_file(stored)
+        elif attribute.kind == "file":
+            if isinstance(stored, assets.Asset):
+                assets.claim(stored, self)
+            if self._spec.tag in NAMED_AFTER_FILE:
+                self._rename_after_file(stored)
         self._attrs[name] = stored
         self._modified()
 
@@ -554,6 +557,8 @@ class Element(ModelOperations):
     def _apply_unregistered(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         for attribute, stored in converted:
             if stored is not None:
+                if isinstance(stored, assets.Asset):
+                    assets.claim(stored, self)
                 self._attrs[attribute.name] = stored
 
     def _single_child(self, tag: str) -> Element | None:

@@ -61,7 +61,26 @@ def serialize(
     files = _assets.FileNamer(root, hashed=filename_with_hash)
     writer = _Writer(root, precision, pretty_print, files, False, zero_threshold)
     writer.write_root()
+    if not filename_with_hash:
+        writer.composed.file_names = files
     return "".join(writer.parts), files.contents()
+
+
+@bulk.whole_tree
+def file_name_of(root: RootElement, asset: _assets.Asset) -> str | None:
+    """The name `asset` is written under in the output of `root` (`to_xml_string`,
+    `get_assets`, the exports), or None if that output does not write it or `root`
+    cannot be written. The names of an output are found once while no model changes."""
+    composed = composition.composition_of(root)
+    if composed.file_names is None:
+        files = _assets.FileNamer(root)
+        writer = _Writer(root, 17, False, files, False)
+        try:
+            writer.write_root()
+        except errors.Error:  # writing the model raises it, where it matters
+            return None
+        composed.file_names = files
+    return composed.file_names.name_of(asset)
 
 
 @bulk.whole_tree
