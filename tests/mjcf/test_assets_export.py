@@ -319,6 +319,23 @@ def test_export_names_the_file_after_the_model(menagerie, tmp_path: Path) -> Non
     assert sorted(os.listdir(tmp_path / "a")) == sorted(["robotiq_2f85.xml", *gripper.get_assets()])
 
 
+def test_export_takes_dm_control_keywords_alone(menagerie, tmp_path: Path) -> None:
+    """dm_control's call, every argument by its keyword: `mjcf_model`, `out_dir`,
+    `out_file_name` (and `model_name` for the zip)."""
+    gripper = mjcf.from_path(ROBOTIQ)
+    path = mjcf.export_with_assets(mjcf_model=gripper, out_dir=tmp_path, out_file_name="g.xml")
+    assert Path(path) == tmp_path / "g.xml" and Path(path).read_text() == gripper.to_xml_string()
+    expected = mjcf.Physics.from_mjcf_model(gripper).model
+    assert model_differences(expected, mujoco.MjModel.from_xml_path(path)) == []
+    zipped = mjcf.export_with_assets_as_zip(mjcf_model=gripper, out_dir=tmp_path, model_name="z")
+    assert Path(zipped) == tmp_path / "z.zip"
+    assert model_differences(expected, mujoco.MjSpec.from_zip(zipped).compile()) == []
+    with pytest.raises(TypeError, match="not both"):
+        mjcf.export_with_assets(gripper, tmp_path, mjcf_model=gripper)
+    with pytest.raises(TypeError, match="needs"):
+        mjcf.export_with_assets(out_dir=tmp_path)
+
+
 @pytest.mark.parametrize("name", ["model", "model.stl", "sub/model.xml", "", 3])
 def test_export_refuses_a_model_file_name_it_cannot_use(tmp_path: Path, name) -> None:
     model = mjcf.RootElement(model="m")
