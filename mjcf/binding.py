@@ -34,8 +34,9 @@ reads of derived quantities catch up with them first:
   ipos/iquat and mass, geom size, joint axes ... the inputs of `mj_setConst`) is followed by
   `mj_setConst` at once: sameframe flags, bounding volumes, subtree masses and the like are
   recomputed, so `xpos` after `forward()` uses the new pose and contacts use the new size. A
-  value MuJoCo cannot accept (an inertial offset on a body compiled as "simple") is undone and
-  raises BindingError.
+  body compiled as "simple" whose inertial frame is moved off its body frame loses the flag,
+  as a recompile would give it (see `mjcf.model_constants`). A value MuJoCo cannot accept is
+  undone and raises BindingError.
 - Fields MuJoCo computes only when a sensor asks (cacc, cfrc_int, cfrc_ext, subtree_linvel,
   subtree_angmom) are computed when read.
 - Not tracked: writes to `physics.data` / `physics.model` directly (call `physics.forward()`

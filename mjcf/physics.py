@@ -47,6 +47,7 @@ from mjcf import (
     compiler,
     errors,
     fields,
+    model_constants,
     named,
     raw_access,
     rendering,
@@ -373,20 +374,11 @@ class Physics(StateAccess):
 
     def _update_constants(self, undo: Any, what: str) -> None:
         """A model field mj_setConst reads was written: recompute the model constants
-        derived from it (sameframe flags, bounding volumes, subtree masses ...). If MuJoCo
-        refuses the new value, call `undo`, restore the constants and raise BindingError."""
-        model = self._model
+        derived from it (see `mjcf.model_constants`). If MuJoCo refuses the new value,
+        call `undo`, restore the constants and raise BindingError."""
         if self._scratch is None:
-            self._scratch = mujoco.MjData(model)
-        try:
-            mujoco.mj_setConst(model, self._scratch)
-        except mujoco.FatalError as e:
-            undo()
-            mujoco.mj_setConst(model, self._scratch)
-            raise errors.BindingError(
-                f"writing {what}: MuJoCo cannot update the model for the new value, so it "
-                f"was not applied: {e}"
-            ) from None
+            self._scratch = mujoco.MjData(self._model)
+        model_constants.update(self._model, self._scratch, undo, what)
 
     def reset(self, keyframe: int | str | None = None) -> None:
         """Reset the state to qpos0, or to a keyframe (index or name), then forward.

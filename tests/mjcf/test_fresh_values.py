@@ -309,18 +309,45 @@ def _forwarded(model: mujoco.MjModel) -> mujoco.MjData:
     return data
 
 
-def test_an_edit_mujoco_cannot_use_is_undone_and_named() -> None:
-    model, physics = scene()
-    puck = physics.bind(model.find("body", "puck"))  # compiled as a simple body
-    assert puck.simple
-    constants = physics.model.body_sameframe.copy()
-    with pytest.raises(mjcf.BindingError, match=r"'ipos' of body 'puck'.*simple='false'"):
-        puck.ipos = [0.05, 0, 0]
-    assert np.array_equal(puck.ipos, [0, 0, 0])
-    with pytest.raises(mjcf.BindingError, match="simple"):
-        puck.ipos[1] = 0.05  # item assignment too
-    assert np.array_equal(puck.ipos, [0, 0, 0])
-    assert np.array_equal(physics.model.body_sameframe, constants)
+def test_moving_the_inertial_frame_of_a_simple_body_as_a_recompile_gives_it() -> None:
+    """Randomising a center of mass: a body MuJoCo compiled as "simple" (gymnasium's
+    pusher object on two slides, its goal) takes a new ipos or iquat through a binding,
+    and the model then equals the one compiled from the XML with those values (simple
+    flags, dof_simplenum, sameframe) and simulates alike."""
+    model = mjcf.from_path(gym_model("pusher"))
+    physics = mjcf.Physics.from_mjcf_model(model)
+    thing, goal = (physics.bind(model.find("body", name)) for name in ("object", "goal"))
+    assert thing.simple and goal.simple
+    turned = np.array([np.cos(0.2), 0, 0, np.sin(0.2)])
+    new = {"object": ([0.02, -0.01, 0.0], [1.0, 0, 0, 0]), "goal": ([0.0, 0, 0], turned)}
+    inertias = {name: (physics.bind(model.find("body", name)).mass.copy(),
+                       physics.bind(model.find("body", name)).inertia.copy())
+                for name in new}  # fmt: skip
+    thing.ipos = new["object"][0]
+    goal.iquat = turned
+
+    spec = mujoco.MjSpec.from_file(str(gym_model("pusher")))
+    # pusher.xml computes every inertia from geoms: "auto" keeps the other bodies' so
+    # and takes the two written as explicit <inertial> elements.
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO
+    for name, (ipos, iquat) in new.items():
+        body = spec.body(name)
+        body.explicitinertial, body.mass, body.inertia = True, *inertias[name]
+        body.ipos, body.iquat = ipos, iquat
+    oracle = spec.compile()
+    assert not thing.simple and not goal.simple
+    for field in ("body_simple", "dof_simplenum", "body_sameframe", "body_ipos", "body_iquat"):
+        assert np.array_equal(getattr(physics.model, field), getattr(oracle, field)), field
+    expected = mujoco.MjData(oracle)
+    physics.data.ctrl[:] = expected.ctrl[:] = 0.5
+    physics.data.qvel[-4:] = expected.qvel[-4:] = [0.3, -0.2, 0.1, 0.1]  # object and goal slide
+    for _ in range(50):
+        physics.step()
+        mujoco.mj_step(oracle, expected)
+    assert np.allclose(physics.data.qpos, expected.qpos, atol=1e-12)
+    mujoco.mj_forward(oracle, expected)
+    assert np.allclose(thing.xipos, expected.xipos[thing.element_id], atol=1e-12)
+    assert np.allclose(goal.ximat, expected.ximat[goal.element_id], atol=1e-12)
 
 
 def test_colors_do_not_make_the_physics_dirty() -> None:
