@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any, Protocol, cast
 import numpy as np
 
 from mjcf import assets as _assets
-from mjcf import attachment, bulk, composition, errors
+from mjcf import attachment, bulk, composition, defaults, errors
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -236,21 +236,41 @@ class _Writer:
             self._close(section, 1, mark)
 
     def _default_body(self, default: Element, context: composition.ModelContext) -> None:
-        """The contents of a model's main default class, inside a class named for its
-        scope when it must be kept apart from the other models' defaults."""
+        """The contents of a model's global default class, inside a class named for its
+        scope when it must be kept apart from the other models' defaults. Late settings
+        (`defaults.LateDefault`) begin a new top-level `<default>` section, or, inside a
+        named class, a class nested in the one before, which the model's elements use."""
+        groups: list[list[Element]] = [[]]
+        for child in default._children:
+            if type(child) is defaults.LateDefault:
+                groups.append([])
+            groups[-1].append(child)
         name = context.main_class_written
         if name is None:
-            self.children(default._children, 2, context)
+            for number, group in enumerate(groups):
+                if number:  # a later top-level section, as MuJoCo reads it
+                    self._emit(f"{self._indent(1)}</default>{self._newline()}")
+                    self._emit(f"{self._indent(1)}<default>{self._newline()}")
+                self.children(group, 2, context)
             return
-        opening = f'{self._indent(2)}<default class="{escape(name)}"'
-        self._emit(opening + ">" + self._newline())
-        start = len(self.parts)
-        self.children(default._children, 3, context)
-        if len(self.parts) == start:
-            self._unemit()
-            self._emit(opening + "/>" + self._newline())
-        else:
-            self._emit(self._indent(2) + "</default>" + self._newline())
+        if len(groups) == 1:
+            opening = f'{self._indent(2)}<default class="{escape(name)}"'
+            self._emit(opening + ">" + self._newline())
+            start = len(self.parts)
+            self.children(default._children, 3, context)
+            if len(self.parts) == start:
+                self._unemit()
+                self._emit(opening + "/>" + self._newline())
+            else:
+                self._emit(self._indent(2) + "</default>" + self._newline())
+            return
+        for number, group in enumerate(groups):
+            written = name if number == 0 else defaults.late_class_name(name, number)
+            indent = self._indent(2 + number)
+            self._emit(f'{indent}<default class="{escape(written)}">{self._newline()}')
+            self.children(group, 3 + number, context)
+        for number in range(len(groups) - 1, -1, -1):
+            self._emit(f"{self._indent(2 + number)}</default>{self._newline()}")
 
     def _write_merged(self, spec: ElementSpec, merged: settings.MergedSettings, depth: int) -> None:
         """A settings element merged over models, and its once-only children; left out

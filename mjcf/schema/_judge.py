@@ -70,13 +70,6 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
-            "late actuator defaults",
-            "a second top-level <default> that sets actuator defaults after default classes "
-            "were defined is refused (mjcf.ParseError): MuJoCo builds actuator defaults from "
-            "a sequence of shortcuts that one merged global default cannot reproduce",
-            stricter=True,
-        ),
-        Explanation(
             "unknown object type",
             "a <user> sensor's objtype must name a kind of object; MuJoCo reads any other "
             "text ('true', a typo) as an unknown type and ignores objname",
@@ -397,8 +390,6 @@ class Judge:
         error = error or ""
         if "the separator of attached models" in error or "separates the names" in error:
             return "name separator"
-        if "after an earlier <default> section" in error:
-            return "late actuator defaults"
         if "<user>: 'objtype' takes one of" in error:
             return "unknown object type"
         if re.search(r"<(mesh|hfield)>: '(params|elevation)' takes numbers", error):
