@@ -318,9 +318,7 @@ class Composition:
                     context.euler_seq = seq
             late = defaults.late_sections(model)
             if late and context.main_class_written is not None:  # see mjcf.serializer
-                context.main_reference = defaults.late_class_name(
-                    context.main_class_written, late
-                )
+                context.main_reference = defaults.late_class_name(context.main_class_written, late)
             self._contexts[model] = context
         if self.has_attachments:
             self._scale_masses()
