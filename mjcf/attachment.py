@@ -101,7 +101,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     is attached already."""
     if not isinstance(child, RootElement):
         raise errors.AttachmentError(
-            f"only a model (mjcf.RootElement) can be attached, got {child!r}"
+            f"Expected a mjcf.RootElement: only a model can be attached, got {child!r}"
         )
     if place._spec.tag not in _PLACES or isinstance(place, AttachmentFrame):
         raise errors.AttachmentError(
@@ -111,14 +111,16 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
     if child._frame is not None:
         raise errors.AttachmentError(
-            f"model {child.model!r} is already attached to model {child._frame.root.model!r}; "
-            "detach it first, or attach a copy (copy.deepcopy(model))"
+            f"model {child.model!r} is already attached elsewhere (to model "
+            f"{child._frame.root.model!r}); detach it first, or attach a copy "
+            "(copy.deepcopy(model))"
         )
     model: RootElement | None = place.root
     while model is not None:
         if model is child:
             raise errors.AttachmentError(
-                f"model {child.model!r} cannot be attached inside itself ({place.path})"
+                f"Cannot merge a model to itself: model {child.model!r} would be attached "
+                f"inside itself ({place.path})"
             )
         model = model.parent_model
     settings.check_compatible(place.root.namescope.root.model, child)

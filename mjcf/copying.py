@@ -6,8 +6,9 @@ one without a name scope, as MuJoCo's `<include>` would, and `copy.deepcopy` of 
     twin = copy.deepcopy(arm); twin.model = 'right'       # a detached copy, to attach again
 
 Attributes are merged (a value both sides set differently is an error, unless
-`override_attributes`), children are copied, names must not collide. Everything is
-checked before anything changes.
+`override_attributes`), children are copied, names must not collide (with
+`override_attributes`, a child named as an element of the same parent is merged into it,
+as dm_control does). Everything is checked before anything changes.
 
 `copy.deepcopy(model)` copies the model with the models attached to it; the copy is
 not attached anywhere, even if the original is. References between elements point at
@@ -82,8 +83,9 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
             spec = target._spec.attributes[name]
             if not _same(spec, target._get_value(spec), source._get_value(spec)):
                 raise errors.AttachmentError(
-                    f"{target.path}: {name!r} is {target.get_attribute_xml_string(name)!r} here "
-                    f"and {source.get_attribute_xml_string(name)!r} in {source.path}; pass "
+                    f"{target.path}: Conflicting values for attribute `{name}`: "
+                    f"{target.get_attribute_xml_string(name)!r} here and "
+                    f"{source.get_attribute_xml_string(name)!r} in {source.path}; pass "
                     "override_attributes=True to take the included value"
                 )
             continue
@@ -91,7 +93,11 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
     children = []
     for child in source._children:
         if child._spec.repeated:
-            children.append(child)
+            existing = _named_alike(target, child) if override else None
+            if existing is None:
+                children.append(child)
+            else:  # overriding: the element of that name takes the copy's values
+                _plan_merge(existing, child, override, plan)
             continue
         existing = target._single_child(child._spec.tag)
         if existing is None:
@@ -99,6 +105,24 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
         else:
             _plan_merge(existing, child, override, plan)
     plan.append((target, source, attributes, children))
+
+
+def _named_alike(target: Element, child: Element) -> Element | None:
+    """The child of `target` named as `child` (of the same namespace), as dm_control
+    finds it to override; None if `child` is unnamed or no element has its name. Raises
+    mjcf.AttachmentError if an element elsewhere in the model has it."""
+    spec = child._spec
+    name = child._attrs.get(spec.identifier) if spec.identifier else None
+    if not isinstance(name, str) or not name or spec.namespace is None:
+        return None
+    found = target.find(spec.namespace, name)
+    if found is not None and found._parent is not target:
+        raise errors.AttachmentError(
+            f"{target.path}: <{spec.namespace}> with identifier {name!r} is already a child of "
+            f"another element ({found.path}); include_copy overrides only elements of the "
+            "same parent"
+        )
+    return found
 
 
 def _check_names(target: Element, plan: list) -> None:

@@ -243,15 +243,29 @@ class Element(ModelOperations):
 
     # -- attributes ----------------------------------------------------------------------
 
-    def _attribute_spec(self, name: str) -> AttributeSpec:
+    def _attribute_spec(self, name: str, action: str = "set") -> AttributeSpec:
+        """The schema of attribute `name`; raises mjcf.UnknownAttributeError (an
+        AttributeError) saying what failed, in dm_control's words inside ours: `action`
+        is 'set', 'read' (or delete) or 'give' (an attribute given to `add` or
+        `set_attributes`)."""
         spec = self._spec
         attribute = spec.attributes.get(_ALIASES.get(name, name))
         if attribute is None:
             known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
-            raise errors.UnknownAttributeError(
-                f"{self.path}: <{spec.tag}> has no attribute {name!r}"
-                + _values.suggest(name, [k for k in known if k])
-            )
+            suggestion = _values.suggest(name, [k for k in known if k])
+            if action == "give":
+                problem = f"{name!r} is not a valid attribute of <{spec.tag}>{suggestion}"
+            elif action == "read":
+                problem = f"<{spec.tag}> object has no attribute {name!r}{suggestion}"
+            elif name in spec.children:
+                problem = (
+                    f"can't set attribute {name!r}: <{name}> is a child element of "
+                    f"<{spec.tag}>; set its attributes instead"
+                )
+            else:
+                problem = f"can't set attribute {name!r}: <{spec.tag}> has no such attribute"
+                problem += suggestion
+            raise errors.UnknownAttributeError(f"{self.path}: {problem}")
         return attribute
 
     def __getattr__(self, name: str) -> Any:
@@ -270,7 +284,7 @@ class Element(ModelOperations):
             return self.get_children(child_spec.tag)
         known = list(spec.attributes) + list(spec.children)
         raise errors.UnknownAttributeError(
-            f"{self.path}: <{spec.tag}> has no attribute or child {name!r}"
+            f"{self.path}: <{spec.tag}> object has no attribute or child {name!r}"
             + _values.suggest(name, known)
         )
 
@@ -311,7 +325,7 @@ class Element(ModelOperations):
         if name[:1] == "_":
             object.__delattr__(self, name)
             return
-        self._set_attribute(self._attribute_spec(name), None)
+        self._set_attribute(self._attribute_spec(name, "read"), None)
 
     def _set_attribute(self, attribute: AttributeSpec, value: Any) -> None:
         """Set one attribute from a Python value; None (or a text MuJoCo reads as not
@@ -365,7 +379,7 @@ class Element(ModelOperations):
         """Convert and check every attribute without changing anything."""
         converted = []
         for name, value in attributes.items():
-            attribute = self._attribute_spec(name)
+            attribute = self._attribute_spec(name, "give")
             if value is None:
                 converted.append((attribute, None))
                 continue

@@ -42,7 +42,7 @@ class ModelOperations:
     if TYPE_CHECKING:  # the members of Element the operations use on `self`
         _attrs: dict[str, Any]
 
-        def _attribute_spec(self, name: str) -> AttributeSpec: ...
+        def _attribute_spec(self, name: str, action: str = "set") -> AttributeSpec: ...
         def _cut(self) -> Element: ...
 
     # -- names in an output -----------------------------------------------------------------
@@ -172,7 +172,7 @@ class ModelOperations:
         """The attribute as it would be written to XML (scoped names for references)."""
         from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
-        attribute = self._attribute_spec(name)
+        attribute = self._attribute_spec(name, "read")
         if attribute.name not in self._attrs:
             return None
         return serializer.attribute_text(_element(self), attribute, prefix_root)

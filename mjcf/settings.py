@@ -106,9 +106,9 @@ def check_compatible(parent: RootElement, child: RootElement, inertia: bool = Tr
         mine, theirs = _explicit_setting(parent, name), _explicit_setting(child, name)
         if mine is not None and theirs is not None and not same(attribute, mine, theirs):
             raise errors.AttachmentError(
-                f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
-                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on "
-                "both, or on one of them only"
+                f"Conflicting values for attribute `{name}`: model {child.model!r} cannot be "
+                f"attached to model {parent.model!r}: their <compiler {name}> differ "
+                f"({theirs!r} vs {mine!r}); set the same value on both, or on one of them only"
             )
     total = setting(parent, "settotalmass")
     if parent.parent_model is None and total is not None and total > 0:
@@ -152,9 +152,10 @@ def _merge_into(
                     merged.sources[name] = (model, value)
                 continue
         raise errors.AttachmentError(
-            f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
-            f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
-            "one value: set the same value on both, or on neither"
+            f"Conflicting values for attribute `{name}`: models {other_model.model!r} and "
+            f"{model.model!r} set <{tag} {name}> differently ({merged.attributes[name]!r} vs "
+            f"{text!r}); a composed model has one value: set the same value on both, or on "
+            "neither"
         )
     for child in section._children:
         if child._spec.repeated:

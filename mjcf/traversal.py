@@ -121,7 +121,7 @@ def _check_namespace(namespace: str, allow_tags: bool) -> bool:
         return True
     known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
     raise errors.NamespaceError(
-        f"{namespace!r} is not a namespace"
+        f"{namespace!r} is not a valid namespace"
         + _values.suggest(namespace, known)
         + f"; namespaces: {', '.join(known)}"
     )

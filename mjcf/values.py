@@ -231,7 +231,9 @@ class _Numbers(_Converter):
             or count in spec.gaps
             or (spec.multiple_of and count % spec.multiple_of)
         ):
-            raise InvalidValue(f"takes {spec.arity_text()}, got {count}: {shown!r}")
+            too_many = spec.max is not None and count > spec.max
+            limit = f" (no more than {spec.max} entries)" if too_many else ""
+            raise InvalidValue(f"takes {spec.arity_text()}, got {count}{limit}: {shown!r}")
 
     def _words(self, text: str) -> list:
         words = text.split()

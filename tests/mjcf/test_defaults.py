@@ -170,11 +170,17 @@ def test_include_copy_merges_without_a_scope() -> None:
 def test_include_copy_conflicts_and_override() -> None:
     base = _base()
     before = base.to_xml_string()
-    with pytest.raises(mjcf.AttachmentError, match=r"'angle' is 'radian' here and 'degree'"):
+    with pytest.raises(mjcf.AttachmentError, match=r"`angle`: 'radian' here and 'degree'"):
         base.include_copy(_extra("degree"))
     assert base.to_xml_string() == before
     base.include_copy(_extra("degree"), override_attributes=True)
     assert base.compiler.angle == "degree" and base.find("body", "b2") is not None
+    moved = mjcf.RootElement(model="moved")  # overriding: a named element takes the values
+    moved.worldbody.add("body", name="b2", pos=[0, 1, 2]).add("site", name="mark")
+    base.include_copy(moved, override_attributes=True)
+    assert base.find("body", "b2").pos.tolist() == [0, 1, 2]
+    assert base.find("site", "mark").parent is base.find("body", "b2")
+    assert mjcf.Physics.from_mjcf_model(base).model.nbody == 3  # merged, not added
 
 
 def test_include_copy_name_collisions_change_nothing() -> None:

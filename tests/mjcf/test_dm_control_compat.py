@@ -279,7 +279,7 @@ def test_other_setting_conflicts_still_raise() -> None:
 def test_unknown_namespace_is_a_value_error_and_still_a_key_error() -> None:
     model = mjcf.from_path(GYM_ASSETS / "ant.xml")
     for call in (lambda: model.find("bdy", "torso"), lambda: model.find_all("jiont")):
-        with pytest.raises(ValueError, match="not a namespace") as caught:
+        with pytest.raises(ValueError, match="not a valid namespace") as caught:
             call()
         assert isinstance(caught.value, mjcf.NamespaceError)
         assert isinstance(caught.value, mjcf.NotFoundError) and isinstance(caught.value, KeyError)
