@@ -169,6 +169,31 @@ def detach(child: RootElement) -> None:
     frame._modified()
 
 
+def clear_section(section: Element, affect_attachments: bool) -> None:
+    """Empty the top-level section `section` (its attributes and children) of its model,
+    and with `affect_attachments` the same section of every model attached into it
+    (frames in an emptied world body are detached). Raises mjcf.AttachmentError if models
+    are attached into the model and not `affect_attachments`; nothing changes then."""
+    model = section.root
+    attached = attached_models(model)
+    if attached and not affect_attachments:
+        raise errors.AttachmentError(
+            f"{section.path}: models {', '.join(repr(m.model) for m in attached)} are attached "
+            f"into this model, and each has its own <{section.tag}>: please use "
+            "remove(affect_attachments=True) to empty it in every model"
+        )
+    tag = section._spec.tag
+    for each in (*attached, model) if affect_attachments else (model,):
+        emptied = each._section(tag)
+        for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
+            if frame._is_registered():
+                detach(frame._attached)
+        for child in list(emptied._children):
+            child._cut()
+        emptied._attrs.clear()
+        emptied._modified()
+
+
 def frame_of(model: RootElement) -> AttachmentFrame | None:
     """The attachment frame of `model`, or None if it is not attached."""
     return model._frame

@@ -322,8 +322,21 @@ class Element(ModelOperations):
         self._set_attribute(self._attribute_spec(name), value)
 
     def __delattr__(self, name: str) -> None:
+        """`del element.attribute` removes an attribute; `del element.child` removes a
+        child that may appear once (`del body.inertial`), as `child.remove()`."""
         if name[:1] == "_":
             object.__delattr__(self, name)
+            return
+        spec = self._spec
+        if name not in spec.attributes and name not in _ALIASES and name in spec.children:
+            if spec.children[name].repeated:
+                raise errors.UnknownAttributeError(
+                    f"{self.path}: `{name}` is a collection of child elements, which cannot "
+                    f"be deleted; remove each (`for child in element.{name}: child.remove()`)"
+                )
+            child = self._single_child(name)
+            if child is not None:
+                child.remove()
             return
         self._set_attribute(self._attribute_spec(name, "read"), None)
 
@@ -532,8 +545,8 @@ class Element(ModelOperations):
                 section = self._parent is None and self is self._root
                 if (existing._attrs or existing._children) and not section:
                     raise errors.SchemaError(
-                        f"{self.path}: <{self.tag}> may have only one <{tag}>, and it has "
-                        "one already; set its attributes instead"
+                        f"{self.path}: <{tag}> child already exists: <{self.tag}> may have "
+                        f"only one <{tag}>; set its attributes instead"
                     )
                 existing.set_attributes(**attributes)
                 existing._keep()
@@ -551,11 +564,12 @@ class Element(ModelOperations):
 
     def _written_empty(self) -> bool:
         """Whether this element is written when it has no attributes and no children:
-        one that may repeat is; a once-only one only if being there changes the model
-        (`ElementSpec.matters_empty`: an actuator shortcut in a default class) and it
-        was put there (read, added), not made by reading `parent.<tag>`."""
+        one that may repeat is, and one absent until added (a free joint); another
+        once-only one only if being there changes the model (`ElementSpec.matters_empty`:
+        an actuator shortcut in a default class) and it was put there (read, added), not
+        made by reading `parent.<tag>`."""
         spec = self._spec
-        return not spec.on_demand or spec.matters_empty
+        return spec.repeated or spec.on_demand or spec.matters_empty
 
     def _keep(self) -> None:
         """Count this element as put there, even if it was made on first access."""
@@ -584,12 +598,13 @@ class Element(ModelOperations):
     def get_children(self, tag: str) -> Any:
         """Children with `tag`: an `ElementList` for repeated elements (for a top-level
         section, with those of attached models: see `mjcf.element_list`), or the single
-        child for elements that may appear once (created empty on first access)."""
+        child for elements that may appear once: created empty on first access, but for
+        those absent until added (a body's `inertial` and `freejoint`: None)."""
         spec = self._child_spec(tag)
         if spec.repeated:
             return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
-        if child is None:
+        if child is None and not spec.on_demand:
             if spec.matters_empty:  # not written while it stays empty (see _OnDemand)
                 child = _OnDemand._make(spec, self, self._root)
             else:

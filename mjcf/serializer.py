@@ -121,9 +121,13 @@ def to_xml_string(
     else:
         context = writer.context_of(element.root)
         if self_only:
-            writer.parts.append(f"<{writer.tag_of(element)}{writer.attributes(element, context)}/>")
+            tag, text = writer.tag_of(element), writer.attributes(element, context)
+            children = element._children or isinstance(element, attachment.AttachmentFrame)
+            writer.parts.append(f"<{tag}{text}>...</{tag}>" if children else f"<{tag}{text}/>")
         else:
             writer.element(element, 0, context)
+            if not writer.parts:  # an empty element left out of a model is still asked for
+                writer.parts.append(f"<{writer.tag_of(element)}/>")
     return "".join(writer.parts)
 
 
@@ -319,7 +323,7 @@ class _Writer:
         return len(self.parts)
 
     def _close(self, element: Element, depth: int, mark: int) -> None:
-        if len(self.parts) == mark and element._spec.on_demand:
+        if len(self.parts) == mark and not element._spec.repeated:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
             if element._attrs or element._written_empty():
