@@ -217,7 +217,8 @@ class ModelOperations:
         filename_with_hash: bool = False,
     ) -> str:
         """XML text of this element (with its subtree and attached models unless
-        `self_only`: then its tag and attributes alone, '...' standing for its children). Numbers keep their source text, or are written with `precision`
+        `self_only`: then its tag and attributes alone, '...' standing for its
+        children). Numbers keep their source text, or are written with `precision`
         significant digits (17: exact); with `precision` below 17 or a `zero_threshold`
         every real number is rewritten, those smaller in magnitude than `zero_threshold`
         as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
