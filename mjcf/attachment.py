@@ -221,6 +221,6 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     `identifier` ('arm' or 'arm/gripper'), or the frame given that name."""
     scope = root.namescope.descendant(identifier)
     if scope is None:
-        named = root.namescope.get("attachment_frame", identifier)
+        named = root.namescope.lookup("attachment_frame", identifier)
         return named if isinstance(named, AttachmentFrame) else None
     return scope.model._frame

@@ -511,7 +511,7 @@ class Element(ModelOperations):
         namespace = attribute.reference_namespace(self._attrs)
         if namespace is None or attribute.is_list:
             return None
-        return self._root.namescope.get(namespace, name)
+        return self._root.namescope.lookup(namespace, name)
 
     # -- children -------------------------------------------------------------------------
 
@@ -527,6 +527,7 @@ class Element(ModelOperations):
             f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
             + _values.suggest(tag, self._spec.children)
             + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
+            + f" (<{tag}> is not a valid child of <{self.tag}>)"
         )
 
     def add(self, tag: str, **attributes: Any) -> Element:

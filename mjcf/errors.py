@@ -37,9 +37,10 @@ class Error(Exception):
 # -- building and editing the tree -------------------------------------------------------
 
 
-class SchemaError(Error):
+class SchemaError(Error, ValueError, AttributeError):
     """An element that MJCF does not allow here: unknown tag, wrong parent, or a
-    second copy of an element that may appear only once."""
+    second copy of an element that may appear only once. Both a `ValueError` and an
+    `AttributeError`, the two dm_control raises for these."""
 
 
 class UnknownAttributeError(Error, AttributeError):
@@ -78,6 +79,11 @@ class NamespaceError(NotFoundError, ValueError):
 class ParseError(Error, ValueError):
     """Malformed or unsafe XML, an `<include>` cycle or a missing included file; the
     message names the file and line."""
+
+
+class MissingFileError(ParseError, FileNotFoundError):
+    """An included file found neither in the `assets` given nor on disk: a ParseError,
+    and a `FileNotFoundError` (an `OSError`, which dm_control raises)."""
 
 
 # -- composition and assets -------------------------------------------------------------

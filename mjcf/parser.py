@@ -295,7 +295,10 @@ def _include_source(
                     f"{where}: cannot read {candidate!r}: {error.strerror}"
                 ) from None
     looked = ", ".join(map(repr, candidates))
-    raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
+    raise errors.MissingFileError(
+        f"{where}: included file {file_attr!r} not found (looked in {looked}, and among the "
+        "assets given)"
+    )
 
 
 def _where(filename: str | None, element: etree._Element) -> str:
@@ -550,7 +553,7 @@ class _Builder:
                         continue
                     if not target and namespace != "default":
                         continue  # no reference, as MuJoCo reads an empty one
-                    if scope.get(namespace, target) is None:
+                    if scope.lookup(namespace, target) is None:
                         dangling.append(
                             f"{element.path}: {name}={target!r} (no {namespace} of that name)"
                         )

@@ -34,7 +34,7 @@ def find(element: Element, namespace: str, identifier: str) -> Element | None:
         found = attachment.find_frame(element.root, identifier)
     else:
         _check_namespace(namespace, allow_tags=False)
-        found = element.root.namescope.get(namespace, identifier)
+        found = element.root.namescope.lookup(namespace, identifier)
     if found is None or element is element.root or _is_inside(found, element):
         return found
     return None

@@ -429,3 +429,22 @@ def test_include_copy_keeps_the_files_of_the_model_copied(
         assert copy_.file is original.file and Path(copy_.file.path).is_file()
     expected = mjcf.Physics.from_mjcf_model(source).model
     assert model_differences(expected, mjcf.Physics.from_mjcf_model(copied).model) == []
+
+
+def test_an_included_file_and_the_files_it_names_given_as_assets(menagerie) -> None:
+    """A model read from a string whose <include> and meshes exist only as `assets`:
+    get_assets() gives the files the XML names (not the included XML), stock MuJoCo
+    compiles them alike; without the assets the missing file is a FileNotFoundError."""
+    xml = """<mujoco><asset><texture name="dots" type="2d" file="no_such_dir/dots.png"/>
+      <material name="dotted" texture="dots"/></asset>
+      <include file="parts.xml"/>
+      <worldbody><geom type="sphere" size=".1" material="dotted"/></worldbody></mujoco>"""
+    parts = b"""<mujoco><asset><mesh name="pad" file="elsewhere/pad.stl" scale=".01 .01 .01"/>
+      </asset><worldbody><geom type="mesh" mesh="pad"/></worldbody></mujoco>"""
+    with pytest.raises(FileNotFoundError, match="parts.xml"):
+        mjcf.from_xml_string(xml)
+    files = {"parts.xml": parts, "dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
+    model = mjcf.from_xml_string(xml, assets=files)
+    assets = model.get_assets()
+    assert assets == {"dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
+    _assert_names_fit_mujoco(model)
