@@ -441,7 +441,7 @@ def test_an_included_file_and_the_files_it_names_given_as_assets(menagerie) -> N
       <worldbody><geom type="sphere" size=".1" material="dotted"/></worldbody></mujoco>"""
     parts = b"""<mujoco><asset><mesh name="pad" file="elsewhere/pad.stl" scale=".01 .01 .01"/>
       </asset><worldbody><geom type="mesh" mesh="pad"/></worldbody></mujoco>"""
-    with pytest.raises(FileNotFoundError, match="parts.xml"):
+    with pytest.raises(FileNotFoundError, match=r"parts\.xml"):
         mjcf.from_xml_string(xml)
     files = {"parts.xml": parts, "dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
     model = mjcf.from_xml_string(xml, assets=files)
