@@ -139,6 +139,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     free = place.root.namescope.free_child_name(child.model)
     if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
         child.model = free
+    settings.absorb_capacities(place.root, child)
     link(frame, child)
     body._children.append(frame)
     place._modified()

@@ -166,6 +166,36 @@ def _merge_into(
         _merge_into(target, child, model, frozenset())
 
 
+def absorb_capacities(parent: RootElement, child: RootElement) -> None:
+    """Raise the `<size>` capacities of `parent` to those `child` (and the models
+    attached to it) need, as dm_control does when it attaches `child`: a capacity
+    `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
+    (`memory` then in bytes: '1M' over '10000' is '1048576')."""
+    from mjcf import attachment  # cycle: attachment -> settings
+
+    needed: dict[str, tuple[object, int | None]] = {}
+    for model in (child, *attachment.attached_models(child)):
+        size = model._section("size")
+        for name in size._attrs:
+            value = size._get_value(size._spec.attributes[name])
+            capacity = _capacity(name, value)
+            held = needed.get(name)
+            if held is None or (capacity is not None and held[1] is not None and capacity > held[1]):
+                needed[name] = (value, capacity)
+    size = parent._section("size")
+    changes: dict[str, object] = {}
+    for name, (value, capacity) in needed.items():
+        mine = size._get_value(size._spec.attributes[name])
+        if mine is None:
+            changes[name] = value
+            continue
+        own = _capacity(name, mine)
+        if capacity is not None and own is not None and capacity > own:
+            changes[name] = str(capacity) if name == "memory" else value
+    if changes:
+        size.set_attributes(**changes)
+
+
 _BYTE_SUFFIXES = {"k": 10, "m": 20, "g": 30, "t": 40, "p": 50, "e": 60}
 
 
