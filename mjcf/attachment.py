@@ -59,6 +59,9 @@ class AttachmentFrame(Element):
     __slots__ = ("_attached",)
 
     _attached: RootElement
+    # Its joints are named within the frame, scoped to the attached model as in
+    # dm_control ('arm/root_x/'), so that two frames may each have a joint 'root_x'.
+    _names_children_in_model = False
 
     @property
     def attached_model(self) -> RootElement:

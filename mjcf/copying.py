@@ -133,7 +133,13 @@ def _check_names(target: Element, plan: list) -> None:
             for element in child.iter():
                 namespace = element._spec.namespace
                 name = element.identifier
-                if namespace is not None and name is not None and not element._implicit():
+                named_in_frame = isinstance(element._parent, attachment.AttachmentFrame)
+                if (
+                    namespace is not None
+                    and name is not None
+                    and not element._implicit()
+                    and not named_in_frame
+                ):
                     scope.check_free(namespace, name, element)
                 if isinstance(element, attachment.AttachmentFrame):
                     scope.check_child_free(element.attached_model.model)

@@ -436,8 +436,38 @@ class Element(ModelOperations):
 
     def _check_free(self, name: str) -> None:
         namespace = self._spec.namespace
-        if namespace is not None and self._is_registered():
+        if namespace is None or not self._is_registered():
+            return
+        if self._named_in_model():
             self._root.namescope.check_free(namespace, name, self, renaming=True)
+        else:
+            self._check_free_in_parent(name)
+
+    # The children of an element whose class sets this False (an attachment frame's
+    # joints) are named within it, not among their model's names (see mjcf.attachment).
+    _names_children_in_model = True
+
+    def _named_in_model(self) -> bool:
+        """Whether this element's name is one of its model's names: not for a child of
+        an attachment frame, whose name is its own within the frame."""
+        parent = self._parent
+        return parent is None or parent._names_children_in_model
+
+    def _check_free_in_parent(self, name: str) -> None:
+        """Raise mjcf.NameClashError if another child of this element's parent has
+        `name` in the same namespace (for names kept within their parent)."""
+        parent = self._parent
+        assert parent is not None, "named within its parent"
+        for sibling in parent._children:
+            if (
+                sibling is not self
+                and sibling._spec.namespace == self._spec.namespace
+                and sibling.identifier == name
+            ):
+                raise errors.NameClashError(
+                    f"{self.path}: the name {name!r} is already used by another "
+                    f"{self._spec.namespace} of {parent.path}: {sibling.path}"
+                )
 
     def _is_registered(self) -> bool:
         """Whether this element is part of its model's tree (not removed)."""
@@ -449,6 +479,10 @@ class Element(ModelOperations):
     def _rename(self, new_name: str | None) -> None:
         namespace = self._spec.namespace
         if namespace is None or not self._is_registered():
+            return
+        if not self._named_in_model():
+            if new_name is not None:
+                self._check_free_in_parent(new_name)
             return
         scope = self._root.namescope
         scope.rename(namespace, self.identifier, new_name, self)
@@ -475,6 +509,9 @@ class Element(ModelOperations):
         namespace = self._spec.namespace
         if namespace is None:
             return
+        if not self._named_in_model():
+            if self.identifier:
+                self._check_free_in_parent(self.identifier)
             return
         name = self.identifier
         if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
@@ -488,7 +525,7 @@ class Element(ModelOperations):
         for element in self.iter():
             namespace = element._spec.namespace
             name = element.identifier
-            if namespace is not None and name is not None:
+            if namespace is not None and name is not None and element._named_in_model():
                 scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------

@@ -58,7 +58,8 @@ class ModelOperations:
     def full_identifier(self) -> str | None:
         """The name MuJoCo sees for this element in the outermost model it is attached
         into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
-        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
+        'arm//unnamed_geom_0'), 'world' for the world body, and as in dm_control its
+        attachment frame's ('arm/') for the world body of an attached model. None for elements that
         cannot carry a name, and unnamed ones that are removed or replicated (see
         `mjcf.naming`)."""
         return self.prefixed_identifier(None)
@@ -69,7 +70,7 @@ class ModelOperations:
         if this element's model is not attached inside `prefix_root`."""
         from mjcf import naming  # cycle: naming -> attachment -> element -> this module
 
-        return naming.scoped_name(_element(self), _model_of(prefix_root))
+        return naming.identifier(_element(self), _model_of(prefix_root))
 
     # -- finding and comparing --------------------------------------------------------------
 

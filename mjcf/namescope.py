@@ -68,9 +68,7 @@ class NameScope:
         `NameScope.get`; raises mjcf.NotFoundError (a KeyError) if there is none."""
         found = self.lookup(namespace, name)
         if found is None:
-            raise errors.NotFoundError(
-                f"model {self.name!r} has no {namespace} named {name!r}"
-            )
+            raise errors.NotFoundError(f"model {self.name!r} has no {namespace} named {name!r}")
         return found
 
     def lookup(self, namespace: str, name: str) -> Element | None:

@@ -475,7 +475,9 @@ class _Writer:
         newline = self._newline()
         self._emit(f"{indent}<{tag}{text}>{newline}", frame)
         for child in frame._children:
-            self.element(child, depth + 1, context, self.composed.frame_child_class(child, context))
+            self.element(
+                child, depth + 1, context, self.composed.frame_child_override(child, context)
+            )
         self.children(frame.attached_model.worldbody._children, depth + 1, child_context)
         self._emit(f"{indent}</{tag}>{newline}")
 

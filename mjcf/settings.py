@@ -180,7 +180,9 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
             value = size._get_value(size._spec.attributes[name])
             capacity = _capacity(name, value)
             held = needed.get(name)
-            if held is None or (capacity is not None and held[1] is not None and capacity > held[1]):
+            if held is None or (
+                capacity is not None and held[1] is not None and capacity > held[1]
+            ):
                 needed[name] = (value, capacity)
     size = parent._section("size")
     changes: dict[str, object] = {}

@@ -148,7 +148,7 @@ def test_unnamed_elements_are_named_as_dm_control_names_them() -> None:
     scene.attach(model)
     assert third.full_identifier == "robot//unnamed_body_1"
     assert third.prefixed_identifier(model) == "//unnamed_body_1"
-    assert model.worldbody.full_identifier == "world"  # attached at the world body
+    assert model.worldbody.full_identifier == "robot/"  # its frame, as dm_control
 
 
 def test_generated_names_work_with_mj_name2id_and_named_indexing() -> None:
@@ -180,17 +180,46 @@ def test_attachment_frame_joints_are_named_after_the_frame() -> None:
     assert slide.full_identifier == "unnamed_model//frame_joint_1"
 
 
-def test_world_body_of_an_attached_model_is_the_body_it_is_attached_in() -> None:
+def test_every_attached_model_may_have_frame_joints_of_the_same_names() -> None:
+    """dm_control Composer gives every attached prop or walker the same frame joint
+    names: each frame holds its own ('cart_1/root_x/'), and actuators refer to them."""
     scene = mjcf.RootElement(model="scene")
-    body = scene.worldbody.add("body", name="base")
+    scene.worldbody.add("geom", type="plane", size=[5, 5, 0.1])
+    slides, motors = [], []
+    for y in (-1, 1):
+        cart = mjcf.RootElement(model="cart")
+        cart.worldbody.add("geom", type="box", size=[0.2, 0.1, 0.05], mass=2)
+        frame = scene.attach(cart)
+        frame.pos = [0, y, 0.05]
+        slide = frame.add("joint", name="root_x", type="slide", axis=[1, 0, 0])
+        slides.append(slide)
+        motors.append(scene.actuator.add("motor", name=f"push_{y}", joint=slide, gear=[10]))
+    assert [s.full_identifier for s in slides] == ["cart/root_x/", "cart_1/root_x/"]
+    assert scene.find("joint", "root_x") is None  # the frames' names, not the scene's
+    assert 'joint="cart_1/root_x/"' in motors[1].to_xml_string()
+    with pytest.raises(mjcf.NameClashError, match="'root_x' is already used"):
+        slides[0].parent.add("joint", name="root_x", type="slide")  # unique in its frame
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    physics.bind(motors[1]).ctrl = 1.0
+    for _ in range(50):
+        physics.step()
+    assert physics.named.data.qpos["cart_1/root_x/"] > 0.01
+    assert physics.bind(slides[0]).qpos == 0 and physics.bind(slides[1]).qpos > 0.01
+    assert np.array_equal(physics.bind(slides).qpos, physics.named.data.qpos[:2])
+
+
+def test_world_body_of_an_attached_model_is_named_after_its_frame() -> None:
+    scene = mjcf.RootElement(model="scene")
+    body = scene.worldbody.add("body", name="base", pos=[0, 0, 1])
     child = mjcf.RootElement(model="child")
     child.worldbody.add("geom", size=[0.1])
     frame = body.attach(child)
-    assert child.worldbody.full_identifier == "base"
+    assert child.worldbody.full_identifier == "child/"  # as dm_control
+    assert child.worldbody.prefixed_identifier(child) == "world"  # in its own output
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    assert physics.bind(child.worldbody).xpos.tolist() == [0, 0, 1]  # the body it is in
     frame.add("joint", name="slide", type="slide")  # now the frame is a body
     assert child.worldbody.full_identifier == "child/"
-    physics = mjcf.Physics.from_mjcf_model(scene)
-    assert physics.bind(child.worldbody).xpos.shape == (3,)
 
 
 def test_generated_names_read_back_unnamed() -> None:
