@@ -72,7 +72,7 @@ Effect = tracking.Effect
 ACC_BEHIND = 1  # the acceleration stage was computed for another state or other controls
 POS_BEHIND = 2  # the position/velocity stages were computed for another state
 LAGGING = 4  # a plain mj_step left the stages one step behind, as the caller asked
-WRITTEN = 8  # state or model written through a binding since the last forward/step
+WRITTEN = 8  # state or model written through a binding since the last forward
 # What a read of each stage must find unset, and what a write of each effect sets.
 READ_MASK = {tracking.Stage.NONE: 0, tracking.Stage.POSITION: POS_BEHIND,
              tracking.Stage.ACCELERATION: POS_BEHIND | ACC_BEHIND}  # fmt: skip
@@ -370,10 +370,11 @@ class Binding:
         if address is not None and address.one_each and not counts.all():
             missing = self._ids[counts == 0]
             names = fields.names(self._model, self._kind)
+            mocap = " (they are not mocap bodies)" if address.start == "body_mocapid" else ""
             raise errors.BindingError(
                 f"{fields.kind_name(self._kind)} "
                 f"{', '.join(repr(names[i] or i) for i in missing)} own no rows of "
-                f"'{field.name}' (indexed by {address.start})"
+                f"'{field.name}' (indexed by {address.start}){mocap}"
             )
         if one_row_each and (counts == 1).all():
             # One row each: index like a per-object field; a single object drops the axis.

@@ -114,9 +114,10 @@ class StateError(Error, ValueError):
     """A state or control vector of the wrong size, or a step count below one."""
 
 
-class BindingError(Error, AttributeError):
+class BindingError(Error, AttributeError, ValueError):
     """An element that cannot be bound to this physics, or a field its kind does not
-    have, or a value of the wrong shape."""
+    have (a mocap field of a body that is not mocap), or a value of the wrong shape.
+    Both an `AttributeError` and a `ValueError`, the two dm_control raises for these."""
 
 
 class RenderError(Error):
