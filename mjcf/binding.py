@@ -72,7 +72,7 @@ Effect = tracking.Effect
 ACC_BEHIND = 1  # the acceleration stage was computed for another state or other controls
 POS_BEHIND = 2  # the position/velocity stages were computed for another state
 LAGGING = 4  # a plain mj_step left the stages one step behind, as the caller asked
-WRITTEN = 8  # state or model written through a binding since the last forward
+WRITTEN = 8  # state or model written through a binding since the last forward/step
 # What a read of each stage must find unset, and what a write of each effect sets.
 READ_MASK = {tracking.Stage.NONE: 0, tracking.Stage.POSITION: POS_BEHIND,
              tracking.Stage.ACCELERATION: POS_BEHIND | ACC_BEHIND}  # fmt: skip

@@ -272,8 +272,9 @@ class Physics(StateAccess):
     @property
     def is_dirty(self) -> bool:
         """Whether state, controls or model fields were written through bindings or named
-        access since the last `forward()` (or a derived read, which forwards first), as in
-        dm_control: a `step()` keeps it set, though what it computes is fresh."""
+        access since the last `forward()` or `step()`: whether a derived read forwards
+        first. dm_control keeps it set through a step; here a step clears it, since the
+        step leaves every derived quantity fresh (see `step`)."""
         return bool(self._stale & WRITTEN)
 
     def mark_as_dirty(self) -> None:
@@ -304,10 +305,9 @@ class Physics(StateAccess):
         model, data = self._model, self._data
         if nstep < 1:
             raise errors.StateError(f"nstep must be at least 1, got {nstep!r}")
-        written = self._stale & WRITTEN  # is_dirty, which a step keeps as dm_control's
         if not self.legacy_step:
             mujoco.mj_step(model, data, nstep)
-            self._stale = LAGGING | written
+            self._stale = LAGGING
             return
         if self._stale & (POS_BEHIND | LAGGING):
             # The position/velocity stages do not describe this state: start from scratch.
@@ -326,7 +326,7 @@ class Physics(StateAccess):
             if nstep > 1:
                 mujoco.mj_step(model, data, nstep - 1)
         mujoco.mj_step1(model, data)
-        self._stale = ACC_BEHIND | written
+        self._stale = ACC_BEHIND
 
     def forward(self) -> None:
         """Recompute every derived quantity from the state (mj_forward); clears is_dirty."""

@@ -181,16 +181,17 @@ def test_writing_a_derived_field_keeps_the_value_written() -> None:
     assert np.all(sensors.sensordata == 42.0)
 
 
-def test_a_step_keeps_is_dirty_and_a_derived_write_after_it_keeps_its_value() -> None:
+def test_a_derived_write_after_a_step_keeps_its_value() -> None:
     """dm_control's flow: controls written, a step, then sensor data assigned (a test's
-    fake reading): is_dirty stays set through the step, as in dm_control; the derived
-    write brings the physics up to date first and keeps the value written."""
+    fake reading): the derived write brings the acceleration stage up to date first and
+    keeps the value written. (The step clears is_dirty, which dm_control keeps set: the
+    step leaves every derived quantity fresh, so no read needs to forward.)"""
     physics = sensing_model(gym_model("ant"), "EULER")
     motors = physics._binding(Obj.mjOBJ_ACTUATOR, np.arange(physics.model.nu))
     motors.ctrl = 0.75
     assert physics.is_dirty
     physics.step()
-    assert physics.is_dirty
+    assert not physics.is_dirty
     sensors = physics._binding(Obj.mjOBJ_SENSOR, np.arange(physics.model.nsensor))
     sensors.sensordata = 12345.0
     assert not physics.is_dirty
