@@ -470,7 +470,8 @@ class Binding:
 
 class EmptyBinding:
     """What binding no elements gives (`physics.bind([])`): every field reads as an empty
-    array, and only empty values can be written (a no-op)."""
+    array, and only empty values can be written (a no-op: `()`, `[]`, an empty array);
+    writing any other raises BindingError, as dm_control refuses every write."""
 
     __slots__ = ()
 
@@ -485,11 +486,8 @@ class EmptyBinding:
         return np.zeros(0)
 
     def __setattr__(self, name: str, value: Any) -> None:
-        if np.size(value) != 0:
-            raise errors.BindingError(
-                f"cannot write {np.shape(value)}-shaped values to '{name}' of a binding of no "
-                "elements: only an empty value fits"
-            )
+        if np.size(value) != 0:  # dm_control's words, which its code and tests expect
+            raise errors.BindingError("Cannot assign a value to an empty binding.")
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return np.zeros(0)

@@ -216,6 +216,25 @@ class Physics(StateAccess):
         self._attach(compiled.model, data)
         self._compiled = compiled
 
+    def reload_from_xml_string(
+        self, xml_string: str | bytes, assets: Mapping[str, bytes] | None = None
+    ) -> None:
+        """Recompile this physics from MJCF text, with fresh data, as `from_xml_string`
+        would give (dm_control's method); bindings made before must be made again, and
+        find elements by their full identifiers. Raises CompileError, changing nothing."""
+        if isinstance(xml_string, bytes):
+            xml_string = xml_string.decode("utf-8")
+        self._reload(_compile(mujoco.MjModel.from_xml_string, xml_string, dict(assets or {})))
+
+    def reload_from_xml_path(self, file_path: str | os.PathLike[str]) -> None:
+        """`reload_from_xml_string` of the MJCF file at `file_path`."""
+        self._reload(_compile(mujoco.MjModel.from_xml_path, os.fspath(file_path), None))
+
+    def _reload(self, model: mujoco.MjModel) -> None:
+        self.close()
+        self._attach(model, None)
+        self.__dict__.pop("_compiled", None)  # compiled from text: no composition to index
+
     def bind(self, elements: Element | Iterable[Element] | None) -> Any:
         """Live access to the simulation fields of model elements: `bind(joint).qpos`,
         `bind(bodies).xpos`, `bind(actuators).ctrl = u` (see `mjcf.binding`).
