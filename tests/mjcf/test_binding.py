@@ -234,7 +234,7 @@ def test_mocap_bodies():
     mixed = physics.bind_names(Obj.mjOBJ_BODY, ["target", "free"])
     assert mixed.xpos.shape == (2, 3)  # fields every body has: bound together
     for error in (ValueError, AttributeError):  # what dm_control code catches
-        with pytest.raises(error, match="'free' own no rows of 'mocap_pos'.*not mocap"):
+        with pytest.raises(error, match=r"'free' own no rows of 'mocap_pos'.*not mocap"):
             mixed.mocap_pos  # noqa: B018
     with pytest.raises(errors.BindingError, match="not mocap"):
         mixed.mocap_pos = [[0, 0, 0], [1, 1, 1]]

@@ -259,7 +259,7 @@ def test_free_releases_the_simulation() -> None:
 def test_reload_from_xml_string_as_dm_control(tmp_path) -> None:
     """dm_control's reload: bindings are cached until the physics is reloaded, then made
     again, finding the elements by their full identifiers in the reloaded model."""
-    scene, arm = arm_scene()
+    scene, _ = arm_scene()
     physics = mjcf.Physics.from_mjcf_model(scene)
     joints = scene.find_all("joint")
     original = physics.bind(joints)
