@@ -231,6 +231,17 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
             for name in source._attrs:
                 if names is not None and name not in names:
                     continue
+                if child_tag != tag and name not in _ACTUATOR_SETTINGS:
+                    # Gain, bias or dynamics set by another shortcut: a motor's own shortcut
+                    # sets them all anyway; how MuJoCo reads them for another shortcut's
+                    # parameters (kp, kv ...) no attribute of the element can say.
+                    if tag in _SETS_GAIN_AND_BIAS:
+                        continue
+                    raise errors.AttributeValueError(
+                        f"{element.path}: its default class sets <{child_tag} {name}>, which "
+                        f"changes the gains of a <{element.tag}> in a way its attributes "
+                        "cannot express; commit_defaults cannot commit it"
+                    )
                 if name in attributes and name != "class":
                     value = source._get_value(source._spec.attributes[name])
                     values[name] = overlay(name, values.get(name), value)
@@ -267,6 +278,13 @@ def overlay(name: str, below: Any, value: Any) -> Any:
     return value
 
 
+# Attributes of `<general>` that every actuator shortcut has and none of them sets: what
+# a default of one shortcut gives an actuator of another as it is.
+_ACTUATOR_SETTINGS = frozenset(
+    schema.MUJOCO.child("default").child("general").attributes
+) - {"gainprm", "biasprm", "dynprm", "gaintype", "biastype", "dyntype", "class"}
+# Shortcuts that set all of gain, bias and dynamics themselves.
+_SETS_GAIN_AND_BIAS = frozenset({"motor"})
 _ACTUATOR_TAGS = frozenset({
     "general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder",
     "muscle", "adhesion", "dcmotor", "pid", "orientation", "plugin",
