@@ -301,7 +301,7 @@ def test_commit_defaults_of_actuators_whose_class_sets_other_shortcuts() -> None
     assert model_differences(expected, mjcf.Physics.from_mjcf_model(root).model) == []
     root = model("position")
     before = root.to_xml_string()
-    with pytest.raises(mjcf.AttributeValueError, match="<velocity kv>.*cannot commit"):
+    with pytest.raises(mjcf.AttributeValueError, match=r"<velocity kv>.*cannot commit"):
         mjcf.commit_defaults(root.actuator.position[0])
     assert root.to_xml_string() == before
     reading = mjcf.from_xml_string(
