@@ -280,9 +280,15 @@ def overlay(name: str, below: Any, value: Any) -> Any:
 
 # Attributes of `<general>` that every actuator shortcut has and none of them sets: what
 # a default of one shortcut gives an actuator of another as it is.
-_ACTUATOR_SETTINGS = frozenset(
-    schema.MUJOCO.child("default").child("general").attributes
-) - {"gainprm", "biasprm", "dynprm", "gaintype", "biastype", "dyntype", "class"}
+_ACTUATOR_SETTINGS = frozenset(schema.MUJOCO.child("default").child("general").attributes) - {
+    "gainprm",
+    "biasprm",
+    "dynprm",
+    "gaintype",
+    "biastype",
+    "dyntype",
+    "class",
+}
 # Shortcuts that set all of gain, bias and dynamics themselves.
 _SETS_GAIN_AND_BIAS = frozenset({"motor"})
 _ACTUATOR_TAGS = frozenset({

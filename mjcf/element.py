@@ -562,7 +562,7 @@ class Element(ModelOperations):
         """Raise mjcf.SchemaError: this element cannot have a `tag` child."""
         raise errors.SchemaError(
             f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
-            + _values.suggest(tag, self._spec.children)
+            + _values.suggest_child(tag, self._spec.children)
             + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
             + f" (<{tag}> is not a valid child of <{self.tag}>)"
         )

@@ -460,7 +460,7 @@ class _Builder:
             if spec is None:
                 raise errors.SchemaError(
                     f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> cannot have a "
-                    f"<{tag}> child" + _values.suggest(tag, specs)
+                    f"<{tag}> child" + _values.suggest_child(tag, specs)
                 )
             if tag == "replicate" or tag == "attach":
                 self.generated_names = True

@@ -431,3 +431,30 @@ def test_an_unnamed_element_added_after_compiling_is_not_bound_to_another() -> N
     with pytest.raises(mjcf.BindingError, match="added after the model was compiled"):
         physics.bind(before)
     assert physics.bind(thigh).xpos.tolist() == physics.data.xpos[1].tolist()
+
+
+def test_composite_is_refused_naming_what_builds_it_in_mujoco_4() -> None:
+    """dm_control's cable is a <composite>, which MuJoCo 4 removed: refused with what
+    replaces it, changing nothing; a 1-D <flexcomp> cable built so simulates through
+    mjcf exactly as MuJoCo simulates its text."""
+    root = mjcf.RootElement()
+    empty = root.to_xml_string()
+    with pytest.raises(mjcf.SchemaError, match=r"MuJoCo 4 has no <composite>.*<flexcomp>"):
+        root.worldbody.add("composite", type="cable", count=[41, 1, 1], size=[1, 0, 0])
+    assert root.to_xml_string() == empty
+    with pytest.raises(mjcf.SchemaError, match=r"MuJoCo 4 has no <composite>"):
+        mjcf.from_xml_string('<mujoco><worldbody><composite type="cable"/></worldbody></mujoco>')
+    cable = root.worldbody.add(
+        "flexcomp", name="cable", type="grid", count=[21, 1, 1], spacing=[0.05, 1, 1],
+        dim=1, pos=[0, 0, 1], radius=0.01,
+    )  # fmt: skip
+    cable.add("edge", equality="true")
+    physics = mjcf.Physics.from_mjcf_model(root)
+    reference = mujoco.MjModel.from_xml_string(root.to_xml_string())
+    data = mujoco.MjData(reference)
+    for _ in range(20):
+        physics.step()
+        mujoco.mj_step(reference, data)
+    mujoco.mj_forward(reference, data)
+    assert np.array_equal(physics.named.data.xpos.array, data.xpos)
+    assert np.array_equal(physics.data.flexvert_xpos, data.flexvert_xpos)
