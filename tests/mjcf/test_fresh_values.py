@@ -375,3 +375,59 @@ def test_colors_do_not_make_the_physics_dirty() -> None:
     assert not physics.is_dirty
     physics.bind(model.find("geom", "rod")).friction = [0.5, 0.01, 0.001]
     assert physics.is_dirty
+
+
+def _two_bodies() -> mjcf.RootElement:
+    """dm_control's physics_test model: two bodies, each with an ellipsoid and a site
+    (and an inertial, so that a recompile with a turned geom keeps the body's inertia,
+    which a runtime write of a geom's pose does not change)."""
+    root = mjcf.RootElement()
+    for _ in range(2):
+        body = root.worldbody.add("body")
+        body.add("geom", type="ellipsoid", size=[0.1, 0.2, 0.3])
+        body.add("site", type="sphere", size=[0.1])
+        body.add("inertial", pos=[0, 0, 0], mass=1, diaginertia=[0.01, 0.02, 0.03])
+    return root
+
+
+_FRAME = {"body": ("body_sameframe", "xpos", "xmat"), "geom": ("geom_sameframe", "geom_xpos",
+          "geom_xmat"), "site": ("site_sameframe", "site_xpos", "site_xmat")}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("kind", "field"),
+    [(k, f) for k in ("body", "geom", "site") for f in ("pos", "quat")]
+    + [("body", "ipos"), ("body", "iquat")],
+)
+def test_moved_frames_are_as_a_recompile_gives_them(kind: str, field: str) -> None:
+    """dm_control zeroes the sameframe flag of a frame written through a binding; here
+    MuJoCo recomputes it, so it and the poses after forward() equal those of the model
+    compiled with the new values (the improvement shown, not assumed)."""
+    root = _two_bodies()
+    physics = mjcf.Physics.from_mjcf_model(root)
+    first, second = (physics.bind(e) for e in root.find_all(kind))
+    if field.endswith("pos"):
+        setattr(first, field, [0.0, 0.0, 0.1])
+        getattr(second, field)[0] = -0.1  # item assignment, as dm_control's test does
+    else:
+        setattr(first, field, [0.0, 0.0, 0.0, 1.0])
+        setattr(second, field, [np.cos(0.3), 0.0, np.sin(0.3), 0.0])
+
+    spec = mujoco.MjSpec.from_string(root.to_xml_string())
+    elements = {"body": spec.bodies[1:], "geom": spec.geoms, "site": spec.sites}[kind]
+    for element, written in zip(elements, (first, second), strict=True):
+        if field in ("ipos", "iquat"):
+            element.explicitinertial = True
+            element.mass, element.inertia = written.mass, written.inertia
+            element.ipos, element.iquat = written.ipos, written.iquat
+        else:
+            setattr(element, field, getattr(written, field))
+    oracle = spec.compile()
+    flag, xpos, xmat = _FRAME[kind]
+    if field in ("ipos", "iquat"):
+        flag, xpos, xmat = "body_sameframe", "xipos", "ximat"
+    assert np.array_equal(getattr(physics.model, flag), getattr(oracle, flag))
+    physics.forward()
+    expected = _forwarded(oracle)
+    assert np.allclose(getattr(physics.data, xpos), getattr(expected, xpos), atol=1e-12)
+    assert np.allclose(getattr(physics.data, xmat), getattr(expected, xmat), atol=1e-12)
