@@ -481,7 +481,7 @@ class Composition:
         (a body's childclass, or main)."""
         override = context.rewrite(child) or {}
         if child.identifier is not None:  # named within the frame (see mjcf.naming)
-            override[child._spec.identifier] = naming.frame_child_name(
+            override["name"] = naming.frame_child_name(
                 child, cast(attachment.AttachmentFrame, child._parent), context.prefix
             )
         if "class" in child._spec.attributes and "class" not in child._attrs:
