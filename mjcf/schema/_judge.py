@@ -70,6 +70,13 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
+            "second free joint",
+            "a body's second <freejoint> is refused when parsing and adding (a body has one, "
+            "None until added, as in dm_control); MuJoCo's reader takes it and its compiler "
+            "refuses it (more than 6 dofs in a body)",
+            stricter=True,
+        ),
+        Explanation(
             "unknown object type",
             "a <user> sensor's objtype must name a kind of object; MuJoCo reads any other "
             "text ('true', a typo) as an unknown type and ignores objname",
@@ -401,6 +408,7 @@ class Judge:
         kinds = (
             ("dangling references", "dangling reference"),
             ("already used by", "duplicate name"),
+            ("may have only one <freejoint>", "second free joint"),
             ("numbers, a multiple of", "count refused when compiling"),
         )
         for text, name in kinds:
