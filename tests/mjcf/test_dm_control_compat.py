@@ -107,6 +107,51 @@ def test_enter_scope_returns_attached_models() -> None:
     assert scene.enter_scope("arm/hand") is hand
     assert scene.find("body", "arm/wrist").enter_scope("hand") is hand  # the element's model
     assert scene.enter_scope("hand") is None and scene.enter_scope("arm/x") is None
+    assert scene.enter_scope("arm/hand/") is hand  # a prefix, as dm_control takes it
+    assert scene.namescope.get("body", "arm/wrist") is arm.find("body", "wrist")
+    with pytest.raises(KeyError):  # dm_control's NameScope.get
+        scene.namescope.get("body", "arm/elbow")
+
+
+def test_sections_are_emptied_in_every_attached_model_on_request() -> None:
+    """dm_control's `del model.option` / `remove(affect_attachments=True)`."""
+    scene = mjcf.from_path(GYM_ASSETS / "ant.xml")
+    ant = mjcf.from_path(GYM_ASSETS / "ant.xml")
+    for model in (scene, ant):
+        model.contact.add("exclude", body1="torso", body2="aux_1")
+    scene.attach(ant)
+    assert mjcf.Physics.from_mjcf_model(scene).model.nexclude == 2
+    before = scene.to_xml_string()
+    with pytest.raises(ValueError, match=r"remove\(affect_attachments=True\)"):
+        del scene.option
+    with pytest.raises(ValueError, match=r"remove\(affect_attachments=True\)"):
+        scene.contact.remove()
+    assert scene.to_xml_string() == before  # refused: nothing changed
+    scene.option.remove(affect_attachments=True)
+    scene.contact.remove(affect_attachments=True)
+    for model in (scene, ant):
+        assert model.option.to_xml_string(pretty_print=False) == "<option/>"
+        assert model.contact.to_xml_string(pretty_print=False) == "<contact/>"
+    ant_alone = mujoco.MjModel.from_xml_path(str(GYM_ASSETS / "ant.xml"))
+    physics = mjcf.Physics.from_mjcf_model(scene)  # the options are MuJoCo's defaults now
+    assert physics.model.opt.timestep == mujoco.MjModel.from_xml_string("<mujoco/>").opt.timestep
+    assert physics.model.nexclude == 0 and ant_alone.opt.timestep != physics.model.opt.timestep
+
+
+def test_element_text_forms_and_prefix_roots_as_dm_control_writes_them() -> None:
+    scene = mjcf.RootElement(model="scene")
+    arm = mjcf.RootElement(model="arm")
+    body = arm.worldbody.add("body", name="upper")
+    hinge = body.add("joint", name="shoulder", type="hinge")
+    motor = arm.actuator.add("motor", joint=hinge)
+    scene.attach(arm)
+    assert str(body) == '<body name="upper">...</body>'  # children stand as dots
+    assert str(hinge) == '<joint name="shoulder" type="hinge"/>'
+    assert repr(hinge) == 'MJCF Element: <joint name="shoulder" type="hinge"/>'
+    assert str(motor) == '<motor joint="shoulder"/>'  # its generated name is left out
+    for prefix_root in (scene, scene.namescope):  # dm_control passes a name scope
+        assert 'joint="arm/shoulder"' in motor.to_xml_string(prefix_root=prefix_root)
+        assert hinge.prefixed_identifier(prefix_root) == "arm/shoulder"
 
 
 def test_is_removed_after_remove_and_detach() -> None:
