@@ -735,9 +735,9 @@ else:
 
 
 def __getattr__(name: str) -> Any:
-    """`mjcf.element.RootElement`: the model class at dm_control's module path."""
+    """`mjcf.element.RootElement`, where dm_control code finds it (defined in `mjcf.root`)."""
     if name == "RootElement":
         from mjcf.root import RootElement  # cycle: root -> element
 
         return RootElement
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    raise AttributeError(f"module 'mjcf.element' has no attribute {name!r}")

@@ -173,8 +173,7 @@ def rewritten() -> Path:
     """The folder holding the rewritten `dm_control` package (on `sys.path` after this
     call). Skips the calling test when the wheel cannot be fetched."""
     cache = _cache()
-    # One rewritten tree per version of this file, so a changed rewrite is never served a
-    # tree an older one made (the downloaded wheel is shared).
+    # Named by this file's contents: a change of the rewriting rules rewrites the tree anew.
     digest = hashlib.sha1(Path(__file__).read_bytes()).hexdigest()[:12]
     target = cache / f"rewritten-{digest}"
     if not (target / "dm_control").is_dir():
