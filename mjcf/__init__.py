@@ -41,7 +41,7 @@ all three on the real source:
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity rendering raw_access tree_binding
-                  compiler physics_state physics
+                  compiler model_constants physics_state physics
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
@@ -61,6 +61,7 @@ from mjcf.errors import (
     CompileError,
     Error,
     InvalidReferenceError,
+    MissingFileError,
     NameClashError,
     NamespaceError,
     NotFoundError,
@@ -91,6 +92,7 @@ __all__ = [
     "Element",
     "Error",
     "InvalidReferenceError",
+    "MissingFileError",
     "NameClashError",
     "NamespaceError",
     "NotFoundError",

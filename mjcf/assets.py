@@ -13,13 +13,22 @@ uses them.
 
 When a model is written, every file gets a plain, readable name: its own base name,
 changed only where two different files would share one (MuJoCo's asset dict knows
-files by base name, ignoring case), by the attached model's scope and then a number.
-`to_xml_string()`, `get_assets()` and the exports use the same names; dm_control's
-content-hash names are there on request (`filename_with_hash=True`).
+files by base name, ignoring case), by the attached model's scope and then a number;
+a file without a name of its own (`mjcf.Asset(contents, '.png')`) is named by its
+contents' hash, as dm_control names it. Every name a user can get for a file is that
+one: `asset.get_vfs_filename()` (in the output of the outermost model its element is
+attached into), the keys of `get_assets()`, the XML of `to_xml_string()` and the files
+of the exports, so that MuJoCo Menagerie's recipe works:
+
+    assets = {m.file.get_vfs_filename(): m.file.contents for m in model.find_all('mesh')}
+    mujoco.MjModel.from_xml_string(model.to_xml_string(), assets)
+
+dm_control's content-hash names are there on request (`filename_with_hash=True`).
 """
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import itertools
 import os
@@ -42,9 +51,11 @@ _file_cache: dict[str, tuple[int, int, bytes]] = {}
 
 class Asset:
     """A file's contents with its extension ('.stl') and name stem (`prefix`); `path`
-    is where it was read from, if it came from disk (contents are then read lazily)."""
+    is where it was read from, if it came from disk (contents are then read lazily).
+    The element it was first given to (its owner, see `claim`) tells in which output
+    `get_vfs_filename` names it."""
 
-    __slots__ = ("_contents", "extension", "path", "prefix")
+    __slots__ = ("_contents", "_owner", "extension", "path", "prefix")
 
     def __init__(
         self, contents: bytes | None, extension: str, prefix: str = "", path: str | None = None
@@ -59,6 +70,7 @@ class Asset:
         self.extension = extension
         self.prefix = prefix
         self.path = path
+        self._owner: Element | None = None
 
     @property
     def contents(self) -> bytes:
@@ -73,12 +85,23 @@ class Asset:
         """The file name this asset is known by ('prefix.ext')."""
         return self.prefix + self.extension
 
-    def get_vfs_filename(self, filename_with_hash: bool = True) -> str:
-        """dm_control's file name for this asset: '<prefix>-<sha1 of contents><ext>'
-        (`hashed_file_name`), or '<prefix><ext>' without the hash. A written model names
-        it by `name`, changed only where names clash (see `FileNamer`). Raises
-        mjcf.AssetError if its file cannot be read."""
-        return hashed_file_name(self) if filename_with_hash else self.name
+    def get_vfs_filename(self, filename_with_hash: bool = False) -> str:
+        """The file name this asset is written under, as `to_xml_string()` and
+        `get_assets()` of the outermost model its element is attached into name it
+        (see the module docstring): its plain name unless another file of that name is
+        written first. With `filename_with_hash`, dm_control's name
+        '<prefix>-<sha1 of contents><ext>', as `to_xml_string(filename_with_hash=True)`
+        writes it. Raises mjcf.AssetError if its file cannot be read."""
+        if filename_with_hash:
+            return hashed_file_name(self)
+        owner = self._owner
+        if owner is not None and owner._is_registered():
+            from mjcf import serializer  # cycle: serializer -> assets
+
+            written = serializer.file_name_of(owner.root.namescope.root.model, self)
+            if written is not None:
+                return written
+        return default_file_name(self)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Asset):
@@ -111,17 +134,34 @@ def _read(path: str) -> bytes:
 
 def resolve(element: Element, attribute: str, value: object) -> Asset:
     """The `Asset` a file attribute value stands for, found as MuJoCo would find it
-    (a name in the model's `assets` dict wins over a file on disk)."""
+    (a name in the model's `assets` dict wins over a file on disk), owned by `element`
+    unless another element owns it already (see `claim`)."""
     if isinstance(value, Asset):
-        return value
+        return claim(value, element)
     text = str(value)
     model = element.root
     stem, extension = os.path.splitext(os.path.basename(text))
     for key in (text, os.path.basename(text)):
         data = model.assets.get(key)
         if data is not None:
-            return Asset(data, extension, stem)
-    return Asset(None, extension, stem, path=file_path(element, text))
+            return claim(Asset(data, extension, stem), element)
+    return claim(Asset(None, extension, stem, path=file_path(element, text)), element)
+
+
+def claim(asset: Asset, element: Element) -> Asset:
+    """`asset`, owned by `element` if no element owns it yet: the first element given an
+    asset decides in which model's output `get_vfs_filename` names it."""
+    if asset._owner is None:
+        asset._owner = element
+    return asset
+
+
+def owned_copy(asset: Asset, element: Element) -> Asset:
+    """A copy of `asset` (sharing its contents and path) owned by `element`: the asset
+    of a copied model's element."""
+    duplicate = copy.copy(asset)
+    duplicate._owner = element
+    return duplicate
 
 
 def file_path(element: Element, text: str) -> str:
@@ -158,6 +198,15 @@ def plain_file_name(name: str) -> str:
     if "/" in name or "\\" in name or name.startswith("."):
         name = name.replace("\\", "/").rsplit("/", 1)[-1].lstrip(".")
     return name or "asset"
+
+
+def default_file_name(asset: Asset) -> str:
+    """The name `asset` is written under where no other file takes it: its plain name
+    ('pad.stl'), or for an asset without a name of its own (no prefix) dm_control's
+    '<sha1 of contents><ext>'. Raises mjcf.AssetError if a file to hash cannot be read."""
+    if not asset.prefix:
+        return hashed_file_name(asset)
+    return plain_file_name(asset.name)
 
 
 def hashed_file_name(asset: Asset) -> str:
@@ -201,6 +250,7 @@ class FileNamer:
         self._by_key: dict[str, tuple[str, Asset]] = {}  # asset key -> (name, asset)
         self._named: dict[str, Asset] = {}  # names whose contents go to MuJoCo
         self._users: dict[str, tuple[Element, str]] = {}  # who first named each file
+        self._by_asset: dict[int, tuple[Asset, str]] = {}  # id(asset) -> (asset, its name)
         # Elements whose `file` is written under another stem: an unnamed mesh, texture
         # ... would get another name from MuJoCo, so the writer names it explicitly.
         self.renamed: set[Element] = set()
@@ -218,12 +268,13 @@ class FileNamer:
                     return name
             own = asset.prefix + asset.extension
             # The common case first: the first file of its name keeps it.
-            name = None if self.hashed else self._take(plain_file_name(own), asset)
+            name = None if self.hashed else self._take(default_file_name(asset), asset)
             if name is None:
                 name = self._unique_name(element, asset)
         except errors.AssetError as error:
             raise errors.AssetError(f"{element.path}: {attribute!r}: {error}") from None
         self._users.setdefault(name, (element, attribute))
+        self._by_asset[id(asset)] = (asset, name)
         renamed = name != own and attribute == "file"
         if renamed and os.path.splitext(os.path.basename(name))[0] != asset.prefix:
             self.renamed.add(element)
@@ -250,7 +301,7 @@ class FileNamer:
         if self.hashed:
             candidates: Iterable[str] = [hashed_file_name(asset)]
         else:
-            base = plain_file_name(asset.name)
+            base = default_file_name(asset)
             stem, extension = os.path.splitext(base)
             scope = element.root.namescope.prefix(self.root.namescope)
             scope = scope.replace("\\", "").replace("/", "-")
@@ -262,6 +313,18 @@ class FileNamer:
             if name is not None:
                 return name
         raise errors.AssetError(f"too many different files named {plain_file_name(asset.name)!r}")
+
+    def name_of(self, asset: Asset) -> str | None:
+        """The name `asset` was written under in this output: its own, or that of an
+        identical file of the same name written in its place (an attached copy's mesh
+        that shares the first copy's, see `mjcf.sharing`); None if neither was written."""
+        found = self._by_asset.get(id(asset))
+        if found is not None and found[0] is asset:
+            return found[1]
+        for written, name in self._by_asset.values():
+            if written.name == asset.name and written == asset:
+                return name
+        return None
 
     def contents(self) -> dict[str, bytes]:
         """`{file name: bytes}` of every asset named so far; raises mjcf.AssetError

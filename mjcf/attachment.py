@@ -59,6 +59,9 @@ class AttachmentFrame(Element):
     __slots__ = ("_attached",)
 
     _attached: RootElement
+    # Its joints are named within the frame, scoped to the attached model as in
+    # dm_control ('arm/root_x/'), so that two frames may each have a joint 'root_x'.
+    _names_children_in_model = False
 
     @property
     def attached_model(self) -> RootElement:
@@ -101,7 +104,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     is attached already."""
     if not isinstance(child, RootElement):
         raise errors.AttachmentError(
-            f"only a model (mjcf.RootElement) can be attached, got {child!r}"
+            f"Expected a mjcf.RootElement: only a model can be attached, got {child!r}"
         )
     if place._spec.tag not in _PLACES or isinstance(place, AttachmentFrame):
         raise errors.AttachmentError(
@@ -111,14 +114,16 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
     if child._frame is not None:
         raise errors.AttachmentError(
-            f"model {child.model!r} is already attached to model {child._frame.root.model!r}; "
-            "detach it first, or attach a copy (copy.deepcopy(model))"
+            f"model {child.model!r} is already attached elsewhere (to model "
+            f"{child._frame.root.model!r}); detach it first, or attach a copy "
+            "(copy.deepcopy(model))"
         )
     model: RootElement | None = place.root
     while model is not None:
         if model is child:
             raise errors.AttachmentError(
-                f"model {child.model!r} cannot be attached inside itself ({place.path})"
+                f"Cannot merge a model to itself: model {child.model!r} would be attached "
+                f"inside itself ({place.path})"
             )
         model = model.parent_model
     settings.check_compatible(place.root.namescope.root.model, child)
@@ -137,6 +142,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     free = place.root.namescope.free_child_name(child.model)
     if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
         child.model = free
+    settings.absorb_capacities(place.root, child)
     link(frame, child)
     body._children.append(frame)
     place._modified()
@@ -167,6 +173,31 @@ def detach(child: RootElement) -> None:
     frame._modified()
 
 
+def clear_section(section: Element, affect_attachments: bool) -> None:
+    """Empty the top-level section `section` (its attributes and children) of its model,
+    and with `affect_attachments` the same section of every model attached into it
+    (frames in an emptied world body are detached). Raises mjcf.AttachmentError if models
+    are attached into the model and not `affect_attachments`; nothing changes then."""
+    model = section.root
+    attached = attached_models(model)
+    if attached and not affect_attachments:
+        raise errors.AttachmentError(
+            f"{section.path}: models {', '.join(repr(m.model) for m in attached)} are attached "
+            f"into this model, and each has its own <{section.tag}>: please use "
+            "remove(affect_attachments=True) to empty it in every model"
+        )
+    tag = section._spec.tag
+    for each in (*attached, model) if affect_attachments else (model,):
+        emptied = each._section(tag)
+        for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
+            if frame._is_registered():
+                detach(frame._attached)
+        for child in list(emptied._children):
+            child._cut()
+        emptied._attrs.clear()
+        emptied._modified()
+
+
 def frame_of(model: RootElement) -> AttachmentFrame | None:
     """The attachment frame of `model`, or None if it is not attached."""
     return model._frame
@@ -194,6 +225,6 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     `identifier` ('arm' or 'arm/gripper'), or the frame given that name."""
     scope = root.namescope.descendant(identifier)
     if scope is None:
-        named = root.namescope.get("attachment_frame", identifier)
+        named = root.namescope.lookup("attachment_frame", identifier)
         return named if isinstance(named, AttachmentFrame) else None
     return scope.model._frame

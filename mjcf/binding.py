@@ -34,8 +34,9 @@ reads of derived quantities catch up with them first:
   ipos/iquat and mass, geom size, joint axes ... the inputs of `mj_setConst`) is followed by
   `mj_setConst` at once: sameframe flags, bounding volumes, subtree masses and the like are
   recomputed, so `xpos` after `forward()` uses the new pose and contacts use the new size. A
-  value MuJoCo cannot accept (an inertial offset on a body compiled as "simple") is undone and
-  raises BindingError.
+  body compiled as "simple" whose inertial frame is moved off its body frame loses the flag,
+  as a recompile would give it (see `mjcf.model_constants`). A value MuJoCo cannot accept is
+  undone and raises BindingError.
 - Fields MuJoCo computes only when a sensor asks (cacc, cfrc_int, cfrc_ext, subtree_linvel,
   subtree_angmom) are computed when read.
 - Not tracked: writes to `physics.data` / `physics.model` directly (call `physics.forward()`
@@ -369,10 +370,11 @@ class Binding:
         if address is not None and address.one_each and not counts.all():
             missing = self._ids[counts == 0]
             names = fields.names(self._model, self._kind)
+            mocap = " (they are not mocap bodies)" if address.start == "body_mocapid" else ""
             raise errors.BindingError(
                 f"{fields.kind_name(self._kind)} "
                 f"{', '.join(repr(names[i] or i) for i in missing)} own no rows of "
-                f"'{field.name}' (indexed by {address.start})"
+                f"'{field.name}' (indexed by {address.start}){mocap}"
             )
         if one_row_each and (counts == 1).all():
             # One row each: index like a per-object field; a single object drops the axis.
@@ -468,7 +470,8 @@ class Binding:
 
 class EmptyBinding:
     """What binding no elements gives (`physics.bind([])`): every field reads as an empty
-    array, and only empty values can be written (a no-op)."""
+    array, and only empty values can be written (a no-op: `()`, `[]`, an empty array);
+    writing any other raises BindingError, as dm_control refuses every write."""
 
     __slots__ = ()
 
@@ -483,11 +486,8 @@ class EmptyBinding:
         return np.zeros(0)
 
     def __setattr__(self, name: str, value: Any) -> None:
-        if np.size(value) != 0:
-            raise errors.BindingError(
-                f"cannot write {np.shape(value)}-shaped values to '{name}' of a binding of no "
-                "elements: only an empty value fits"
-            )
+        if np.size(value) != 0:  # dm_control's words, which its code and tests expect
+            raise errors.BindingError("Cannot assign a value to an empty binding.")
 
     def __getitem__(self, index: Any) -> np.ndarray:
         return np.zeros(0)

@@ -57,6 +57,8 @@ class Compiled(NamedTuple):
             return naming.frame_name(element, composition.context(element.root).prefix)
         if element._spec.tag == "worldbody":
             return naming.scoped_name(element, composition.root) or ""
+        if isinstance(element._parent, attachment.AttachmentFrame) and element.identifier:
+            return naming.scoped_name(element, composition.root) or ""
         name = element.identifier
         if name is None:
             index = self.ids.get(element)

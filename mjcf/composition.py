@@ -25,7 +25,7 @@ written:
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import mujoco
 import numpy as np
@@ -36,6 +36,7 @@ from mjcf.namescope import unescape as _unescape
 from mjcf.values import format_number
 
 if TYPE_CHECKING:
+    from mjcf.assets import FileNamer
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
@@ -286,6 +287,9 @@ class Composition:
         # (XML, assets, element of each line) of the output compiled, which is the same
         # for every compile of this composition: set by mjcf.serializer.
         self.compiled_text: tuple[str, dict[str, bytes], list] | None = None
+        # The names of the files of this composition's output (to_xml_string,
+        # get_assets), which every such output gives alike: set by mjcf.serializer.
+        self.file_names: FileNamer | None = None
         self._inertia: str | None = None
         self._checked = False
         self._merged: dict[str, settings.MergedSettings] = {}
@@ -312,6 +316,9 @@ class Composition:
                 seq = settings.setting(model, "eulerseq")
                 if seq != root_seq:
                     context.euler_seq = seq
+            late = defaults.late_sections(model)
+            if late and context.main_class_written is not None:  # see mjcf.serializer
+                context.main_reference = defaults.late_class_name(context.main_class_written, late)
             self._contexts[model] = context
         if self.has_attachments:
             self._scale_masses()
@@ -429,6 +436,9 @@ class Composition:
         name = target.identifier
         if name is None:
             return self.generated_name(target, context)
+        parent = target._parent
+        if isinstance(parent, attachment.AttachmentFrame):
+            return naming.frame_child_name(target, parent, context.prefix)
         if target._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
@@ -463,11 +473,17 @@ class Composition:
             return context.prefix + implicit
         return naming.written_name(element, context.prefix)
 
-    def frame_child_class(self, child: Element, context: ModelContext) -> dict | None:
-        """An attachment frame's own joints belong to the model that owns the frame, not
-        to the attached model whose class the frame sets as childclass: they take the
-        class that applies where the frame is (a body's childclass, or main)."""
+    def frame_child_override(self, child: Element, context: ModelContext) -> dict | None:
+        """What an attachment frame's own joint writes differently: its name, scoped to
+        the frame ('arm/root_x/', see `mjcf.naming`), and its class: the joints belong
+        to the model that owns the frame, not to the attached model whose class the
+        frame sets as childclass, so they take the class that applies where the frame is
+        (a body's childclass, or main)."""
         override = context.rewrite(child) or {}
+        if child.identifier is not None:  # named within the frame (see mjcf.naming)
+            override["name"] = naming.frame_child_name(
+                child, cast(attachment.AttachmentFrame, child._parent), context.prefix
+            )
         if "class" in child._spec.attributes and "class" not in child._attrs:
             default = defaults.class_of(child)
             override["class"] = context.class_text(default.identifier or MAIN)

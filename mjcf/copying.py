@@ -6,8 +6,9 @@ one without a name scope, as MuJoCo's `<include>` would, and `copy.deepcopy` of 
     twin = copy.deepcopy(arm); twin.model = 'right'       # a detached copy, to attach again
 
 Attributes are merged (a value both sides set differently is an error, unless
-`override_attributes`), children are copied, names must not collide. Everything is
-checked before anything changes.
+`override_attributes`), children are copied, names must not collide (with
+`override_attributes`, a child named as an element of the same parent is merged into it,
+as dm_control does). Everything is checked before anything changes.
 
 `copy.deepcopy(model)` copies the model with the models attached to it; the copy is
 not attached anywhere, even if the original is. References between elements point at
@@ -23,7 +24,7 @@ from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from mjcf import attachment, bulk, errors
+from mjcf import assets, attachment, bulk, errors
 from mjcf import values as _values
 from mjcf.assets import Asset
 from mjcf.element import Element
@@ -82,16 +83,21 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
             spec = target._spec.attributes[name]
             if not _same(spec, target._get_value(spec), source._get_value(spec)):
                 raise errors.AttachmentError(
-                    f"{target.path}: {name!r} is {target.get_attribute_xml_string(name)!r} here "
-                    f"and {source.get_attribute_xml_string(name)!r} in {source.path}; pass "
+                    f"{target.path}: Conflicting values for attribute `{name}`: "
+                    f"{target.get_attribute_xml_string(name)!r} here and "
+                    f"{source.get_attribute_xml_string(name)!r} in {source.path}; pass "
                     "override_attributes=True to take the included value"
                 )
             continue
-        attributes[name] = _copy_value(value)
+        attributes[name] = _copied_value(source, name, value)
     children = []
     for child in source._children:
         if child._spec.repeated:
-            children.append(child)
+            existing = _named_alike(target, child) if override else None
+            if existing is None:
+                children.append(child)
+            else:  # overriding: the element of that name takes the copy's values
+                _plan_merge(existing, child, override, plan)
             continue
         existing = target._single_child(child._spec.tag)
         if existing is None:
@@ -99,6 +105,24 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
         else:
             _plan_merge(existing, child, override, plan)
     plan.append((target, source, attributes, children))
+
+
+def _named_alike(target: Element, child: Element) -> Element | None:
+    """The child of `target` named as `child` (of the same namespace), as dm_control
+    finds it to override; None if `child` is unnamed or no element has its name. Raises
+    mjcf.AttachmentError if an element elsewhere in the model has it."""
+    spec = child._spec
+    name = child._attrs.get(spec.identifier) if spec.identifier else None
+    if not isinstance(name, str) or not name or spec.namespace is None:
+        return None
+    found = target.find(spec.namespace, name)
+    if found is not None and found._parent is not target:
+        raise errors.AttachmentError(
+            f"{target.path}: <{spec.namespace}> with identifier {name!r} is already a child of "
+            f"another element ({found.path}); include_copy overrides only elements of the "
+            "same parent"
+        )
+    return found
 
 
 def _check_names(target: Element, plan: list) -> None:
@@ -109,7 +133,13 @@ def _check_names(target: Element, plan: list) -> None:
             for element in child.iter():
                 namespace = element._spec.namespace
                 name = element.identifier
-                if namespace is not None and name is not None and not element._implicit():
+                named_in_frame = isinstance(element._parent, attachment.AttachmentFrame)
+                if (
+                    namespace is not None
+                    and name is not None
+                    and not element._implicit()
+                    and not named_in_frame
+                ):
                     scope.check_free(namespace, name, element)
                 if isinstance(element, attachment.AttachmentFrame):
                     scope.check_child_free(element.attached_model.model)
@@ -118,7 +148,9 @@ def _check_names(target: Element, plan: list) -> None:
 def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
     cls = type(element)
     clone = cls._make(element._spec, parent, parent.root)
-    object.__setattr__(clone, "_attrs", {k: _copy_value(v) for k, v in element._attrs.items()})
+    object.__setattr__(
+        clone, "_attrs", {k: _copied_value(element, k, v) for k, v in element._attrs.items()}
+    )
     clones[id(element)] = clone
     if isinstance(element, attachment.AttachmentFrame):
         frame = cast(attachment.AttachmentFrame, clone)  # made by type(element)
@@ -140,8 +172,16 @@ def _relink_references(clones: dict[int, Element]) -> None:
                 ]
 
 
-def _copy_value(value: Any) -> Any:
-    return value.copy() if hasattr(value, "copy") and not isinstance(value, str) else value
+def _copied_value(element: Element, name: str, value: Any) -> Any:
+    """The value a copy of `element` gets for attribute `name`: a file as the `Asset`
+    the source finds (its model's directory and assets are not the copy's), shared as
+    dm_control shares it; arrays copied."""
+    if type(value) is str:
+        attribute = element._spec.attributes[name]
+        if attribute.kind == "file" and value:
+            return element._get_value(attribute)
+        return value
+    return value.copy() if hasattr(value, "copy") else value
 
 
 # -- copy.deepcopy ------------------------------------------------------------------------
@@ -202,7 +242,7 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
             if hasattr(value, "shape"):
                 attrs[name] = _values.track(np.array(value), target)
             elif isinstance(value, Asset):
-                attrs[name] = copy.copy(value)
+                attrs[name] = assets.owned_copy(value, target)
             elif isinstance(value, list):
                 attrs[name] = list(value)
         if converted:

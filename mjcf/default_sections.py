@@ -15,10 +15,11 @@ the value it copied ("pinned"): the global value it had then, or MuJoCo's built-
 default (which MuJoCo's own writer reports, asked once per attribute). A value a class
 sets itself is kept, filled up from the pinned value when it has fewer numbers than the
 attribute holds. Built-in numbers come from MuJoCo's own default class (`MjSpec().default`),
-keywords from MuJoCo's writer. The model then compiles as the file does. Actuator defaults, which
-MuJoCo builds from a sequence of shortcuts, cannot be pinned this way: a later section
-that changes them after classes were defined is refused (`mjcf.ParseError`), never
-read differently.
+keywords from MuJoCo's writer. The model then compiles as the file does. Actuator defaults,
+which MuJoCo builds from a sequence of shortcuts, cannot be pinned this way: a later section
+that changes them after classes were defined (or after the global defaults set them) is kept
+as it is, a `mjcf.defaults.LateDefault` after those classes, and written as a section of its
+own, as the file had it.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from lxml import etree
 
 from mjcf import errors, schema
 from mjcf import values as _values
-from mjcf.defaults import overlay
+from mjcf.defaults import LateDefault, overlay
 from mjcf.element import Element
 
 if TYPE_CHECKING:
@@ -52,8 +53,9 @@ def merge_section(
 ) -> None:
     """Merge a second (third ...) top-level `<default>` into the global defaults `main`:
     its settings (checked by `read_attributes`, as the parser reads attributes), with
-    the classes defined before pinned, then its classes (read by `read_classes`).
-    Raises mjcf.ParseError for actuator defaults it cannot reproduce."""
+    the classes defined before pinned, actuator settings kept as late settings, then
+    its classes (read by `read_classes`). Raises mjcf.ParseError for a built-in value
+    MuJoCo cannot report."""
     earlier = [child for child in main._children if child._spec.tag == "default"]
     classes = []
     for xml in xml_section:
@@ -62,10 +64,12 @@ def merge_section(
         if xml.tag == "default":
             classes.append(xml)
             continue
-        setting = _read(main, xml, read_attributes, where)
-        if setting._spec.tag in _ACTUATOR_TAGS:
-            _append_actuator(main, setting, earlier, xml, where)
+        if xml.tag in _ACTUATOR_TAGS:
+            late = earlier or main._single_child(xml.tag) is not None
+            kind = LateDefault if late else Element
+            main._children.append(_read(main, xml, read_attributes, where, kind))
             continue
+        setting = _read(main, xml, read_attributes, where)
         for default_class in earlier:
             _pin(default_class, main, setting, xml, where)
         _merge(main, setting)
@@ -77,38 +81,16 @@ def _read(
     xml: etree._Element,
     read_attributes: Callable[[Element, dict, etree._Element], None],
     where: Callable[[etree._Element], str],
+    kind: type[Element] = Element,
 ) -> Element:
     spec = main._spec.children.get(xml.tag)
     if spec is None:
         raise errors.SchemaError(f"{where(xml)}: <default> cannot have a <{xml.tag}> child")
     if len(xml):
         raise errors.SchemaError(f"{where(xml)}: a default <{xml.tag}> has no children")
-    setting = Element._make(spec, main, main.root)
+    setting = kind._make(spec, main, main.root)
     read_attributes(setting, dict(xml.attrib), xml)
     return setting
-
-
-def _append_actuator(
-    main: Element,
-    setting: Element,
-    earlier: list[Element],
-    xml: etree._Element,
-    where: Callable[[etree._Element], str],
-) -> None:
-    tag = setting._spec.tag
-    if earlier or main._single_child(tag) is not None:
-        reason = (
-            f"classes defined before it ({', '.join(repr(c.identifier) for c in earlier)}) "
-            "copied the actuator defaults it changes"
-            if earlier
-            else f"the global defaults have a <{tag}> already, applied before it"
-        )
-        raise errors.ParseError(
-            f"{where(xml)}: this top-level <default> sets <{tag}> after an earlier "
-            f"<default> section, and {reason}; MuJoCo's result cannot be expressed in one "
-            "<default>: move the actuator defaults into the first <default> section"
-        )
-    main._children.append(setting)
 
 
 def _merge(main: Element, setting: Element) -> None:

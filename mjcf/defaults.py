@@ -10,6 +10,12 @@ An element uses its `class`, else the `childclass` of its nearest enclosing body
 frame, else the model's global defaults ('main'). A class inherits from the classes
 it is nested in. Actuators share one default per class, set by every actuator
 element of the class in order (see MuJoCo's "actuator shortcuts").
+
+A file may set the global actuator defaults in a later top-level `<default>` section,
+after classes were defined that copied them as they were then (Gymnasium-Robotics'
+Adroit hand does): such a setting is a `LateDefault` child of the global defaults,
+placed after the classes that do not see it, and written as a new top-level section
+(see `mjcf.serializer`), so that MuJoCo reads it as the file had it.
 """
 
 from __future__ import annotations
@@ -21,9 +27,9 @@ import numpy as np
 
 from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
+from mjcf.element import Element
 
 if TYPE_CHECKING:
-    from mjcf.element import Element
     from mjcf.root import RootElement
 
 MAIN = "main"
@@ -38,6 +44,38 @@ _DEFAULTABLE = frozenset(
     for name in spec.attributes
     if name != "class"
 )
+
+
+class LateDefault(Element):
+    """An actuator default of the global defaults set by a later top-level `<default>`
+    section: the classes before it among the global defaults' children copied the
+    actuator defaults without it, those after it with it (see the module docstring)."""
+
+    __slots__ = ()
+
+
+def late_class_name(main_class: str, number: int) -> str:
+    """The class that holds the `number`-th late section of a model whose global
+    defaults are written as class `main_class` (an attached model's 'arm/'): a class
+    nested in it, named so that no scoped class name can be the same ('arm//defaults_1')."""
+    return f"{main_class}/defaults_{number}"
+
+
+def late_sections(model: RootElement) -> int:
+    """How many late top-level `<default>` sections `model` has (see `LateDefault`)."""
+    return sum(type(child) is LateDefault for child in model.default._children)
+
+
+def settings_of(default: Element, inner: Element | None = None) -> list[Element]:
+    """The children of default class `default` that give their values to its class
+    `inner` (one of its children), or, with `inner` None, to the elements that use
+    `default` itself: every child, but the late settings of the global defaults made
+    after `inner` was defined."""
+    children = default._children
+    if inner is None or default._parent is not default.root:
+        return children
+    position = children.index(inner)
+    return [c for i, c in enumerate(children) if i < position or type(c) is not LateDefault]
 
 
 def default_tag(element: Element) -> str | None:
@@ -93,8 +131,10 @@ def effective_value(element: Element, name: str) -> Any:
     tag = default_tag(element)
     if tag is None:
         return None
-    for default in reversed(class_chain(class_of(element))):
-        for child in default._children:
+    chain = class_chain(class_of(element))
+    for index in range(len(chain) - 1, -1, -1):
+        inner = chain[index + 1] if index + 1 < len(chain) else None
+        for child in reversed(settings_of(chain[index], inner)):  # a later setting wins
             if child._spec.tag == tag and name in child._attrs:
                 return child._get_value(child._spec.attributes[name])
     return None
@@ -170,8 +210,10 @@ def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str
 def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> dict[str, Any]:
     values: dict[str, Any] = {}
     attributes = element._spec.attributes
-    for default in class_chain(class_of(element)):
-        for child in default._children:
+    chain = class_chain(class_of(element))
+    for index, default in enumerate(chain):
+        inner = chain[index + 1] if index + 1 < len(chain) else None
+        for child in settings_of(default, inner):
             child_tag = child._spec.tag
             if child_tag == tag:
                 source = child
@@ -189,6 +231,17 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
             for name in source._attrs:
                 if names is not None and name not in names:
                     continue
+                if child_tag != tag and name not in _ACTUATOR_SETTINGS:
+                    # Gain, bias or dynamics set by another shortcut: a motor's own shortcut
+                    # sets them all anyway; how MuJoCo reads them for another shortcut's
+                    # parameters (kp, kv ...) no attribute of the element can say.
+                    if tag in _SETS_GAIN_AND_BIAS:
+                        continue
+                    raise errors.AttributeValueError(
+                        f"{element.path}: its default class sets <{child_tag} {name}>, which "
+                        f"changes the gains of a <{element.tag}> in a way its attributes "
+                        "cannot express; commit_defaults cannot commit it"
+                    )
                 if name in attributes and name != "class":
                     value = source._get_value(source._spec.attributes[name])
                     values[name] = overlay(name, values.get(name), value)
@@ -225,6 +278,19 @@ def overlay(name: str, below: Any, value: Any) -> Any:
     return value
 
 
+# Attributes of `<general>` that every actuator shortcut has and none of them sets: what
+# a default of one shortcut gives an actuator of another as it is.
+_ACTUATOR_SETTINGS = frozenset(schema.MUJOCO.child("default").child("general").attributes) - {
+    "gainprm",
+    "biasprm",
+    "dynprm",
+    "gaintype",
+    "biastype",
+    "dyntype",
+    "class",
+}
+# Shortcuts that set all of gain, bias and dynamics themselves.
+_SETS_GAIN_AND_BIAS = frozenset({"motor"})
 _ACTUATOR_TAGS = frozenset({
     "general", "motor", "position", "velocity", "intvelocity", "damper", "cylinder",
     "muscle", "adhesion", "dcmotor", "pid", "orientation", "plugin",

@@ -243,15 +243,29 @@ class Element(ModelOperations):
 
     # -- attributes ----------------------------------------------------------------------
 
-    def _attribute_spec(self, name: str) -> AttributeSpec:
+    def _attribute_spec(self, name: str, action: str = "set") -> AttributeSpec:
+        """The schema of attribute `name`; raises mjcf.UnknownAttributeError (an
+        AttributeError) saying what failed, in dm_control's words inside ours: `action`
+        is 'set', 'read' (or delete) or 'give' (an attribute given to `add` or
+        `set_attributes`)."""
         spec = self._spec
         attribute = spec.attributes.get(_ALIASES.get(name, name))
         if attribute is None:
             known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
-            raise errors.UnknownAttributeError(
-                f"{self.path}: <{spec.tag}> has no attribute {name!r}"
-                + _values.suggest(name, [k for k in known if k])
-            )
+            suggestion = _values.suggest(name, [k for k in known if k])
+            if action == "give":
+                problem = f"{name!r} is not a valid attribute of <{spec.tag}>{suggestion}"
+            elif action == "read":
+                problem = f"<{spec.tag}> object has no attribute {name!r}{suggestion}"
+            elif name in spec.children:
+                problem = (
+                    f"can't set attribute {name!r}: <{name}> is a child element of "
+                    f"<{spec.tag}>; set its attributes instead"
+                )
+            else:
+                problem = f"can't set attribute {name!r}: <{spec.tag}> has no such attribute"
+                problem += suggestion
+            raise errors.UnknownAttributeError(f"{self.path}: {problem}")
         return attribute
 
     def __getattr__(self, name: str) -> Any:
@@ -270,7 +284,7 @@ class Element(ModelOperations):
             return self.get_children(child_spec.tag)
         known = list(spec.attributes) + list(spec.children)
         raise errors.UnknownAttributeError(
-            f"{self.path}: <{spec.tag}> has no attribute or child {name!r}"
+            f"{self.path}: <{spec.tag}> object has no attribute or child {name!r}"
             + _values.suggest(name, known)
         )
 
@@ -308,10 +322,23 @@ class Element(ModelOperations):
         self._set_attribute(self._attribute_spec(name), value)
 
     def __delattr__(self, name: str) -> None:
+        """`del element.attribute` removes an attribute; `del element.child` removes a
+        child that may appear once (`del body.inertial`), as `child.remove()`."""
         if name[:1] == "_":
             object.__delattr__(self, name)
             return
-        self._set_attribute(self._attribute_spec(name), None)
+        spec = self._spec
+        if name not in spec.attributes and name not in _ALIASES and name in spec.children:
+            if spec.children[name].repeated:
+                raise errors.UnknownAttributeError(
+                    f"{self.path}: `{name}` is a collection of child elements, which cannot "
+                    f"be deleted; remove each (`for child in element.{name}: child.remove()`)"
+                )
+            child = self._single_child(name)
+            if child is not None:
+                child.remove()
+            return
+        self._set_attribute(self._attribute_spec(name, "read"), None)
 
     def _set_attribute(self, attribute: AttributeSpec, value: Any) -> None:
         """Set one attribute from a Python value; None (or a text MuJoCo reads as not
@@ -341,8 +368,11 @@ class Element(ModelOperations):
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
-        elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
-            self._rename_after_file(stored)
+        elif attribute.kind == "file":
+            if isinstance(stored, assets.Asset):
+                assets.claim(stored, self)
+            if self._spec.tag in NAMED_AFTER_FILE:
+                self._rename_after_file(stored)
         self._attrs[name] = stored
         self._modified()
 
@@ -362,7 +392,7 @@ class Element(ModelOperations):
         """Convert and check every attribute without changing anything."""
         converted = []
         for name, value in attributes.items():
-            attribute = self._attribute_spec(name)
+            attribute = self._attribute_spec(name, "give")
             if value is None:
                 converted.append((attribute, None))
                 continue
@@ -406,8 +436,38 @@ class Element(ModelOperations):
 
     def _check_free(self, name: str) -> None:
         namespace = self._spec.namespace
-        if namespace is not None and self._is_registered():
+        if namespace is None or not self._is_registered():
+            return
+        if self._named_in_model():
             self._root.namescope.check_free(namespace, name, self, renaming=True)
+        else:
+            self._check_free_in_parent(name)
+
+    # The children of an element whose class sets this False (an attachment frame's
+    # joints) are named within it, not among their model's names (see mjcf.attachment).
+    _names_children_in_model = True
+
+    def _named_in_model(self) -> bool:
+        """Whether this element's name is one of its model's names: not for a child of
+        an attachment frame, whose name is its own within the frame."""
+        parent = self._parent
+        return parent is None or parent._names_children_in_model
+
+    def _check_free_in_parent(self, name: str) -> None:
+        """Raise mjcf.NameClashError if another child of this element's parent has
+        `name` in the same namespace (for names kept within their parent)."""
+        parent = self._parent
+        assert parent is not None, "named within its parent"
+        for sibling in parent._children:
+            if (
+                sibling is not self
+                and sibling._spec.namespace == self._spec.namespace
+                and sibling.identifier == name
+            ):
+                raise errors.NameClashError(
+                    f"{self.path}: the name {name!r} is already used by another "
+                    f"{self._spec.namespace} of {parent.path}: {sibling.path}"
+                )
 
     def _is_registered(self) -> bool:
         """Whether this element is part of its model's tree (not removed)."""
@@ -419,6 +479,10 @@ class Element(ModelOperations):
     def _rename(self, new_name: str | None) -> None:
         namespace = self._spec.namespace
         if namespace is None or not self._is_registered():
+            return
+        if not self._named_in_model():
+            if new_name is not None:
+                self._check_free_in_parent(new_name)
             return
         scope = self._root.namescope
         scope.rename(namespace, self.identifier, new_name, self)
@@ -445,6 +509,9 @@ class Element(ModelOperations):
         namespace = self._spec.namespace
         if namespace is None:
             return
+        if not self._named_in_model():
+            if self.identifier:
+                self._check_free_in_parent(self.identifier)
             return
         name = self.identifier
         if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
@@ -458,7 +525,7 @@ class Element(ModelOperations):
         for element in self.iter():
             namespace = element._spec.namespace
             name = element.identifier
-            if namespace is not None and name is not None:
+            if namespace is not None and name is not None and element._named_in_model():
                 scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------
@@ -481,7 +548,7 @@ class Element(ModelOperations):
         namespace = attribute.reference_namespace(self._attrs)
         if namespace is None or attribute.is_list:
             return None
-        return self._root.namescope.get(namespace, name)
+        return self._root.namescope.lookup(namespace, name)
 
     # -- children -------------------------------------------------------------------------
 
@@ -495,8 +562,9 @@ class Element(ModelOperations):
         """Raise mjcf.SchemaError: this element cannot have a `tag` child."""
         raise errors.SchemaError(
             f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
-            + _values.suggest(tag, self._spec.children)
+            + _values.suggest_child(tag, self._spec.children)
             + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
+            + f" (<{tag}> is not a valid child of <{self.tag}>)"
         )
 
     def add(self, tag: str, **attributes: Any) -> Element:
@@ -515,8 +583,8 @@ class Element(ModelOperations):
                 section = self._parent is None and self is self._root
                 if (existing._attrs or existing._children) and not section:
                     raise errors.SchemaError(
-                        f"{self.path}: <{self.tag}> may have only one <{tag}>, and it has "
-                        "one already; set its attributes instead"
+                        f"{self.path}: <{tag}> child already exists: <{self.tag}> may have "
+                        f"only one <{tag}>; set its attributes instead"
                     )
                 existing.set_attributes(**attributes)
                 existing._keep()
@@ -534,11 +602,12 @@ class Element(ModelOperations):
 
     def _written_empty(self) -> bool:
         """Whether this element is written when it has no attributes and no children:
-        one that may repeat is; a once-only one only if being there changes the model
-        (`ElementSpec.matters_empty`: an actuator shortcut in a default class) and it
-        was put there (read, added), not made by reading `parent.<tag>`."""
+        one that may repeat is, and one absent until added (a free joint); another
+        once-only one only if being there changes the model (`ElementSpec.matters_empty`:
+        an actuator shortcut in a default class) and it was put there (read, added), not
+        made by reading `parent.<tag>`."""
         spec = self._spec
-        return not spec.on_demand or spec.matters_empty
+        return spec.repeated or spec.on_demand or spec.matters_empty
 
     def _keep(self) -> None:
         """Count this element as put there, even if it was made on first access."""
@@ -554,6 +623,8 @@ class Element(ModelOperations):
     def _apply_unregistered(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         for attribute, stored in converted:
             if stored is not None:
+                if isinstance(stored, assets.Asset):
+                    assets.claim(stored, self)
                 self._attrs[attribute.name] = stored
 
     def _single_child(self, tag: str) -> Element | None:
@@ -565,12 +636,13 @@ class Element(ModelOperations):
     def get_children(self, tag: str) -> Any:
         """Children with `tag`: an `ElementList` for repeated elements (for a top-level
         section, with those of attached models: see `mjcf.element_list`), or the single
-        child for elements that may appear once (created empty on first access)."""
+        child for elements that may appear once: created empty on first access, but for
+        those absent until added (a body's `inertial` and `freejoint`: None)."""
         spec = self._child_spec(tag)
         if spec.repeated:
             return ElementList(element_list.children(self, tag), self._root)
         child = self._single_child(tag)
-        if child is None:
+        if child is None and not spec.on_demand:
             if spec.matters_empty:  # not written while it stays empty (see _OnDemand)
                 child = _OnDemand._make(spec, self, self._root)
             else:

@@ -37,9 +37,10 @@ class Error(Exception):
 # -- building and editing the tree -------------------------------------------------------
 
 
-class SchemaError(Error):
+class SchemaError(Error, ValueError, AttributeError):
     """An element that MJCF does not allow here: unknown tag, wrong parent, or a
-    second copy of an element that may appear only once."""
+    second copy of an element that may appear only once. Both a `ValueError` and an
+    `AttributeError`, the two dm_control raises for these."""
 
 
 class UnknownAttributeError(Error, AttributeError):
@@ -80,6 +81,11 @@ class ParseError(Error, ValueError):
     message names the file and line."""
 
 
+class MissingFileError(ParseError, FileNotFoundError):
+    """An included file found neither in the `assets` given nor on disk: a ParseError,
+    and a `FileNotFoundError` (an `OSError`, which dm_control raises)."""
+
+
 # -- composition and assets -------------------------------------------------------------
 
 
@@ -108,9 +114,10 @@ class StateError(Error, ValueError):
     """A state or control vector of the wrong size, or a step count below one."""
 
 
-class BindingError(Error, AttributeError):
+class BindingError(Error, AttributeError, ValueError):
     """An element that cannot be bound to this physics, or a field its kind does not
-    have, or a value of the wrong shape."""
+    have (a mocap field of a body that is not mocap), or a value of the wrong shape.
+    Both an `AttributeError` and a `ValueError`, the two dm_control raises for these."""
 
 
 class RenderError(Error):

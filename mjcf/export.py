@@ -5,11 +5,12 @@
     mjcf.export_with_assets(model, 'out/', None)        # out/<model name>.xml
     mjcf.export_with_assets_as_zip(model, 'scene.zip')  # scene/model.xml + assets
     mjcf.export_with_assets_as_zip(model, out_dir='out/', model_name='arm')  # out/arm.zip
+    mjcf.export_with_assets(mjcf_model=model, out_dir='out/', out_file_name='arm.xml')
     model = mjcf.from_zip('scene.zip')
 
 The exported XML is `to_xml_string()` and the files beside it are `get_assets()`: the
 same plain, readable, unique names (see `mjcf.assets`). dm_control's keyword names
-(`out_file_name`, `out_dir`, `model_name`) are accepted too. Nothing is ever written
+(`mjcf_model`, `out_file_name`, `out_dir`, `model_name`) are accepted too. Nothing is ever written
 outside the target: asset names are plain file names, and reading a zip never follows
 a path out of it.
 """
@@ -47,16 +48,25 @@ def _contents(
     return xml, assets
 
 
-def _check_model(model: object) -> None:
+def _the_model(model: object, mjcf_model: object) -> RootElement:
+    """The model to export, given as `model` or by dm_control's keyword `mjcf_model`;
+    raises TypeError for both or neither, mjcf.AssetError for something not a model."""
+    if mjcf_model is not None:
+        if model is not None:
+            raise TypeError("give model or mjcf_model (dm_control's name), not both")
+        model = mjcf_model
+    if model is None:
+        raise TypeError("exporting needs the model to export (model= or mjcf_model=)")
     if not isinstance(model, RootElement):
         raise errors.AssetError(f"exporting takes a model (RootElement), got {model!r}")
+    return model
 
 
 def _checked_filename(name: object, keyword: str) -> str:
     """`name` if it is a plain file name ending in '.xml'; raises mjcf.AssetError (a
     ValueError) otherwise."""
     if not isinstance(name, str) or not name.lower().endswith(".xml"):
-        raise errors.AssetError(f"{keyword} must be a file name ending in '.xml', got {name!r}")
+        raise errors.AssetError(f"{keyword} must end with '.xml' (a file name), got {name!r}")
     if plain_file_name(name) != name:
         raise errors.AssetError(
             f"{keyword} must be a plain file name (the folder is given separately), got {name!r}"
@@ -65,21 +75,25 @@ def _checked_filename(name: object, keyword: str) -> str:
 
 
 def export_with_assets(
-    model: RootElement,
-    out_dir: str | os.PathLike,
+    model: RootElement | None = None,
+    out_dir: str | os.PathLike | None = None,
     model_filename: str | None = _DEFAULT_FILENAME,
     *,
     precision: int = 17,
     zero_threshold: float = 0.0,
     out_file_name: str | None = _UNSET,  # type: ignore[assignment]
+    mjcf_model: RootElement | None = None,
 ) -> str:
     """Write `model` as `out_dir/model_filename` and its assets beside it (the folder is
     created if needed); returns the XML file's path. `model_filename=None` names it
-    '<model name>.xml'; `out_file_name` is dm_control's name for `model_filename`;
-    `precision` and `zero_threshold` are `to_xml_string`'s. Raises mjcf.AssetError (a
-    ValueError) for a model file name that is not a plain name ending in '.xml' or an
-    asset that cannot be read; nothing is written then."""
-    _check_model(model)
+    '<model name>.xml'; `mjcf_model` and `out_file_name` are dm_control's names for
+    `model` and `model_filename`; `precision` and `zero_threshold` are
+    `to_xml_string`'s. Raises mjcf.AssetError (a ValueError) for a model file name
+    that is not a plain name ending in '.xml' or an asset that cannot be read, and
+    TypeError for a missing model or folder; nothing is written then."""
+    model = _the_model(model, mjcf_model)
+    if out_dir is None:
+        raise TypeError("export_with_assets needs out_dir, the folder to write to")
     if out_file_name is not _UNSET:
         if model_filename != _DEFAULT_FILENAME:
             raise TypeError("give model_filename or out_file_name (dm_control's name), not both")
@@ -101,7 +115,7 @@ def export_with_assets(
 
 
 def export_with_assets_as_zip(
-    model: RootElement,
+    model: RootElement | None = None,
     zip_path: str | os.PathLike | None = None,
     model_filename: str | None = None,
     *,
@@ -109,6 +123,7 @@ def export_with_assets_as_zip(
     zero_threshold: float = 0.0,
     out_dir: str | os.PathLike | None = None,
     model_name: str | None = None,
+    mjcf_model: RootElement | None = None,
 ) -> str:
     """Write `model` and its assets into a zip, inside a folder named like the zip
     (`scene.zip` holds `scene/model.xml` and the assets beside it: dm_control's layout,
@@ -119,9 +134,10 @@ def export_with_assets_as_zip(
     (`out_dir`, or a `zip_path` that is a folder or does not end in '.zip') and a
     `model_name` (or a `model_filename` without '.xml'), the zip is
     `<folder>/<model_name>.zip` holding `<model_name>/<model_name>.xml`; `model_name`
-    defaults to the model's name. Raises mjcf.AssetError (a ValueError) for a file
-    that cannot be read or a name that cannot be used; nothing is written then."""
-    _check_model(model)
+    defaults to the model's name; `mjcf_model` is dm_control's name for `model`. Raises
+    mjcf.AssetError (a ValueError) for a file that cannot be read or a name that cannot
+    be used; nothing is written then."""
+    model = _the_model(model, mjcf_model)
     if out_dir is not None:
         if zip_path is not None:
             raise TypeError("give zip_path or out_dir (dm_control's name), not both")

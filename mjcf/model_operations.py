@@ -21,11 +21,18 @@ from typing import TYPE_CHECKING, Any, cast
 from lxml import etree
 
 from mjcf import errors
+from mjcf.namescope import NameScope
 
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
+
+
+def _model_of(prefix_root: RootElement | NameScope | None) -> RootElement | None:
+    """The model a `prefix_root` argument names: a model, or (as dm_control passes it)
+    a model's name scope."""
+    return prefix_root.model if isinstance(prefix_root, NameScope) else prefix_root
 
 
 def _element(operations: ModelOperations) -> Element:
@@ -42,7 +49,7 @@ class ModelOperations:
     if TYPE_CHECKING:  # the members of Element the operations use on `self`
         _attrs: dict[str, Any]
 
-        def _attribute_spec(self, name: str) -> AttributeSpec: ...
+        def _attribute_spec(self, name: str, action: str = "set") -> AttributeSpec: ...
         def _cut(self) -> Element: ...
 
     # -- names in an output -----------------------------------------------------------------
@@ -51,18 +58,19 @@ class ModelOperations:
     def full_identifier(self) -> str | None:
         """The name MuJoCo sees for this element in the outermost model it is attached
         into ('arm/gripper/pad'): generated for an unnamed element ('//unnamed_geom_0',
-        'arm//unnamed_geom_0'), 'world' for the world body. None for elements that
+        'arm//unnamed_geom_0'), 'world' for the world body, and as in dm_control its
+        attachment frame's ('arm/') for the world body of an attached model. None for elements that
         cannot carry a name, and unnamed ones that are removed or replicated (see
         `mjcf.naming`)."""
         return self.prefixed_identifier(None)
 
-    def prefixed_identifier(self, prefix_root: RootElement | None = None) -> str | None:
+    def prefixed_identifier(self, prefix_root: RootElement | NameScope | None = None) -> str | None:
         """This element's name as model `prefix_root` (default: the outermost model it is
         attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError
         if this element's model is not attached inside `prefix_root`."""
         from mjcf import naming  # cycle: naming -> attachment -> element -> this module
 
-        return naming.scoped_name(_element(self), prefix_root)
+        return naming.identifier(_element(self), _model_of(prefix_root))
 
     # -- finding and comparing --------------------------------------------------------------
 
@@ -107,10 +115,13 @@ class ModelOperations:
     # -- removing, attaching, copying -------------------------------------------------------
 
     def remove(self, affect_attachments: bool = False) -> None:
-        """Remove this element (and its subtree) from the model. Raises mjcf.SchemaError
-        for a model's top-level sections, which always exist, and mjcf.AttachmentError
-        if models are attached inside, unless `affect_attachments` (they are detached
-        then)."""
+        """Remove this element (and its subtree) from the model; a model's top-level
+        section, which always exists, is emptied instead (`del model.option` too), and
+        with `affect_attachments` that section of every model attached into this one
+        too, as in dm_control. Raises mjcf.AttachmentError (a ValueError) if models are
+        attached inside (or, for a section, into the model), unless `affect_attachments`
+        (they are detached then), and mjcf.SchemaError for a model root or an element
+        removed already."""
         from mjcf import attachment  # cycle: attachment -> element -> this module
 
         element = _element(self)
@@ -120,9 +131,8 @@ class ModelOperations:
                 f"{element.path}: a model root or removed element cannot be removed"
             )
         if parent.parent is None and parent is element.root:
-            raise errors.SchemaError(
-                f"{element.path}: the <{element.tag}> section always exists; remove its children"
-            )
+            attachment.clear_section(element, affect_attachments)
+            return
         frames = [e for e in element.iter() if isinstance(e, attachment.AttachmentFrame)]
         if frames and not affect_attachments:
             models = ", ".join(repr(frame.attached_model.model) for frame in frames)
@@ -167,19 +177,19 @@ class ModelOperations:
     # -- XML --------------------------------------------------------------------------------
 
     def get_attribute_xml_string(
-        self, name: str, prefix_root: RootElement | None = None
+        self, name: str, prefix_root: RootElement | NameScope | None = None
     ) -> str | None:
         """The attribute as it would be written to XML (scoped names for references)."""
         from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
-        attribute = self._attribute_spec(name)
+        attribute = self._attribute_spec(name, "read")
         if attribute.name not in self._attrs:
             return None
-        return serializer.attribute_text(_element(self), attribute, prefix_root)
+        return serializer.attribute_text(_element(self), attribute, _model_of(prefix_root))
 
     def to_xml(
         self,
-        prefix_root: RootElement | None = None,
+        prefix_root: RootElement | NameScope | None = None,
         *,
         precision: int = 17,
         zero_threshold: float = 0.0,
@@ -199,7 +209,7 @@ class ModelOperations:
 
     def to_xml_string(
         self,
-        prefix_root: RootElement | None = None,
+        prefix_root: RootElement | NameScope | None = None,
         self_only: bool = False,
         pretty_print: bool = True,
         *,
@@ -208,7 +218,8 @@ class ModelOperations:
         filename_with_hash: bool = False,
     ) -> str:
         """XML text of this element (with its subtree and attached models unless
-        `self_only`). Numbers keep their source text, or are written with `precision`
+        `self_only`: then its tag and attributes alone, '...' standing for its
+        children). Numbers keep their source text, or are written with `precision`
         significant digits (17: exact); with `precision` below 17 or a `zero_threshold`
         every real number is rewritten, those smaller in magnitude than `zero_threshold`
         as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
@@ -218,7 +229,7 @@ class ModelOperations:
 
         return serializer.to_xml_string(
             _element(self),
-            prefix_root,
+            _model_of(prefix_root),
             self_only,
             pretty_print,
             precision,
@@ -226,5 +237,10 @@ class ModelOperations:
             filename_with_hash=filename_with_hash,
         )
 
+    def __str__(self) -> str:
+        """The element alone, as dm_control shows it: '<body name="arm">...</body>' (the
+        dots standing for its children), '<geom size="0.1"/>'."""
+        return self.to_xml_string(self_only=True, pretty_print=False)
+
     def __repr__(self) -> str:
-        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+        return f"MJCF Element: {self}"

@@ -4,7 +4,8 @@ a name is unique in its namespace, and how adding, renaming and removing one cha
 the scope. Elements, the parser and copies ask it; nothing else edits its tables.
 
     scope = model.namescope
-    scope.get('joint', 'arm/shoulder')           # scoped names reach attached models
+    scope.lookup('joint', 'arm/shoulder')        # scoped names reach attached models; or None
+    scope.get('joint', 'arm/shoulder')           # the same, a KeyError if none (dm_control)
     scope.check_free('geom', 'tip', geom)        # NameClashError if another geom has it
     scope.add('geom', 'tip', geom)               # what Element does when a name is set
     scope.rename('geom', 'tip', 'pad', geom)
@@ -62,7 +63,15 @@ class NameScope:
 
     # -- the names of this model's elements -----------------------------------------------
 
-    def get(self, namespace: str, name: str) -> Element | None:
+    def get(self, namespace: str, name: str) -> Element:
+        """The element called `name` (possibly scoped 'child/name'), as dm_control's
+        `NameScope.get`; raises mjcf.NotFoundError (a KeyError) if there is none."""
+        found = self.lookup(namespace, name)
+        if found is None:
+            raise errors.NotFoundError(f"model {self.name!r} has no {namespace} named {name!r}")
+        return found
+
+    def lookup(self, namespace: str, name: str) -> Element | None:
         """The element called `name` (possibly scoped 'child/name') or None. The world
         body is the body called 'world'."""
         scope = self
@@ -166,8 +175,11 @@ class NameScope:
 
     def descendant(self, identifier: str) -> NameScope | None:
         """The scope of the model attached inside this one under the scoped name
-        `identifier` ('arm', or 'arm/gripper' for one attached inside it), or None."""
+        `identifier` ('arm', or 'arm/gripper' for one attached inside it; a trailing '/'
+        as in a prefix, 'arm/gripper/', is allowed), or None."""
         scope = self
+        if identifier.endswith(PREFIX_SEPARATOR) and not identifier.endswith(_ESCAPED_SEPARATOR):
+            identifier = identifier[: -len(PREFIX_SEPARATOR)]
         for part in split_identifier(identifier):
             child = scope._children.get(part)
             if child is None:

@@ -4,7 +4,7 @@
     body.full_identifier                       # '//unnamed_body_0'
     scene.attach(model)                        # model 'robot'
     body.full_identifier                       # 'robot//unnamed_body_0'
-    model.worldbody.full_identifier            # 'world' (or the body it is attached in)
+    model.worldbody.full_identifier            # 'world' ('robot/' once attached)
     mujoco.mj_name2id(physics.model, mujoco.mjtObj.mjOBJ_BODY, body.full_identifier)
 
 As in dm_control, an element that can carry a name but has none is written with one:
@@ -20,7 +20,8 @@ Exceptions: meshes, textures, height fields and skins without a name are called 
 their file, as MuJoCo calls them; elements inside a `<replicate>` stay unnamed (MuJoCo
 compiles several objects from each, numbering only named ones) and have no
 `full_identifier`; the joints of an attachment frame are named after the frame, as in
-dm_control ('robot/' for its first unnamed joint).
+dm_control ('robot/' for its first unnamed joint, 'robot/root_x/' for one named 'root_x':
+each frame holds its joints' names, so every attached model may have a 'root_x').
 """
 
 from __future__ import annotations
@@ -51,10 +52,25 @@ def scoped_name(element: Element, prefix_root: RootElement | None = None) -> str
         return _world_body_name(element, prefix_root)
     if isinstance(element, attachment.AttachmentFrame):
         return frame_name(element, _prefix(element, prefix_root))
+    parent = element._parent
+    if isinstance(parent, attachment.AttachmentFrame) and element.identifier is not None:
+        return frame_child_name(element, parent, _prefix(element, prefix_root))
     name = element.identifier
     if name is not None:
         return _prefix(element, prefix_root) + _unescape(name)
     return written_name(element, _prefix(element, prefix_root))
+
+
+def identifier(element: Element, prefix_root: RootElement | None = None) -> str | None:
+    """`element.full_identifier` (with `prefix_root`: `prefixed_identifier`): the name
+    it is written with (`scoped_name`), but for the world body of an attached model,
+    dm_control's name of it, its attachment frame's ('arm/'), where `scoped_name` gives
+    the compiled body its contents are in."""
+    if element._spec.tag == "worldbody" and element._parent is element.root:
+        frame = attachment.frame_of(element.root)
+        if frame is not None and element.root is not prefix_root:
+            return frame_name(frame, _prefix(frame, prefix_root))
+    return scoped_name(element, prefix_root)
 
 
 def written_name(element: Element, prefix: str) -> str | None:
@@ -89,6 +105,16 @@ def frame_name(frame: attachment.AttachmentFrame, prefix: str) -> str:
     if own is not None:
         return prefix + _unescape(own)
     return prefix + frame.attached_model.model + PREFIX_SEPARATOR
+
+
+def frame_child_name(child: Element, frame: AttachmentFrame, prefix: str) -> str:
+    """The name of a named joint of an attachment frame, scoped to the frame as in
+    dm_control: 'arm/root_x/' for joint 'root_x' of the frame of model 'arm' (and
+    'mount/root_x/' for a frame named 'mount')."""
+    base = frame_name(frame, prefix)
+    if not base.endswith(PREFIX_SEPARATOR):
+        base += PREFIX_SEPARATOR
+    return base + _unescape(child._attrs["name"]) + PREFIX_SEPARATOR
 
 
 def _frame_joint_name(joint: Element, frame: AttachmentFrame, prefix: str) -> str | None:

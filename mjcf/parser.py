@@ -91,15 +91,26 @@ def from_path(
 # The parameters repeat from_xml_string's on purpose: both are dm_control's signatures,
 # which code calls with positional arguments.
 def from_file(
-    file_object: IO,
+    file_object: IO | str | os.PathLike,
     escape_separators: bool = False,
     model_dir: str = "",
     resolve_references: bool = True,
     assets: dict[str, bytes] | None = None,
     strict_paths: bool = False,
 ) -> RootElement:
-    """Parse MJCF from an open file (text or binary); `model_dir` defaults to the
-    file's directory when it has a name (see `from_xml_string` for the rest)."""
+    """Parse MJCF from an open file (text or binary), or a file's path as dm_control
+    (lxml) takes it too; `model_dir` defaults to the file's directory when it has a name
+    (see `from_xml_string` for the rest)."""
+    if isinstance(file_object, str | os.PathLike):
+        path = os.fspath(file_object)
+        try:
+            handle = open(path, "rb")  # noqa: SIM115 - closed below, after parsing
+        except OSError as error:
+            raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
+        with handle:
+            return from_file(
+                handle, escape_separators, model_dir, resolve_references, assets, strict_paths
+            )
     data = file_object.read()
     name = getattr(file_object, "name", None)
     if not model_dir and isinstance(name, str) and os.path.exists(name):
@@ -295,7 +306,10 @@ def _include_source(
                     f"{where}: cannot read {candidate!r}: {error.strerror}"
                 ) from None
     looked = ", ".join(map(repr, candidates))
-    raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
+    raise errors.MissingFileError(
+        f"{where}: included file {file_attr!r} not found (looked in {looked}, and among the "
+        "assets given)"
+    )
 
 
 def _where(filename: str | None, element: etree._Element) -> str:
@@ -446,7 +460,7 @@ class _Builder:
             if spec is None:
                 raise errors.SchemaError(
                     f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> cannot have a "
-                    f"<{tag}> child" + _values.suggest(tag, specs)
+                    f"<{tag}> child" + _values.suggest_child(tag, specs)
                 )
             if tag == "replicate" or tag == "attach":
                 self.generated_names = True
@@ -550,7 +564,7 @@ class _Builder:
                         continue
                     if not target and namespace != "default":
                         continue  # no reference, as MuJoCo reads an empty one
-                    if scope.get(namespace, target) is None:
+                    if scope.lookup(namespace, target) is None:
                         dangling.append(
                             f"{element.path}: {name}={target!r} (no {namespace} of that name)"
                         )
@@ -561,3 +575,12 @@ class _Builder:
             raise errors.InvalidReferenceError(
                 f"{self.filename or '<string>'}: dangling references: {shown}"
             )
+
+
+def __getattr__(name: str) -> object:
+    """`mjcf.parser.from_zip`: reading a zip at dm_control's module path."""
+    if name == "from_zip":
+        from mjcf.export import from_zip  # cycle: export -> parser
+
+        return from_zip
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -47,6 +47,7 @@ from mjcf import (
     compiler,
     errors,
     fields,
+    model_constants,
     named,
     raw_access,
     rendering,
@@ -215,6 +216,25 @@ class Physics(StateAccess):
         self._attach(compiled.model, data)
         self._compiled = compiled
 
+    def reload_from_xml_string(
+        self, xml_string: str | bytes, assets: Mapping[str, bytes] | None = None
+    ) -> None:
+        """Recompile this physics from MJCF text, with fresh data, as `from_xml_string`
+        would give (dm_control's method); bindings made before must be made again, and
+        find elements by their full identifiers. Raises CompileError, changing nothing."""
+        if isinstance(xml_string, bytes):
+            xml_string = xml_string.decode("utf-8")
+        self._reload(_compile(mujoco.MjModel.from_xml_string, xml_string, dict(assets or {})))
+
+    def reload_from_xml_path(self, file_path: str | os.PathLike[str]) -> None:
+        """`reload_from_xml_string` of the MJCF file at `file_path`."""
+        self._reload(_compile(mujoco.MjModel.from_xml_path, os.fspath(file_path), None))
+
+    def _reload(self, model: mujoco.MjModel) -> None:
+        self.close()
+        self._attach(model, None)
+        self.__dict__.pop("_compiled", None)  # compiled from text: no composition to index
+
     def bind(self, elements: Element | Iterable[Element] | None) -> Any:
         """Live access to the simulation fields of model elements: `bind(joint).qpos`,
         `bind(bodies).xpos`, `bind(actuators).ctrl = u` (see `mjcf.binding`).
@@ -270,8 +290,10 @@ class Physics(StateAccess):
 
     @property
     def is_dirty(self) -> bool:
-        """Whether state or model fields were written through bindings or named access
-        since the last `forward()` or `step()` (derived reads will forward first)."""
+        """Whether state, controls or model fields were written through bindings or named
+        access since the last `forward()` or `step()`: whether a derived read forwards
+        first. dm_control keeps it set through a step; here a step clears it, since the
+        step leaves every derived quantity fresh (see `step`)."""
         return bool(self._stale & WRITTEN)
 
     def mark_as_dirty(self) -> None:
@@ -373,20 +395,11 @@ class Physics(StateAccess):
 
     def _update_constants(self, undo: Any, what: str) -> None:
         """A model field mj_setConst reads was written: recompute the model constants
-        derived from it (sameframe flags, bounding volumes, subtree masses ...). If MuJoCo
-        refuses the new value, call `undo`, restore the constants and raise BindingError."""
-        model = self._model
+        derived from it (see `mjcf.model_constants`). If MuJoCo refuses the new value,
+        call `undo`, restore the constants and raise BindingError."""
         if self._scratch is None:
-            self._scratch = mujoco.MjData(model)
-        try:
-            mujoco.mj_setConst(model, self._scratch)
-        except mujoco.FatalError as e:
-            undo()
-            mujoco.mj_setConst(model, self._scratch)
-            raise errors.BindingError(
-                f"writing {what}: MuJoCo cannot update the model for the new value, so it "
-                f"was not applied: {e}"
-            ) from None
+            self._scratch = mujoco.MjData(self._model)
+        model_constants.update(self._model, self._scratch, undo, what)
 
     def reset(self, keyframe: int | str | None = None) -> None:
         """Reset the state to qpos0, or to a keyframe (index or name), then forward.

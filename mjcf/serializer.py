@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any, Protocol, cast
 import numpy as np
 
 from mjcf import assets as _assets
-from mjcf import attachment, bulk, composition, errors
+from mjcf import attachment, bulk, composition, defaults, errors
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -61,7 +61,26 @@ def serialize(
     files = _assets.FileNamer(root, hashed=filename_with_hash)
     writer = _Writer(root, precision, pretty_print, files, False, zero_threshold)
     writer.write_root()
+    if not filename_with_hash:
+        writer.composed.file_names = files
     return "".join(writer.parts), files.contents()
+
+
+@bulk.whole_tree
+def file_name_of(root: RootElement, asset: _assets.Asset) -> str | None:
+    """The name `asset` is written under in the output of `root` (`to_xml_string`,
+    `get_assets`, the exports), or None if that output does not write it or `root`
+    cannot be written. The names of an output are found once while no model changes."""
+    composed = composition.composition_of(root)
+    if composed.file_names is None:
+        files = _assets.FileNamer(root)
+        writer = _Writer(root, 17, False, files, False)
+        try:
+            writer.write_root()
+        except errors.Error:  # writing the model raises it, where it matters
+            return None
+        composed.file_names = files
+    return composed.file_names.name_of(asset)
 
 
 @bulk.whole_tree
@@ -102,9 +121,13 @@ def to_xml_string(
     else:
         context = writer.context_of(element.root)
         if self_only:
-            writer.parts.append(f"<{writer.tag_of(element)}{writer.attributes(element, context)}/>")
+            tag, text = writer.tag_of(element), writer.attributes(element, context)
+            children = element._children or isinstance(element, attachment.AttachmentFrame)
+            writer.parts.append(f"<{tag}{text}>...</{tag}>" if children else f"<{tag}{text}/>")
         else:
             writer.element(element, 0, context)
+            if not writer.parts:  # an empty element left out of a model is still asked for
+                writer.parts.append(f"<{writer.tag_of(element)}/>")
     return "".join(writer.parts)
 
 
@@ -217,21 +240,41 @@ class _Writer:
             self._close(section, 1, mark)
 
     def _default_body(self, default: Element, context: composition.ModelContext) -> None:
-        """The contents of a model's main default class, inside a class named for its
-        scope when it must be kept apart from the other models' defaults."""
+        """The contents of a model's global default class, inside a class named for its
+        scope when it must be kept apart from the other models' defaults. Late settings
+        (`defaults.LateDefault`) begin a new top-level `<default>` section, or, inside a
+        named class, a class nested in the one before, which the model's elements use."""
+        groups: list[list[Element]] = [[]]
+        for child in default._children:
+            if type(child) is defaults.LateDefault:
+                groups.append([])
+            groups[-1].append(child)
         name = context.main_class_written
         if name is None:
-            self.children(default._children, 2, context)
+            for number, group in enumerate(groups):
+                if number:  # a later top-level section, as MuJoCo reads it
+                    self._emit(f"{self._indent(1)}</default>{self._newline()}")
+                    self._emit(f"{self._indent(1)}<default>{self._newline()}")
+                self.children(group, 2, context)
             return
-        opening = f'{self._indent(2)}<default class="{escape(name)}"'
-        self._emit(opening + ">" + self._newline())
-        start = len(self.parts)
-        self.children(default._children, 3, context)
-        if len(self.parts) == start:
-            self._unemit()
-            self._emit(opening + "/>" + self._newline())
-        else:
-            self._emit(self._indent(2) + "</default>" + self._newline())
+        if len(groups) == 1:
+            opening = f'{self._indent(2)}<default class="{escape(name)}"'
+            self._emit(opening + ">" + self._newline())
+            start = len(self.parts)
+            self.children(default._children, 3, context)
+            if len(self.parts) == start:
+                self._unemit()
+                self._emit(opening + "/>" + self._newline())
+            else:
+                self._emit(self._indent(2) + "</default>" + self._newline())
+            return
+        for number, group in enumerate(groups):
+            written = name if number == 0 else defaults.late_class_name(name, number)
+            indent = self._indent(2 + number)
+            self._emit(f'{indent}<default class="{escape(written)}">{self._newline()}')
+            self.children(group, 3 + number, context)
+        for number in range(len(groups) - 1, -1, -1):
+            self._emit(f"{self._indent(2 + number)}</default>{self._newline()}")
 
     def _write_merged(self, spec: ElementSpec, merged: settings.MergedSettings, depth: int) -> None:
         """A settings element merged over models, and its once-only children; left out
@@ -280,7 +323,7 @@ class _Writer:
         return len(self.parts)
 
     def _close(self, element: Element, depth: int, mark: int) -> None:
-        if len(self.parts) == mark and element._spec.on_demand:
+        if len(self.parts) == mark and not element._spec.repeated:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
             if element._attrs or element._written_empty():
@@ -432,7 +475,9 @@ class _Writer:
         newline = self._newline()
         self._emit(f"{indent}<{tag}{text}>{newline}", frame)
         for child in frame._children:
-            self.element(child, depth + 1, context, self.composed.frame_child_class(child, context))
+            self.element(
+                child, depth + 1, context, self.composed.frame_child_override(child, context)
+            )
         self.children(frame.attached_model.worldbody._children, depth + 1, child_context)
         self._emit(f"{indent}</{tag}>{newline}")
 

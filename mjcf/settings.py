@@ -106,9 +106,9 @@ def check_compatible(parent: RootElement, child: RootElement, inertia: bool = Tr
         mine, theirs = _explicit_setting(parent, name), _explicit_setting(child, name)
         if mine is not None and theirs is not None and not same(attribute, mine, theirs):
             raise errors.AttachmentError(
-                f"model {child.model!r} cannot be attached to model {parent.model!r}: their "
-                f"<compiler {name}> differ ({theirs!r} vs {mine!r}); set the same value on "
-                "both, or on one of them only"
+                f"Conflicting values for attribute `{name}`: model {child.model!r} cannot be "
+                f"attached to model {parent.model!r}: their <compiler {name}> differ "
+                f"({theirs!r} vs {mine!r}); set the same value on both, or on one of them only"
             )
     total = setting(parent, "settotalmass")
     if parent.parent_model is None and total is not None and total > 0:
@@ -152,9 +152,10 @@ def _merge_into(
                     merged.sources[name] = (model, value)
                 continue
         raise errors.AttachmentError(
-            f"models {other_model.model!r} and {model.model!r} set <{tag} {name}> "
-            f"differently ({merged.attributes[name]!r} vs {text!r}); a composed model has "
-            "one value: set the same value on both, or on neither"
+            f"Conflicting values for attribute `{name}`: models {other_model.model!r} and "
+            f"{model.model!r} set <{tag} {name}> differently ({merged.attributes[name]!r} vs "
+            f"{text!r}); a composed model has one value: set the same value on both, or on "
+            "neither"
         )
     for child in section._children:
         if child._spec.repeated:
@@ -163,6 +164,38 @@ def _merge_into(
         if target is None:
             target = merged.children[child._spec.tag] = MergedSettings()
         _merge_into(target, child, model, frozenset())
+
+
+def absorb_capacities(parent: RootElement, child: RootElement) -> None:
+    """Raise the `<size>` capacities of `parent` to those `child` (and the models
+    attached to it) need, as dm_control does when it attaches `child`: a capacity
+    `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
+    (`memory` then in bytes: '1M' over '10000' is '1048576')."""
+    from mjcf import attachment  # cycle: attachment -> settings
+
+    needed: dict[str, tuple[object, int | None]] = {}
+    for model in (child, *attachment.attached_models(child)):
+        size = model._section("size")
+        for name in size._attrs:
+            value = size._get_value(size._spec.attributes[name])
+            capacity = _capacity(name, value)
+            held = needed.get(name)
+            if held is None or (
+                capacity is not None and held[1] is not None and capacity > held[1]
+            ):
+                needed[name] = (value, capacity)
+    size = parent._section("size")
+    changes: dict[str, object] = {}
+    for name, (value, capacity) in needed.items():
+        mine = size._get_value(size._spec.attributes[name])
+        if mine is None:
+            changes[name] = value
+            continue
+        own = _capacity(name, mine)
+        if capacity is not None and own is not None and capacity > own:
+            changes[name] = str(capacity) if name == "memory" else value
+    if changes:
+        size.set_attributes(**changes)
 
 
 _BYTE_SUFFIXES = {"k": 10, "m": 20, "g": 30, "t": 40, "p": 50, "e": 60}

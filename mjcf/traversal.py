@@ -34,7 +34,7 @@ def find(element: Element, namespace: str, identifier: str) -> Element | None:
         found = attachment.find_frame(element.root, identifier)
     else:
         _check_namespace(namespace, allow_tags=False)
-        found = element.root.namescope.get(namespace, identifier)
+        found = element.root.namescope.lookup(namespace, identifier)
     if found is None or element is element.root or _is_inside(found, element):
         return found
     return None
@@ -121,7 +121,7 @@ def _check_namespace(namespace: str, allow_tags: bool) -> bool:
         return True
     known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
     raise errors.NamespaceError(
-        f"{namespace!r} is not a namespace"
+        f"{namespace!r} is not a valid namespace"
         + _values.suggest(namespace, known)
         + f"; namespaces: {', '.join(known)}"
     )

@@ -56,7 +56,10 @@ def element_ids(
     kinds = {kind_of(element) for element in elements}
     if len(kinds) > 1:
         names = sorted(fields.kind_name(k) for k in kinds)
-        raise errors.BindingError(f"cannot bind elements of different kinds together: {names}")
+        raise errors.BindingError(
+            "Cannot bind to a collection containing multiple element types: elements of "
+            f"different kinds cannot be bound together: {names}"
+        )
     kind = kinds.pop()
     ids = np.empty(len(elements), dtype=np.intp)
     for i, element in enumerate(elements):

@@ -113,6 +113,20 @@ def suggest(word: str, choices: Iterable[str]) -> str:
     return errors.did_you_mean(word, choices, n=1)
 
 
+# Elements older MuJoCo had (dm_control's schema still has them), with what replaces them.
+_REMOVED_ELEMENTS = {
+    "composite": "MuJoCo 4 has no <composite>: build the object with <flexcomp> (cables, "
+    "cloth, soft bodies), or with bodies (nested for a chain, <replicate> for copies)",
+}
+
+
+def suggest_child(tag: str, allowed: Iterable[str]) -> str:
+    """What to say of child `tag` an element cannot have: what replaces an element
+    MuJoCo removed, else the closest allowed tag (see `suggest`)."""
+    removed = _REMOVED_ELEMENTS.get(tag)
+    return f" ({removed})" if removed else suggest(tag, allowed)
+
+
 # MuJoCo reads numbers as C's strtod and strtol do: decimal or hexadecimal reals,
 # inf/infinity/nan in any case, integers in decimal only; Python's float() and int()
 # also take underscores and non-ASCII digits, which MuJoCo refuses.
@@ -231,7 +245,9 @@ class _Numbers(_Converter):
             or count in spec.gaps
             or (spec.multiple_of and count % spec.multiple_of)
         ):
-            raise InvalidValue(f"takes {spec.arity_text()}, got {count}: {shown!r}")
+            too_many = spec.max is not None and count > spec.max
+            limit = f" (no more than {spec.max} entries)" if too_many else ""
+            raise InvalidValue(f"takes {spec.arity_text()}, got {count}{limit}: {shown!r}")
 
     def _words(self, text: str) -> list:
         words = text.split()

@@ -252,6 +252,8 @@ class _Outcomes(unittest.TestResult):
 
     @staticmethod
     def _name(test: unittest.TestCase) -> str:
+        if not isinstance(test, unittest.TestCase):  # a failed setUpClass or module fixture
+            return str(test)
         return f"{type(test).__name__}.{test._testMethodName}"
 
     def addSuccess(self, test: unittest.TestCase) -> None:
@@ -273,11 +275,14 @@ class _Outcomes(unittest.TestResult):
         self.outcomes[self._name(test)] = "failed: unexpected success"
 
 
-def run_unittest_file(relative: str) -> dict[str, str]:
+def run_unittest_file(relative: str, class_fixtures: bool = True) -> dict[str, str]:
     """Run dm_control's test file `relative` (e.g. 'composer/entity_test.py', under
     dm_control/) in this process; each test's outcome by 'Class.method': 'passed', or
     'failed: ...', 'error: ...', 'skipped: ...' with the traceback or reason. A file that
-    does not import is one outcome, 'import' -> 'error: ...'."""
+    does not import is one outcome, 'import' -> 'error: ...'. With `class_fixtures`
+    False, each test runs alone, without its class's and module's setUpClass and
+    setUpModule (for files whose class fixture reaches into dm_control internals that
+    only some of its tests use)."""
     rewritten()
     from absl import flags
 
@@ -290,8 +295,17 @@ def run_unittest_file(relative: str) -> dict[str, str]:
         return {"import": f"error: {type(e).__name__}: {e}"}
     suite = unittest.defaultTestLoader.loadTestsFromModule(module)
     result = _Outcomes()
-    suite.run(result)
-    for test, err in result.errors:  # setUpClass and module fixtures fail outside a test
-        if not isinstance(test, unittest.TestCase):
-            result.outcomes[str(test)] = f"error: {err}"
+    if class_fixtures:
+        suite.run(result)
+    else:
+        for test in _tests_of(suite):
+            test.run(result)  # a TestCase run alone skips class and module fixtures
     return result.outcomes
+
+
+def _tests_of(suite: unittest.TestSuite) -> Iterator[unittest.TestCase]:
+    for item in suite:
+        if isinstance(item, unittest.TestSuite):
+            yield from _tests_of(item)
+        else:
+            yield item

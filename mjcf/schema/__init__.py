@@ -250,7 +250,9 @@ class ElementSpec:
         self.file_attributes = frozenset(
             a.name for a in self.attributes.values() if a.kind == "file"
         )
-        # A child that may appear once is created on first access (`option.flag`).
+        # A child that may appear once and is absent (None) until added, as dm_control's
+        # "on demand" children (a body's inertial and free joint); other children that
+        # may appear once are created empty on first access (`option.flag`).
         self.on_demand = False
         # Once-only, and its mere presence changes the model (an actuator shortcut in a
         # default class sets the actuator type): written even when empty, unless it was
@@ -263,6 +265,11 @@ class ElementSpec:
         # Rules that an element being built may break for a while (checked on writing).
         self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")
         self.checked_on_write = bool(self.required or self.needs_rules)
+
+    @property
+    def name(self) -> str:
+        """The tag (dm_control's name for it)."""
+        return self.tag
 
     @classmethod
     def synthesize(
@@ -336,9 +343,12 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
         for child_key in value["children"]:
             child = specs[child_key]
             spec.children[child.tag] = child
-    for spec in specs.values():
-        for child in spec.children.values():
-            child.on_demand = not child.repeated
+    # A body's inertial and free joint are absent until added, as in dm_control (MuJoCo
+    # refuses a second free joint of a body, as it refuses any other joint beside it).
+    body = specs["body"]
+    for tag in ("inertial", "freejoint"):
+        absent = body.children[tag] = copy.copy(body.children[tag])
+        absent.repeated, absent.on_demand = False, True
     # An element that appears once elsewhere may repeat under some parents.
     for key, value in data["elements"].items():
         for parent_key in value.get("repeated_in", ()):
@@ -351,7 +361,6 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
     for tag, section in list(root.children.items()):
         single = copy.copy(section)
         single.repeated = False
-        single.on_demand = True
         root.children[tag] = single
     return root, specs
 

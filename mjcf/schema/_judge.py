@@ -70,10 +70,10 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
-            "late actuator defaults",
-            "a second top-level <default> that sets actuator defaults after default classes "
-            "were defined is refused (mjcf.ParseError): MuJoCo builds actuator defaults from "
-            "a sequence of shortcuts that one merged global default cannot reproduce",
+            "second free joint",
+            "a body's second <freejoint> is refused when parsing and adding (a body has one, "
+            "None until added, as in dm_control); MuJoCo's reader takes it and its compiler "
+            "refuses it (more than 6 dofs in a body)",
             stricter=True,
         ),
         Explanation(
@@ -397,8 +397,6 @@ class Judge:
         error = error or ""
         if "the separator of attached models" in error or "separates the names" in error:
             return "name separator"
-        if "after an earlier <default> section" in error:
-            return "late actuator defaults"
         if "<user>: 'objtype' takes one of" in error:
             return "unknown object type"
         if re.search(r"<(mesh|hfield)>: '(params|elevation)' takes numbers", error):
@@ -410,6 +408,7 @@ class Judge:
         kinds = (
             ("dangling references", "dangling reference"),
             ("already used by", "duplicate name"),
+            ("may have only one <freejoint>", "second free joint"),
             ("numbers, a multiple of", "count refused when compiling"),
         )
         for text, name in kinds:

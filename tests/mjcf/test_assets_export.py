@@ -18,6 +18,11 @@ from tests.mjcf.compare import model_differences
 
 PAD = MENAGERIE / "robotiq_2f85" / "assets" / "pad.stl"
 DRIVER = MENAGERIE / "robotiq_2f85" / "assets" / "driver.stl"
+# A 2x2 PNG image (a texture given as bytes, with no file name of its own).
+DOTS_PNG = bytes.fromhex(
+    "89504e470d0a1a0a0000000d4948445200000002000000020802000000fdd49a7300000012494441"
+    "54789c63f8cfc0c000c20cff8100001fee05fb0bd9688b0000000049454e44ae426082"
+)
 
 
 def _scene() -> mjcf.RootElement:
@@ -141,6 +146,38 @@ def test_identical_contents_share_a_name_different_ones_get_readable_names(menag
     assert model.mesh_vertnum[driver_mesh] == alone.mesh_vertnum[0]
 
 
+def _menagerie_recipe(model: mjcf.RootElement) -> dict[str, bytes]:
+    """MuJoCo Menagerie's FAQ recipe for loading a dm_control.mjcf model in MuJoCo."""
+    assets = {}
+    for asset in model.asset.all_children():
+        if asset.file is not None:
+            assets[asset.file.get_vfs_filename()] = asset.file.contents
+    return assets
+
+
+def test_every_name_of_an_asset_is_the_one_written(menagerie, tmp_path: Path) -> None:
+    """get_vfs_filename(), get_assets(), the XML and the export name every file alike,
+    even where different files share a name, an attached copy shares its twin's mesh,
+    or an asset has no name of its own: Menagerie's recipe loads the model we compile."""
+    pad, driver = PAD.read_bytes(), DRIVER.read_bytes()
+    scene = mjcf.RootElement(model="scene")
+    scene.attach(_part("a", {"part.stl": pad}))
+    scene.attach(_part("c", {"part.stl": driver}))  # another file of the same name
+    twin = _part("a", {"part.stl": pad})
+    scene.attach(twin)  # 'a_1': compiled once with 'a' (mjcf.sharing)
+    scene.asset.add("texture", name="dots", type="2d", file=mjcf.Asset(DOTS_PNG, ".png"))
+    recipe = _menagerie_recipe(scene)  # asked before anything is written
+    xml = scene.to_xml_string()
+    assert recipe == scene.get_assets()
+    assert set(_file_names(xml)) == set(recipe)
+    assert {"part.stl", "c-part.stl", hashlib.sha1(DOTS_PNG).hexdigest() + ".png"} == set(recipe)
+    ours = mjcf.Physics.from_mjcf_model(scene).model
+    assert model_differences(ours, mujoco.MjModel.from_xml_string(xml, recipe)) == []
+    mjcf.export_with_assets(scene, tmp_path)
+    assert {p.name for p in tmp_path.iterdir()} == {*recipe, "model.xml"}
+    assert twin.find("mesh", "part").file.get_vfs_filename() == "part.stl"
+
+
 def _file_names(xml: str) -> list[str]:
     return re.findall(r' file="([^"]+)"', xml)
 
@@ -259,8 +296,8 @@ def test_dm_control_hash_names_on_request(menagerie) -> None:
     expected = mjcf.Physics.from_mjcf_model(gripper).model
     assert model_differences(expected, mujoco.MjModel.from_xml_string(xml, assets)) == []
     asset = gripper.find("mesh", "pad").file
-    assert asset.get_vfs_filename() == f"pad-{pad_hash}.stl"
-    assert asset.get_vfs_filename(filename_with_hash=False) == "pad.stl"
+    assert asset.get_vfs_filename(filename_with_hash=True) == f"pad-{pad_hash}.stl"
+    assert asset.get_vfs_filename() == "pad.stl"  # the name to_xml_string() writes
     assert 'file="pad.stl"' in gripper.to_xml_string(filename_with_hash=False)
 
 
@@ -280,6 +317,23 @@ def test_export_names_the_file_after_the_model(menagerie, tmp_path: Path) -> Non
         assert Path(written).read_text() == gripper.to_xml_string()
         assert model_differences(expected, mujoco.MjModel.from_xml_path(written)) == []
     assert sorted(os.listdir(tmp_path / "a")) == sorted(["robotiq_2f85.xml", *gripper.get_assets()])
+
+
+def test_export_takes_dm_control_keywords_alone(menagerie, tmp_path: Path) -> None:
+    """dm_control's call, every argument by its keyword: `mjcf_model`, `out_dir`,
+    `out_file_name` (and `model_name` for the zip)."""
+    gripper = mjcf.from_path(ROBOTIQ)
+    path = mjcf.export_with_assets(mjcf_model=gripper, out_dir=tmp_path, out_file_name="g.xml")
+    assert Path(path) == tmp_path / "g.xml" and Path(path).read_text() == gripper.to_xml_string()
+    expected = mjcf.Physics.from_mjcf_model(gripper).model
+    assert model_differences(expected, mujoco.MjModel.from_xml_path(path)) == []
+    zipped = mjcf.export_with_assets_as_zip(mjcf_model=gripper, out_dir=tmp_path, model_name="z")
+    assert Path(zipped) == tmp_path / "z.zip"
+    assert model_differences(expected, mujoco.MjSpec.from_zip(zipped).compile()) == []
+    with pytest.raises(TypeError, match="not both"):
+        mjcf.export_with_assets(gripper, tmp_path, mjcf_model=gripper)
+    with pytest.raises(TypeError, match="needs"):
+        mjcf.export_with_assets(out_dir=tmp_path)
 
 
 @pytest.mark.parametrize("name", ["model", "model.stl", "sub/model.xml", "", 3])
@@ -360,3 +414,37 @@ def test_many_meshes_compose_and_export(tmp_path: Path) -> None:
     exported = mujoco.MjModel.from_xml_path(mjcf.export_with_assets(scene, tmp_path))
     assert exported.nmesh == 2000
     assert model_differences(mjcf.Physics.from_mjcf_model(scene).model, exported) == []
+
+
+def test_include_copy_keeps_the_files_of_the_model_copied(
+    menagerie, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A copy made elsewhere (another folder, no model_dir) reads the files the source
+    read: each copied file is the source's asset, path and all, as in dm_control."""
+    source = mjcf.from_path(ROBOTIQ)
+    monkeypatch.chdir(tmp_path)  # relative names would be looked for here
+    copied = mjcf.RootElement(model="copied")
+    copied.include_copy(source)
+    for original, copy_ in zip(source.find_all("mesh"), copied.find_all("mesh"), strict=True):
+        assert copy_.file is original.file and Path(copy_.file.path).is_file()
+    expected = mjcf.Physics.from_mjcf_model(source).model
+    assert model_differences(expected, mjcf.Physics.from_mjcf_model(copied).model) == []
+
+
+def test_an_included_file_and_the_files_it_names_given_as_assets(menagerie) -> None:
+    """A model read from a string whose <include> and meshes exist only as `assets`:
+    get_assets() gives the files the XML names (not the included XML), stock MuJoCo
+    compiles them alike; without the assets the missing file is a FileNotFoundError."""
+    xml = """<mujoco><asset><texture name="dots" type="2d" file="no_such_dir/dots.png"/>
+      <material name="dotted" texture="dots"/></asset>
+      <include file="parts.xml"/>
+      <worldbody><geom type="sphere" size=".1" material="dotted"/></worldbody></mujoco>"""
+    parts = b"""<mujoco><asset><mesh name="pad" file="elsewhere/pad.stl" scale=".01 .01 .01"/>
+      </asset><worldbody><geom type="mesh" mesh="pad"/></worldbody></mujoco>"""
+    with pytest.raises(FileNotFoundError, match=r"parts\.xml"):
+        mjcf.from_xml_string(xml)
+    files = {"parts.xml": parts, "dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
+    model = mjcf.from_xml_string(xml, assets=files)
+    assets = model.get_assets()
+    assert assets == {"dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
+    _assert_names_fit_mujoco(model)

@@ -565,8 +565,10 @@ def test_frame_helpers() -> None:
     assert mjcf.get_frame_freejoint(ant) is free  # dm_control passes the model too
     assert mjcf.get_frame_joints(frame) == [slide, free]
     assert mjcf.get_freejoint(frame) is free
+    assert slide.full_identifier == "ant/lift/"  # named within the frame, as dm_control
     frame.name = "mount"
-    assert arena.find("joint", "lift") is slide
+    assert slide.full_identifier == "mount/lift/"
+    assert arena.find("joint", "lift") is None  # not one of the arena's names
     assert arena.find("attachment_frame", "ant") is frame
 
 

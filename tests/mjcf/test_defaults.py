@@ -170,11 +170,17 @@ def test_include_copy_merges_without_a_scope() -> None:
 def test_include_copy_conflicts_and_override() -> None:
     base = _base()
     before = base.to_xml_string()
-    with pytest.raises(mjcf.AttachmentError, match=r"'angle' is 'radian' here and 'degree'"):
+    with pytest.raises(mjcf.AttachmentError, match=r"`angle`: 'radian' here and 'degree'"):
         base.include_copy(_extra("degree"))
     assert base.to_xml_string() == before
     base.include_copy(_extra("degree"), override_attributes=True)
     assert base.compiler.angle == "degree" and base.find("body", "b2") is not None
+    moved = mjcf.RootElement(model="moved")  # overriding: a named element takes the values
+    moved.worldbody.add("body", name="b2", pos=[0, 1, 2]).add("site", name="mark")
+    base.include_copy(moved, override_attributes=True)
+    assert base.find("body", "b2").pos.tolist() == [0, 1, 2]
+    assert base.find("site", "mark").parent is base.find("body", "b2")
+    assert mjcf.Physics.from_mjcf_model(base).model.nbody == 3  # merged, not added
 
 
 def test_include_copy_name_collisions_change_nothing() -> None:
@@ -266,3 +272,44 @@ def test_an_empty_default_shortcut_survives_include_copy() -> None:
     model.include_copy(source)
     stock = mujoco.MjModel.from_xml_string(_arm_with_default("<velocity/>"))
     assert model_differences(stock, mjcf.Physics.from_mjcf_model(model).model) == []
+
+
+def test_commit_defaults_of_actuators_whose_class_sets_other_shortcuts() -> None:
+    """dm_control's case: a class sets <general>, <motor>, <position kp> and <velocity
+    kv>. A motor's own shortcut sets its gain and bias, so it takes only what every
+    actuator takes (forcelimited, forcerange); a position, for which MuJoCo reads the
+    velocity's gain in a way no attribute says, is refused rather than committed wrong.
+    Each committed model compiles as MuJoCo compiles the classes."""
+
+    def model(actuator: str) -> mjcf.RootElement:
+        root = mjcf.RootElement()
+        root.default.general.forcelimited = "true"
+        root.default.motor.forcerange = [-2, 3]
+        root.default.position.kp = 0.1
+        root.default.velocity.kv = 0.2
+        joint = root.worldbody.add("body").add("joint", name="j")
+        joint.parent.add("geom", size=[0.1])
+        root.actuator.add(actuator, joint=joint)
+        return root
+
+    root = model("motor")
+    expected = mujoco.MjModel.from_xml_string(root.to_xml_string())
+    motor = root.actuator.motor[0]
+    mjcf.commit_defaults(motor)
+    assert motor.forcelimited == "true" and motor.forcerange.tolist() == [-2, 3]
+    assert set(motor.get_attributes()) == {"joint", "forcelimited", "forcerange"}
+    assert model_differences(expected, mjcf.Physics.from_mjcf_model(root).model) == []
+    root = model("position")
+    before = root.to_xml_string()
+    with pytest.raises(mjcf.AttributeValueError, match=r"<velocity kv>.*cannot commit"):
+        mjcf.commit_defaults(root.actuator.position[0])
+    assert root.to_xml_string() == before
+    reading = mjcf.from_xml_string(
+        """<mujoco><default><position kp="5"/><general ctrlrange="-1 1"/></default>
+        <worldbody><body><joint name="j"/><geom size=".1"/></body></worldbody>
+        <actuator><position joint="j"/></actuator></mujoco>"""
+    )
+    expected = mjcf.Physics.from_mjcf_model(reading).model
+    mjcf.commit_defaults(reading)  # a <general> of settings only: committed
+    assert reading.actuator.position[0].kp == 5
+    assert model_differences(expected, mjcf.Physics.from_mjcf_model(reading).model) == []

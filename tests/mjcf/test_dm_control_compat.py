@@ -107,6 +107,51 @@ def test_enter_scope_returns_attached_models() -> None:
     assert scene.enter_scope("arm/hand") is hand
     assert scene.find("body", "arm/wrist").enter_scope("hand") is hand  # the element's model
     assert scene.enter_scope("hand") is None and scene.enter_scope("arm/x") is None
+    assert scene.enter_scope("arm/hand/") is hand  # a prefix, as dm_control takes it
+    assert scene.namescope.get("body", "arm/wrist") is arm.find("body", "wrist")
+    with pytest.raises(KeyError):  # dm_control's NameScope.get
+        scene.namescope.get("body", "arm/elbow")
+
+
+def test_sections_are_emptied_in_every_attached_model_on_request() -> None:
+    """dm_control's `del model.option` / `remove(affect_attachments=True)`."""
+    scene = mjcf.from_path(GYM_ASSETS / "ant.xml")
+    ant = mjcf.from_path(GYM_ASSETS / "ant.xml")
+    for model in (scene, ant):
+        model.contact.add("exclude", body1="torso", body2="aux_1")
+    scene.attach(ant)
+    assert mjcf.Physics.from_mjcf_model(scene).model.nexclude == 2
+    before = scene.to_xml_string()
+    with pytest.raises(ValueError, match=r"remove\(affect_attachments=True\)"):
+        del scene.option
+    with pytest.raises(ValueError, match=r"remove\(affect_attachments=True\)"):
+        scene.contact.remove()
+    assert scene.to_xml_string() == before  # refused: nothing changed
+    scene.option.remove(affect_attachments=True)
+    scene.contact.remove(affect_attachments=True)
+    for model in (scene, ant):
+        assert model.option.to_xml_string(pretty_print=False) == "<option/>"
+        assert model.contact.to_xml_string(pretty_print=False) == "<contact/>"
+    ant_alone = mujoco.MjModel.from_xml_path(str(GYM_ASSETS / "ant.xml"))
+    physics = mjcf.Physics.from_mjcf_model(scene)  # the options are MuJoCo's defaults now
+    assert physics.model.opt.timestep == mujoco.MjModel.from_xml_string("<mujoco/>").opt.timestep
+    assert physics.model.nexclude == 0 and ant_alone.opt.timestep != physics.model.opt.timestep
+
+
+def test_element_text_forms_and_prefix_roots_as_dm_control_writes_them() -> None:
+    scene = mjcf.RootElement(model="scene")
+    arm = mjcf.RootElement(model="arm")
+    body = arm.worldbody.add("body", name="upper")
+    hinge = body.add("joint", name="shoulder", type="hinge")
+    motor = arm.actuator.add("motor", joint=hinge)
+    scene.attach(arm)
+    assert str(body) == '<body name="upper">...</body>'  # children stand as dots
+    assert str(hinge) == '<joint name="shoulder" type="hinge"/>'
+    assert repr(hinge) == 'MJCF Element: <joint name="shoulder" type="hinge"/>'
+    assert str(motor) == '<motor joint="shoulder"/>'  # its generated name is left out
+    for prefix_root in (scene, scene.namescope):  # dm_control passes a name scope
+        assert 'joint="arm/shoulder"' in motor.to_xml_string(prefix_root=prefix_root)
+        assert hinge.prefixed_identifier(prefix_root) == "arm/shoulder"
 
 
 def test_is_removed_after_remove_and_detach() -> None:
@@ -148,7 +193,7 @@ def test_unnamed_elements_are_named_as_dm_control_names_them() -> None:
     scene.attach(model)
     assert third.full_identifier == "robot//unnamed_body_1"
     assert third.prefixed_identifier(model) == "//unnamed_body_1"
-    assert model.worldbody.full_identifier == "world"  # attached at the world body
+    assert model.worldbody.full_identifier == "robot/"  # its frame, as dm_control
 
 
 def test_generated_names_work_with_mj_name2id_and_named_indexing() -> None:
@@ -180,17 +225,46 @@ def test_attachment_frame_joints_are_named_after_the_frame() -> None:
     assert slide.full_identifier == "unnamed_model//frame_joint_1"
 
 
-def test_world_body_of_an_attached_model_is_the_body_it_is_attached_in() -> None:
+def test_every_attached_model_may_have_frame_joints_of_the_same_names() -> None:
+    """dm_control Composer gives every attached prop or walker the same frame joint
+    names: each frame holds its own ('cart_1/root_x/'), and actuators refer to them."""
     scene = mjcf.RootElement(model="scene")
-    body = scene.worldbody.add("body", name="base")
+    scene.worldbody.add("geom", type="plane", size=[5, 5, 0.1])
+    slides, motors = [], []
+    for y in (-1, 1):
+        cart = mjcf.RootElement(model="cart")
+        cart.worldbody.add("geom", type="box", size=[0.2, 0.1, 0.05], mass=2)
+        frame = scene.attach(cart)
+        frame.pos = [0, y, 0.05]
+        slide = frame.add("joint", name="root_x", type="slide", axis=[1, 0, 0])
+        slides.append(slide)
+        motors.append(scene.actuator.add("motor", name=f"push_{y}", joint=slide, gear=[10]))
+    assert [s.full_identifier for s in slides] == ["cart/root_x/", "cart_1/root_x/"]
+    assert scene.find("joint", "root_x") is None  # the frames' names, not the scene's
+    assert 'joint="cart_1/root_x/"' in motors[1].to_xml_string()
+    with pytest.raises(mjcf.NameClashError, match="'root_x' is already used"):
+        slides[0].parent.add("joint", name="root_x", type="slide")  # unique in its frame
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    physics.bind(motors[1]).ctrl = 1.0
+    for _ in range(50):
+        physics.step()
+    assert physics.named.data.qpos["cart_1/root_x/"] > 0.01
+    assert physics.bind(slides[0]).qpos == 0 and physics.bind(slides[1]).qpos > 0.01
+    assert np.array_equal(physics.bind(slides).qpos, physics.named.data.qpos[:2])
+
+
+def test_world_body_of_an_attached_model_is_named_after_its_frame() -> None:
+    scene = mjcf.RootElement(model="scene")
+    body = scene.worldbody.add("body", name="base", pos=[0, 0, 1])
     child = mjcf.RootElement(model="child")
     child.worldbody.add("geom", size=[0.1])
     frame = body.attach(child)
-    assert child.worldbody.full_identifier == "base"
+    assert child.worldbody.full_identifier == "child/"  # as dm_control
+    assert child.worldbody.prefixed_identifier(child) == "world"  # in its own output
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    assert physics.bind(child.worldbody).xpos.tolist() == [0, 0, 1]  # the body it is in
     frame.add("joint", name="slide", type="slide")  # now the frame is a body
     assert child.worldbody.full_identifier == "child/"
-    physics = mjcf.Physics.from_mjcf_model(scene)
-    assert physics.bind(child.worldbody).xpos.shape == (3,)
 
 
 def test_generated_names_read_back_unnamed() -> None:
@@ -256,12 +330,15 @@ def test_size_capacities_merge_to_the_largest_memory_in_bytes() -> None:
     child.size.nkey = 3
     child.size.nuserdata = 5
     parent.attach(child)
+    # The parent holds what its models need at once, as in dm_control.
+    assert (parent.size.memory, parent.size.nkey, parent.size.nuserdata) == ("2M", 3, 5)
     assert 'memory="2M" nkey="3" nuserdata="5"' in parent.to_xml_string()
     physics = mjcf.Physics.from_mjcf_model(parent)
     assert physics.model.narena == 2 * 2**20
     other = mjcf.RootElement(model="o")
     other.size.memory = "3m"
     parent.attach(other)
+    assert parent.size.memory == str(3 * 2**20)  # in bytes, as dm_control writes it
     assert mjcf.Physics.from_mjcf_model(parent).model.narena == 3 * 2**20
 
 
@@ -279,7 +356,7 @@ def test_other_setting_conflicts_still_raise() -> None:
 def test_unknown_namespace_is_a_value_error_and_still_a_key_error() -> None:
     model = mjcf.from_path(GYM_ASSETS / "ant.xml")
     for call in (lambda: model.find("bdy", "torso"), lambda: model.find_all("jiont")):
-        with pytest.raises(ValueError, match="not a namespace") as caught:
+        with pytest.raises(ValueError, match="not a valid namespace") as caught:
             call()
         assert isinstance(caught.value, mjcf.NamespaceError)
         assert isinstance(caught.value, mjcf.NotFoundError) and isinstance(caught.value, KeyError)
@@ -399,3 +476,30 @@ def test_an_unnamed_element_added_after_compiling_is_not_bound_to_another() -> N
     with pytest.raises(mjcf.BindingError, match="added after the model was compiled"):
         physics.bind(before)
     assert physics.bind(thigh).xpos.tolist() == physics.data.xpos[1].tolist()
+
+
+def test_composite_is_refused_naming_what_builds_it_in_mujoco_4() -> None:
+    """dm_control's cable is a <composite>, which MuJoCo 4 removed: refused with what
+    replaces it, changing nothing; a 1-D <flexcomp> cable built so simulates through
+    mjcf exactly as MuJoCo simulates its text."""
+    root = mjcf.RootElement()
+    empty = root.to_xml_string()
+    with pytest.raises(mjcf.SchemaError, match=r"MuJoCo 4 has no <composite>.*<flexcomp>"):
+        root.worldbody.add("composite", type="cable", count=[41, 1, 1], size=[1, 0, 0])
+    assert root.to_xml_string() == empty
+    with pytest.raises(mjcf.SchemaError, match=r"MuJoCo 4 has no <composite>"):
+        mjcf.from_xml_string('<mujoco><worldbody><composite type="cable"/></worldbody></mujoco>')
+    cable = root.worldbody.add(
+        "flexcomp", name="cable", type="grid", count=[21, 1, 1], spacing=[0.05, 1, 1],
+        dim=1, pos=[0, 0, 1], radius=0.01,
+    )  # fmt: skip
+    cable.add("edge", equality="true")
+    physics = mjcf.Physics.from_mjcf_model(root)
+    reference = mujoco.MjModel.from_xml_string(root.to_xml_string())
+    data = mujoco.MjData(reference)
+    for _ in range(20):
+        physics.step()
+        mujoco.mj_step(reference, data)
+    mujoco.mj_forward(reference, data)
+    assert np.array_equal(physics.named.data.xpos.array, data.xpos)
+    assert np.array_equal(physics.data.flexvert_xpos, data.flexvert_xpos)

@@ -75,11 +75,15 @@ def test_children_by_tag_and_name(arm: mjcf.RootElement) -> None:
     assert upper.geom[0] is arm.find("geom", "upper")
     assert upper.get_children("joint")[0].name == "shoulder"
     assert upper.all_children()[-1] is lower
-    inertial = upper.inertial  # a child that may appear once is there on demand
-    assert inertial.tag == "inertial" and "inertial" not in arm.to_xml_string()
-    assert upper.add("inertial", pos=[0, 0, 0], mass=2) is inertial
+    assert upper.inertial is None and upper.freejoint is None  # absent until added
+    inertial = upper.add("inertial", pos=[0, 0, 0], mass=2)
+    assert upper.inertial is inertial and "<inertial" in arm.to_xml_string()
     with pytest.raises(mjcf.SchemaError, match="only one <inertial>"):
         upper.add("inertial", pos=[0, 0, 0], mass=3)
+    del upper.inertial  # as dm_control: removes it
+    assert upper.inertial is None and inertial.is_removed
+    flag = arm.option.flag  # other once-only children are there when first read
+    assert flag.tag == "flag" and "<flag" not in arm.to_xml_string()
 
 
 def test_find_and_find_all_in_declaration_order() -> None:

@@ -181,6 +181,25 @@ def test_writing_a_derived_field_keeps_the_value_written() -> None:
     assert np.all(sensors.sensordata == 42.0)
 
 
+def test_a_derived_write_after_a_step_keeps_its_value() -> None:
+    """dm_control's flow: controls written, a step, then sensor data assigned (a test's
+    fake reading): the derived write brings the acceleration stage up to date first and
+    keeps the value written. (The step clears is_dirty, which dm_control keeps set: the
+    step leaves every derived quantity fresh, so no read needs to forward.)"""
+    physics = sensing_model(gym_model("ant"), "EULER")
+    motors = physics._binding(Obj.mjOBJ_ACTUATOR, np.arange(physics.model.nu))
+    motors.ctrl = 0.75
+    assert physics.is_dirty
+    physics.step()
+    assert not physics.is_dirty
+    sensors = physics._binding(Obj.mjOBJ_SENSOR, np.arange(physics.model.nsensor))
+    sensors.sensordata = 12345.0
+    assert not physics.is_dirty
+    assert np.all(sensors.sensordata == 12345.0)
+    physics.forward()
+    assert np.array_equal(sensors.sensordata, forwarded_copy(physics).sensordata)
+
+
 def test_step_after_a_tracked_write_starts_from_the_written_state() -> None:
     physics = Physics.from_xml_path(gym_model("ant"))
     twin = mujoco.MjData(physics.model)
@@ -309,18 +328,45 @@ def _forwarded(model: mujoco.MjModel) -> mujoco.MjData:
     return data
 
 
-def test_an_edit_mujoco_cannot_use_is_undone_and_named() -> None:
-    model, physics = scene()
-    puck = physics.bind(model.find("body", "puck"))  # compiled as a simple body
-    assert puck.simple
-    constants = physics.model.body_sameframe.copy()
-    with pytest.raises(mjcf.BindingError, match=r"'ipos' of body 'puck'.*simple='false'"):
-        puck.ipos = [0.05, 0, 0]
-    assert np.array_equal(puck.ipos, [0, 0, 0])
-    with pytest.raises(mjcf.BindingError, match="simple"):
-        puck.ipos[1] = 0.05  # item assignment too
-    assert np.array_equal(puck.ipos, [0, 0, 0])
-    assert np.array_equal(physics.model.body_sameframe, constants)
+def test_moving_the_inertial_frame_of_a_simple_body_as_a_recompile_gives_it() -> None:
+    """Randomising a center of mass: a body MuJoCo compiled as "simple" (gymnasium's
+    pusher object on two slides, its goal) takes a new ipos or iquat through a binding,
+    and the model then equals the one compiled from the XML with those values (simple
+    flags, dof_simplenum, sameframe) and simulates alike."""
+    model = mjcf.from_path(gym_model("pusher"))
+    physics = mjcf.Physics.from_mjcf_model(model)
+    thing, goal = (physics.bind(model.find("body", name)) for name in ("object", "goal"))
+    assert thing.simple and goal.simple
+    turned = np.array([np.cos(0.2), 0, 0, np.sin(0.2)])
+    new = {"object": ([0.02, -0.01, 0.0], [1.0, 0, 0, 0]), "goal": ([0.0, 0, 0], turned)}
+    inertias = {name: (physics.bind(model.find("body", name)).mass.copy(),
+                       physics.bind(model.find("body", name)).inertia.copy())
+                for name in new}  # fmt: skip
+    thing.ipos = new["object"][0]
+    goal.iquat = turned
+
+    spec = mujoco.MjSpec.from_file(str(gym_model("pusher")))
+    # pusher.xml computes every inertia from geoms: "auto" keeps the other bodies' so
+    # and takes the two written as explicit <inertial> elements.
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO
+    for name, (ipos, iquat) in new.items():
+        body = spec.body(name)
+        body.explicitinertial, body.mass, body.inertia = True, *inertias[name]
+        body.ipos, body.iquat = ipos, iquat
+    oracle = spec.compile()
+    assert not thing.simple and not goal.simple
+    for field in ("body_simple", "dof_simplenum", "body_sameframe", "body_ipos", "body_iquat"):
+        assert np.array_equal(getattr(physics.model, field), getattr(oracle, field)), field
+    expected = mujoco.MjData(oracle)
+    physics.data.ctrl[:] = expected.ctrl[:] = 0.5
+    physics.data.qvel[-4:] = expected.qvel[-4:] = [0.3, -0.2, 0.1, 0.1]  # object and goal slide
+    for _ in range(50):
+        physics.step()
+        mujoco.mj_step(oracle, expected)
+    assert np.allclose(physics.data.qpos, expected.qpos, atol=1e-12)
+    mujoco.mj_forward(oracle, expected)
+    assert np.allclose(thing.xipos, expected.xipos[thing.element_id], atol=1e-12)
+    assert np.allclose(goal.ximat, expected.ximat[goal.element_id], atol=1e-12)
 
 
 def test_colors_do_not_make_the_physics_dirty() -> None:
@@ -329,3 +375,59 @@ def test_colors_do_not_make_the_physics_dirty() -> None:
     assert not physics.is_dirty
     physics.bind(model.find("geom", "rod")).friction = [0.5, 0.01, 0.001]
     assert physics.is_dirty
+
+
+def _two_bodies() -> mjcf.RootElement:
+    """dm_control's physics_test model: two bodies, each with an ellipsoid and a site
+    (and an inertial, so that a recompile with a turned geom keeps the body's inertia,
+    which a runtime write of a geom's pose does not change)."""
+    root = mjcf.RootElement()
+    for _ in range(2):
+        body = root.worldbody.add("body")
+        body.add("geom", type="ellipsoid", size=[0.1, 0.2, 0.3])
+        body.add("site", type="sphere", size=[0.1])
+        body.add("inertial", pos=[0, 0, 0], mass=1, diaginertia=[0.01, 0.02, 0.03])
+    return root
+
+
+_FRAME = {"body": ("body_sameframe", "xpos", "xmat"), "geom": ("geom_sameframe", "geom_xpos",
+          "geom_xmat"), "site": ("site_sameframe", "site_xpos", "site_xmat")}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("kind", "field"),
+    [(k, f) for k in ("body", "geom", "site") for f in ("pos", "quat")]
+    + [("body", "ipos"), ("body", "iquat")],
+)
+def test_moved_frames_are_as_a_recompile_gives_them(kind: str, field: str) -> None:
+    """dm_control zeroes the sameframe flag of a frame written through a binding; here
+    MuJoCo recomputes it, so it and the poses after forward() equal those of the model
+    compiled with the new values (the improvement shown, not assumed)."""
+    root = _two_bodies()
+    physics = mjcf.Physics.from_mjcf_model(root)
+    first, second = (physics.bind(e) for e in root.find_all(kind))
+    if field.endswith("pos"):
+        setattr(first, field, [0.0, 0.0, 0.1])
+        getattr(second, field)[0] = -0.1  # item assignment, as dm_control's test does
+    else:
+        setattr(first, field, [0.0, 0.0, 0.0, 1.0])
+        setattr(second, field, [np.cos(0.3), 0.0, np.sin(0.3), 0.0])
+
+    spec = mujoco.MjSpec.from_string(root.to_xml_string())
+    elements = {"body": spec.bodies[1:], "geom": spec.geoms, "site": spec.sites}[kind]
+    for element, written in zip(elements, (first, second), strict=True):
+        if field in ("ipos", "iquat"):
+            element.explicitinertial = True
+            element.mass, element.inertia = written.mass, written.inertia
+            element.ipos, element.iquat = written.ipos, written.iquat
+        else:
+            setattr(element, field, getattr(written, field))
+    oracle = spec.compile()
+    flag, xpos, xmat = _FRAME[kind]
+    if field in ("ipos", "iquat"):
+        flag, xpos, xmat = "body_sameframe", "xipos", "ximat"
+    assert np.array_equal(getattr(physics.model, flag), getattr(oracle, flag))
+    physics.forward()
+    expected = _forwarded(oracle)
+    assert np.allclose(getattr(physics.data, xpos), getattr(expected, xpos), atol=1e-12)
+    assert np.allclose(getattr(physics.data, xmat), getattr(expected, xmat), atol=1e-12)

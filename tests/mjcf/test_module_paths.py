@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import importlib
 
+import pytest
+
 import mjcf
 from mjcf import constants, traversal_utils
 from tests.conftest import ROBOTIQ, UR5E, gym_model
@@ -72,3 +74,20 @@ def test_base_element_and_debug_mode_names(menagerie) -> None:
         assert debugging.debug_mode() is False
     finally:
         (mjcf.enable_debug_mode if was else mjcf.disable_debug_mode)()
+
+
+def test_parser_and_element_module_paths_as_dm_control_imports_them(menagerie, tmp_path) -> None:
+    """`from dm_control.mjcf import parser, element` code: parser's readers (from_file
+    also given a path, as lxml takes it), parser.from_zip, element.RootElement."""
+    from mjcf import element, parser
+
+    assert element.RootElement is mjcf.RootElement
+    assert parser.from_path is mjcf.from_path and parser.from_zip is mjcf.from_zip
+    by_path = parser.from_file(str(ROBOTIQ))
+    with open(ROBOTIQ, "rb") as handle:
+        by_handle = parser.from_file(handle)
+    assert by_path.is_same_as(by_handle) and by_path.model_dir == str(ROBOTIQ.parent)
+    zipped = mjcf.export_with_assets_as_zip(by_path, tmp_path / "gripper.zip")
+    assert parser.from_zip(zipped).find("mesh", "pad") is not None
+    with pytest.raises(mjcf.ParseError, match="cannot read MJCF file"):
+        parser.from_file(str(tmp_path / "missing.xml"))

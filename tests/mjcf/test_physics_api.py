@@ -109,8 +109,11 @@ def test_bind_takes_every_form_of_a_collection() -> None:
     empty = physics.bind([])
     assert empty.qpos.shape == (0,) and empty.xpos.size == 0 and empty.element_id.size == 0
     empty.ctrl = np.zeros(0)  # nothing to write, fine
-    with pytest.raises(mjcf.BindingError, match="binding of no elements"):
-        empty.ctrl = [1.0]
+    empty.ctrl = ()  # a task without actuators writes its empty action
+    empty["qpos"] = []
+    for value in ([1.0], 5):
+        with pytest.raises(ValueError, match="Cannot assign a value to an empty binding"):
+            empty.ctrl = value
     with pytest.raises(mjcf.BindingError, match="takes an element or an iterable"):
         physics.bind(3)
 
@@ -251,3 +254,27 @@ def test_free_releases_the_simulation() -> None:
     physics.free()
     assert physics.model is None and physics.data is None
     assert not joints._cache
+
+
+def test_reload_from_xml_string_as_dm_control(tmp_path) -> None:
+    """dm_control's reload: bindings are cached until the physics is reloaded, then made
+    again, finding the elements by their full identifiers in the reloaded model."""
+    scene, _ = arm_scene()
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    joints = scene.find_all("joint")
+    original = physics.bind(joints)
+    assert physics.bind(joints) is original and physics.bind(joints[::-1]) is not original
+    physics.bind(joints[1:]).qpos = 0.4
+    physics.reload_from_xml_string(scene.to_xml_string(), assets=scene.get_assets())
+    reloaded = physics.bind(joints)
+    assert reloaded is not original
+    fresh = mjcf.Physics.from_mjcf_model(scene)
+    assert np.array_equal(reloaded.qpos, fresh.bind(joints).qpos)  # fresh data
+    assert np.array_equal(reloaded.element_id, fresh.bind(joints).element_id)
+    path = tmp_path / "scene.xml"
+    path.write_text(scene.to_xml_string())
+    physics.reload_from_xml_path(path)
+    assert physics.bind(joints) is not reloaded and physics.model.njnt == fresh.model.njnt
+    with pytest.raises(mjcf.CompileError):
+        physics.reload_from_xml_string("<mujoco><worldbody><geom/></worldbody></mujoco>")
+    assert physics.model.njnt == fresh.model.njnt  # a failed reload changes nothing

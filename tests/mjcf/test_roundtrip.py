@@ -13,6 +13,7 @@ import pytest
 import mjcf
 from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
 from tests.mjcf.compare import model_differences, trajectories_match
+from tests.mjcf.test_attachment import differences_from_alone
 
 SHIPPED = sorted(GYM_ASSETS.glob("*.xml")) + sorted(MUJOCO_TESTDATA.glob("*.xml"))
 ROBOTS = sorted(MENAGERIE.glob("*/*.xml"))
@@ -338,17 +339,92 @@ def test_repeated_top_level_default_compiles_as_mujoco_reads_it(tmp_path: Path) 
     _assert_round_trip(main, reread)
 
 
-def test_repeated_top_level_default_with_late_actuator_defaults_is_refused() -> None:
-    xml = """<mujoco><default><default class="a"/></default>
-      <default><motor gear="2"/></default></mujoco>"""
-    with pytest.raises(mjcf.ParseError, match="move the actuator defaults into the first"):
-        mjcf.from_xml_string(xml)
-    two = """<mujoco><default><motor gear="2"/></default><default><position kp="3"/></default>
-      <worldbody><body><joint name="j"/><geom size=".1"/></body></worldbody>
-      <actuator><motor joint="j"/><position joint="j"/></actuator></mujoco>"""
-    reference = mujoco.MjModel.from_xml_string(two)
-    ours = mujoco.MjModel.from_xml_string(mjcf.from_xml_string(two).to_xml_string())
-    assert model_differences(reference, ours) == []
+# The structure of Gymnasium-Robotics' adroit_hammer.xml (which MuJoCo compiles): a first
+# <default> defines a class with actuator defaults; an included file, at the end of the
+# model, sets the global actuator defaults in <default class="main"> and defines more
+# classes. Classes defined before it keep the actuator defaults they copied.
+_HAND = """
+<mujoco model="hand">
+  <default>
+    <default class="board">
+      <geom type="box" rgba=".6 .4 .2 1"/>
+      <general user="0 1 0.03"/>
+    </default>
+  </default>
+  <worldbody>
+    <body name="finger" pos="0 0 .2">
+      <joint name="knuckle" axis="0 1 0" range="-1 1"/>
+      <geom name="bone" size=".02 .05" type="capsule"/>
+      <body name="tip" pos="0 0 .1">
+        <joint name="tip_joint" class="loose" axis="0 1 0"/>
+        <geom name="pad" size=".02" class="soft"/>
+      </body>
+    </body>
+    <body name="plank" pos=".3 0 0"><geom name="plank" class="board" size=".1 .1 .01"/></body>
+  </worldbody>
+  <actuator>
+    <general name="plain" joint="knuckle" gainprm="10"/>
+    <general name="boarded" class="board" joint="knuckle" gainprm="5"/>
+    <position name="late_class" class="soft" joint="tip_joint" kp="2"/>
+  </actuator>
+  <include file="hand_defaults.xml"/>
+</mujoco>
+"""
+_HAND_DEFAULTS = """
+<mujocoinclude>
+  <default class="main">
+    <joint limited="true" damping="0.05"/>
+    <geom friction="1 0.5 0.01" margin="0.0005"/>
+    <general ctrllimited="true" ctrlrange="-1 1" user="0 1 0.05 0.09"/>
+    <default class="soft">
+      <geom rgba=".9 .7 .5 1"/>
+      <general user="0 2 0.03" forcerange="-3 3" forcelimited="true"/>
+    </default>
+    <default class="loose"><joint damping="0" limited="false"/></default>
+  </default>
+</mujocoinclude>
+"""
+
+
+def _hand(folder: Path) -> Path:
+    _write(folder, "hand_defaults.xml", _HAND_DEFAULTS)
+    return _write(folder, "hand.xml", _HAND)
+
+
+def test_late_actuator_defaults_are_written_as_sections_of_their_own(tmp_path: Path) -> None:
+    path = _hand(tmp_path)
+    reference = mujoco.MjModel.from_xml_path(str(path))
+    boarded = reference.actuator("boarded")
+    assert not boarded.ctrllimited and reference.actuator("plain").ctrllimited  # what differs
+    root = mjcf.from_path(path)
+    assert model_differences(reference, mjcf.Physics.from_mjcf_model(root).model) == []
+    xml = root.to_xml_string()
+    assert xml.count("<default>") == 2  # as many top-level sections as MuJoCo needs
+    _assert_round_trip(path, root)
+    _assert_round_trip(path, mjcf.from_xml_string(xml))  # and read back alike
+    committed = mjcf.from_path(path)
+    mjcf.commit_defaults(committed)
+    assert committed.find("actuator", "boarded").ctrllimited is None  # the built-in 'auto'
+    assert committed.find("actuator", "plain").ctrllimited == "true"
+    _assert_round_trip(path, committed)
+
+
+def test_a_model_with_late_actuator_defaults_attaches(tmp_path: Path) -> None:
+    """Attached (twice), its global defaults become a class and the late section a class
+    nested in it, which its elements use; every value compiles as in the model alone."""
+    path = _hand(tmp_path)
+    alone = mujoco.MjModel.from_xml_path(str(path))
+    scene = mjcf.RootElement(model="scene")
+    scene.default.general.ctrlrange = [-2, 2]  # the scene's own global defaults too
+    scene.worldbody.add("geom", name="floor", type="plane", size=[1, 1, 0.1])
+    left, right = mjcf.from_path(path), mjcf.from_path(path)
+    scene.attach(left)
+    scene.attach(right).pos = [0, 0.5, 0]
+    composed = mjcf.Physics.from_mjcf_model(scene).model
+    for prefix in ("hand/", "hand_1/"):
+        assert differences_from_alone(alone, composed, prefix, placed={"finger", "plank"}) == []
+    stock = mujoco.MjModel.from_xml_string(scene.to_xml_string(), scene.get_assets())
+    assert model_differences(composed, stock) == []
 
 
 def test_defaults_naming_assets_they_do_not_define_load() -> None:
