@@ -7,6 +7,10 @@ import os
 
 os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is imported: it reads it once
 
+import fcntl
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import gymnasium
@@ -33,6 +37,9 @@ ROBOTIQ = MENAGERIE / "robotiq_2f85" / "2f85.xml"
 # Menagerie's own files (the UR5e with its OBJ meshes), beside the repository in CI only:
 # the tests that compare the shipped files with them skip elsewhere.
 ORIGINAL_MENAGERIE = REPO.parent / "shared" / "models" / "menagerie"
+# The packages the wheel installs, and the checkout's other Python folders, which it must not.
+INSTALLED_PACKAGES = ("mjcf", "composer", "entities", "arenas", "tasks")
+NOT_INSTALLED = ("tools", "bench", "tests")
 
 
 def gym_model(name: str) -> Path:
@@ -44,3 +51,29 @@ def gym_model(name: str) -> Path:
 def menagerie() -> Path:
     """The folder of the robots shipped with the package, laid out as Menagerie's."""
     return MENAGERIE
+
+
+@pytest.fixture(scope="session")
+def built_wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The project's wheel, built offline (pip, no build isolation) from a copy of the
+    checkout's Python folders, those not installed included; built once per test run,
+    shared by pytest-xdist's workers through a lock in their common temporary folder."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent
+    with open(base / "built_wheel.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        folder = base / "built_wheel"
+        if not list(folder.glob("dist/*.whl")):
+            shutil.rmtree(folder, ignore_errors=True)  # what a failed build left
+            sources = folder / "src"
+            ignore = shutil.ignore_patterns("__pycache__", "*.pyc", "corpus", "results")
+            for name in (*INSTALLED_PACKAGES, *NOT_INSTALLED):
+                shutil.copytree(REPO / name, sources / name, ignore=ignore)
+            for file in ("pyproject.toml", "README.md"):
+                shutil.copy(REPO / file, sources / file)
+            pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "wheel"]
+            build = ["--no-deps", "--no-build-isolation", "--no-index", "-w", "dist", "./src"]
+            subprocess.run([*pip, *build], check=True, cwd=folder)
+        (wheel,) = folder.glob("dist/*.whl")
+    return wheel

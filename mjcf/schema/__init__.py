@@ -1,5 +1,6 @@
 """MuJoCo's MJCF schema as Python objects, loaded from data generated from the
-installed mujoco's own XML reference (`python -m mjcf.schema.generate`).
+installed mujoco's own XML reference (`DATA_FILE`, written by the repository's build-time
+generator: `python -m tools.mjcf_schema.generate`).
 
     from mjcf import schema
     geom = schema.MUJOCO.child('worldbody').child('body').child('geom')
@@ -25,6 +26,7 @@ import mujoco
 from mjcf import values as _values
 
 __all__ = [
+    "DATA_FILE",
     "MUJOCO",
     "NAMESPACES",
     "ROOT_SECTIONS",
@@ -34,7 +36,8 @@ __all__ = [
     "all_specs",
 ]
 
-_DATA_FILE = Path(__file__).with_name("mjcf_schema.json")
+# The generated schema this module loads (the generator writes it, its checker reads it).
+DATA_FILE = Path(__file__).with_name("mjcf_schema.json")
 
 
 class AttributeSpec:
@@ -329,12 +332,12 @@ class ElementSpec:
 
 
 def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
-    data = json.loads(_DATA_FILE.read_text())
+    data = json.loads(DATA_FILE.read_text())
     if data.get("mujoco_version") != mujoco.__version__:
         warnings.warn(
             f"mjcf's schema was generated from MuJoCo {data.get('mujoco_version')}, but "
-            f"MuJoCo {mujoco.__version__} is installed; regenerate it with "
-            "`python -m mjcf.schema.generate`.",
+            f"MuJoCo {mujoco.__version__} is installed; regenerate it in a checkout of the "
+            "repository with `python -m tools.mjcf_schema.generate`.",
             stacklevel=3,
         )
     specs = {key: ElementSpec(key, value) for key, value in data["elements"].items()}

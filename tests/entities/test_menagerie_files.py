@@ -3,7 +3,6 @@ carried by a built wheel, and the OBJ-to-MSH conversion that made the UR5e's mes
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 import zipfile
@@ -117,26 +116,17 @@ def test_obj_files_msh_cannot_carry_unchanged_are_refused(change, message):
         convert.obj_to_msh(TETRA_OBJ.replace(*change), "tetra.obj")
 
 
-def test_a_built_wheel_carries_the_robots_and_arm_push_box_runs_from_it(tmp_path):
-    """Build the wheel offline from a copy of the sources, install it alone into a folder,
+def test_a_built_wheel_carries_the_robots_and_arm_push_box_runs_from_it(tmp_path, built_wheel):
+    """Install the wheel (built offline from a copy of the sources) alone into a folder,
     and make the robot task from there, away from the repository."""
-    sources = tmp_path / "src"
-    ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
-    for package in ("mjcf", "composer", "entities", "arenas", "tasks"):
-        shutil.copytree(REPO / package, sources / package, ignore=ignore)
-    for file in ("pyproject.toml", "README.md"):
-        shutil.copy(REPO / file, sources / file)
-    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
-    build = ["wheel", "--no-deps", "--no-build-isolation", "--no-index", "-w", "dist", "./src"]
-    subprocess.run([*pip, *build], check=True, cwd=tmp_path)
-    (wheel,) = (tmp_path / "dist").glob("*.whl")
     shipped = {
         str(p.relative_to(REPO)) for p in menagerie.ROOT.rglob("*")
         if p.is_file() and "__pycache__" not in p.parts
     }  # fmt: skip
-    with zipfile.ZipFile(wheel) as archive:
+    with zipfile.ZipFile(built_wheel) as archive:
         assert {n for n in archive.namelist() if n.startswith("entities/menagerie/")} == shipped
-    install = ["install", "--no-deps", "--no-index", "--target", "site", str(wheel)]
+    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
+    install = ["install", "--no-deps", "--no-index", "--target", "site", str(built_wheel)]
     subprocess.run([*pip, *install], check=True, cwd=tmp_path)
     code = (
         "import gymnasium, tasks, entities\n"

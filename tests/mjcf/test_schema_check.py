@@ -1,4 +1,4 @@
-"""The differential check (`mjcf.schema.check`) on its deterministic sample: every
+"""The differential check (`tools.mjcf_schema.check`) on its deterministic sample: every
 attribute of the schema tried at least once, every child of every element placed and
 repeated, every section given twice; mjcf accepts a document iff MuJoCo's reader does,
 and compiles what it accepts to the model MuJoCo compiles, but where the difference is
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-from mjcf.schema import check
+from tools.mjcf_schema import check
 
 # Documents that crash MuJoCo 4.0.0 itself (plugins inside a flexcomp or a replicate, a
 # frame as a tuple's object): the check runs them in child processes and reports them.

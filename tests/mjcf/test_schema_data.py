@@ -12,8 +12,8 @@ import mujoco
 import pytest
 from lxml import etree
 
-from mjcf.schema import _annotations, _docs, generate
 from tests.conftest import MENAGERIE
+from tools.mjcf_schema import _annotations, _docs, generate
 
 SCHEMA_FILE = generate.OUTPUT
 DOCS = _docs.doc_dir()
@@ -46,7 +46,7 @@ def test_checked_in_schema_is_what_the_installed_mujoco_generates(schema: dict) 
         for key in fresh["elements"].keys() | schema["elements"].keys()
         if fresh["elements"].get(key) != schema["elements"].get(key)
     )
-    assert not stale, f"regenerate with `python -m mjcf.schema.generate`; differs: {stale}"
+    assert not stale, f"regenerate with `python -m tools.mjcf_schema.generate`; differs: {stale}"
     assert generate.dumps(fresh) == SCHEMA_FILE.read_text()
     assert schema["mujoco_version"] == mujoco.__version__
 

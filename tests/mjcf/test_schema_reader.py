@@ -1,12 +1,12 @@
-"""The schema generator's reader (mjcf/schema/_reader.py): MuJoCo's XML reader in a
+"""The schema generator's reader (tools/mjcf_schema/_reader.py): MuJoCo's XML reader in a
 child process, which no document can leave stalled."""
 
 from __future__ import annotations
 
 import pytest
 
-from mjcf.schema._probe import FILES
-from mjcf.schema._reader import Reader, ReaderError
+from tools.mjcf_schema._probe import FILES
+from tools.mjcf_schema._reader import Reader, ReaderError
 
 ATTACH_WITHOUT_PREFIX = (
     '<mujoco><asset><model name="m" file="probe_model.xml"/></asset>'

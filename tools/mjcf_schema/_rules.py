@@ -10,9 +10,9 @@ from __future__ import annotations
 import itertools
 import re
 
-from mjcf.schema import _probe
-from mjcf.schema._docs import Element
-from mjcf.schema._probe import Probe, note
+from tools.mjcf_schema import _probe
+from tools.mjcf_schema._docs import Element
+from tools.mjcf_schema._probe import Probe, note
 
 
 def rules(prober: _probe.Prober, elements: dict[str, Element]) -> None:

@@ -1,7 +1,7 @@
 """Generate ``mjcf_schema.json``, MuJoCo's MJCF schema as data, from the installed mujoco.
 
-    python -m mjcf.schema.generate            # rewrite mjcf/schema/mjcf_schema.json
-    python -m mjcf.schema.generate --check    # exit 1 if the checked-in file is stale
+    python -m tools.mjcf_schema.generate          # rewrite mjcf/schema/mjcf_schema.json
+    python -m tools.mjcf_schema.generate --check  # exit 1 if the checked-in file is stale
 
 Run it after upgrading mujoco and commit the result; it reads about 15,000 probe
 documents in some 12 s of CPU (the test that the checked-in file is current runs
@@ -26,7 +26,7 @@ it in CI). Where the data comes from:
   numbers, keyword case, spacing and integer forms, keyword lists and their order,
   text grammars, and rules between attributes ("at most one of").
 
-``python -m mjcf.schema.check`` then compares mjcf with the reader document by
+``python -m tools.mjcf_schema.check`` then compares mjcf with the reader document by
 document, and reports every disagreement left.
 
 The file maps element keys (MuJoCo's doc anchors: ``body-geom``,
@@ -54,8 +54,9 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _annotations, _probe, _refine, _rules
-from mjcf.schema._docs import (
+from mjcf import schema
+from tools.mjcf_schema import _annotations, _probe, _refine, _rules
+from tools.mjcf_schema._docs import (
     BODY,
     DEFAULT,
     META,
@@ -68,9 +69,9 @@ from mjcf.schema._docs import (
     elements_from_docs,
     listed_values,
 )
-from mjcf.schema._probe import Probe, note
+from tools.mjcf_schema._probe import Probe, note
 
-OUTPUT = Path(__file__).with_name("mjcf_schema.json")
+OUTPUT = schema.DATA_FILE
 # Elements holding the kinematic tree; their children are probed.
 TREE_HOLDERS = (WORLDBODY, BODY, *META)
 
@@ -406,7 +407,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.check:
         current = args.output.read_text() if args.output.exists() else ""
         if current != text:
-            logger.error("%s is stale; run `python -m mjcf.schema.generate`", args.output)
+            logger.error("%s is stale; run `python -m tools.mjcf_schema.generate`", args.output)
             return 1
         return 0
     args.output.write_text(text)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _annotations, _rst
+from tools.mjcf_schema import _annotations, _rst
 
 ROOT = "mujoco"
 BODY = "body"

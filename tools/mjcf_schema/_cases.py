@@ -25,9 +25,9 @@ import zlib
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from mjcf.schema import _probe
-from mjcf.schema._docs import Attribute, Element
-from mjcf.schema._probe import Probe
+from tools.mjcf_schema import _probe
+from tools.mjcf_schema._docs import Attribute, Element
+from tools.mjcf_schema._probe import Probe
 
 # Words tried in the first place of a numeric attribute (the rest are "1").
 NUMBER_WORDS = (

@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 
 import mujoco
 
-from mjcf.schema._docs import Attribute, Element
-from mjcf.schema._reader import Reader
+from tools.mjcf_schema._docs import Attribute, Element
+from tools.mjcf_schema._reader import Reader
 
 logger = logging.getLogger(__name__)
 
@@ -116,7 +116,7 @@ _NOT_ALLOWED = re.compile(
 
 def note(message: str) -> None:
     """Log what the probes found that the documentation does not say (shown by
-    ``python -m mjcf.schema.generate``)."""
+    ``python -m tools.mjcf_schema.generate``)."""
     logger.info("note: %s", message)
 
 

@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 import mjcf
-from mjcf.schema._cases import FILES, Case, Edit
+from tools.mjcf_schema._cases import FILES, Case, Edit
 
 # Fields that say where files were found or where the model is in memory, not what it is.
 _PATH_FIELDS = frozenset({"paths", "name_pathadr", "npaths", "nbuffer", "ptr"})

@@ -29,9 +29,9 @@ import re
 import struct
 
 from mjcf import values as _values
-from mjcf.schema import _annotations, _probe, _reader
-from mjcf.schema._docs import Attribute, Element, SchemaError
-from mjcf.schema._probe import Probe, note
+from tools.mjcf_schema import _annotations, _probe, _reader
+from tools.mjcf_schema._docs import Attribute, Element, SchemaError
+from tools.mjcf_schema._probe import Probe, note
 
 _TOO_LARGE = "number is too large"
 # Values tried for bounds: moderate ones, since some numbers are sizes the reader acts

@@ -1,7 +1,7 @@
 """Differential check: mjcf accepts exactly the MJCF that MuJoCo's reader accepts.
 
-    python -m mjcf.schema.check              # the full sweep (minutes)
-    python -m mjcf.schema.check --sample     # the deterministic sample the tests run
+    python -m tools.mjcf_schema.check           # the full sweep (minutes)
+    python -m tools.mjcf_schema.check --sample  # the deterministic sample the tests run
 
 For every element and attribute of ``mjcf_schema.json`` it builds small MJCF
 documents (``_cases.py``) and checks, for each, that ``mujoco.MjSpec.from_string``
@@ -24,15 +24,15 @@ import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 import mujoco
 
-from mjcf.schema import _workers
-from mjcf.schema._cases import Case, CaseMaker
-from mjcf.schema._judge import Finding
+from mjcf import schema
+from tools.mjcf_schema import _workers
+from tools.mjcf_schema._cases import Case, CaseMaker
+from tools.mjcf_schema._judge import Finding
 
-SCHEMA_FILE = Path(__file__).with_name("mjcf_schema.json")
+SCHEMA_FILE = schema.DATA_FILE
 
 
 @dataclass

@@ -23,8 +23,8 @@ from typing import cast
 
 import mujoco
 
-from mjcf.schema._cases import Case
-from mjcf.schema._judge import Finding, Judge, bindings_failed
+from tools.mjcf_schema._cases import Case
+from tools.mjcf_schema._judge import Finding, Judge, bindings_failed
 
 _CHUNK = 100
 # Address space of a worker: cases ask for huge arrays (nstack="2147483647"), which
