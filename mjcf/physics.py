@@ -11,7 +11,7 @@
     with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
         physics.step(10)                                # positions, sensors: of the new state
     state = physics.get_state()                         # qpos, qvel, act (+ plugin state)
-    frame = physics.render(240, 320, camera_id=-1)      # needs MUJOCO_GL=egl when headless
+    frame = physics.render(240, 320, camera_id=-1)      # headless too: see mjcf.rendering
     clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
 
 `model` and `data` are the raw `mujoco.MjModel` / `MjData` (with dm_control's `.ptr`,

@@ -16,8 +16,7 @@ Options are matched exactly (argparse's abbreviations are off: `--time` is not
 `--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
 bad value) and every `composer.Error` (an unknown task, a missing optional dependency, an
 unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C exits with
-130. On a Linux machine without a display, commands that render off screen re-run
-themselves with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once, when imported.
+130. Rendering needs no MUJOCO_GL: `mjcf.rendering` chooses a backend that works here.
 """
 
 from __future__ import annotations
@@ -25,7 +24,6 @@ from __future__ import annotations
 import argparse
 import difflib
 import importlib
-import os
 import re
 import sys
 from collections.abc import Sequence
@@ -79,11 +77,10 @@ def parser() -> argparse.ArgumentParser:
 
     _command(commands, "list", "listing", "list the registered tasks")
 
-    show = _command(commands, "show", "show", "print a task's scene and render a frame")
+    show = _command(commands, "show", "show", "print a task's scene; --out renders a frame")
     _task(show)
-    show.add_argument("--out", help="PNG file for the frame (default: TASK.png)")
+    show.add_argument("--out", help="render a frame into this PNG file (default: no frame)")
     show.add_argument("--seed", type=int, default=0, help="seed of the episode (default: 0)")
-    show.set_defaults(renders=lambda args: True)
 
     run = _command(commands, "run", "run", "roll out a policy, print returns, record a video")
     _task(run)
@@ -94,7 +91,6 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--episodes", type=positive_int, default=1, help="episodes (default: 1)")
     run.add_argument("--video", help="write the episodes to this .mp4 (or .gif) file")
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
-    run.set_defaults(renders=lambda args: args.video is not None)
 
     view = _command(commands, "view", "view", "watch a policy in MuJoCo's interactive viewer")
     _task(view)
@@ -147,7 +143,6 @@ def parser() -> argparse.ArgumentParser:
     train.add_argument(
         "--address", metavar="HOST:PORT", help="ray: join this cluster (default: start locally)"
     )
-    train.set_defaults(renders=lambda args: not args.no_video)
 
     evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")
     _task(evaluate)
@@ -164,9 +159,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"{e.prog}: error: {_one_line(e)}", file=sys.stderr)
         return USAGE_ERROR
-    if argv is None and _needs_headless_gl(args):
-        env = {**os.environ, "MUJOCO_GL": "egl"}
-        os.execve(sys.executable, [sys.executable, "-m", "composer", *sys.argv[1:]], env)
     try:
         catalog.import_modules(args.imports)
         if "task" in args:  # found before the command's module imports torch: fails fast
@@ -258,21 +250,12 @@ def _command(
     commands: argparse._SubParsersAction, name: str, module: str, summary: str, **options: Any
 ) -> argparse.ArgumentParser:
     command = commands.add_parser(name, help=summary, description=summary, **options)
-    command.set_defaults(module=module, renders=lambda args: False)
+    command.set_defaults(module=module)
     return command
 
 
 def _task(command: argparse.ArgumentParser, **options: Any) -> None:
     command.add_argument("task", help="task name, e.g. Reach (see `composer list`)", **options)
-
-
-def _needs_headless_gl(args: argparse.Namespace) -> bool:
-    """Whether this command renders on a Linux machine with no display and no MUJOCO_GL."""
-    if not sys.platform.startswith("linux") or os.environ.get("MUJOCO_GL"):
-        return False
-    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
-        return False
-    return bool(args.renders(args))
 
 
 def _one_line(error: BaseException) -> str:
