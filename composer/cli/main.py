@@ -31,7 +31,7 @@ from typing import Any, NoReturn
 
 import mjcf
 from composer import errors
-from composer.cli import catalog, recipes
+from composer.cli import catalog, recipes, video
 from composer.cli.errors import CliError
 
 INTERRUPTED = 130
@@ -89,7 +89,8 @@ def parser() -> argparse.ArgumentParser:
         help="'random' (default), or a folder or .zip written by `composer train`",
     )  # fmt: skip
     run.add_argument("--episodes", type=positive_int, default=1, help="episodes (default: 1)")
-    run.add_argument("--video", help="write the episodes to this .mp4 (or .gif) file")
+    formats = " or ".join(video.VIDEO_FORMATS)  # the ones `video.target` accepts
+    run.add_argument("--video", help=f"write the episodes to this {formats} file")
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
     view = _command(commands, "view", "view", "watch a policy in MuJoCo's interactive viewer")

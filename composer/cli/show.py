@@ -43,7 +43,7 @@ NO_BREAK = "\N{NO-BREAK SPACE}"
 def run(args: argparse.Namespace) -> int:
     """Print the scene and write the frame; returns the exit status."""
     info = args.info
-    path = output.file(args.out) if args.out else None
+    path = output.file(video.png_target(args.out)) if args.out else None
     env = catalog.make(info, flatten=False, render_mode="rgb_array" if path else None)
     try:
         env.reset(seed=args.seed)
