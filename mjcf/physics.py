@@ -47,6 +47,7 @@ from mjcf import (
     compiler,
     errors,
     fields,
+    mujoco_log,
     named,
     raw_access,
     rendering,
@@ -63,6 +64,7 @@ if TYPE_CHECKING:
     from mjcf.root import RootElement
 
 raw_access.install()
+mujoco_log.install()  # MuJoCo's warnings to logging, not to MUJOCO_LOG.TXT
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.
