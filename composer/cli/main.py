@@ -31,7 +31,7 @@ from typing import Any, NoReturn
 
 import mjcf
 from composer import errors
-from composer.cli import catalog, recipes, video
+from composer.cli import catalog, recipes, rollout, video
 from composer.cli.errors import CliError
 
 INTERRUPTED = 130
@@ -149,7 +149,11 @@ def parser() -> argparse.ArgumentParser:
     _task(evaluate)
     evaluate.add_argument("policy", help="a folder or .zip written by `composer train`")
     evaluate.add_argument("--episodes", type=positive_int, default=10, help="default: 10")
-    evaluate.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
+    evaluate.add_argument(
+        "--seed", type=int, default=rollout.EVAL_SEED,
+        help=f"seed of episode 1 (default: {rollout.EVAL_SEED}, as in training's evaluations: "
+        "with as many --episodes, eval repeats the last one)",
+    )  # fmt: skip
     return top
 
 

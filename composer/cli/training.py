@@ -54,6 +54,7 @@ try:
     import torch
     from stable_baselines3.common.base_class import BaseAlgorithm
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from stable_baselines3.common.vec_env import (
@@ -75,8 +76,7 @@ ALGORITHMS: dict[str, type[BaseAlgorithm]] = {
     "ppo": stable_baselines3.PPO,
     "sac": stable_baselines3.SAC,
 }
-# Evaluation episodes start from these seeds, apart from those training draws.
-EVAL_SEED = 1_000_000
+EVAL_SEED = rollout.EVAL_SEED
 # Small networks gain nothing from intra-op threads, and on a busy CPU torch's spinning
 # threads made each update 7 to 30 times slower (measured on 2 cores): use one.
 TORCH_THREADS = 1
@@ -316,6 +316,10 @@ def trainer(
             model.set_random_seed(progress.seed + model.num_timesteps)
         else:
             model = new_model(recipe, venv, progress.seed, args.tensorboard)
+        if args.tensorboard is None:
+            # stable-baselines3's own logger would make an empty folder per run in the
+            # system's temporary folder (SB3-<date>), where nothing removes it.
+            model.set_logger(Logger(folder=None, output_formats=[]))
         yield Trainer(model, progress, recipe, folder.resumes, folder.out.name)
     finally:
         venv.close()
