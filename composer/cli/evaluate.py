@@ -21,7 +21,7 @@ def run(args: argparse.Namespace) -> int:
     info = args.info
     env = catalog.make(info)
     try:
-        model = training.load_policy(args.policy, env)
+        model = training.load_policy(args.policy, env, args.trust_policy)
         episodes = rollout.run_episodes(env, rollout.model_policy(model), args.episodes, args.seed)
     finally:
         env.close()

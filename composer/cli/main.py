@@ -88,6 +88,7 @@ def parser() -> argparse.ArgumentParser:
         "--policy", default="random",
         help="'random' (default), or a folder or .zip written by `composer train`",
     )  # fmt: skip
+    _trust_policy(run)
     run.add_argument("--episodes", type=positive_int, default=1, help="episodes (default: 1)")
     formats = " or ".join(video.VIDEO_FORMATS)  # the ones `video.target` accepts
     run.add_argument("--video", help=f"write the episodes to this {formats} file")
@@ -99,6 +100,7 @@ def parser() -> argparse.ArgumentParser:
         "--policy", default="random",
         help="'random' (default), or a folder or .zip written by `composer train`",
     )  # fmt: skip
+    _trust_policy(view)
     view.add_argument("--episodes", type=positive_int, help="quit after this many episodes")
     view.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
@@ -148,6 +150,7 @@ def parser() -> argparse.ArgumentParser:
     evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")
     _task(evaluate)
     evaluate.add_argument("policy", help="a folder or .zip written by `composer train`")
+    _trust_policy(evaluate)
     evaluate.add_argument("--episodes", type=positive_int, default=10, help="default: 10")
     evaluate.add_argument(
         "--seed", type=int, default=rollout.EVAL_SEED,
@@ -237,6 +240,15 @@ def recipe_table() -> str:
         + "):\n  "
         + "\n  ".join(lines)
     )
+
+
+def _trust_policy(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--trust-policy", action="store_true",
+        help="load a policy file whole, with the pickled Python objects it may hold, which "
+        "run code: only for files from a source you trust (default: weights and plain "
+        "settings only; see SECURITY.md)",
+    )  # fmt: skip
 
 
 def _did_you_mean(word: str, known: Sequence[str], quote: str = "") -> str:

@@ -9,7 +9,7 @@ that evaluates, records progress and stops cleanly on Ctrl-C, and the engine's `
     with training.StopOnInterrupt() as stop:
         model.learn(recipe.timesteps, callback=session.callback(stop, progress_bar=True))
     session.save(model)                                    # a checkpoint with the progress
-    model = training.load_policy('runs/Reach-ppo', env)    # for `run` and `eval`
+    policy = training.load_policy('runs/Reach-ppo', env)   # for `run`, `eval`, `view`
 
 `composer train` drives it through `trainer(info, folder, args)`, the stable-baselines3
 `engine.Trainer`. `Session`, `StopOnInterrupt` and `report` serve the Ray engine too.
@@ -56,6 +56,7 @@ try:
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
     from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+    from stable_baselines3.common.policies import BasePolicy
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from stable_baselines3.common.vec_env import (
         DummyVecEnv,
@@ -66,6 +67,7 @@ try:
     )
 
     from composer import sb3
+    from composer.cli import sb3_files
 except ImportError as e:
     raise MissingExtraError(
         f"this command needs the [train] extra ({e.name or 'stable-baselines3'} is missing): "
@@ -194,14 +196,23 @@ def algo_of(path: Path) -> str:
     return algo
 
 
-def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm | RayPolicy:
-    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces; one
-    trained with `--engine ray` loads as a RayPolicy (`composer.cli.ray_files`)."""
+def load_policy(
+    path: str | os.PathLike[str], env: gymnasium.Env, trusted: bool = False
+) -> BasePolicy | BaseAlgorithm | RayPolicy:
+    """The policy saved at `path` (see `policy_file`), checked to fit `env`'s spaces, with
+    `predict(observation, deterministic)`; one trained with `--engine ray` loads as a
+    RayPolicy (`composer.cli.ray_files`). Only its weights and plain settings are read
+    (`composer.cli.sb3_files`), unless `trusted`: then the library's own loader reads it
+    whole, unpickling and so running code from the file. Raises PolicyError, and
+    UntrustedPolicyError when the file can only be read whole."""
     ray_policy = ray_files.find_policy(path)
     if ray_policy is not None:
-        return ray_files.load_policy(ray_policy, env)
+        return ray_files.load_policy(ray_policy, env, trusted)
     file = policy_file(path)
-    model = ALGORITHMS[algo_of(file)].load(file, device="cpu")
+    algorithm = ALGORITHMS[algo_of(file)]
+    if not trusted:
+        return sb3_files.load_policy(file, algorithm, env)
+    model = algorithm.load(file, device="cpu")
     engine.check_spaces(file, model, env)
     return model
 
