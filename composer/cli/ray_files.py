@@ -168,7 +168,7 @@ def write_module(module: Any, folder: Path) -> None:
     and RLlib's own checkpoint of it (`module/`)."""
     folder.mkdir(parents=True, exist_ok=True)
     module.save_to_path(_uri(folder / "module"))
-    weights = {name: np.asarray(value) for name, value in module.get_state().items()}
+    weights: dict[str, Any] = {name: np.asarray(v) for name, v in module.get_state().items()}
     with (folder / WEIGHTS_FILE).open("wb") as file:
         np.savez(file, **weights)
 
@@ -249,6 +249,7 @@ def _module(folder: Path, spec: dict[str, Any]) -> Any:
     import torch  # the [train] extra: training.py turns its absence into a message
     from ray.rllib.algorithms.ppo import PPOConfig  # Ray: checked by load_policy
     from ray.rllib.algorithms.sac import SACConfig
+    from ray.rllib.core.rl_module.torch import TorchRLModule
 
     configs = {"ppo": PPOConfig, "sac": SACConfig}
     if spec.get("algo") not in configs or not isinstance(spec.get("model_config"), dict):
@@ -266,6 +267,8 @@ def _module(folder: Path, spec: dict[str, Any]) -> Any:
         with np.load(weights_path, allow_pickle=False) as weights:
             state = {name: torch.from_numpy(weights[name]) for name in weights.files}
         module = module_spec.build()
+        if not isinstance(module, TorchRLModule):
+            raise TypeError(f"RLlib built a {type(module).__name__}, not a PyTorch module")
         module.load_state_dict(state, strict=True)
     except (OSError, ValueError, KeyError, TypeError, RuntimeError) as e:
         raise PolicyError(f"cannot build the policy in {folder}: {e}") from e
