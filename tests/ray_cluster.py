@@ -1,9 +1,7 @@
 """One local Ray cluster for every Ray test of a session (of each pytest-xdist worker), so
 that the tests pay Ray's start and stop once, not once per command: `ray start --head` with
-two CPUs, stopped when the session ends. tests/conftest.py makes `ray_cluster` a fixture of
-every test folder. It listens on 127.0.0.1 without token authentication, so that a test's
-own process can join it too (Ray reads RAY_AUTH_MODE once, when imported); a cluster with
-tokens is tests/cli/test_train_ray.py's two-node one.
+two CPUs and a token of its own (Ray 2.60's default authentication), stopped when the
+session ends. tests/conftest.py makes `ray_cluster` a fixture of every test folder.
 
     def test_x(ray_cluster):
         composer("train", ..., "--address", ray_cluster.address, env=ray_cluster.environment())
@@ -30,24 +28,26 @@ CPUS = 2
 
 @dataclasses.dataclass(frozen=True)
 class RayCluster:
-    """A running cluster: its address."""
+    """A running cluster: its address and the token that joins it."""
 
     address: str
+    token: str
 
     def environment(self, **extra: str) -> dict[str, str]:
-        """The environment of a command that joins the cluster (see helpers.environment)."""
-        return environment(**extra)
+        """The environment of a command that joins the cluster (see helpers.environment):
+        with the token, which Ray then joins with."""
+        return environment(RAY_AUTH_TOKEN=self.token, **extra)
 
 
 @pytest.fixture(scope="session")
 def ray_cluster() -> Iterator[RayCluster]:
     """The session's cluster, started at its first use; skips without Ray's RLlib."""
     pytest.importorskip("ray.rllib", reason="Ray's RLlib is not installed: pip install -e '.[ray]'")
-    cluster = RayCluster(f"127.0.0.1:{free_port()}")
+    cluster = RayCluster(f"127.0.0.1:{free_port()}", os.urandom(16).hex())
     temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
-    node = start_node("--head", "--node-ip-address", "127.0.0.1", "--port",
-                      cluster.address.rpartition(":")[2], "--include-dashboard", "false",
-                      "--temp-dir", temp, env=environment(RAY_AUTH_MODE="disabled"))  # fmt: skip
+    node = start_node("--head", "--port", cluster.address.rpartition(":")[2],
+                      "--include-dashboard", "false", "--temp-dir", temp,
+                      env=cluster.environment(RAY_AUTH_MODE="token"))  # fmt: skip
     try:
         wait_started(node)
         yield cluster

@@ -45,6 +45,9 @@ CONNECT_SECONDS = 5.0
 LOCAL_OBJECT_STORE_BYTES = 256 * 1024**2
 # Seconds to wait for a local instance's processes to end after ray.shutdown().
 STOP_SECONDS = 15.0
+# The longest temporary folder a session folder goes into: Ray's socket paths in it
+# ('/ray-XXXXXXXX/session_<date>_<pid>/sockets/plasma_store', 77 bytes) must fit in 107.
+MAX_TEMP_ROOT = 30
 # What Ray's C++ core prints that needs no action (see the module docstring).
 NOISE = re.compile(rb"core_worker\.cc.*actor restart will fail")
 
@@ -64,10 +67,9 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
         "configure_logging": True,
     }
     if address is not None:
+        # Ray joins in token mode when it finds a token (RAY_AUTH_TOKEN, ~/.ray/auth_token)
+        # and RAY_AUTH_MODE does not say otherwise: docs/ray.md.
         _check_reachable(address)
-        # `ray start` clusters use token authentication (Ray 2.60's default); a client in
-        # token mode also joins a cluster without it.
-        os.environ.setdefault("RAY_AUTH_MODE", "token")
     session = None if address is not None else tempfile.mkdtemp(prefix="ray-", dir=_temp_root())
     processes: dict[int, str] = {}
     with _without_noise():
@@ -148,11 +150,15 @@ def _check_reachable(address: str) -> None:
 
 
 def _temp_root() -> str | None:
-    """Where Ray keeps sessions by default: RAY_TMPDIR, else /tmp on macOS (its own
-    temporary folder's path is too long for Ray's socket names), else the system's."""
+    """Where a local instance's session folder goes: RAY_TMPDIR, else the system's
+    temporary folder, or /tmp where that one's path is too long for the socket names Ray
+    makes in it (macOS's; at most 107 bytes in all); None: Ray's own choice."""
     if os.environ.get("RAY_TMPDIR"):
         return os.environ["RAY_TMPDIR"]
-    return "/tmp" if sys.platform == "darwin" else None
+    system = tempfile.gettempdir()
+    if len(system) <= MAX_TEMP_ROOT or not os.path.isdir("/tmp"):
+        return system
+    return "/tmp"
 
 
 @contextlib.contextmanager

@@ -61,14 +61,14 @@ def processes_started_with(marker: str) -> list[int]:
 @needs_ray
 def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path, ray_cluster):
     # A local instance, started and stopped by the command: nothing of it is left.
-    temp = tmp_path / "temp"
-    temp.mkdir()
+    temp = Path(tempfile.mkdtemp(dir="/tmp"))  # short: Ray's socket paths go in it
     result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps", "20000",
                       "--out", "run", cwd=tmp_path, env=environment(TMPDIR=str(temp)),
                       timeout=TIMEOUT)  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert processes_started_with(f"TMPDIR={temp}") == []
     assert [p.name for p in temp.iterdir() if not p.name.startswith("torchinductor_")] == []
+    shutil.rmtree(temp)
     assert result.stderr == ""  # no notice of Ray's that asks nothing of the user
     assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
             "environments -> run") in result.stdout  # fmt: skip
@@ -287,6 +287,18 @@ def test_more_env_runners_than_cpus_on_this_machine_is_said():
     )
     assert ray_instance.oversubscribed(Layout(cpus, 2, None)) is None
     assert ray_instance.oversubscribed(Layout(cpus + 1, 2, "10.0.0.1:6379")) is None  # a cluster's
+
+
+def test_a_long_temporary_folder_puts_ray_s_session_in_tmp(monkeypatch, tmp_path):
+    # Ray's socket paths inside the session folder must fit in 107 bytes (macOS's TMPDIR).
+    long = tmp_path / ("x" * 60)
+    long.mkdir()
+    monkeypatch.delenv("RAY_TMPDIR", raising=False)
+    monkeypatch.setenv("TMPDIR", str(long))
+    monkeypatch.setattr(tempfile, "tempdir", None)  # tempfile caches what it found
+    assert ray_instance._temp_root() == "/tmp"
+    monkeypatch.setenv("RAY_TMPDIR", str(long))  # asked for: Ray's own variable
+    assert ray_instance._temp_root() == str(long)
 
 
 def test_options_of_the_other_engine_are_refused(tmp_path):

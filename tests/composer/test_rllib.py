@@ -4,6 +4,7 @@ steps its environments as one VectorEnvironment, with a seed of its own for each
 from __future__ import annotations
 
 import logging
+import os
 
 import gymnasium
 import numpy as np
@@ -24,10 +25,22 @@ CARTPOLE = "tasks.cartpole:CartpoleSwingup"
 
 @pytest.fixture(scope="module")
 def local_ray(ray_cluster):
-    """This module's tests join the session's local Ray cluster (tests/ray_cluster.py)."""
+    """This module's tests join the session's local Ray cluster (tests/ray_cluster.py),
+    with its token: Ray then turns token mode on for this process, unless RAY_AUTH_MODE
+    says otherwise."""
+    saved = {key: os.environ.get(key) for key in ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN")}
+    os.environ.pop("RAY_AUTH_MODE", None)
+    os.environ["RAY_AUTH_TOKEN"] = ray_cluster.token
     ray.init(address=ray_cluster.address, log_to_driver=False, logging_level=logging.ERROR)
-    yield
-    ray.shutdown()
+    try:
+        yield
+    finally:
+        ray.shutdown()
+        for key, value in saved.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
 
 
 def test_creator_makes_one_batch_whose_environments_have_seeds_of_their_own():
