@@ -32,15 +32,16 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import sys
+import functools
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from composer.cli import engine, ray_instance, recipes, training
+from composer.cli.progress import Bar
+from composer.cli.progress import say as progress_line
 from composer.cli.ray_algorithm import (
     EPISODES,
     Layout,
@@ -175,8 +176,8 @@ def _train(
     env runners that fail and return, until Ctrl-C asks to stop."""
     algo = model.algo
     progress = session.progress
-    bar = _progress_bar(recipe.timesteps, progress.timesteps)
-    say = bar.write if bar is not None else print
+    bar = Bar.open(recipe.timesteps, progress.timesteps)
+    say = functools.partial(progress_line, bar)
     healthy = layout.workers
     restarts = algo.env_runner_group.num_remote_worker_restarts()
     try:
@@ -190,7 +191,7 @@ def _train(
             for episode_return, success in runners.get(EPISODES, []):
                 progress.record_episode(progress.timesteps, episode_return, success)
             if bar is not None:
-                bar.update(steps)
+                bar.advance_to(progress.timesteps)
             healthy, restarts = _watch_runners(model, healthy, restarts, layout, say)
             if not stop.requested and session.due(progress.timesteps):
                 model.sync()
@@ -218,10 +219,3 @@ def _watch_runners(
                 else "training waits")  # fmt: skip
         say(f"env runner lost: {left} until Ray restarts it")
     return now_healthy, now_restarts
-
-
-def _progress_bar(total: int, done: int) -> Any:
-    """A tqdm bar on a terminal, else None."""
-    if not sys.stderr.isatty():
-        return None
-    return tqdm(total=total, initial=min(done, total), unit="steps", unit_scale=True)

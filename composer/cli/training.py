@@ -7,7 +7,8 @@ that evaluates, records progress and stops cleanly on Ctrl-C, and the engine's `
     session = training.Session(progress, checkpoint, eval_env, eval_every=80_000,
                                eval_episodes=10)
     with training.StopOnInterrupt() as stop:
-        model.learn(recipe.timesteps, callback=session.callback(stop, progress_bar=True))
+        bar = progress.Bar.open(recipe.timesteps, done=0)       # None off a terminal
+        model.learn(recipe.timesteps, callback=session.callback(stop, bar))
     session.save(model)                                    # a checkpoint with the progress
     policy = training.load_policy('runs/Reach-ppo', env)   # for `run`, `eval`, `view`
 
@@ -40,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 
 import gymnasium
 
-from composer.cli import catalog, engine, ray_files, recipes, rollout
+from composer.cli import catalog, engine, progress, ray_files, recipes, rollout
 from composer.cli.engine import DEFAULT_ENGINE, Progress
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError, PolicyError
 from composer.cli.ray_files import RayPolicy
@@ -53,7 +54,7 @@ try:
     import stable_baselines3
     import torch
     from stable_baselines3.common.base_class import BaseAlgorithm
-    from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
+    from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
     from stable_baselines3.common.policies import BasePolicy
@@ -289,13 +290,18 @@ class Trainer(engine.Trainer):
         return engine.plural(self.recipe.n_envs, "environment")
 
     def learn(self, session: Session, stop: StopOnInterrupt) -> None:
-        """`model.learn` up to the recipe's timesteps, with SB3's progress bar on a terminal."""
-        self.model.learn(
-            self.recipe.timesteps - self.model.num_timesteps,
-            callback=session.callback(stop, sys.stderr.isatty()),
-            reset_num_timesteps=not self._resumed,
-            tb_log_name=self._log_name,
-        )
+        """`model.learn` up to the recipe's timesteps, with the progress bar on a terminal."""
+        bar = progress.Bar.open(self.recipe.timesteps, self.model.num_timesteps)
+        try:
+            self.model.learn(
+                self.recipe.timesteps - self.model.num_timesteps,
+                callback=session.callback(stop, bar),
+                reset_num_timesteps=not self._resumed,
+                tb_log_name=self._log_name,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
 
     def save_policy(self, path: Path) -> None:
         """The model's .zip, with its observation statistics (see `keep_normalization`)."""
@@ -416,10 +422,9 @@ class Session:
         )
         self.checkpoint.save(model, self.progress)
 
-    def callback(self, stop: StopOnInterrupt, progress_bar: bool) -> BaseCallback:
-        """The stable-baselines3 callback running this session (with SB3's progress bar)."""
-        ours = _SessionCallback(self, stop)
-        return CallbackList([ProgressBarCallback(), ours]) if progress_bar else ours
+    def callback(self, stop: StopOnInterrupt, bar: progress.Bar | None = None) -> BaseCallback:
+        """The stable-baselines3 callback running this session, advancing `bar`."""
+        return _SessionCallback(self, stop, bar)
 
     def due(self, timesteps: int) -> bool:
         """Whether an evaluation is due at `timesteps`; schedules the next one."""
@@ -431,14 +436,17 @@ class Session:
 
 
 class _SessionCallback(BaseCallback):
-    def __init__(self, session: Session, stop: StopOnInterrupt) -> None:
+    def __init__(self, session: Session, stop: StopOnInterrupt, bar: progress.Bar | None) -> None:
         super().__init__()
         self.session = session
         self.stop = stop
+        self.bar = bar
 
     def _on_step(self) -> bool:
         session = self.session
         timesteps = self.num_timesteps
+        if self.bar is not None:
+            self.bar.advance_to(timesteps)
         for info in self.locals.get("infos", ()):
             episode = info.get("episode")
             if episode is not None:
@@ -448,7 +456,7 @@ class _SessionCallback(BaseCallback):
         if not self.stop.requested and session.due(timesteps):
             keep_normalization(self.model)
             result = session.evaluate(self.model)
-            print(report(result), flush=True)
+            progress.say(self.bar, report(result))
             for key in ("mean_return", "success_rate", "forward_speed"):
                 if result.get(key) is not None:  # TensorBoard's, with --tensorboard
                     self.logger.record(f"eval/{key}", result[key])
