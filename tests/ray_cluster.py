@@ -1,7 +1,10 @@
 """One local Ray cluster for every Ray test of a session (of each pytest-xdist worker), so
 that the tests pay Ray's start and stop once, not once per command: `ray start --head` with
-two CPUs and a token of its own (Ray 2.60's default authentication), stopped when the
-session ends. tests/conftest.py makes `ray_cluster` a fixture of every test folder.
+two CPUs, stopped when the session ends. tests/conftest.py makes `ray_cluster` a fixture of
+every test folder. It runs without token authentication (RAY_AUTH_MODE=disabled, also in
+the environment of the commands that join it), so that a test's own process, which
+imported Ray already, joins it too; tests/cli/test_train_ray.py's two-node cluster has a
+token.
 
     def test_x(ray_cluster):
         composer("train", ..., "--address", ray_cluster.address, env=ray_cluster.environment())
@@ -28,26 +31,25 @@ CPUS = 2
 
 @dataclasses.dataclass(frozen=True)
 class RayCluster:
-    """A running cluster: its address and the token that joins it."""
+    """A running cluster: its address."""
 
     address: str
-    token: str
 
     def environment(self, **extra: str) -> dict[str, str]:
         """The environment of a command that joins the cluster (see helpers.environment):
-        with the token, which Ray then joins with."""
-        return environment(RAY_AUTH_TOKEN=self.token, **extra)
+        without token authentication, whatever token this machine has."""
+        return environment(RAY_AUTH_MODE="disabled", **extra)
 
 
 @pytest.fixture(scope="session")
 def ray_cluster() -> Iterator[RayCluster]:
     """The session's cluster, started at its first use; skips without Ray's RLlib."""
     pytest.importorskip("ray.rllib", reason="Ray's RLlib is not installed: pip install -e '.[ray]'")
-    cluster = RayCluster(f"127.0.0.1:{free_port()}", os.urandom(16).hex())
+    cluster = RayCluster(f"127.0.0.1:{free_port()}")
     temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
     node = start_node("--head", "--port", cluster.address.rpartition(":")[2],
                       "--include-dashboard", "false", "--temp-dir", temp,
-                      env=cluster.environment(RAY_AUTH_MODE="token"))  # fmt: skip
+                      env=cluster.environment())  # fmt: skip
     try:
         wait_started(node)
         yield cluster

@@ -67,8 +67,6 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
         "configure_logging": True,
     }
     if address is not None:
-        # Ray joins in token mode when it finds a token (RAY_AUTH_TOKEN, ~/.ray/auth_token)
-        # and RAY_AUTH_MODE does not say otherwise: docs/ray.md.
         _check_reachable(address)
     session = None if address is not None else tempfile.mkdtemp(prefix="ray-", dir=_temp_root())
     processes: dict[int, str] = {}
@@ -97,6 +95,19 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
     _wait_until_gone(processes)
     if session is not None:
         shutil.rmtree(session, ignore_errors=True)
+
+
+def authenticate(address: str | None) -> None:
+    """Before Ray is imported: join the cluster at `address` with token authentication
+    when this machine has a token (RAY_AUTH_TOKEN, the file RAY_AUTH_TOKEN_PATH names, or
+    ~/.ray/auth_token) and RAY_AUTH_MODE does not say otherwise, as `ray start` does. Ray
+    2.60 reads RAY_AUTH_MODE once, when imported, and `ray.init(address=...)` does not turn
+    token mode on itself."""
+    if address is None or "RAY_AUTH_MODE" in os.environ:
+        return
+    token_file = os.environ.get("RAY_AUTH_TOKEN_PATH") or os.path.join("~", ".ray", "auth_token")
+    if os.environ.get("RAY_AUTH_TOKEN") or os.path.isfile(os.path.expanduser(token_file)):
+        os.environ["RAY_AUTH_MODE"] = "token"
 
 
 def machine_cpus() -> int:

@@ -262,10 +262,11 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
         wait_started(nodes[0])
         nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, cpus=1))
         wait_started(nodes[1])
+        # The token alone, as a user copies it: the command joins in token mode itself.
         result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
                           "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
-                          "1", "--out", "run", "--no-video", cwd=tmp_path, env=env,
-                          timeout=TIMEOUT)  # fmt: skip
+                          "1", "--out", "run", "--no-video", cwd=tmp_path,
+                          env=environment(RAY_AUTH_TOKEN=token), timeout=TIMEOUT)  # fmt: skip
     finally:
         for node in reversed(nodes):
             stop_node(node)

@@ -4,7 +4,6 @@ steps its environments as one VectorEnvironment, with a seed of its own for each
 from __future__ import annotations
 
 import logging
-import os
 
 import gymnasium
 import numpy as np
@@ -25,22 +24,10 @@ CARTPOLE = "tasks.cartpole:CartpoleSwingup"
 
 @pytest.fixture(scope="module")
 def local_ray(ray_cluster):
-    """This module's tests join the session's local Ray cluster (tests/ray_cluster.py),
-    with its token: Ray then turns token mode on for this process, unless RAY_AUTH_MODE
-    says otherwise."""
-    saved = {key: os.environ.get(key) for key in ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN")}
-    os.environ.pop("RAY_AUTH_MODE", None)
-    os.environ["RAY_AUTH_TOKEN"] = ray_cluster.token
+    """This module's tests join the session's local Ray cluster (tests/ray_cluster.py)."""
     ray.init(address=ray_cluster.address, log_to_driver=False, logging_level=logging.ERROR)
-    try:
-        yield
-    finally:
-        ray.shutdown()
-        for key, value in saved.items():
-            if value is None:
-                os.environ.pop(key, None)
-            else:
-                os.environ[key] = value
+    yield
+    ray.shutdown()
 
 
 def test_creator_makes_one_batch_whose_environments_have_seeds_of_their_own():
