@@ -61,14 +61,14 @@ def processes_started_with(marker: str) -> list[int]:
 @needs_ray
 def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path, ray_cluster):
     # A local instance, started and stopped by the command: nothing of it is left.
-    temp = Path(tempfile.mkdtemp(dir="/tmp"))  # short: Ray's socket paths go in it
-    result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps", "20000",
-                      "--out", "run", cwd=tmp_path, env=environment(TMPDIR=str(temp)),
-                      timeout=TIMEOUT)  # fmt: skip
-    assert result.returncode == 0, result.stderr
-    assert processes_started_with(f"TMPDIR={temp}") == []
-    assert [p.name for p in temp.iterdir() if not p.name.startswith("torchinductor_")] == []
-    shutil.rmtree(temp)
+    with tempfile.TemporaryDirectory(dir="/tmp") as short:  # Ray's socket paths go in it
+        result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps",
+                          "20000", "--out", "run", cwd=tmp_path,
+                          env=environment(TMPDIR=short), timeout=TIMEOUT)  # fmt: skip
+        assert result.returncode == 0, result.stderr
+        assert processes_started_with(f"TMPDIR={short}") == []
+        left = [p.name for p in Path(short).iterdir() if not p.name.startswith("torchinductor_")]
+        assert left == []
     assert result.stderr == ""  # no notice of Ray's that asks nothing of the user
     assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
             "environments -> run") in result.stdout  # fmt: skip
