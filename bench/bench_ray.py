@@ -181,7 +181,7 @@ def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
     except ImportError:
         print("skipped: Ray is not installed (pip install -e '.[ray]')")
         return {}
-    from composer.cli import catalog, ray_algorithm, ray_files, ray_training, recipes
+    from composer.cli import catalog, ray_algorithm, ray_files, ray_instance, recipes
 
     info = catalog.find(task)
     sb3_recipe = recipes.for_task(task).replace(vec="batched")
@@ -190,7 +190,7 @@ def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
     sides = sb3_sides(info, sb3_recipe, per_runner, quick)
     ray_files.quiet_ray()
     ray.init(
-        num_cpus=sum(WORKERS), object_store_memory=ray_training.LOCAL_OBJECT_STORE_BYTES,
+        num_cpus=sum(WORKERS), object_store_memory=ray_instance.LOCAL_OBJECT_STORE_BYTES,
         include_dashboard=False, log_to_driver=False, logging_level=logging.ERROR,
     )  # fmt: skip
     shares: dict[int, list[float]] = {}

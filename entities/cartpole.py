@@ -22,7 +22,8 @@ from entities.features import Clipped, HingeAngles, velocities
 
 class CartPole(composer.Entity):
     """A cart on a rail (joint `slider`) with a pole on a hinge (joint `hinge`); the one
-    actuator pushes the cart with force `gear * control`, control in [-1, 1]."""
+    actuator pushes the cart with force `gear * control`, control in [-1, 1]; the camera
+    `track` follows the cart."""
 
     def _build(
         self,
@@ -59,6 +60,13 @@ class CartPole(composer.Entity):
             size=[0.045], mass=pole_mass, material="self",
         )  # fmt: skip
         self.pole_tip = pole.add("site", name="tip", pos=[0, 0, pole_length], size=[0.01])
+        # Follows the cart along the rail (mode "track": its offset from the cart stays
+        # fixed in the world), far enough back for the pole upright and hanging.
+        distance = 1.5 + 2.5 * pole_length
+        self.camera = cart.add(
+            "camera", name="track", mode="track", pos=[0, -distance, 0.1 * distance],
+            xyaxes=[1, 0, 0, 0, 0.1, 1],
+        )  # fmt: skip
         self.cart = cart
         self.pole = pole
         root.actuator.add(

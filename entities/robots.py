@@ -43,13 +43,23 @@ class RobotNotFoundError(RobotError, FileNotFoundError):
     """A robot's files were not found; the message lists where they were looked for."""
 
 
-def from_path(path: str | os.PathLike[str], name: str | None = None) -> composer.ModelEntity:
-    """The robot in the MJCF file `path` (renamed `name` if given). Raises
-    RobotNotFoundError for a missing file and mjcf.Error subclasses for a bad one."""
+def from_path(
+    path: str | os.PathLike[str], name: str | None = None, without_floor: bool = False
+) -> composer.ModelEntity:
+    """The robot in the MJCF file `path` (renamed `name` if given). `without_floor` drops
+    the ground a standalone robot file brings (the planes directly in its worldbody, as in
+    gymnasium's ant.xml and humanoid.xml), which would lie in the arena's floor, drawn over
+    it in renders; the robot then stands on the arena's floor. Raises RobotNotFoundError
+    for a missing file and mjcf.Error subclasses for a bad one."""
     file = Path(path).expanduser()
     if not file.is_file():
         raise RobotNotFoundError(f"no robot file at {str(file)!r}")
-    return composer.Entity.from_path(file, name=name)
+    robot = composer.Entity.from_path(file, name=name)
+    if without_floor:
+        for geom in robot.mjcf_model.worldbody.get_children("geom"):
+            if geom.type == "plane":
+                geom.remove()
+    return robot
 
 
 def menagerie_roots(root: str | os.PathLike[str] | None = None) -> list[Path]:

@@ -35,7 +35,7 @@ of another module's objects are used only through the internal protocol their cl
 documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py checks
 all three on the real source:
 
-    values:       errors debugging bulk fields assets values schema xsd namescope
+    values:       errors debugging mujoco_log bulk fields assets values schema xsd namescope
     tree:         element_list model_operations element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
                   copying sameness keyframes sharing composition

@@ -11,7 +11,7 @@
     with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
         physics.step(10)                                # positions, sensors: of the new state
     state = physics.get_state()                         # qpos, qvel, act (+ plugin state)
-    frame = physics.render(240, 320, camera_id=-1)      # needs MUJOCO_GL=egl when headless
+    frame = physics.render(240, 320, camera_id=-1)      # headless too: see mjcf.rendering
     clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
 
 `model` and `data` are the raw `mujoco.MjModel` / `MjData` (with dm_control's `.ptr`,
@@ -48,6 +48,7 @@ from mjcf import (
     errors,
     fields,
     model_constants,
+    mujoco_log,
     named,
     raw_access,
     rendering,
@@ -64,6 +65,7 @@ if TYPE_CHECKING:
     from mjcf.root import RootElement
 
 raw_access.install()
+mujoco_log.install()  # MuJoCo's warnings to logging, not to MUJOCO_LOG.TXT
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.

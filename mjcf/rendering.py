@@ -1,17 +1,34 @@
-"""Rendering a physics: an offscreen `mujoco.Renderer` per image size, and errors that say
-which system library is missing when no OpenGL context can be made.
+"""Rendering a physics: an offscreen `mujoco.Renderer` per image size, on an OpenGL backend
+chosen once per process, and errors that say which system library is missing.
 
     renderer = rendering.make_renderer(model, 240, 320)     # RenderError if no backend
     rgb = rendering.render(renderer, data, camera_id=-1, depth=False, segmentation=False)
+    rendering.backend()                                      # 'egl', 'osmesa', 'glfw', ...
 
-`mjcf.Physics.render` keeps one renderer per size and calls these.
+The backend is MUJOCO_GL's when that is set. Otherwise it is chosen at the first renderer
+(not at import, so `import mujoco` before `import mjcf` changes nothing): on Linux the first
+of EGL (no display needed: a GPU, or Mesa's software renderer), OSMesa (software) and GLFW
+(only when there is a display) whose context can be made; on macOS CGL, then GLFW; on
+Windows GLFW. So rendering works in a script, a notebook or a test on a machine without a
+display and without MUJOCO_GL. The choice becomes MuJoCo's own: `mujoco.Renderer` makes its
+contexts with it, and MUJOCO_GL is set to it for child processes.
+
+Every context is checked before MuJoCo draws with it: MuJoCo aborts the whole process
+(`__cxa_guard_acquire detected recursive initialization`) at the second attempt to make its
+render context without a current OpenGL context, so here a context that cannot be made is a
+RenderError, at every attempt, and never an abort.
 """
 
 from __future__ import annotations
 
 import ctypes.util
+import importlib
 import os
 import platform
+import sys
+import threading
+import warnings
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -20,14 +37,18 @@ from mjcf import errors
 
 
 def make_renderer(model: mujoco.MjModel, height: int, width: int) -> mujoco.Renderer:
-    """An offscreen renderer of `height` x `width`; raises RenderError when the size exceeds
-    the model's framebuffer or no OpenGL backend can be created (naming the fix)."""
+    """An offscreen renderer of `height` x `width` on `backend()`; raises RenderError when
+    the size exceeds the model's framebuffer or no OpenGL context can be made (naming the
+    fix)."""
+    name = backend()
     try:
         return mujoco.Renderer(model, height, width)
     except ValueError as e:  # larger than the model's offscreen framebuffer
         raise errors.RenderError(str(e)) from e
+    except _NoContextError as e:
+        raise errors.RenderError(_explicit_failure(name, str(e))) from e
     except (ImportError, OSError, RuntimeError, AttributeError, mujoco.FatalError) as e:
-        raise errors.RenderError(_no_backend_message(e)) from e
+        raise errors.RenderError(_explicit_failure(name, f"{type(e).__name__}: {e}")) from e
 
 
 def render(
@@ -55,27 +76,146 @@ def render(
         renderer.disable_segmentation_rendering()
 
 
-# The system library each MUJOCO_GL backend loads, and the Debian/Ubuntu packages providing it.
-_BACKEND_LIBRARIES = {
+def backend() -> str:
+    """The OpenGL backend renderers use ('egl', 'osmesa', 'glfw', 'cgl'), chosen at the first
+    call as the module docstring says; raises RenderError, naming what each backend lacks,
+    when none can make a context (then, and at every later call)."""
+    global _chosen, _failure
+    with _lock:
+        if _chosen is None and _failure is None:
+            try:
+                _chosen = _choose()
+            except errors.RenderError as e:
+                _failure = str(e)
+        if _failure is not None:
+            raise errors.RenderError(_failure)
+        assert _chosen is not None
+        return _chosen
+
+
+# MUJOCO_GL values, as MuJoCo reads them: rendering turned off, and the names of GLFW.
+_OFF = ("disable", "disabled", "off", "false", "0")
+_GLFW_NAMES = ("glfw", "glx", "wgl", "enable", "enabled", "on", "true", "1")
+# The module of each backend's context class in the mujoco package.
+_MODULES = {"egl": "mujoco.egl", "osmesa": "mujoco.osmesa", "glfw": "mujoco.glfw",
+            "cgl": "mujoco.cgl"}  # fmt: skip
+# The system library each backend loads on Linux, and the Debian/Ubuntu packages with it.
+_LIBRARIES = {
     "egl": ("EGL", "libEGL.so.1", "libegl1 libegl-mesa0 libgl1"),
     "osmesa": ("OSMesa", "libOSMesa.so", "libosmesa6"),
     "glfw": ("GL", "libGL.so.1", "libgl1 libglfw3"),
 }
+_HEADLESS_FIX = (
+    "For rendering without a display install EGL (apt-get install libegl1 libegl-mesa0 "
+    "libgl1) or OSMesa (apt-get install libosmesa6)"
+)
+
+_lock = threading.Lock()
+_chosen: str | None = None
+_failure: str | None = None
 
 
-def _no_backend_message(cause: BaseException) -> str:
-    """Why no OpenGL context could be made, naming the missing library and the fix."""
-    backend = os.environ.get("MUJOCO_GL", "").strip().lower() or "glfw"
-    lib, soname, packages = _BACKEND_LIBRARIES.get(backend, _BACKEND_LIBRARIES["glfw"])
-    if ctypes.util.find_library(lib) is None:
-        reason = f"{soname} is not installed (apt-get install {packages})"
-    elif backend == "glfw" and platform.system() == "Linux" and not os.environ.get("DISPLAY"):
-        reason = "GLFW needs a display and $DISPLAY is not set"
-    else:
-        reason = f"{type(cause).__name__}: {cause}"
+class _NoContextError(RuntimeError):
+    """A backend's context class made no OpenGL context (GLFW without a display)."""
+
+
+def _choose() -> str:
+    """The backend MUJOCO_GL names, else the first of this system's that makes a context;
+    installs it as MuJoCo's. Raises RenderError."""
+    explicit = os.environ.get("MUJOCO_GL", "").strip().lower()
+    if explicit in _OFF:
+        raise errors.RenderError(f"rendering is turned off: MUJOCO_GL={explicit!r}")
+    if explicit:
+        name = "glfw" if explicit in _GLFW_NAMES else explicit
+        if name not in _MODULES:
+            raise errors.RenderError(
+                f"MUJOCO_GL={explicit!r} names no OpenGL backend; use one of "
+                f"{sorted(set(_MODULES) | {'glfw'})}, or unset it to choose one that works"
+            )
+        try:
+            _install(name)
+        except _NoContextError as e:
+            raise errors.RenderError(_explicit_failure(name, str(e))) from e
+        return name
+    failures = []
+    for name in _candidates():
+        try:
+            _install(name)
+        except _NoContextError as e:
+            failures.append(f"{name.upper()}: {e}")
+            continue
+        os.environ["MUJOCO_GL"] = name  # child processes render with it too
+        return name
+    raise errors.RenderError(
+        f"no OpenGL backend can render here ({'; '.join(failures)}). {_HEADLESS_FIX}, or "
+        "run with a display."
+    )
+
+
+def _candidates() -> list[str]:
+    """The backends to try, in order, when MUJOCO_GL is not set."""
+    system = platform.system()
+    if system == "Darwin":
+        return ["cgl", "glfw"]
+    if system != "Linux":
+        return ["glfw"]
+    display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    return ["egl", "osmesa", *(["glfw"] if display else [])]
+
+
+def _install(name: str) -> None:
+    """Make one context of backend `name` to check it works, then have `mujoco.Renderer`
+    make its contexts with it (checked each time); raises _NoContextError saying why not."""
+    checked = _checked_context_class(name)
+    with warnings.catch_warnings(record=True) as caught:  # GLFW reports errors as warnings
+        warnings.simplefilter("always")
+        try:
+            probe = checked(1, 1)
+            probe.make_current()
+        except _NoContextError as e:
+            details = "; ".join(str(w.message) for w in caught)
+            raise _NoContextError(_glfw_reason(details) if name == "glfw" else str(e)) from e
+        except Exception as e:  # each backend fails its own way (ImportError, GLError ...)
+            raise _NoContextError(f"{type(e).__name__}: {e}") from e
+    probe.free()
+    _renderer_gl_module().GLContext = checked
+
+
+def _checked_context_class(name: str) -> type:
+    """Backend `name`'s context class, made to raise _NoContextError when it creates no
+    context; raises _NoContextError when its library or module cannot be loaded."""
+    library = _LIBRARIES.get(name) if platform.system() == "Linux" else None
+    if library is not None and ctypes.util.find_library(library[0]) is None:
+        raise _NoContextError(f"{library[1]} is not installed (apt-get install {library[2]})")
+    try:
+        base = importlib.import_module(_MODULES[name]).GLContext
+    except Exception as e:  # ImportError, OSError; PyOpenGL raises others for a bad library
+        raise _NoContextError(f"{type(e).__name__}: {e}") from e
+
+    def __init__(self: Any, max_width: int, max_height: int) -> None:
+        base.__init__(self, max_width, max_height)
+        if not getattr(self, "_context", True):
+            raise _NoContextError(f"{name.upper()} made no OpenGL context")
+
+    return type(f"Checked{base.__name__}", (base,), {"__init__": __init__, "backend": name})
+
+
+def _renderer_gl_module() -> Any:
+    """The module whose `GLContext` `mujoco.Renderer` makes its contexts with."""
+    return sys.modules[mujoco.Renderer.__module__].gl_context
+
+
+def _glfw_reason(details: str) -> str:
+    if platform.system() == "Linux" and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        return "GLFW needs a display and $DISPLAY is not set"
+    return details or "GLFW made no OpenGL context"
+
+
+def _explicit_failure(name: str, reason: str) -> str:
+    """Why the backend MUJOCO_GL (or the automatic choice) names cannot make a context."""
     return (
-        f"no OpenGL backend could be created with MUJOCO_GL={backend!r}: {reason}. "
-        "For headless rendering set MUJOCO_GL=egl (apt-get install libegl1 libegl-mesa0 "
-        "libgl1) or MUJOCO_GL=osmesa (apt-get install libosmesa6) before Python imports "
-        "mujoco."
+        f"no OpenGL context could be made with MUJOCO_GL={name!r}: {reason}. Unset MUJOCO_GL "
+        f"to use the first backend that works. {_HEADLESS_FIX}."
     )

@@ -53,6 +53,7 @@ class CartpoleSwingup(composer.Task):
         root.statistic.extent = 2.5
         for observable in self.cartpole.observables.values():
             observable.enabled = True
+        self.render_camera = f"{self.cartpole.name}/track"  # follows the cart
         self.randomize = randomize
         self.start_upright = start_upright
         self.set_timesteps(control_timestep, physics_timestep)

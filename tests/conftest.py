@@ -19,6 +19,7 @@ import mujoco
 import pytest
 
 from entities import menagerie as shipped
+from tests.ray_cluster import ray_cluster  # noqa: F401  (a fixture: one Ray cluster per session)
 
 # Property tests are deterministic by default (the README's test command, CI): the same
 # examples on every run and no example database, so a run's outcome never depends on an

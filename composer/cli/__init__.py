@@ -1,7 +1,7 @@
 """The `composer` command-line tool: list, show, run, view, train and evaluate tasks.
 
     $ composer list                            # or: python -m composer list
-    $ composer show Reach                      # the scene, and Reach.png
+    $ composer show Reach --out reach.png      # the scene, and a frame of it
     $ composer run Reach --video reach.mp4     # a random policy, recorded
     $ composer view AntRun                     # MuJoCo's interactive viewer
     $ composer train                           # Reach, about five minutes on a laptop CPU

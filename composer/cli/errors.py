@@ -29,3 +29,8 @@ class OutputError(CliError):
 
 class PolicyError(CliError):
     """A saved policy or checkpoint cannot be found, read, or used on the task."""
+
+
+class UntrustedPolicyError(PolicyError):
+    """A saved policy can only be loaded by unpickling, which runs code from the file:
+    refused unless the user passes --trust-policy."""

@@ -16,8 +16,7 @@ Options are matched exactly (argparse's abbreviations are off: `--time` is not
 `--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
 bad value) and every `composer.Error` (an unknown task, a missing optional dependency, an
 unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C exits with
-130. On a Linux machine without a display, commands that render off screen re-run
-themselves with MUJOCO_GL=egl, since MuJoCo picks its OpenGL backend once, when imported.
+130. Rendering needs no MUJOCO_GL: `mjcf.rendering` chooses a backend that works here.
 """
 
 from __future__ import annotations
@@ -25,7 +24,6 @@ from __future__ import annotations
 import argparse
 import difflib
 import importlib
-import os
 import re
 import sys
 from collections.abc import Sequence
@@ -33,7 +31,7 @@ from typing import Any, NoReturn
 
 import mjcf
 from composer import errors
-from composer.cli import catalog, recipes
+from composer.cli import catalog, recipes, rollout, video
 from composer.cli.errors import CliError
 
 INTERRUPTED = 130
@@ -79,11 +77,10 @@ def parser() -> argparse.ArgumentParser:
 
     _command(commands, "list", "listing", "list the registered tasks")
 
-    show = _command(commands, "show", "show", "print a task's scene and render a frame")
+    show = _command(commands, "show", "show", "print a task's scene; --out renders a frame")
     _task(show)
-    show.add_argument("--out", help="PNG file for the frame (default: TASK.png)")
+    show.add_argument("--out", help="render a frame into this PNG file (default: no frame)")
     show.add_argument("--seed", type=int, default=0, help="seed of the episode (default: 0)")
-    show.set_defaults(renders=lambda args: True)
 
     run = _command(commands, "run", "run", "roll out a policy, print returns, record a video")
     _task(run)
@@ -91,10 +88,11 @@ def parser() -> argparse.ArgumentParser:
         "--policy", default="random",
         help="'random' (default), or a folder or .zip written by `composer train`",
     )  # fmt: skip
+    _trust_policy(run)
     run.add_argument("--episodes", type=positive_int, default=1, help="episodes (default: 1)")
-    run.add_argument("--video", help="write the episodes to this .mp4 (or .gif) file")
+    formats = " or ".join(video.VIDEO_FORMATS)  # the ones `video.target` accepts
+    run.add_argument("--video", help=f"write the episodes to this {formats} file")
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
-    run.set_defaults(renders=lambda args: args.video is not None)
 
     view = _command(commands, "view", "view", "watch a policy in MuJoCo's interactive viewer")
     _task(view)
@@ -102,6 +100,7 @@ def parser() -> argparse.ArgumentParser:
         "--policy", default="random",
         help="'random' (default), or a folder or .zip written by `composer train`",
     )  # fmt: skip
+    _trust_policy(view)
     view.add_argument("--episodes", type=positive_int, help="quit after this many episodes")
     view.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
@@ -147,13 +146,17 @@ def parser() -> argparse.ArgumentParser:
     train.add_argument(
         "--address", metavar="HOST:PORT", help="ray: join this cluster (default: start locally)"
     )
-    train.set_defaults(renders=lambda args: not args.no_video)
 
     evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")
     _task(evaluate)
     evaluate.add_argument("policy", help="a folder or .zip written by `composer train`")
+    _trust_policy(evaluate)
     evaluate.add_argument("--episodes", type=positive_int, default=10, help="default: 10")
-    evaluate.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
+    evaluate.add_argument(
+        "--seed", type=int, default=rollout.EVAL_SEED,
+        help=f"seed of episode 1 (default: {rollout.EVAL_SEED}, as in training's evaluations: "
+        "with as many --episodes, eval repeats the last one)",
+    )  # fmt: skip
     return top
 
 
@@ -164,9 +167,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"{e.prog}: error: {_one_line(e)}", file=sys.stderr)
         return USAGE_ERROR
-    if argv is None and _needs_headless_gl(args):
-        env = {**os.environ, "MUJOCO_GL": "egl"}
-        os.execve(sys.executable, [sys.executable, "-m", "composer", *sys.argv[1:]], env)
     try:
         catalog.import_modules(args.imports)
         if "task" in args:  # found before the command's module imports torch: fails fast
@@ -242,6 +242,15 @@ def recipe_table() -> str:
     )
 
 
+def _trust_policy(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--trust-policy", action="store_true",
+        help="load a policy file whole, with the pickled Python objects it may hold, which "
+        "run code: only for files from a source you trust (default: weights and plain "
+        "settings only; see SECURITY.md)",
+    )  # fmt: skip
+
+
 def _did_you_mean(word: str, known: Sequence[str], quote: str = "") -> str:
     close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
     return f"; did you mean {quote}{close[0]}{quote}?" if close else ""
@@ -258,21 +267,12 @@ def _command(
     commands: argparse._SubParsersAction, name: str, module: str, summary: str, **options: Any
 ) -> argparse.ArgumentParser:
     command = commands.add_parser(name, help=summary, description=summary, **options)
-    command.set_defaults(module=module, renders=lambda args: False)
+    command.set_defaults(module=module)
     return command
 
 
 def _task(command: argparse.ArgumentParser, **options: Any) -> None:
     command.add_argument("task", help="task name, e.g. Reach (see `composer list`)", **options)
-
-
-def _needs_headless_gl(args: argparse.Namespace) -> bool:
-    """Whether this command renders on a Linux machine with no display and no MUJOCO_GL."""
-    if not sys.platform.startswith("linux") or os.environ.get("MUJOCO_GL"):
-        return False
-    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
-        return False
-    return bool(args.renders(args))
 
 
 def _one_line(error: BaseException) -> str:

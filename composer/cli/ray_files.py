@@ -5,12 +5,18 @@
     checkpoint = ray_files.Checkpoint('runs/CartpoleSwingup-ppo-ray/checkpoint')
     checkpoint.state()['timesteps'], checkpoint.algorithm_path()
 
-A policy is a folder: `module/`, the RLlib RLModule that computes actions (the inference
-part of the trained network, `RLModule.from_checkpoint` reads it), and `policy.json`: the
-task, the action bounds, and the running mean and std of observations the module was fed
-(RLlib's MeanStdFilter, None without normalization). `RayPolicy` applies that filter,
-the module's deterministic action and RLlib's unsquashing to the action bounds, as RLlib's
-env runners do with exploration off, so `composer eval` repeats training's evaluations.
+A policy is a folder: `policy.json` (the task, the algorithm, the network's settings as
+RLlib's model config, the action bounds, and the running mean and std of observations the
+module was fed: RLlib's MeanStdFilter, None without normalization), `weights.npz` (the
+inference part of the trained network: plain arrays), and `module/`, the same network as
+RLlib writes an RLModule (`RLModule.from_checkpoint` reads it, for your own RLlib code).
+`load_policy` builds the algorithm's default RLModule from policy.json and loads
+weights.npz into it, reading no pickle; RLlib's `module/` holds pickles (its class and
+constructor arguments, its state), which run code when loaded, so it is read only when the
+user trusts the file (`--trust-policy`), as are policies written before weights.npz
+existed. `RayPolicy` applies the filter, the module's deterministic action and RLlib's
+unsquashing to the action bounds, as RLlib's env runners do with exploration off, so
+`composer eval` repeats training's evaluations.
 
 A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
 Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
@@ -39,11 +45,14 @@ import numpy as np
 
 from composer.cli import engine
 from composer.cli.engine import Progress
-from composer.cli.errors import MissingExtraError, OutputError, PolicyError
+from composer.cli.errors import MissingExtraError, OutputError, PolicyError, UntrustedPolicyError
 
 RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
 POLICY_FILE = "policy.json"
+WEIGHTS_FILE = "weights.npz"
 POLICY_FORMAT = "composer-rllib-policy"
+# policy.json's version: 2 says weights.npz and the model config are there.
+POLICY_VERSION = 2
 ENGINE = "ray"
 # RLlib's MeanStdFilter divides by std + this (ray.rllib.utils.filter.SMALL_NUMBER).
 _FILTER_EPSILON = 1e-8
@@ -150,8 +159,18 @@ class RayPolicy:
 def save_policy(algo: Any, folder: Path, info: dict[str, Any]) -> None:
     """Write `algo`'s current policy (see `current_policy`) to `folder`; `info` (task,
     env_id, algo) goes into policy.json."""
-    algo.env_runner.module.save_to_path(_uri(folder / "module"))
+    write_module(algo.env_runner.module, folder)
     (folder / POLICY_FILE).write_text(json.dumps(policy_spec(algo, info), indent=1) + "\n")
+
+
+def write_module(module: Any, folder: Path) -> None:
+    """Write the RLModule `module` into `folder`: its weights as plain arrays (weights.npz),
+    and RLlib's own checkpoint of it (`module/`)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    module.save_to_path(_uri(folder / "module"))
+    weights: dict[str, Any] = {name: np.asarray(v) for name, v in module.get_state().items()}
+    with (folder / WEIGHTS_FILE).open("wb") as file:
+        np.savez(file, **weights)
 
 
 def current_policy(algo: Any, info: dict[str, Any]) -> RayPolicy:
@@ -167,8 +186,9 @@ def policy_spec(algo: Any, info: dict[str, Any]) -> dict[str, Any]:
     module = algo.env_runner.module
     return {
         "format": POLICY_FORMAT,
-        "version": 1,
+        "version": POLICY_VERSION,
         **info,
+        "model_config": dict(module.model_config),
         "observation_shape": list(module.observation_space.shape),
         "action_low": module.action_space.low.tolist(),
         "action_high": module.action_space.high.tolist(),
@@ -195,19 +215,69 @@ def observation_filter(runner: Any) -> dict[str, Any] | None:
     }
 
 
-def load_policy(folder: Path, env: Any) -> RayPolicy:
-    """The policy saved in `folder`, checked to fit `env`'s spaces; raises PolicyError
-    for a folder that cannot be read or a policy of other spaces, MissingExtraError
-    without Ray."""
+def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
+    """The policy saved in `folder`, checked to fit `env`'s spaces: its network built
+    from policy.json and weights.npz (see the module docstring), or, when `trusted`, read
+    by RLlib from `module/` (which unpickles). Raises PolicyError for a folder that cannot
+    be read or a policy of other spaces, UntrustedPolicyError for one that can only be
+    read by unpickling, MissingExtraError without Ray."""
     try:
         spec = json.loads((folder / POLICY_FILE).read_text())
     except (OSError, ValueError) as e:
         raise PolicyError(f"cannot read {folder / POLICY_FILE}: {e}") from e
-    if spec.get("format") != POLICY_FORMAT:
+    if not isinstance(spec, dict) or spec.get("format") != POLICY_FORMAT:
         raise PolicyError(f"{folder / POLICY_FILE} is not a policy written by `composer train`")
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
     quiet_ray()
-    from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked just above
+    module = _trusted_module(folder) if trusted else _module(folder, spec)
+    module.eval()
+    policy = RayPolicy(module, spec)
+    engine.check_spaces(folder, policy, env)
+    return policy
+
+
+def _module(folder: Path, spec: dict[str, Any]) -> Any:
+    """The RLModule of policy.json's algorithm and model config with weights.npz's
+    weights, read without unpickling anything."""
+    weights_path = folder / WEIGHTS_FILE
+    if spec.get("version", 1) < POLICY_VERSION or not weights_path.is_file():
+        raise UntrustedPolicyError(
+            f"{folder} holds its network only as RLlib's pickles ({folder / 'module'}), "
+            "which run code when loaded; load it only if you trust where it came from, with "
+            "--trust-policy (see SECURITY.md)"
+        )
+    import torch  # the [train] extra: training.py turns its absence into a message
+    from ray.rllib.algorithms.ppo import PPOConfig  # Ray: checked by load_policy
+    from ray.rllib.algorithms.sac import SACConfig
+    from ray.rllib.core.rl_module.torch import TorchRLModule
+
+    configs = {"ppo": PPOConfig, "sac": SACConfig}
+    if spec.get("algo") not in configs or not isinstance(spec.get("model_config"), dict):
+        raise PolicyError(f"{folder / POLICY_FILE} names no algorithm and network to build")
+    module_spec = configs[spec["algo"]]().get_default_rl_module_spec()
+    module_spec.observation_space = gymnasium.spaces.Box(
+        -np.inf, np.inf, tuple(spec["observation_shape"]), np.float32
+    )
+    module_spec.action_space = gymnasium.spaces.Box(
+        np.array(spec["action_low"], np.float32), np.array(spec["action_high"], np.float32)
+    )
+    module_spec.model_config = spec["model_config"]
+    module_spec.inference_only = True
+    try:
+        with np.load(weights_path, allow_pickle=False) as weights:
+            state = {name: torch.from_numpy(weights[name]) for name in weights.files}
+        module = module_spec.build()
+        if not isinstance(module, TorchRLModule):
+            raise TypeError(f"RLlib built a {type(module).__name__}, not a PyTorch module")
+        module.load_state_dict(state, strict=True)
+    except (OSError, ValueError, KeyError, TypeError, RuntimeError) as e:
+        raise PolicyError(f"cannot build the policy in {folder}: {e}") from e
+    return module
+
+
+def _trusted_module(folder: Path) -> Any:
+    """RLlib's RLModule checkpoint in `folder`/module, read by RLlib (unpickling)."""
+    from ray.rllib.core.rl_module.rl_module import RLModule  # Ray: checked by load_policy
     from ray.rllib.core.rl_module.torch import TorchRLModule
 
     try:
@@ -216,10 +286,7 @@ def load_policy(folder: Path, env: Any) -> RayPolicy:
         raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
     if not isinstance(module, TorchRLModule):
         raise PolicyError(f"{folder / 'module'} holds no PyTorch RLlib module")
-    module.eval()
-    policy = RayPolicy(module, spec)
-    engine.check_spaces(folder, policy, env)
-    return policy
+    return module
 
 
 def _uri(path: Path) -> str:

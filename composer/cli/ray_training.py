@@ -32,19 +32,16 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import logging
-import os
-import socket
-import sys
+import functools
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
-from composer.cli import engine, recipes, training
-from composer.cli.errors import CliError
+from composer.cli import engine, ray_instance, recipes, training
+from composer.cli.progress import Bar
+from composer.cli.progress import say as progress_line
 from composer.cli.ray_algorithm import (
     EPISODES,
     Layout,
@@ -52,14 +49,9 @@ from composer.cli.ray_algorithm import (
     describe_runners,
     ray_recipe,
 )
-from composer.cli.ray_files import Checkpoint, RayModel, quiet_ray, save_policy
+from composer.cli.ray_files import Checkpoint, RayModel, save_policy
 from composer.cli.run_folder import RunFolder
 from composer.registration import TaskInfo
-
-# Seconds to wait for a cluster's address to accept a connection.
-CONNECT_SECONDS = 5.0
-# Object store of a local instance: RLlib only passes episodes and weights through it.
-LOCAL_OBJECT_STORE_BYTES = 256 * 1024**2
 
 
 class Trainer(engine.Trainer):
@@ -102,16 +94,19 @@ class Trainer(engine.Trainer):
 def trainer(
     info: TaskInfo, folder: RunFolder[Checkpoint], args: argparse.Namespace
 ) -> Iterator[Trainer]:
-    """Within `with`: Ray running (see `ray_instance`) and the run in `folder` (resumed
+    """Within `with`: Ray running (see `ray_instance.running`) and the run in `folder` (resumed
     from its checkpoint, on the workers given now or else those it had, or new with the
     Ray engine's recipe) as an RLlib Algorithm, which is stopped after. Raises CliError
     when Ray cannot start, the cluster cannot be reached or is too small, or RLlib cannot
     build the algorithm."""
     checkpoint = folder.checkpoint
     saved = checkpoint.state() if folder.resumes else {}
-    with ray_instance(args.address, args.workers or saved.get("workers")) as cpus:
+    with ray_instance.running(args.address, args.workers or saved.get("workers")) as cpus:
         layout = _layout(args, saved, cpus)
-        check_capacity(layout, cpus)
+        ray_instance.check_capacity(layout, cpus)
+        note = ray_instance.oversubscribed(layout)
+        if note is not None:
+            print(note)
         progress, recipe = folder.start(
             args,
             lambda algo: ray_recipe(info.name, algo).replace(
@@ -132,81 +127,6 @@ def trainer(
             # fills: an empty folder per run otherwise.
             with contextlib.suppress(OSError):
                 Path(algo.logdir).rmdir()
-
-
-# -- the Ray instance and the algorithm -------------------------------------------------------
-
-
-@contextlib.contextmanager
-def ray_instance(address: str | None, workers: int | None) -> Iterator[int]:
-    """Within `with`: Ray started locally (address None) with `workers` CPUs (this
-    machine's count if None: that many env runners fit, whatever the cores) or joined at
-    `address`; yields the CPUs Ray has. Raises CliError when the cluster cannot be
-    reached."""
-    import ray  # only when training on Ray: `composer train` imports this module
-
-    quiet_ray()
-    options: dict[str, Any] = {
-        "logging_level": logging.ERROR,
-        "log_to_driver": False,
-        "configure_logging": True,
-    }
-    if address is not None:
-        _check_reachable(address)
-        # `ray start` clusters use token authentication (Ray 2.60's default); a client in
-        # token mode also joins a cluster without it.
-        os.environ.setdefault("RAY_AUTH_MODE", "token")
-    try:
-        if address is None:
-            cpus = workers or os.cpu_count() or 1
-            ray.init(
-                num_cpus=cpus, object_store_memory=LOCAL_OBJECT_STORE_BYTES,
-                include_dashboard=False, **options,
-            )  # fmt: skip
-        else:
-            ray.init(address=address, **options)
-    except (ConnectionError, RuntimeError, ValueError) as e:
-        if address is None:
-            raise CliError(f"cannot start a local Ray instance: {e}") from e
-        raise CliError(
-            f"cannot join the Ray cluster at {address}: {e} (is this machine's token the "
-            "cluster's? see docs/ray.md)"
-        ) from e
-    try:
-        yield int(ray.cluster_resources().get("CPU", 0))
-    finally:
-        ray.shutdown()
-
-
-def _check_reachable(address: str) -> None:
-    """Raise CliError unless `address` is 'auto' or a HOST:PORT that accepts a connection
-    within CONNECT_SECONDS (ray.init retries an unreachable address for minutes)."""
-    if address == "auto":
-        return
-    host, colon, port = address.rpartition(":")
-    if not colon or not host or not port.isdigit():
-        raise CliError(
-            f"--address {address!r}: expected HOST:PORT, the address `ray start --head` "
-            "printed (e.g. 10.0.0.1:6379), or 'auto' for the cluster of this machine"
-        )
-    try:
-        socket.create_connection((host.strip("[]"), int(port)), timeout=CONNECT_SECONDS).close()
-    except OSError as e:
-        raise CliError(
-            f"cannot reach the Ray cluster at {address}: {e.strerror or e}; start one with "
-            "`ray start --head` (see docs/ray.md)"
-        ) from e
-
-
-def check_capacity(layout: Layout, cpus: int) -> None:
-    """Raise CliError when the cluster has fewer CPUs than env runners (one each): Ray
-    would wait for them forever."""
-    if layout.workers > cpus:
-        raise CliError(
-            f"the Ray cluster at {layout.address} has {cpus} CPUs, and --workers "
-            f"{layout.workers} needs one each; add machines (`ray start --address=...`) "
-            "or give fewer --workers"
-        )
 
 
 # -- the run ---------------------------------------------------------------------------------
@@ -256,8 +176,8 @@ def _train(
     env runners that fail and return, until Ctrl-C asks to stop."""
     algo = model.algo
     progress = session.progress
-    bar = _progress_bar(recipe.timesteps, progress.timesteps)
-    say = bar.write if bar is not None else print
+    bar = Bar.open(recipe.timesteps, progress.timesteps)
+    say = functools.partial(progress_line, bar)
     healthy = layout.workers
     restarts = algo.env_runner_group.num_remote_worker_restarts()
     try:
@@ -271,7 +191,7 @@ def _train(
             for episode_return, success in runners.get(EPISODES, []):
                 progress.record_episode(progress.timesteps, episode_return, success)
             if bar is not None:
-                bar.update(steps)
+                bar.advance_to(progress.timesteps)
             healthy, restarts = _watch_runners(model, healthy, restarts, layout, say)
             if not stop.requested and session.due(progress.timesteps):
                 model.sync()
@@ -299,10 +219,3 @@ def _watch_runners(
                 else "training waits")  # fmt: skip
         say(f"env runner lost: {left} until Ray restarts it")
     return now_healthy, now_restarts
-
-
-def _progress_bar(total: int, done: int) -> Any:
-    """A tqdm bar on a terminal, else None."""
-    if not sys.stderr.isatty():
-        return None
-    return tqdm(total=total, initial=min(done, total), unit="steps", unit_scale=True)

@@ -25,6 +25,9 @@ Policy = Callable[[Any], np.ndarray]
 
 # Frames kept per second of simulation in videos: enough to look smooth, few to render.
 VIDEO_FPS = 30.0
+# The seed of the first episode of training's evaluations (episode i: EVAL_SEED + i), apart
+# from the seeds training draws, and `composer eval`'s default: eval repeats them exactly.
+EVAL_SEED = 1_000_000
 
 
 @dataclasses.dataclass(frozen=True)

@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             from composer.cli import training  # needs the [train] extra
 
-            policy = rollout.model_policy(training.load_policy(args.policy, env))
+            policy = rollout.model_policy(training.load_policy(args.policy, env, args.trust_policy))
             label = f"policy {args.policy}"
         frames: list[np.ndarray] | None = [] if path else None
         episodes = rollout.run_episodes(

@@ -1,4 +1,5 @@
-"""`composer show TASK`: the task's scene, observations and actions, and a rendered frame.
+"""`composer show TASK`: the task's scene, observations and actions; with `--out FILE.png`
+also a rendered frame (without it nothing is written).
 
     $ composer show Reach --out reach.png
     Reach (composer/Reach-v0): Move a planar 2-link arm's fingertip to a random target
@@ -42,8 +43,8 @@ NO_BREAK = "\N{NO-BREAK SPACE}"
 def run(args: argparse.Namespace) -> int:
     """Print the scene and write the frame; returns the exit status."""
     info = args.info
-    path = output.file(args.out or f"{info.name}.png")
-    env = catalog.make(info, flatten=False, render_mode="rgb_array")
+    path = output.file(video.png_target(args.out)) if args.out else None
+    env = catalog.make(info, flatten=False, render_mode="rgb_array" if path else None)
     try:
         env.reset(seed=args.seed)
         print(f"{info.name} ({info.env_id}): {info.description}")
@@ -58,9 +59,12 @@ def run(args: argparse.Namespace) -> int:
         for name, space in observations.items():
             print(f"  {name:<{width}}  {space.shape}  {space.dtype}")
         print(f"actions ({_values(flatdim(env.action_space))}): {env.action_space}")
-        frame = rollout.render_frame(env)
+        frame = rollout.render_frame(env) if path else None
     finally:
         env.close()
+    if path is None or frame is None:
+        print("frame: none (--out FILE.png renders one)")
+        return 0
     video.write_png(frame, path)
     print(f"frame: {path} ({frame.shape[1]}x{frame.shape[0]})")
     return 0

@@ -44,6 +44,7 @@ from composer.cli import (
     output,
     plot,
     ray_files,
+    ray_instance,
     ray_training,
     rollout,
     run_folder,
@@ -79,6 +80,7 @@ def _run(
 ) -> int:
     """`run` with the engine of `folder`'s checkpoints, whose trainer `open_trainer` opens."""
     if args.engine == ray_files.ENGINE:
+        ray_instance.authenticate(args.address)  # before Ray is imported
         ray_files.require_ray()
     elif args.tensorboard:
         training.require_tensorboard()

@@ -7,9 +7,10 @@ that evaluates, records progress and stops cleanly on Ctrl-C, and the engine's `
     session = training.Session(progress, checkpoint, eval_env, eval_every=80_000,
                                eval_episodes=10)
     with training.StopOnInterrupt() as stop:
-        model.learn(recipe.timesteps, callback=session.callback(stop, progress_bar=True))
+        bar = progress.Bar.open(recipe.timesteps, done=0)       # None off a terminal
+        model.learn(recipe.timesteps, callback=session.callback(stop, bar))
     session.save(model)                                    # a checkpoint with the progress
-    model = training.load_policy('runs/Reach-ppo', env)    # for `run` and `eval`
+    policy = training.load_policy('runs/Reach-ppo', env)   # for `run`, `eval`, `view`
 
 `composer train` drives it through `trainer(info, folder, args)`, the stable-baselines3
 `engine.Trainer`. `Session`, `StopOnInterrupt` and `report` serve the Ray engine too.
@@ -40,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 
 import gymnasium
 
-from composer.cli import catalog, engine, ray_files, recipes, rollout
+from composer.cli import catalog, engine, progress, ray_files, recipes, rollout
 from composer.cli.engine import DEFAULT_ENGINE, Progress
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError, PolicyError
 from composer.cli.ray_files import RayPolicy
@@ -53,8 +54,10 @@ try:
     import stable_baselines3
     import torch
     from stable_baselines3.common.base_class import BaseAlgorithm
-    from stable_baselines3.common.callbacks import BaseCallback, CallbackList, ProgressBarCallback
+    from stable_baselines3.common.callbacks import BaseCallback
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
+    from stable_baselines3.common.policies import BasePolicy
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from stable_baselines3.common.vec_env import (
         DummyVecEnv,
@@ -65,6 +68,7 @@ try:
     )
 
     from composer import sb3
+    from composer.cli import sb3_files
 except ImportError as e:
     raise MissingExtraError(
         f"this command needs the [train] extra ({e.name or 'stable-baselines3'} is missing): "
@@ -75,8 +79,7 @@ ALGORITHMS: dict[str, type[BaseAlgorithm]] = {
     "ppo": stable_baselines3.PPO,
     "sac": stable_baselines3.SAC,
 }
-# Evaluation episodes start from these seeds, apart from those training draws.
-EVAL_SEED = 1_000_000
+EVAL_SEED = rollout.EVAL_SEED
 # Small networks gain nothing from intra-op threads, and on a busy CPU torch's spinning
 # threads made each update 7 to 30 times slower (measured on 2 cores): use one.
 TORCH_THREADS = 1
@@ -194,14 +197,23 @@ def algo_of(path: Path) -> str:
     return algo
 
 
-def load_policy(path: str | os.PathLike[str], env: gymnasium.Env) -> BaseAlgorithm | RayPolicy:
-    """The model saved at `path` (see `policy_file`), checked to fit `env`'s spaces; one
-    trained with `--engine ray` loads as a RayPolicy (`composer.cli.ray_files`)."""
+def load_policy(
+    path: str | os.PathLike[str], env: gymnasium.Env, trusted: bool = False
+) -> BasePolicy | BaseAlgorithm | RayPolicy:
+    """The policy saved at `path` (see `policy_file`), checked to fit `env`'s spaces, with
+    `predict(observation, deterministic)`; one trained with `--engine ray` loads as a
+    RayPolicy (`composer.cli.ray_files`). Only its weights and plain settings are read
+    (`composer.cli.sb3_files`), unless `trusted`: then the library's own loader reads it
+    whole, unpickling and so running code from the file. Raises PolicyError, and
+    UntrustedPolicyError when the file can only be read whole."""
     ray_policy = ray_files.find_policy(path)
     if ray_policy is not None:
-        return ray_files.load_policy(ray_policy, env)
+        return ray_files.load_policy(ray_policy, env, trusted)
     file = policy_file(path)
-    model = ALGORITHMS[algo_of(file)].load(file, device="cpu")
+    algorithm = ALGORITHMS[algo_of(file)]
+    if not trusted:
+        return sb3_files.load_policy(file, algorithm, env)
+    model = algorithm.load(file, device="cpu")
     engine.check_spaces(file, model, env)
     return model
 
@@ -278,13 +290,18 @@ class Trainer(engine.Trainer):
         return engine.plural(self.recipe.n_envs, "environment")
 
     def learn(self, session: Session, stop: StopOnInterrupt) -> None:
-        """`model.learn` up to the recipe's timesteps, with SB3's progress bar on a terminal."""
-        self.model.learn(
-            self.recipe.timesteps - self.model.num_timesteps,
-            callback=session.callback(stop, sys.stderr.isatty()),
-            reset_num_timesteps=not self._resumed,
-            tb_log_name=self._log_name,
-        )
+        """`model.learn` up to the recipe's timesteps, with the progress bar on a terminal."""
+        bar = progress.Bar.open(self.recipe.timesteps, self.model.num_timesteps)
+        try:
+            self.model.learn(
+                self.recipe.timesteps - self.model.num_timesteps,
+                callback=session.callback(stop, bar),
+                reset_num_timesteps=not self._resumed,
+                tb_log_name=self._log_name,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
 
     def save_policy(self, path: Path) -> None:
         """The model's .zip, with its observation statistics (see `keep_normalization`)."""
@@ -316,6 +333,10 @@ def trainer(
             model.set_random_seed(progress.seed + model.num_timesteps)
         else:
             model = new_model(recipe, venv, progress.seed, args.tensorboard)
+        if args.tensorboard is None:
+            # stable-baselines3's own logger would make an empty folder per run in the
+            # system's temporary folder (SB3-<date>), where nothing removes it.
+            model.set_logger(Logger(folder=None, output_formats=[]))
         yield Trainer(model, progress, recipe, folder.resumes, folder.out.name)
     finally:
         venv.close()
@@ -401,10 +422,9 @@ class Session:
         )
         self.checkpoint.save(model, self.progress)
 
-    def callback(self, stop: StopOnInterrupt, progress_bar: bool) -> BaseCallback:
-        """The stable-baselines3 callback running this session (with SB3's progress bar)."""
-        ours = _SessionCallback(self, stop)
-        return CallbackList([ProgressBarCallback(), ours]) if progress_bar else ours
+    def callback(self, stop: StopOnInterrupt, bar: progress.Bar | None = None) -> BaseCallback:
+        """The stable-baselines3 callback running this session, advancing `bar`."""
+        return _SessionCallback(self, stop, bar)
 
     def due(self, timesteps: int) -> bool:
         """Whether an evaluation is due at `timesteps`; schedules the next one."""
@@ -416,14 +436,17 @@ class Session:
 
 
 class _SessionCallback(BaseCallback):
-    def __init__(self, session: Session, stop: StopOnInterrupt) -> None:
+    def __init__(self, session: Session, stop: StopOnInterrupt, bar: progress.Bar | None) -> None:
         super().__init__()
         self.session = session
         self.stop = stop
+        self.bar = bar
 
     def _on_step(self) -> bool:
         session = self.session
         timesteps = self.num_timesteps
+        if self.bar is not None:
+            self.bar.advance_to(timesteps)
         for info in self.locals.get("infos", ()):
             episode = info.get("episode")
             if episode is not None:
@@ -433,7 +456,7 @@ class _SessionCallback(BaseCallback):
         if not self.stop.requested and session.due(timesteps):
             keep_normalization(self.model)
             result = session.evaluate(self.model)
-            print(report(result), flush=True)
+            progress.say(self.bar, report(result))
             for key in ("mean_return", "success_rate", "forward_speed"):
                 if result.get(key) is not None:  # TensorBoard's, with --tensorboard
                     self.logger.record(f"eval/{key}", result[key])

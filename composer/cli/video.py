@@ -1,7 +1,7 @@
 """Frames to files: PNG images (standard library only) and videos (imageio).
 
-    video.write_png(env.render(), 'frame.png')
-    path = video.target('out.mp4')                           # 'out.gif' when no ffmpeg
+    video.write_png(env.render(), video.png_target('frame.png'))   # OutputError: not .png
+    path = video.target('out.mp4')            # 'out.gif' when no ffmpeg; OutputError: '.avi'
     written = video.write_video(frames, 'out.mp4', fps=30)   # writes that path
 
 MP4 needs ffmpeg, which `imageio-ffmpeg` ships; when it cannot be found the video is
@@ -21,7 +21,20 @@ import numpy as np
 
 from composer.cli.errors import MissingExtraError, OutputError
 
+# What `write_video` writes: MP4 (with ffmpeg), GIF.
+VIDEO_FORMATS = (".mp4", ".gif")
 VIDEO_INSTALL = "pip install -e '.[video]'  (or: pip install imageio imageio-ffmpeg)"
+
+
+def png_target(path: str | os.PathLike[str]) -> Path:
+    """`path`, checked to name a .png file (what `write_png` writes); raises OutputError."""
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise OutputError(
+            f"cannot write {path}: a frame is written as .png, "
+            f"not {path.suffix or 'a file without an extension'}"
+        )
+    return path
 
 
 def write_png(frame: np.ndarray, path: str | os.PathLike[str]) -> Path:
@@ -64,8 +77,13 @@ def ffmpeg_available() -> bool:
 
 def target(path: str | os.PathLike[str]) -> Path:
     """The file `write_video` writes for `path`: itself, or a .gif beside it (a GIF asked
-    for, or no ffmpeg for an MP4)."""
+    for, or no ffmpeg for an MP4). Raises OutputError for a path that names neither."""
     path = Path(path)
+    if path.suffix.lower() not in VIDEO_FORMATS:
+        raise OutputError(
+            f"cannot write {path}: a video is written as {' or '.join(VIDEO_FORMATS)}, "
+            f"not {path.suffix or 'a file without an extension'}"
+        )
     if path.suffix.lower() != ".gif" and ffmpeg_available():
         return path
     return path.with_suffix(".gif")

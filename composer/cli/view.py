@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             from composer.cli import training  # needs the [train] extra
 
-            policy = rollout.model_policy(training.load_policy(args.policy, env))
+            policy = rollout.model_policy(training.load_policy(args.policy, env, args.trust_policy))
         watch(env, policy, viewer, args.seed, args.episodes)
     finally:
         env.close()

@@ -7,6 +7,7 @@ import sys
 
 import pytest
 
+from composer.cli import video
 from tests.cli.helpers import assert_one_line_error, composer, composer_without
 
 INSTALL = "pip install torch==2.13.0 && pip install -e '.[train]'"
@@ -86,6 +87,33 @@ def test_a_video_that_cannot_be_written_is_named_before_the_episodes_run(tmp_pat
     (tmp_path / "taken.mp4").mkdir()
     result = composer("run", "Reach", "--video", "taken.mp4", cwd=tmp_path)
     assert_one_line_error(result, "cannot write taken.mp4: it is a directory")
+
+
+@pytest.mark.parametrize(
+    ("command", "message"),
+    [
+        (["run", "Reach", "--video", "x.txt"], "cannot write x.txt: a video is written as "
+         ".mp4 or .gif, not .txt"),
+        (["run", "Reach", "--video", "x.avi"], "cannot write x.avi: a video is written as "
+         ".mp4 or .gif, not .avi"),
+        (["run", "Reach", "--video", "clip"], "cannot write clip: a video is written as .mp4 "
+         "or .gif, not a file without an extension"),
+        (["show", "Reach", "--out", "frame.jpg"], "cannot write frame.jpg: a frame is written "
+         "as .png, not .jpg"),
+    ],
+)  # fmt: skip
+def test_an_output_format_we_cannot_write_is_refused_before_any_work(tmp_path, command, message):
+    result = composer(*command, cwd=tmp_path)
+    assert assert_one_line_error(result) == f"composer: error: {message}"
+    assert result.stdout == ""  # no episode played, no scene printed
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_help_names_the_video_formats_the_check_accepts(tmp_path):
+    text = " ".join(composer("run", "--help", cwd=tmp_path).stdout.split())
+    assert "write the episodes to this .mp4 or .gif file" in text
+    for suffix in (".mp4", ".gif", ".MP4"):
+        assert video.target(tmp_path / f"v{suffix}").suffix.lower() in (".mp4", ".gif")
 
 
 def test_missing_policies_and_checkpoints_are_named(tmp_path):

@@ -37,7 +37,14 @@ def test_show_renders_headless_without_mujoco_gl(tmp_path):
     env = environment()
     for name in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY"):
         env.pop(name, None)
-    result = composer("show", "CartpoleSwingup", cwd=tmp_path, env=env)
+    result = composer("show", "CartpoleSwingup", "--out", "cartpole.png", cwd=tmp_path, env=env)
     assert result.returncode == 0, result.stderr
-    frame = iio.imread(tmp_path / "CartpoleSwingup.png")
+    frame = iio.imread(tmp_path / "cartpole.png")
     assert frame.shape == (240, 320, 3) and np.ptp(frame) > 50
+
+
+def test_show_without_out_writes_nothing(tmp_path):
+    result = composer("show", "Reach", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.rstrip().endswith("frame: none (--out FILE.png renders one)")
+    assert list(tmp_path.iterdir()) == []  # no Reach.png, no MUJOCO_LOG.TXT

@@ -28,9 +28,14 @@ DURATION = r"(\d+h)?(\d+m)?\d*s?"
 
 
 def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
+    temp = tmp_path / "temp"  # the system's temporary folder: left as it was
+    temp.mkdir()
     result = composer("train", "Reach", "--timesteps", "2048", "--out", "run", *TINY,
-                      cwd=tmp_path)  # fmt: skip
+                      cwd=tmp_path, env=environment(TMPDIR=str(temp)))  # fmt: skip
     assert result.returncode == 0, result.stderr
+    # Nothing per run (stable-baselines3 made an empty SB3-<date> folder); torch keeps one
+    # cache folder per user there.
+    assert [p.name for p in temp.iterdir() if not p.name.startswith("torchinductor_")] == []
     assert "training Reach with PPO to 2,048 steps on 2 environments -> run" in result.stdout
     assert re.search(rf"^ +2,048 steps +{DURATION}  return [\d.]+ ± [\d.]+  success [\d.]+$",
                      result.stdout, re.M)  # fmt: skip
@@ -52,9 +57,9 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     checkpoint = {p.name for p in (out / "checkpoint").iterdir()}
     assert checkpoint == {"model.zip", "state.json", "vecnormalize.pkl"}  # PPO normalizes
 
-    # policy.zip carries the observation statistics: eval repeats training's final evaluation.
-    evaluated = composer("eval", "Reach", "run", "--episodes", "2", "--seed", "1000000",
-                         cwd=tmp_path)  # fmt: skip
+    # policy.zip carries the observation statistics, and eval's seeds are those of training's
+    # evaluations: with as many episodes, eval repeats training's final evaluation.
+    evaluated = composer("eval", "Reach", "run", "--episodes", "2", cwd=tmp_path)
     assert evaluated.returncode == 0, evaluated.stderr
     final = metrics["final"]
     assert evaluated.stdout == (

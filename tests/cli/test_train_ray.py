@@ -1,6 +1,7 @@
 """`composer train --engine ray`: RLlib on a real two-worker local Ray instance, the files
 of the stable-baselines3 engine, eval and run of the result, resuming, Ctrl-C, and an env
-runner killed mid-training."""
+runner killed mid-training. One command starts its own local instance; the others join the
+session's cluster (tests/ray_cluster.py), to pay Ray's start once."""
 
 from __future__ import annotations
 
@@ -9,15 +10,17 @@ import os
 import re
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
 import threading
+from pathlib import Path
 
 import imageio.v3 as iio
 import pytest
 
+from composer.cli import ray_instance
+from composer.cli.ray_algorithm import Layout
 from tests.cli.helpers import (
     FINISHED_CHOICES,
     assert_one_line_error,
@@ -25,6 +28,7 @@ from tests.cli.helpers import (
     composer_without,
     environment,
 )
+from tests.ray_cluster import free_port, start_node, stop_node, wait_started
 
 try:
     import ray.rllib  # noqa: F401
@@ -42,11 +46,30 @@ TIMEOUT = 600
 DURATION = r"(\d+h)?(\d+m)?\d*s?"
 
 
+def processes_started_with(marker: str) -> list[int]:
+    """The live processes whose environment holds `marker` (Linux; elsewhere none)."""
+    found = []
+    for environ in Path("/proc").glob("[0-9]*/environ"):
+        try:
+            if marker.encode() in environ.read_bytes().split(b"\0"):
+                found.append(int(environ.parent.name))
+        except OSError:
+            continue
+    return found
+
+
 @needs_ray
-def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path):
-    result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps", "20000",
-                      "--out", "run", cwd=tmp_path, timeout=TIMEOUT)  # fmt: skip
-    assert result.returncode == 0, result.stderr
+def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path, ray_cluster):
+    # A local instance, started and stopped by the command: nothing of it is left.
+    with tempfile.TemporaryDirectory(dir="/tmp") as short:  # Ray's socket paths go in it
+        result = composer("train", "CartpoleSwingup", *RAY, "--workers", "2", "--timesteps",
+                          "20000", "--out", "run", cwd=tmp_path,
+                          env=environment(TMPDIR=short), timeout=TIMEOUT)  # fmt: skip
+        assert result.returncode == 0, result.stderr
+        assert processes_started_with(f"TMPDIR={short}") == []
+        left = [p.name for p in Path(short).iterdir() if not p.name.startswith("torchinductor_")]
+        assert left == []
+    assert result.stderr == ""  # no notice of Ray's that asks nothing of the user
     assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
             "environments -> run") in result.stdout  # fmt: skip
     assert re.search(r"^env runners: 2 on [\d.]+ \(pids \d+, \d+\)$", result.stdout, re.M)
@@ -69,17 +92,20 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert metrics["random_policy"]["episodes"] == 10
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
     assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape[1:] == (240, 320, 3)
-    assert {p.name for p in (out / "policy").iterdir()} == {"module", "policy.json"}
+    assert {p.name for p in (out / "policy").iterdir()} == {"module", "policy.json", "weights.npz"}
 
-    # The policy carries its observation filter: eval repeats training's final evaluation.
-    evaluated = composer("eval", "CartpoleSwingup", "run", "--episodes", "10", "--seed",
-                         "1000000", cwd=tmp_path)  # fmt: skip
+    # The policy carries its observation filter, and eval's default seeds are those of
+    # training's evaluations: eval repeats training's final evaluation.
+    evaluated = composer("eval", "CartpoleSwingup", "run", cwd=tmp_path)
     assert evaluated.returncode == 0, evaluated.stderr
     final = metrics["final"]
     assert evaluated.stdout == (
         f"CartpoleSwingup, policy run: return {final['mean_return']:.2f} ± "
         f"{final['std_return']:.2f} over 10 episodes\n"
     )
+    # Read from weights.npz (the default) or by RLlib from module/: the same policy.
+    trusted = composer("eval", "CartpoleSwingup", "run", "--trust-policy", cwd=tmp_path)
+    assert trusted.stdout == evaluated.stdout
     ran = composer("run", "CartpoleSwingup", "--policy", "run/policy", cwd=tmp_path)
     assert ran.returncode == 0, ran.stderr
     assert "CartpoleSwingup, policy run/policy: return" in ran.stdout
@@ -115,9 +141,11 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert_one_line_error(unreachable, f"cannot reach the Ray cluster at 127.0.0.1:{port}")
     assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
 
-    resumed = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--timesteps",
-                       "28000", "--resume", "--out", "run", "--no-video", cwd=tmp_path,
-                       timeout=TIMEOUT)  # fmt: skip
+    # The rest joins the session's cluster.
+    cluster = ("--address", ray_cluster.address)
+    resumed = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "1",
+                       "--timesteps", "28000", "--resume", "--out", "run", "--no-video",
+                       cwd=tmp_path, env=ray_cluster.environment(), timeout=TIMEOUT)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
     assert ("resuming at 20,480 steps: CartpoleSwingup with RLlib PPO to 28,000 steps on "
             "1 env runner x 16 environments") in resumed.stdout  # fmt: skip
@@ -131,10 +159,10 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
     # PPO's minibatch of 256), and leaves nothing in ~/ray_results.
     home = tmp_path / "home"
-    fresh = composer("train", "CartpoleSwingup", *RAY, "--workers", "1", "--envs-per-worker",
-                     "2", "--timesteps", "256", "--eval-episodes", "1", "--out", "run",
-                     "--fresh", "--no-video", cwd=tmp_path, env=environment(HOME=str(home)),
-                     timeout=TIMEOUT)  # fmt: skip
+    fresh = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "1",
+                     "--envs-per-worker", "2", "--timesteps", "256", "--eval-episodes", "1",
+                     "--out", "run", "--fresh", "--no-video", cwd=tmp_path,
+                     env=ray_cluster.environment(HOME=str(home)), timeout=TIMEOUT)  # fmt: skip
     assert fresh.returncode == 0, fresh.stderr
     assert fresh.stdout.startswith(
         f"--fresh: removed the earlier run in run: checkpoint/{saved}/, checkpoint/state.json, "
@@ -148,14 +176,14 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
 
 
 @needs_ray
-def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
+def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path, ray_cluster):
     """SIGKILL one env runner's process, as a crash or a lost machine would; later SIGINT
     to the whole process group, as a terminal's Ctrl-C."""
-    command = ["train", "CartpoleSwingup", *RAY, "--workers", "2", "--envs-per-worker", "2",
-               "--timesteps", "10000000", "--eval-every", "1024", "--eval-episodes", "1",
-               "--out", "run", "--no-video"]  # fmt: skip
+    command = ["train", "CartpoleSwingup", *RAY, "--address", ray_cluster.address, "--workers",
+               "2", "--envs-per-worker", "2", "--timesteps", "10000000", "--eval-every", "1024",
+               "--eval-episodes", "1", "--out", "run", "--no-video"]  # fmt: skip
     process = subprocess.Popen(
-        [sys.executable, "-m", "composer", *command], cwd=tmp_path, env=environment(),
+        [sys.executable, "-m", "composer", *command], cwd=tmp_path, env=ray_cluster.environment(),
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )  # fmt: skip
     # A restart that never comes must not hang the suite.
@@ -206,10 +234,10 @@ def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
     # flag (here for one more iteration) and finishes, its evaluations and restarts kept.
     done = state["timesteps"]
     smaller = [("1024" if word == "10000000" else word) for word in command]
-    assert_one_line_error(composer(*smaller, cwd=tmp_path),
+    assert_one_line_error(composer(*smaller, cwd=tmp_path, env=ray_cluster.environment()),
                           f"the run in run has {done:,} steps already")  # fmt: skip
     more = [(str(done + 1) if word == "10000000" else word) for word in command]
-    finished = composer(*more, cwd=tmp_path, timeout=TIMEOUT)
+    finished = composer(*more, cwd=tmp_path, env=ray_cluster.environment(), timeout=TIMEOUT)
     assert finished.returncode == 0, finished.stderr
     assert f"resuming at {done:,} steps: CartpoleSwingup with RLlib PPO" in finished.stdout
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
@@ -217,32 +245,6 @@ def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path):
     assert metrics["evaluations"][: len(steps)] == state["evaluations"]
     # One iteration: 2 runners x 2 environments x 128 steps.
     assert metrics["timesteps"] == metrics["evaluations"][-1]["timesteps"] == done + 512
-
-
-def free_port() -> int:
-    """A TCP port nothing listens on (now)."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-def ray_start(*options: str, env: dict[str, str]) -> subprocess.Popen[str]:
-    """`ray start OPTIONS --block` in its own session: SIGTERM to it stops its node."""
-    ray_cli = os.path.join(os.path.dirname(sys.executable), "ray")
-    return subprocess.Popen(
-        [ray_cli, "start", *options, "--block", "--num-cpus", "1", "--disable-usage-stats",
-         "--object-store-memory", str(80 * 1024**2)],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        start_new_session=True,
-    )  # fmt: skip
-
-
-def wait_started(node: subprocess.Popen[str]) -> None:
-    """Read `ray start`'s output until its node runs (or it ended)."""
-    for line in node.stdout:
-        if "This command will now block" in line:
-            return
-    raise AssertionError(f"ray start exited with {node.wait()}")
 
 
 @needs_ray
@@ -254,23 +256,20 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
     token = os.urandom(16).hex()
     env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token)
     temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
-    nodes = [ray_start("--head", "--port", str(port), "--include-dashboard", "false",
-                       "--temp-dir", temp, env=env)]  # fmt: skip
+    nodes = [start_node("--head", "--port", str(port), "--include-dashboard", "false",
+                        "--temp-dir", temp, env=env, cpus=1)]  # fmt: skip
     try:
         wait_started(nodes[0])
-        nodes.append(ray_start("--address", f"127.0.0.1:{port}", env=env))
+        nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, cpus=1))
         wait_started(nodes[1])
+        # The token alone, as a user copies it: the command joins in token mode itself.
         result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
                           "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
-                          "1", "--out", "run", "--no-video", cwd=tmp_path, env=env,
-                          timeout=TIMEOUT)  # fmt: skip
+                          "1", "--out", "run", "--no-video", cwd=tmp_path,
+                          env=environment(RAY_AUTH_TOKEN=token), timeout=TIMEOUT)  # fmt: skip
     finally:
         for node in reversed(nodes):
-            node.terminate()
-            try:
-                node.wait(timeout=60)
-            except subprocess.TimeoutExpired:
-                os.killpg(node.pid, signal.SIGKILL)
+            stop_node(node)
         shutil.rmtree(temp, ignore_errors=True)
     assert result.returncode == 0, result.stderr
     assert "on 2 env runners x 2 environments" in result.stdout  # the cluster's two CPUs
@@ -278,6 +277,29 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
     assert metrics["ray"]["cluster"] == f"127.0.0.1:{port}"
     assert (metrics["ray"]["nodes"], metrics["ray"]["cpus"], metrics["workers"]) == (2, 2, 2)
     assert metrics["timesteps"] == 2048 and metrics["completed"]
+
+
+def test_more_env_runners_than_cpus_on_this_machine_is_said():
+    cpus = ray_instance.machine_cpus()
+    note = ray_instance.oversubscribed(Layout(cpus + 1, 2, None))
+    assert note == (
+        f"note: {cpus + 1} env runners on this machine's {cpus} CPUs take turns on them: "
+        f"sampling is no faster than with --workers {cpus} (see docs/ray.md)"
+    )
+    assert ray_instance.oversubscribed(Layout(cpus, 2, None)) is None
+    assert ray_instance.oversubscribed(Layout(cpus + 1, 2, "10.0.0.1:6379")) is None  # a cluster's
+
+
+def test_a_long_temporary_folder_puts_ray_s_session_in_tmp(monkeypatch, tmp_path):
+    # Ray's socket paths inside the session folder must fit in 107 bytes (macOS's TMPDIR).
+    long = tmp_path / ("x" * 60)
+    long.mkdir()
+    monkeypatch.delenv("RAY_TMPDIR", raising=False)
+    monkeypatch.setenv("TMPDIR", str(long))
+    monkeypatch.setattr(tempfile, "tempdir", None)  # tempfile caches what it found
+    assert ray_instance._temp_root() == "/tmp"
+    monkeypatch.setenv("RAY_TMPDIR", str(long))  # asked for: Ray's own variable
+    assert ray_instance._temp_root() == str(long)
 
 
 def test_options_of_the_other_engine_are_refused(tmp_path):

@@ -23,12 +23,9 @@ CARTPOLE = "tasks.cartpole:CartpoleSwingup"
 
 
 @pytest.fixture(scope="module")
-def local_ray():
-    """A small local Ray instance for this module's tests (two CPUs, no dashboard)."""
-    ray.init(
-        num_cpus=2, object_store_memory=80 * 1024**2, include_dashboard=False,
-        log_to_driver=False, logging_level=logging.ERROR,
-    )  # fmt: skip
+def local_ray(ray_cluster):
+    """This module's tests join the session's local Ray cluster (tests/ray_cluster.py)."""
+    ray.init(address=ray_cluster.address, log_to_driver=False, logging_level=logging.ERROR)
     yield
     ray.shutdown()
 

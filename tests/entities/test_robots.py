@@ -6,10 +6,12 @@ from __future__ import annotations
 import sys
 import types
 
+import mujoco
 import numpy as np
 import pytest
 
 import composer
+import mjcf
 from arenas import Floor
 from entities import menagerie, robots
 
@@ -156,3 +158,25 @@ def test_real_ur5e_with_robotiq_2f85():
     np.testing.assert_allclose(tcp.xmat.reshape(3, 3)[:, 2], [0, 0, -1], atol=1e-3)  # down
     flange = physics.bind(robot.arm.mjcf_model.find("site", "attachment_site")).xpos
     assert 0.1 < np.linalg.norm(tcp.xpos - flange) < 0.2  # the fingers' length
+
+
+def test_a_standalone_robot_file_s_floor_can_be_dropped_for_the_arena_s(tmp_path):
+    from arenas import Floor
+    from tests.conftest import gym_model
+
+    def planes(without_floor: bool) -> tuple[list[str], float]:
+        arena = Floor()
+        ant = robots.from_path(gym_model("ant"), without_floor=without_floor)
+        arena.add_free_entity(ant)
+        physics = mjcf.Physics.from_mjcf_model(arena.mjcf_model)
+        model = physics.model
+        names = [model.geom(i).name for i in range(model.ngeom)
+                 if model.geom_type[i] == mujoco.mjtGeom.mjGEOM_PLANE]  # fmt: skip
+        physics.step(500)  # 5 s: the ant settles on whatever ground is there
+        return names, float(physics.named.data.xpos["ant/torso", "z"])
+
+    names, _ = planes(without_floor=False)
+    assert sorted(names) == ["ant/floor", "floor"]  # two grounds in one place
+    names, height = planes(without_floor=True)
+    assert names == ["floor"]  # the arena's alone
+    assert 0.2 < height < 1.0  # standing on it, not fallen through

@@ -1,0 +1,112 @@
+"""A stable-baselines3 policy file read without running code from it.
+
+    policy = sb3_files.load_policy(Path('runs/Reach-ppo/policy.zip'), 'ppo', env)
+    action, _ = policy.predict(observation, deterministic=True)
+
+A stable-baselines3 .zip holds `data` (JSON, where every value that is not plain JSON is a
+pickled Python object: classes, schedules, spaces, buffers), `policy.pth` (the network's
+weights) and the optimizer's state. `stable_baselines3.PPO.load` unpickles all of it, and
+unpickling runs whatever code the file's author put there. Here only plain data is read:
+the network's settings (`policy_kwargs`, which `composer train` writes as plain JSON), the
+shapes of the spaces, the observation statistics (`observation_normalization`), and the
+weights through `torch.load(weights_only=True)`, which loads tensors and refuses anything
+else. The policy is built on the environment's own spaces, so `predict` is the model's: the
+same network, weights and action scaling, the same actions (tested against
+`PPO.load`). A file whose needed parts are pickles raises UntrustedPolicyError, which names
+`--trust-policy`, for files from a source the user trusts.
+"""
+
+from __future__ import annotations
+
+import json
+import pickle
+import types
+import warnings
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import gymnasium
+import numpy as np
+import torch
+from stable_baselines3.common.base_class import BaseAlgorithm
+from stable_baselines3.common.policies import BasePolicy
+
+from composer.cli import engine, rollout
+from composer.cli.errors import PolicyError, UntrustedPolicyError
+
+# How stable-baselines3 marks a value of `data` that it pickled.
+_PICKLED = ":serialized:"
+
+
+def load_policy(file: Path, algorithm: type[BaseAlgorithm], env: gymnasium.Env) -> BasePolicy:
+    """The policy saved in the stable-baselines3 .zip `file` by `algorithm`, for `env`:
+    built from the file's plain settings and its weights, carrying its observation
+    statistics as `rollout.NORMALIZATION_ATTRIBUTE` when it has them. Raises PolicyError
+    for a file that cannot be read or does not fit `env`, UntrustedPolicyError when what it
+    needs is pickled."""
+    try:
+        with zipfile.ZipFile(file) as archive:
+            data = json.loads(archive.read("data"))
+            with archive.open("policy.pth") as weights_file, warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # torch's notes on a file not its own
+                weights = torch.load(weights_file, map_location="cpu", weights_only=True)
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as e:
+        raise PolicyError(f"cannot read the policy in {file}: {e}") from e
+    except pickle.UnpicklingError as e:  # torch refused: not only tensors
+        reason = "its policy.pth holds more than tensors"
+        raise UntrustedPolicyError(_untrusted(file, reason)) from e
+    settings = _plain(file, data, "policy_kwargs", {})
+    for key in ("observation_space", "action_space"):
+        if not isinstance(data.get(key), dict) or "_shape" not in data[key]:
+            raise PolicyError(f"{file} does not say the shape of its {key.replace('_', ' ')}")
+    saved = types.SimpleNamespace(**{
+        key: gymnasium.spaces.Box(-np.inf, np.inf, tuple(data[key]["_shape"]))
+        for key in ("observation_space", "action_space")
+    })  # fmt: skip
+    engine.check_spaces(file, saved, env)
+    policy_class = algorithm.policy_aliases[
+        "MultiInputPolicy"
+        if isinstance(env.observation_space, gymnasium.spaces.Dict)
+        else "MlpPolicy"
+    ]
+    settings.setdefault("use_sde", bool(_plain(file, data, "use_sde", False)))
+    try:
+        policy = policy_class(env.observation_space, env.action_space, _no_learning, **settings)
+        policy.load_state_dict(weights)
+    except (TypeError, ValueError, RuntimeError) as e:  # settings or weights of another net
+        raise PolicyError(f"cannot build the policy in {file}: {e}") from e
+    policy.set_training_mode(False)
+    statistics = _plain(file, data, rollout.NORMALIZATION_ATTRIBUTE, None)
+    if statistics is not None:
+        setattr(policy, rollout.NORMALIZATION_ATTRIBUTE, statistics)
+    return policy
+
+
+def _no_learning(progress: float) -> float:
+    """The learning rate schedule a policy is built with: it only predicts."""
+    return 0.0
+
+
+def _plain(file: Path, data: dict[str, Any], key: str, default: Any) -> Any:
+    """`data[key]` (`default` if absent); raises UntrustedPolicyError if any part of it
+    is pickled."""
+    value = data.get(key, default)
+    if _holds_pickles(value):
+        raise UntrustedPolicyError(_untrusted(file, f"its {key!r} holds pickled Python objects"))
+    return value
+
+
+def _holds_pickles(value: Any) -> bool:
+    if isinstance(value, dict):
+        return _PICKLED in value or any(_holds_pickles(v) for v in value.values())
+    if isinstance(value, list):
+        return any(_holds_pickles(v) for v in value)
+    return False
+
+
+def _untrusted(file: Path, reason: str) -> str:
+    return (
+        f"{file} cannot be loaded without running code from it: {reason}. Load it only if "
+        "you trust where it came from, with --trust-policy (see SECURITY.md)"
+    )
