@@ -2,9 +2,7 @@
 MuJoCo's default, which prints them and appends them to MUJOCO_LOG.TXT in the current
 folder (a stray file in whatever folder a script or a test runs in).
 
-    import contextlib
-import contextlib
-import logging
+    import logging
     logging.getLogger("mujoco").setLevel(logging.ERROR)     # silence them
     logging.getLogger("mujoco").addHandler(logging.FileHandler("mujoco.log"))   # keep them
 

@@ -238,11 +238,26 @@ def rewritten() -> Path:
     return target
 
 
+@contextmanager
+def _mujoco_warnings_kept() -> Iterator[None]:
+    """Run dm_control's code, then give MuJoCo back the warning handler it had: importing
+    `dm_control.mujoco` installs its own, process-wide, which would route every later
+    test's MuJoCo warnings to absl instead of mjcf's logger."""
+    import mujoco
+
+    handler = mujoco.get_mju_user_warning()
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(handler)
+
+
 def import_module(name: str) -> ModuleType:
     """Import `name` (a dm_control module, e.g. 'dm_control.locomotion.walkers.ant') from
     the rewritten wheel; skips like `rewritten`."""
     rewritten()
-    return importlib.import_module(name)
+    with _mujoco_warnings_kept():
+        return importlib.import_module(name)
 
 
 class _Outcomes(unittest.TestResult):
@@ -289,6 +304,11 @@ def run_unittest_file(relative: str, class_fixtures: bool = True) -> dict[str, s
     if not flags.FLAGS.is_parsed():
         flags.FLAGS.mark_as_parsed()
     name = "dm_control." + relative.removesuffix(".py").replace("/", ".")
+    with _mujoco_warnings_kept():
+        return _run_module(name, class_fixtures)
+
+
+def _run_module(name: str, class_fixtures: bool) -> dict[str, str]:
     try:
         module = importlib.import_module(name)
     except Exception as e:  # what is missing on our side shows here first
