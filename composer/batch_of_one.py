@@ -22,7 +22,6 @@ environment, through that same single-environment reader.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -37,8 +36,6 @@ if TYPE_CHECKING:
     from composer.task import Task
 
 _MJTNUM = mujoco.MJTNUM_DTYPE
-# The batches of one that environments serve, by id of their physics (see `BatchOfOne.of`).
-_SERVED: weakref.WeakValueDictionary[int, BatchOfOne] = weakref.WeakValueDictionary()
 
 
 class _Field:
@@ -133,25 +130,6 @@ class BatchOfOne(batched.BatchPhysics):
         self._model: mujoco.MjModel | None = None
         self._bindings: dict[Any, Any] = {}
         self._readers: dict[str, Callable[[], Any]] = {}
-
-    @classmethod
-    def of(cls, physics: mjcf.Physics, task: Task | None = None) -> BatchOfOne:
-        """The strict batch of one an Environment serves `physics` with (with its task and
-        random state), or else a new one around `physics` and `task`."""
-        served = _SERVED.get(id(physics))
-        if (
-            served is not None
-            and served._physics is physics
-            and (task is None or served._task is task)
-        ):
-            return served
-        return cls(physics, task)
-
-    def serve(self) -> BatchOfOne:
-        """Make this the batch of one `BatchOfOne.of` gives for its physics (while it lives:
-        an Environment keeps its own); returns it."""
-        _SERVED[id(self._physics)] = self
-        return self
 
     @property
     def physics(self) -> mjcf.Physics:

@@ -119,7 +119,7 @@ def test_what_the_vector_batch_refuses_a_batch_of_one_refuses_alike():
 def test_who_the_row_is_an_environment_says():
     env = composer.Environment(BatchedSwing())
     env.reset(seed=0)
-    served = BatchOfOne.of(env.physics)
+    served = env.batch_physics
     assert served.num_envs == 1 and served.ids.tolist() == [0]
     assert served.tasks == [env.task] and served.random_states == [env.random_state]
     assert isinstance(served, composer.BatchPhysics)
