@@ -157,12 +157,12 @@ class Task(hooks.EpisodeHooks):
         actuator's control, bounded by its ctrlrange where it is control-limited,
         unbounded otherwise. MuJoCo clamps controls to ctrlrange itself. A task defining
         dm_control's `action_spec(physics)` gets its dm_env spec as a Box instead
-        (`composer.dm_env_bridge`, the [dm] extra)."""
+        (`composer.dm_env_specs`, the [dm] extra)."""
         declared = getattr(type(self), "action_spec", None)
         if declared is not None and declared is not getattr(Task, "action_spec", None):
-            from composer import dm_env_bridge  # imports dm_env: only for such tasks
+            from composer import dm_env_specs  # imports dm_env: only for such tasks
 
-            return dm_env_bridge.action_space_from_spec(declared(self, physics))
+            return dm_env_specs.action_space_from_spec(declared(self, physics))
         model = physics.model
         limited = model.actuator_ctrllimited.astype(bool)
         low = np.where(limited, model.actuator_ctrlrange[:, 0], -np.inf)
