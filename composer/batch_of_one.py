@@ -1,12 +1,14 @@
 """BatchOfOne: one environment's `mjcf.Physics` as a batch of one, for batched methods.
 
-    view = BatchOfOne(physics, task)                 # what a single Environment passes
+    view = env.batch_physics                         # what a single Environment passes
+    view = BatchOfOne(physics, task)                 # one of your own (no random state)
     view.bind(hinge).qpos                            # (1, 1): the hinge's qpos, a copy
     view.bind(motor).ctrl = [[0.5]]                  # writes through physics.bind(motor)
     task.get_reward_batch(view)[0]                   # the reward of this one environment
 
 A single `composer.Environment` runs a task's batched methods (`composer.batched`) with
-this view, so one environment computes what a `VectorEnvironment` computes for each of its
+its view (made at each compile, with its task and random state; the task's own single
+forms run their batched forms with it too), so one environment computes what a `VectorEnvironment` computes for each of its
 environments, bit for bit. It reads and writes through the physics' own bindings (cached,
 fresh as `mjcf.binding` promises), adding the leading axis of one row: reads are new arrays
 (state fields as mjtNum, as MuJoCo's batch holds them), writes take (1, ...) rows or
