@@ -8,11 +8,11 @@
 
 A single `composer.Environment` runs a task's batched methods (`composer.batched`) with
 its view (made at each compile, with its task and random state; the task's own single
-forms run their batched forms with it too), so one environment computes what a `VectorEnvironment` computes for each of its
-environments, bit for bit. It reads and writes through the physics' own bindings (cached,
-fresh as `mjcf.binding` promises), adding the leading axis of one row: reads are new arrays
-(state fields as mjtNum, as MuJoCo's batch holds them), writes take (1, ...) rows or
-anything that broadcasts to them.
+forms run their batched forms with it too), so one environment computes what a
+`VectorEnvironment` computes for each of its environments, bit for bit. It reads and
+writes through the physics' own bindings (cached, fresh as `mjcf.binding` promises), adding
+the leading axis of one row: reads are new arrays (state fields as mjtNum, as MuJoCo's batch
+holds them), writes take (1, ...) rows or anything that broadcasts to them.
 
 A strict view (the default) gives exactly what MuJoCo's batch gives a `VectorEnvironment`
 (`composer.batched.check_source`): the same fields readable, the same state fields

@@ -1,10 +1,10 @@
 """Schedule: when each observable is sampled, and every environment's samples and outputs.
 
     schedule = Schedule(channels, substeps=5, num_envs=n, flatten=False)
-    schedule.restart(k, ALL, values, random_states, zero_padding=False)  # at a reset
+    schedule.restart(k, ALL, value, random_states, zero_padding=False)  # at a reset
     for offset in schedule.offsets(phase):      # phase: control steps since reset % period
         ...                                     # run the physics up to step `offset`
-        schedule.sample(phase, offset, ALL, steps, read, random_states)
+        schedule.sample(phase, offset, ALL, steps, reads, random_states)
     schedule.finish(ALL, steps)                 # the observation after physics step `steps`
     schedule.observation()                      # every environment's, new arrays
     schedule.row(0)                             # one environment's
