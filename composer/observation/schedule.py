@@ -4,7 +4,7 @@
     schedule.restart(k, ALL, value, random_states, zero_padding=False)  # at a reset
     for offset in schedule.offsets(phase):      # phase: control steps since reset % period
         ...                                     # run the physics up to step `offset`
-        schedule.sample(phase, offset, ALL, steps, reads, random_states)
+        schedule.sample(phase, offset, ALL, steps, read, random_states)
     schedule.finish(ALL, steps)                 # the observation after physics step `steps`
     schedule.observation()                      # every environment's, new arrays
     schedule.row(0)                             # one environment's
@@ -14,7 +14,7 @@ The one schedule of `composer.Environment` (a schedule of one environment) and
 every per-step method takes the environments it concerns as `rows`, `ALL` (every one) or
 ascending indices, with their physics steps since each one's reset (`steps`: one number for
 all, or one each). Environments reset at different times, so each has its own ring of
-samples; environments in different phases of the schedule are sampled in separate calls.
+samples and its own phase of the schedule (`phases`: one for all, or one each).
 
 The schedule samples only what some observation will show (`Channel.needed`): with the
 default options an observable is read once per control step, after the last physics step,
@@ -38,7 +38,7 @@ from composer.observation.channel import Channel
 
 Rows = slice | np.ndarray
 ALL = slice(None)  # every environment of the schedule
-Read = Callable[[], Any]  # a channel's values for the rows sampled
+Read = Callable[[int, Rows], Any]  # (channel k, rows) -> channel k's values of those rows
 RandomStates = Callable[[np.ndarray], list[np.random.RandomState]]
 
 
@@ -196,13 +196,17 @@ class Schedule:
         self.period = period
         self._due: list[list[tuple[int, ...]]] = []
         self._offsets: list[list[int]] = []
+        # _table[phase, offset, k]: whether channel k samples then (for rows of many phases).
+        self._table = np.zeros((period, substeps + 1, len(channels)), dtype=bool)
         for phase in range(period):
             due: list[tuple[int, ...]] = [()]
             for offset in range(1, substeps + 1):
                 step = phase * substeps + offset
                 due.append(tuple(k for k, c in enumerate(channels) if c.needed(step, substeps)))
+                self._table[phase, offset, list(due[-1])] = True
             self._due.append(due)
             self._offsets.append([offset for offset in range(1, substeps + 1) if due[offset]])
+        self._every = np.arange(self.num_envs)
 
     @property
     def observation_space(self) -> spaces.Dict | spaces.Box:
@@ -231,21 +235,32 @@ class Schedule:
 
     def sample(
         self,
-        phase: int,
+        phases: int | np.ndarray,
         offset: int,
         rows: Rows,
         steps: Any,
-        reads: Sequence[Read],
+        read: Read,
         random_states: RandomStates,
     ) -> None:
-        """Sample the channels due after physics step `offset` of a control step in phase
-        `phase`, for environments `rows` at physics steps `steps` (since each one's reset):
-        `reads[k]()` gives channel k's values of those rows, (n, *shape) (or one
-        environment's value, for one row); `random_states(ids)` their random states, for
-        corruptors."""
+        """Sample the channels due after physics step `offset` of a control step, for
+        environments `rows` in schedule phases `phases` (one for all, or one per row) at
+        physics steps `steps` (since each one's reset): `read(k, rows)` gives channel k's
+        values of those rows, (n, *shape) (or one environment's value, for one row);
+        `random_states(ids)` their random states, for corruptors."""
         buffers = self._buffers
-        for k in self._due[phase][offset]:
-            buffers[k].take(rows, reads[k](), steps, random_states)
+        if not isinstance(phases, np.ndarray):
+            for k in self._due[phases][offset]:
+                buffers[k].take(rows, read(k, rows), steps, random_states)
+            return
+        ids = self._every if isinstance(rows, slice) else rows
+        due = self._table[phases, offset]  # (n, channels): who samples what
+        for channel in np.flatnonzero(due.any(axis=0)).tolist():
+            chosen = due[:, channel]
+            if chosen.all():
+                buffers[channel].take(rows, read(channel, rows), steps, random_states)
+            else:
+                some = ids[chosen]
+                buffers[channel].take(some, read(channel, some), steps[chosen], random_states)
 
     def restart(
         self, k: int, rows: Rows, values: Any, random_states: RandomStates, zero_padding: bool

@@ -82,6 +82,9 @@ class Updater:
         self.observation_space: spaces.Dict | spaces.Box = self.schedule.observation_space
         self._random_state: Any = None
 
+    def _read(self, k: int, rows: Any) -> Any:
+        return self.readers[k]()
+
     def _random_states(self, rows: np.ndarray) -> list[Any]:
         return [self._random_state]
 
@@ -94,7 +97,7 @@ class Updater:
         """Sample what is due after physics step `offset` of control step `control_step`,
         which began after physics step `first` (both counted from the reset)."""
         self.schedule.sample(
-            control_step % self.period, offset, ALL, first + offset, self.readers,
+            control_step % self.period, offset, ALL, first + offset, self._read,
             self._random_states,
         )  # fmt: skip
 

@@ -89,7 +89,6 @@ class BatchObservations:
         ]
         self._read_env = read_env
         self._random_state = random_state
-        self._every = self._readers(ALL)
 
     def _rows(self, ids: np.ndarray) -> Rows:
         return ALL if len(ids) == self.num_envs else ids
@@ -105,29 +104,18 @@ class BatchObservations:
     def sample(self, ids: np.ndarray, phases: np.ndarray, offset: int, first: np.ndarray) -> None:
         """Sample the observables due after physics step `offset` of the control step, for
         environments `ids` in phases `phases` whose control step began at steps `first`."""
-        steps = first + offset
-        if self.period == 1:
-            rows = self._rows(ids)
-            reads = self._every if isinstance(rows, slice) else self._readers(rows)
-            self.schedule.sample(0, offset, rows, steps, reads, self._random_states)
-            return
-        for phase in np.unique(phases):  # environments in one phase sample together
-            alike = phases == phase
-            rows = self._rows(ids[alike])
-            self.schedule.sample(
-                int(phase), offset, rows, steps[alike], self._readers(rows), self._random_states
-            )
+        self.schedule.sample(
+            0 if self.period == 1 else phases, offset, self._rows(ids), first + offset,
+            self._read, self._random_states,
+        )  # fmt: skip
 
-    def _readers(self, rows: Rows) -> list[Callable[[], np.ndarray]]:
-        """What reads each observable of environments `rows`: (n, *shape)."""
-        return [self._reader(k, rows) for k in range(len(self._reads))]
-
-    def _reader(self, k: int, rows: Rows) -> Callable[[], np.ndarray]:
-        batch, read_env = self._reads[k], self._read_env
+    def _read(self, k: int, rows: Rows) -> np.ndarray:
+        """Observable k of environments `rows`: (n, *shape)."""
+        batch = self._reads[k]
         if batch is not None:
-            return batch if isinstance(rows, slice) else lambda: batch()[rows]
+            return batch() if isinstance(rows, slice) else batch()[rows]
         ids = range(self.num_envs) if isinstance(rows, slice) else rows
-        return lambda: np.stack([np.asarray(read_env(i, k)) for i in ids])
+        return np.stack([np.asarray(self._read_env(i, k)) for i in ids])
 
     def finish(self, ids: np.ndarray, steps: np.ndarray) -> None:
         """Complete buffered, delayed or aggregated observations of environments `ids`,

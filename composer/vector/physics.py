@@ -80,16 +80,17 @@ class BatchBinding(batched.Binding):
     _elements: Any  # an element or a tuple of elements of one kind
     _fields: dict[str, _Field]
 
-    def __init__(self, physics: VectorPhysics, elements: Any) -> None:
-        """Bind `elements` (of the first environment's model); resolved field by field."""
+    def __init__(self, physics: VectorPhysics, elements: Any, fields: dict[str, _Field]) -> None:
+        """Bind `elements` (of the first environment's model) in the environments of
+        `physics`; `fields` holds their fields as resolved, shared by every view."""
         object.__setattr__(self, "_physics", physics)
         object.__setattr__(self, "_elements", elements)
-        object.__setattr__(self, "_fields", {})
+        object.__setattr__(self, "_fields", fields)
 
     def _field(self, name: str) -> _Field:
         found = self._fields.get(name)
         if found is None:
-            found = self._fields[name] = self._physics.simulations._field(self._elements, name)
+            found = self._fields[name] = self._physics.simulations._resolve(self._elements, name)
         return found
 
     def _get(self, name: str) -> np.ndarray:
@@ -124,7 +125,8 @@ class Simulations:
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
         self._registered: set[str] = set()  # the MjData fields bound from the batch
-        self._fields: dict[tuple[Any, str], _Field] = {}
+        # Per bound elements: their binding class (None: no elements) and resolved fields.
+        self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
         self._every = VectorPhysics(self, None)
 
     def physics(self, ids: np.ndarray | None = None) -> VectorPhysics:
@@ -181,16 +183,22 @@ class Simulations:
                 self._acc_stale[:] = True
         return source
 
-    def _field(self, elements: Any, name: str) -> _Field:
-        """Field `name` of `elements` (an element or a tuple of them), resolved once.
-        Raises mjcf.BindingError for a field their kind does not have."""
-        key = (elements, name)
-        found = self._fields.get(key)
+    def _binding(self, key: Any) -> tuple[type[BatchBinding] | None, dict[str, _Field]]:
+        """How elements `key` (an element or a tuple of them) bind: their binding class
+        (None for no elements) and their fields resolved so far. Raises mjcf.BindingError
+        for elements of another model."""
+        found = self._bound.get(key)
         if found is None:
-            found = self._fields[key] = self._resolve(elements, name)
+            template = self.template.bind(key)
+            if template is mjcf.binding.EMPTY:
+                found = (None, {})
+            else:
+                found = (batched.binding_class(BatchBinding, template.kind), {})
+            self._bound[key] = found
         return found
 
     def _resolve(self, elements: Any, name: str) -> _Field:
+        """Field `name` of `elements`; raises mjcf.BindingError for one their kind has not."""
         model = self.template.model
         template = self.template.bind(list(elements) if isinstance(elements, tuple) else elements)
         value = getattr(template, name)  # raises mjcf.BindingError for an unknown field
@@ -215,7 +223,7 @@ class VectorPhysics(batched.BatchPhysics):
         self.simulations = simulations
         self._ids = ids
         self._every = np.arange(simulations.batch.nsim) if ids is None else ids
-        self._bindings: dict[Any, batched.Binding] = {}
+        self._bindings: dict[Any, batched.Binding | batched.EmptyBinding] = {}
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -255,11 +263,9 @@ class VectorPhysics(batched.BatchPhysics):
         key = elements if isinstance(elements, mjcf.Element) else tuple(elements)
         found = self._bindings.get(key)
         if found is None:
-            template = self.simulations.template.bind(key)  # BindingError: foreign elements
-            if template is mjcf.binding.EMPTY:
-                return batched.EmptyBinding(self)
-            cls = batched.binding_class(BatchBinding, template.kind)
-            found = self._bindings[key] = cls(self, key)
+            cls, fields = self.simulations._binding(key)
+            found = batched.EmptyBinding(self) if cls is None else cls(self, key, fields)
+            self._bindings[key] = found
         return found
 
     def field(self, name: str) -> np.ndarray:
