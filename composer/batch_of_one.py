@@ -1,16 +1,18 @@
 """BatchOfOne: one environment's `mjcf.Physics` as a batch of one, for batched methods.
 
-    view = BatchOfOne(physics, task)                 # what a single Environment passes
+    view = env.batch_physics                         # what a single Environment passes
+    view = BatchOfOne(physics, task)                 # one of your own (no random state)
     view.bind(hinge).qpos                            # (1, 1): the hinge's qpos, a copy
     view.bind(motor).ctrl = [[0.5]]                  # writes through physics.bind(motor)
     task.get_reward_batch(view)[0]                   # the reward of this one environment
 
 A single `composer.Environment` runs a task's batched methods (`composer.batched`) with
-this view, so one environment computes what a `VectorEnvironment` computes for each of its
-environments, bit for bit. It reads and writes through the physics' own bindings (cached,
-fresh as `mjcf.binding` promises), adding the leading axis of one row: reads are new arrays
-(state fields as mjtNum, as MuJoCo's batch holds them), writes take (1, ...) rows or
-anything that broadcasts to them.
+its view (made at each compile, with its task and random state; the task's own single
+forms run their batched forms with it too), so one environment computes what a
+`VectorEnvironment` computes for each of its environments, bit for bit. It reads and
+writes through the physics' own bindings (cached, fresh as `mjcf.binding` promises), adding
+the leading axis of one row: reads are new arrays (state fields as mjtNum, as MuJoCo's batch
+holds them), writes take (1, ...) rows or anything that broadcasts to them.
 
 A strict view (the default) gives exactly what MuJoCo's batch gives a `VectorEnvironment`
 (`composer.batched.check_source`): the same fields readable, the same state fields
@@ -22,7 +24,6 @@ environment, through that same single-environment reader.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -37,8 +38,6 @@ if TYPE_CHECKING:
     from composer.task import Task
 
 _MJTNUM = mujoco.MJTNUM_DTYPE
-# The batches of one that environments serve, by id of their physics (see `BatchOfOne.of`).
-_SERVED: weakref.WeakValueDictionary[int, BatchOfOne] = weakref.WeakValueDictionary()
 
 
 class _Field:
@@ -133,25 +132,6 @@ class BatchOfOne(batched.BatchPhysics):
         self._model: mujoco.MjModel | None = None
         self._bindings: dict[Any, Any] = {}
         self._readers: dict[str, Callable[[], Any]] = {}
-
-    @classmethod
-    def of(cls, physics: mjcf.Physics, task: Task | None = None) -> BatchOfOne:
-        """The strict batch of one an Environment serves `physics` with (with its task and
-        random state), or else a new one around `physics` and `task`."""
-        served = _SERVED.get(id(physics))
-        if (
-            served is not None
-            and served._physics is physics
-            and (task is None or served._task is task)
-        ):
-            return served
-        return cls(physics, task)
-
-    def serve(self) -> BatchOfOne:
-        """Make this the batch of one `BatchOfOne.of` gives for its physics (while it lives:
-        an Environment keeps its own); returns it."""
-        _SERVED[id(self._physics)] = self
-        return self
 
     @property
     def physics(self) -> mjcf.Physics:

@@ -14,7 +14,8 @@ value computed once per object (dm_control's `composer.define`).
 An `@observable` method is called once per `Observables` object, when the entity builds
 its observables (an observable it reads through `self.other` is made first). On an
 entity, `entity.name_of_method` and `entity.observables.name_of_method` are the same
-object.
+object. `observable` is defined with the `Observables` it declares into
+(`composer.observables`).
 """
 
 from __future__ import annotations
@@ -22,10 +23,9 @@ from __future__ import annotations
 import abc
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from composer.observation import Observable
+from composer.observables import observable
 
 
 class cached_property(property):
@@ -54,28 +54,7 @@ class cached_property(property):
                 return stored[self._name]
 
 
-class observable:
-    """Declare a method returning an `Observable` as one, named after the method; see the
-    module docstring. Works on `Observables` subclasses and on entities."""
-
-    def __init__(self, function: Callable[[Any], Observable]) -> None:
-        """Wrap `function(owner) -> Observable` (owner: the entity or its Observables)."""
-        self.function = function
-        self.name = function.__name__
-        self.__doc__ = function.__doc__
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    def __get__(self, instance: Any, owner: type | None = None) -> Any:
-        if instance is None:
-            return self
-        from composer.observables import Observables  # cycle: observables -> define
-
-        if isinstance(instance, Observables):
-            return instance._declared_item(self.name)
-        return instance.observables[self.name]
-
-
 # For abstract Observables classes: a subclass must define the observable.
 abstract_observable = abc.abstractproperty
+
+__all__ = ["abstract_observable", "cached_property", "observable"]

@@ -14,7 +14,8 @@ Tasks: a task that defines `action_spec(physics)` returning a `dm_env.specs.Arra
 `BoundedArray`, as dm_control tasks do, works unchanged: `Task.action_space` converts it
 (`action_space_from_spec`: a Box of the spec's shape, dtype and bounds, unbounded for an
 `Array`), the environment clips actions to it, and the adapter returns the task's own spec.
-`space_from_spec` and `spec_from_space` convert either way, nested dicts and tuples too.
+`space_from_spec` and `spec_from_space` convert either way, nested dicts and tuples too
+(`composer.dm_env_specs`, exported here too).
 
 The adapter (`DmEnvAdapter`): `reset()` returns a FIRST TimeStep; `step(action)` a MID one,
 or LAST when the episode ends; `step` after LAST (or before any reset) starts a new episode
@@ -36,84 +37,22 @@ dm_env; importing this module raises ImportError saying how to install it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 import gymnasium
 import numpy as np
-from gymnasium import spaces
 
-from composer import errors
+from composer.dm_env_specs import action_space_from_spec, space_from_spec, spec_from_space
 from composer.task import Task
 
 try:
     import dm_env
-    from dm_env import specs
 except ImportError as e:  # the [dm] extra is optional
     raise ImportError(
         "composer.dm_env_bridge needs the dm-env package: pip install 'mujoco-composer[dm]'"
     ) from e
 
-
-def space_from_spec(spec: Any) -> spaces.Space[Any]:
-    """The Gymnasium space of a dm_env spec: `DiscreteArray` -> Discrete, `BoundedArray`
-    -> Box of its bounds, `Array` -> Box unbounded (integers: their dtype's range, bools:
-    0..1), a dict (or list or tuple) of specs -> Dict (Tuple). Raises TaskError for
-    anything else (e.g. a `StringArray`)."""
-    if isinstance(spec, specs.DiscreteArray):
-        return spaces.Discrete(int(spec.num_values))
-    if isinstance(spec, specs.BoundedArray):
-        return _box(spec.shape, spec.dtype, spec.minimum, spec.maximum)
-    if isinstance(spec, specs.StringArray):
-        raise errors.TaskError(f"no Gymnasium space for the string spec {spec!r}")
-    if isinstance(spec, specs.Array):
-        dtype = np.dtype(spec.dtype)
-        if dtype == np.bool_:
-            return _box(spec.shape, dtype, False, True)
-        if np.issubdtype(dtype, np.integer):
-            limits = np.iinfo(dtype)
-            return _box(spec.shape, dtype, limits.min, limits.max)
-        return _box(spec.shape, dtype, -np.inf, np.inf)
-    if isinstance(spec, Mapping):
-        return spaces.Dict({key: space_from_spec(value) for key, value in spec.items()})
-    if isinstance(spec, list | tuple):
-        return spaces.Tuple([space_from_spec(value) for value in spec])
-    raise errors.TaskError(f"no Gymnasium space for {spec!r}: expected a dm_env spec")
-
-
-def action_space_from_spec(spec: Any) -> spaces.Box:
-    """The Box of a task's `action_spec` (one `Array` or `BoundedArray` of numbers, as
-    actions are one array here). Raises TaskError for any other spec."""
-    if isinstance(spec, specs.Array) and not isinstance(
-        spec, specs.DiscreteArray | specs.StringArray
-    ):
-        space = space_from_spec(spec)
-        if isinstance(space, spaces.Box) and np.issubdtype(space.dtype, np.number):
-            return space
-    raise errors.TaskError(
-        f"action_spec must return one dm_env.specs.Array or BoundedArray of numbers, got {spec!r}"
-    )
-
-
-def spec_from_space(space: spaces.Space[Any], name: str | None = None) -> Any:
-    """The dm_env spec of a Gymnasium space: a Box with a finite bound -> `BoundedArray`,
-    without -> `Array`; Discrete -> `DiscreteArray` (`BoundedArray` when it does not start
-    at 0); Dict -> dict of specs named by key; Tuple -> tuple. Raises TaskError for other
-    spaces."""
-    if isinstance(space, spaces.Box):
-        if np.isfinite(space.low).any() or np.isfinite(space.high).any():
-            return specs.BoundedArray(space.shape, space.dtype, space.low, space.high, name=name)
-        return specs.Array(space.shape, space.dtype, name=name)
-    if isinstance(space, spaces.Discrete):
-        start, count = int(space.start), int(space.n)
-        if start == 0:
-            return specs.DiscreteArray(count, dtype=space.dtype, name=name)
-        return specs.BoundedArray((), space.dtype, start, start + count - 1, name=name)
-    if isinstance(space, spaces.Dict):
-        return {key: spec_from_space(value, key) for key, value in space.spaces.items()}
-    if isinstance(space, spaces.Tuple):
-        return tuple(spec_from_space(value, name) for value in space.spaces)
-    raise errors.TaskError(f"no dm_env spec for the Gymnasium space {space}")
+__all__ = ["DmEnvAdapter", "action_space_from_spec", "space_from_spec", "spec_from_space"]
 
 
 class DmEnvAdapter(dm_env.Environment):
@@ -225,10 +164,3 @@ def _declares(task: Task, name: str) -> bool:
 def _task_spec(task: Task | None, name: str) -> Any:
     method = getattr(task, name, None)
     return method() if method is not None else None
-
-
-def _box(shape: Any, dtype: Any, low: Any, high: Any) -> spaces.Box:
-    dtype = np.dtype(dtype)
-    shape = tuple(int(n) for n in shape)
-    bounds = [np.array(np.broadcast_to(np.asarray(b, dtype=dtype), shape)) for b in (low, high)]
-    return spaces.Box(bounds[0], bounds[1], shape, dtype)

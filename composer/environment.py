@@ -184,7 +184,13 @@ class Environment(gymnasium.Env):
     @property
     def control_timestep(self) -> float:
         """Seconds of simulation per `step()`."""
-        return self._substeps * self._physics.timestep()
+        return self._timing.control_timestep
+
+    @property
+    def timing(self) -> stepping.Timing:
+        """Physics steps per control step and the control timestep, as resolved at the
+        last compile (`composer.stepping.resolve_timing`)."""
+        return self._timing
 
     def add_extra_hook(self, hook_name: str, hook_callable: Callable[..., Any]) -> None:
         """Run `hook_callable` after the task's and the entities' hook `hook_name` (one of
@@ -197,6 +203,12 @@ class Environment(gymnasium.Env):
             raise errors.TaskError(f"{hook_callable!r} is not a callable")
         self._extra_hooks[hook_name].append(hook_callable)
         self._resolve_hooks()
+
+    @property
+    def batch_physics(self) -> BatchOfOne:
+        """The batch of one the task's batched methods get (its physics, task and random
+        state), as a VectorEnvironment's `batch_physics` is over its environments."""
+        return self._batch
 
     @property
     def updater(self) -> Updater:
@@ -214,9 +226,8 @@ class Environment(gymnasium.Env):
         self._resolve_hooks()
         for hook in self._hooks.after_compile:
             hook(physics, self.random_state)
-        self._substeps = (
-            task.physics_steps_per_control_step if self._n_sub_steps is None else self._n_sub_steps
-        )
+        self._timing = timing = stepping.resolve_timing(task, physics, self._n_sub_steps)
+        self._substeps = timing.substeps
         physics.reset()
         self._updater = Updater(
             task.enabled_observables(), physics, self._substeps, self._flatten, self._strip,
@@ -224,9 +235,10 @@ class Environment(gymnasium.Env):
         )  # fmt: skip
         self._action_space = task.action_space(physics)
         self._actions = stepping.ActionRule(self._action_space)
-        self._step_limit = stepping.step_limit(self._time_limit, self.control_timestep)
-        # What the task's batched methods get: this physics as a batch of one.
-        self._batch = BatchOfOne(physics, task, lambda: self.random_state).serve()
+        self._step_limit = timing.step_limit(self._time_limit)
+        # What the task's batched methods get, and its single forms' defaults run them
+        # with: this physics as a batch of one.
+        self._batch = task._served_batch = BatchOfOne(physics, task, lambda: self.random_state)
 
     def _resolve_hooks(self) -> None:
         """The hooks of the task, its entities and the extra ones, and what a step runs."""

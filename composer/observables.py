@@ -12,17 +12,17 @@
 
 Every `@observable` of the entity's class and of the Observables class is made when the
 entity builds its observables, in name order (one that reads another through `self.name`
-gets it made first). `Observables` is also a read-only mapping by name.
+gets it made first). `Observables` is also a read-only mapping by name. The decorator
+`observable` is dm_control's `composer.define.observable` (re-exported there).
 """
 
 from __future__ import annotations
 
 import abc
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 from composer import errors
-from composer.define import observable
 from composer.observation import Observable
 
 if TYPE_CHECKING:
@@ -32,6 +32,27 @@ if TYPE_CHECKING:
 OPTION_KEYS = frozenset(
     {"update_interval", "buffer_size", "delay", "aggregator", "corruptor", "enabled"}
 )
+
+
+class observable:
+    """Declare a method returning an `Observable` as one, named after the method; see the
+    module docstring. Works on `Observables` subclasses and on entities."""
+
+    def __init__(self, function: Callable[[Any], Observable]) -> None:
+        """Wrap `function(owner) -> Observable` (owner: the entity or its Observables)."""
+        self.function = function
+        self.name = function.__name__
+        self.__doc__ = function.__doc__
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, instance: Any, owner: type | None = None) -> Any:
+        if instance is None:
+            return self
+        if isinstance(instance, Observables):
+            return instance._declared_item(self.name)
+        return instance.observables[self.name]
 
 
 def _declared(cls: type) -> dict[str, observable]:

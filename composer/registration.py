@@ -27,10 +27,11 @@ task and listing what it accepts. Registering an id again is a no-op.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import inspect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import gymnasium
@@ -129,6 +130,25 @@ def accepted_keywords(factory: Callable[..., Any]) -> list[str] | None:
     return accepted
 
 
+def task_factory(
+    task: str | Callable[..., Task], task_kwargs: dict[str, Any], options: Sequence[str]
+) -> Callable[[], Task]:
+    """A function of no arguments making `task(**task_kwargs)`, `task` as `resolve_task`
+    takes it. Raises RegistrationError for a keyword the task does not accept, naming the
+    task and listing what it accepts and the environment's own `options`, and what
+    `resolve_task` raises."""
+    factory = resolve_task(task)
+    accepted = accepted_keywords(factory)
+    if accepted is not None:
+        unknown = sorted(set(task_kwargs) - set(accepted))
+        if unknown:
+            raise RegistrationError(
+                f"task {_label(task)} got unknown keyword argument(s) {unknown}; it accepts "
+                f"{accepted} and the environment options {list(options)}"
+            )
+    return functools.partial(factory, **task_kwargs)
+
+
 def make_environment(
     task: str | Callable[..., Task],
     *,
@@ -142,16 +162,7 @@ def make_environment(
     `render_camera` attribute (a camera name) is rendered through that camera. Raises
     RegistrationError for a keyword the task does not accept (listing those it does), and
     what the task or Environment raise (composer.Error subclasses)."""
-    factory = resolve_task(task)
-    accepted = accepted_keywords(factory)
-    if accepted is not None:
-        unknown = sorted(set(task_kwargs) - set(accepted))
-        if unknown:
-            raise RegistrationError(
-                f"task {_label(task)} got unknown keyword argument(s) {unknown}; it accepts "
-                f"{accepted} and the environment options {list(ENVIRONMENT_OPTIONS)}"
-            )
-    built = factory(**task_kwargs)
+    built = task_factory(task, task_kwargs, ENVIRONMENT_OPTIONS)()
     if not isinstance(built, Task):
         raise RegistrationError(
             f"task {_label(task)} made a {type(built).__name__}, not a composer.Task"

@@ -1,11 +1,19 @@
 """A control step's rules, kept once for `composer.Environment` and `composer.VectorEnvironment`.
 
+    timing = resolve_timing(task, physics)               # per compile: substeps, seconds
+    limit = timing.step_limit(time_limit)                # control steps in an episode
     actions = ActionRule(action_space)                   # per compile
     action = actions.clipped(actions.shaped(action))     # float64, finite, within bounds
     methods = TaskStep(task)                             # which form of each method runs
     physics_steps(substeps, offsets, advance, sample)    # the physics steps, sampling
     message = invalid_state(physics)                     # None, or why MuJoCo gave up
     info = diverged(message, stacklevel=2)               # warns; the truncated step's info
+
+Timing: a task's control timestep is a whole number of physics steps (`substeps`, the one
+rule, which `Task.set_timesteps` checks too). An environment resolves it once per compile
+(`resolve_timing`): the task's control timestep over the compiled model's physics timestep
+(or dm_control's `n_sub_steps`), and the control timestep those steps make; everything that
+counts steps or seconds (the step limit, render fps, a VectorEnvironment) reads that.
 
 A control step, in either environment (each runs it for its environments):
 1. The action is checked (`ActionRule`): the wrong shape or a NaN/infinite value raises
@@ -39,6 +47,29 @@ if TYPE_CHECKING:
     from composer.task import Task
 
 
+# How far a ratio of timesteps may be from a whole number (floating-point timesteps).
+_TOLERANCE = 1e-6
+
+
+def substeps(control_timestep: Any, physics_timestep: Any, owner: str = "task") -> int:
+    """The physics steps in a control step of `control_timestep` seconds, with physics steps
+    of `physics_timestep` seconds. Raises TaskError, naming `owner`, if either is not a
+    positive number or the control timestep is not a whole multiple of the physics one."""
+    for label, value in (("control", control_timestep), ("physics", physics_timestep)):
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise errors.TaskError(
+                f"{owner}: the {label} timestep must be a positive number, got {value!r}"
+            )
+    ratio = control_timestep / physics_timestep
+    count = round(ratio)
+    if count < 1 or abs(ratio - count) > _TOLERANCE * max(1.0, ratio):
+        raise errors.TaskError(
+            f"{owner}: the control timestep {control_timestep!r} must be a multiple of the "
+            f"physics timestep {physics_timestep!r} (ratio {ratio:.6g})"
+        )
+    return count
+
+
 def step_limit(
     time_limit: float | None, control_timestep: float, max_episode_steps: int | None = None
 ) -> float:
@@ -48,6 +79,29 @@ def step_limit(
     limit = math.inf if time_limit is None else time_limit
     steps = math.inf if math.isinf(limit) else math.ceil(limit / control_timestep - 1e-9)
     return min(steps, math.inf if max_episode_steps is None else max_episode_steps)
+
+
+class Timing(NamedTuple):
+    """How a compiled task steps: `substeps` physics steps per control step, making
+    `control_timestep` seconds of the compiled model."""
+
+    substeps: int
+    control_timestep: float
+
+    def step_limit(self, time_limit: float | None, max_episode_steps: int | None = None) -> float:
+        """The control steps after which an episode of `time_limit` seconds (or
+        `max_episode_steps`) is truncated (`step_limit`)."""
+        return step_limit(time_limit, self.control_timestep, max_episode_steps)
+
+
+def resolve_timing(task: Task, physics: mjcf.Physics, n_sub_steps: int | None = None) -> Timing:
+    """The timing of `task` compiled into `physics`: `n_sub_steps` (dm_control's override)
+    or the task's control timestep over the model's physics timestep, in physics steps.
+    Raises TaskError for timesteps that do not divide."""
+    timestep = physics.timestep()
+    if n_sub_steps is None:
+        n_sub_steps = substeps(task.control_timestep, timestep, type(task).__name__)
+    return Timing(n_sub_steps, n_sub_steps * timestep)
 
 
 class ActionRule:

@@ -24,12 +24,14 @@ Each per-step method (`before_step`, `after_step`, `get_reward`, `should_termina
 `get_discount`, `get_info`) can be written instead in batched form, once for one
 environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
 environments and returns (n,) rows; a single Environment runs it with a batch of one, a
-`VectorEnvironment` over all its environments at once (`composer.batched`).
+`VectorEnvironment` over all its environments at once (`composer.batched`). Task's own
+single forms run the batched ones with the batch of one of the `composer.Environment`
+stepping the task, when given its physics (with its random state and bound fields), else
+with a new batch of one around the physics given.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -38,19 +40,23 @@ import numpy as np
 from gymnasium import spaces
 
 import mjcf
-from composer import batched, errors, hooks
+from composer import batched, errors, hooks, stepping
 from composer.batch_of_one import BatchOfOne
 from composer.entity import Entity
 from composer.observation import Observable
 
 _DEFAULT_PHYSICS_TIMESTEP = float(mujoco.MjOption().timestep)
-_TOLERANCE = 1e-6
 
 
 class Task(hooks.EpisodeHooks):
-    """The goal: root entity, timesteps, reward, termination, observables and hooks."""
+    """The goal: root entity, timesteps, reward, termination, observables and hooks.
+
+    `_served_batch` is the batch of one of the environment stepping the task, which that
+    environment sets at each compile (`composer.Environment`); the single forms' defaults
+    run the batched forms with it (`_batch_of_one`)."""
 
     _control_timestep: float | None = None
+    _served_batch: BatchOfOne | None = None
 
     @property
     def root_entity(self) -> Entity:
@@ -89,7 +95,7 @@ class Task(hooks.EpisodeHooks):
         every entity model that sets its own (composed models must agree). Raises TaskError
         if either is not positive or the control timestep is not a multiple of the physics
         one."""
-        _substeps(self, control_timestep, physics_timestep)
+        stepping.substeps(control_timestep, physics_timestep, type(self).__name__)
         root = self.root_entity
         for entity in root.iter_entities():
             option = entity.mjcf_model.option
@@ -99,8 +105,9 @@ class Task(hooks.EpisodeHooks):
 
     @property
     def physics_steps_per_control_step(self) -> int:
-        """Physics steps per control step; raises TaskError if the timesteps do not divide."""
-        return _substeps(self, self.control_timestep, self.physics_timestep)
+        """Physics steps per control step (`composer.stepping.substeps`); raises TaskError
+        if the timesteps do not divide."""
+        return stepping.substeps(self.control_timestep, self.physics_timestep, type(self).__name__)
 
     # -- what the agent sees and does ----------------------------------------------------
 
@@ -150,17 +157,25 @@ class Task(hooks.EpisodeHooks):
         actuator's control, bounded by its ctrlrange where it is control-limited,
         unbounded otherwise. MuJoCo clamps controls to ctrlrange itself. A task defining
         dm_control's `action_spec(physics)` gets its dm_env spec as a Box instead
-        (`composer.dm_env_bridge`, the [dm] extra)."""
+        (`composer.dm_env_specs`, the [dm] extra)."""
         declared = getattr(type(self), "action_spec", None)
         if declared is not None and declared is not getattr(Task, "action_spec", None):
-            from composer import dm_env_bridge  # imports dm_env: only for such tasks
+            from composer import dm_env_specs  # imports dm_env: only for such tasks
 
-            return dm_env_bridge.action_space_from_spec(declared(self, physics))
+            return dm_env_specs.action_space_from_spec(declared(self, physics))
         model = physics.model
         limited = model.actuator_ctrllimited.astype(bool)
         low = np.where(limited, model.actuator_ctrlrange[:, 0], -np.inf)
         high = np.where(limited, model.actuator_ctrlrange[:, 1], np.inf)
         return spaces.Box(low.astype(np.float32), high.astype(np.float32), dtype=np.float32)
+
+    def _batch_of_one(self, physics: mjcf.Physics) -> BatchOfOne:
+        """What the single forms' defaults run the batched forms with: the batch of one of
+        the environment stepping this task when `physics` is its physics, else a new one."""
+        served = self._served_batch
+        if served is not None and served.physics is physics:
+            return served
+        return BatchOfOne(physics, self)
 
     # -- per-step methods (composer.batched): each in its single or its batched form -----
     # A task defines a method's single form (dm_control's, on one mjcf.Physics) or its
@@ -170,7 +185,7 @@ class Task(hooks.EpisodeHooks):
     def get_reward(self, physics: mjcf.Physics) -> float:
         """The reward of the control step that just ended. Define this or
         `get_reward_batch` (this then runs it with a batch of one)."""
-        rows = self.get_reward_batch(BatchOfOne.of(physics, self))
+        rows = self.get_reward_batch(self._batch_of_one(physics))
         return float(batched.check_rows("get_reward_batch", rows, 1, np.float64)[0])
 
     def get_reward_batch(self, physics: batched.BatchPhysics) -> np.ndarray:
@@ -182,7 +197,7 @@ class Task(hooks.EpisodeHooks):
     def should_terminate_episode(self, physics: mjcf.Physics) -> bool:
         """Whether the episode ended in a terminal state (not a time limit); by default
         what `should_terminate_episode_batch` says, with a batch of one."""
-        rows = self.should_terminate_episode_batch(BatchOfOne.of(physics, self))
+        rows = self.should_terminate_episode_batch(self._batch_of_one(physics))
         return bool(batched.check_rows("should_terminate_episode_batch", rows, 1, bool)[0])
 
     should_terminate_episode_batch = batched.constant_rows(
@@ -194,7 +209,7 @@ class Task(hooks.EpisodeHooks):
     def get_discount(self, physics: mjcf.Physics) -> float:
         """The discount of the step (dm_env style, in info['discount']); by default what
         `get_discount_batch` says, with a batch of one."""
-        rows = self.get_discount_batch(BatchOfOne.of(physics, self))
+        rows = self.get_discount_batch(self._batch_of_one(physics))
         return float(batched.check_rows("get_discount_batch", rows, 1, np.float64)[0])
 
     get_discount_batch = batched.constant_rows(
@@ -205,7 +220,7 @@ class Task(hooks.EpisodeHooks):
         """Extra entries for the step's `info`, a new dict (e.g. {'is_success': True}, as
         stable-baselines3 reads it); by default those of `get_info_batch`, with a batch of
         one (a number or bool for a row of one number)."""
-        entries = batched.check_info(self.get_info_batch(BatchOfOne.of(physics, self)), 1)
+        entries = batched.check_info(self.get_info_batch(self._batch_of_one(physics)), 1)
         return {key: batched.first_row(values) for key, values in entries.items()}
 
     @hooks.noop
@@ -221,7 +236,7 @@ class Task(hooks.EpisodeHooks):
         """Each control step, first: apply `action`; by default `before_step_batch`, with
         a batch of one."""
         actions = np.asarray(action, dtype=np.float64)[None]
-        self.before_step_batch(BatchOfOne.of(physics, self), actions)
+        self.before_step_batch(self._batch_of_one(physics), actions)
 
     def before_step_batch(self, physics: batched.BatchPhysics, actions: np.ndarray) -> None:
         """Apply `actions`, (n, action size) float64 clipped to the action space; here,
@@ -231,7 +246,7 @@ class Task(hooks.EpisodeHooks):
     def after_step(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """After the physics steps of a control step, before observations are read; by
         default `after_step_batch`, with a batch of one."""
-        self.after_step_batch(BatchOfOne.of(physics, self))
+        self.after_step_batch(self._batch_of_one(physics))
 
     @hooks.noop
     def after_step_batch(self, physics: batched.BatchPhysics) -> None:
@@ -262,20 +277,3 @@ class NullTask(Task):
     get_reward_batch = batched.constant_rows(  # type: ignore[assignment]
         0.0, np.float64, """Always 0.0."""
     )
-
-
-def _substeps(task: Task, control_timestep: Any, physics_timestep: Any) -> int:
-    for label, value in (("control", control_timestep), ("physics", physics_timestep)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-            raise errors.TaskError(
-                f"{type(task).__name__}: the {label} timestep must be a positive number, "
-                f"got {value!r}"
-            )
-    ratio = control_timestep / physics_timestep
-    substeps = round(ratio)
-    if substeps < 1 or abs(ratio - substeps) > _TOLERANCE * max(1.0, ratio):
-        raise errors.TaskError(
-            f"{type(task).__name__}: the control timestep {control_timestep!r} must be a "
-            f"multiple of the physics timestep {physics_timestep!r} (ratio {ratio:.6g})"
-        )
-    return substeps

@@ -21,21 +21,20 @@ import os
 from typing import Any
 
 import numpy as np
-from gymnasium import spaces
 
-import composer
 import mjcf
 from arenas import Table
 from composer import BatchPhysics, observation
 from entities import Box, features, robots
 from tasks.rewards import squared_norms
+from tasks.unit_action import UnitActionTask
 
 HOME = (np.pi, -1.9, 2.0, -1.67, -np.pi / 2, 0.0)
 TARGET_WINDOW = 0.3  # rad: how far an arm joint's target may lead its angle
 REGION = ((0.05, 0.25), (-0.2, 0.2))  # x and y ranges on the table for box and target
 
 
-class ArmPushBox(composer.Task):
+class ArmPushBox(UnitActionTask):
     """Push a box into the target disc with a real arm and gripper.
 
     Reward per step, in [0, 1]: with d_reach the tool-centre-point-to-box distance and
@@ -44,6 +43,8 @@ class ArmPushBox(composer.Task):
     `info['is_success']` is `d_push < target_radius`. Terminates when the box falls off
     the table.
     """
+
+    action_size = 7  # six joint-target changes, then the gripper command
 
     def __init__(
         self,
@@ -88,7 +89,7 @@ class ArmPushBox(composer.Task):
         self.table_height = float(table_height)
         self._box_height = table_height + box_half_size
         box, tcp, target = self.box.body, self.robot.tcp, self.target
-        self._task_observables: dict[str, observation.Observable] = {
+        self.observe({
             "arm_joint_positions": features.angles(self.arm_joints),
             "arm_joint_velocities": features.velocities(self.arm_joints),
             "gripper_opening": features.angles([self.gripper_joint]),
@@ -104,24 +105,8 @@ class ArmPushBox(composer.Task):
                 ),
                 bounds=(-10, 10),
             ),
-        }
-        for item in self._task_observables.values():
-            item.enabled = True
+        })  # fmt: skip
         self.set_timesteps(control_timestep, physics_timestep)
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The table arena with the robot, the box and the target."""
-        return self.arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """Tool, box and target features (see the module docstring)."""
-        return self._task_observables
-
-    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
-        """Seven numbers in [-1, 1]: joint-target changes, then the gripper command."""
-        return spaces.Box(-1.0, 1.0, (7,), dtype=np.float32)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Resolve joints, actuators, sites and bodies once."""

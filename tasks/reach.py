@@ -19,16 +19,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from gymnasium import spaces
 
-import composer
 import mjcf
 from arenas import Floor
 from composer import BatchPhysics, observation
 from entities import PlanarArm
+from tasks.unit_action import UnitActionTask
 
 
-class Reach(composer.Task):
+class Reach(UnitActionTask):
     """Bring the fingertip to a target drawn uniformly in the arm's reachable disc.
 
     Reward per step, in [0, 1]: with d the fingertip-target distance (m) and R the
@@ -36,6 +35,8 @@ class Reach(composer.Task):
     - control_cost * mean(action^2)`: the first term pulls from anywhere, the second
     rewards precision within a few centimetres. `info['is_success']` is `d < success_distance`.
     """
+
+    action_size = 2  # joint-angle changes
 
     def __init__(
         self,
@@ -73,7 +74,7 @@ class Reach(composer.Task):
         # The environments of the last before_step_batch and their actions (control cost).
         self._last_actions = _NO_ACTIONS
         reach = self.arm.reach
-        self._task_observables: dict[str, observation.Observable] = {
+        self.observe({
             "target_position": observation.BatchGeneric(
                 lambda physics: np.clip(physics.bind(target).mocap_pos[:, :2] / reach, -1, 1),
                 bounds=(-1, 1),
@@ -82,24 +83,8 @@ class Reach(composer.Task):
                 lambda physics: np.clip(self._to_target(physics) / reach, -2, 2),
                 bounds=(-2, 2),
             ),
-        }
-        for item in self._task_observables.values():
-            item.enabled = True
+        })  # fmt: skip
         self.set_timesteps(control_timestep, physics_timestep)
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The floor arena with the arm and the target."""
-        return self.arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`target_position` and `to_target`."""
-        return self._task_observables
-
-    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
-        """Two joint-angle changes in [-1, 1] (see the module docstring)."""
-        return spaces.Box(-1.0, 1.0, (2,), dtype=np.float32)
 
     def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
         """Servo targets: the current joint angles plus `max_joint_step * actions`, rows

@@ -1,4 +1,5 @@
-"""Observables and the pipeline that samples them; see `observable` and `updater`.
+"""Observables and the pipeline that samples them; see `observable`, `updater` (one
+environment's pipeline) and `schedule` (the schedule and samples of one environment or many).
 
     from composer import observation
     obs = observation.MJCFFeature('qpos', joints, buffer_size=2)
@@ -9,6 +10,11 @@
 """
 
 from composer.observation import observable
+from composer.observation.channel import (
+    DEFAULT_BUFFER_SIZE,
+    DEFAULT_DELAY,
+    DEFAULT_UPDATE_INTERVAL,
+)
 from composer.observation.observable import (
     AGGREGATORS,
     Aggregator,
@@ -22,13 +28,7 @@ from composer.observation.observable import (
     Observable,
     reader_of,
 )
-from composer.observation.updater import (
-    DEFAULT_BUFFER_SIZE,
-    DEFAULT_DELAY,
-    DEFAULT_UPDATE_INTERVAL,
-    ObservationPadding,
-    Updater,
-)
+from composer.observation.updater import ObservationPadding, Updater
 
 __all__ = [
     "AGGREGATORS",

@@ -52,10 +52,11 @@ from mujoco import batch as mujoco_batch
 import mjcf
 from composer import errors, hooks, stepping
 from composer.environment import RENDER_MODES, Environment
+from composer.observation import ObservationPadding
 from composer.task import Task
 from composer.vector import info_layout
 from composer.vector.observations import BatchObservations
-from composer.vector.physics import VectorPhysics
+from composer.vector.physics import Simulations, VectorPhysics
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state.
@@ -93,19 +94,27 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         max_episode_steps: int | None = None,
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
         render_mode: str | None = None,
+        strip_singleton_obs_buffer_dim: bool = True,
+        delayed_observation_padding: ObservationPadding = ObservationPadding.INITIAL_VALUE,
     ) -> None:
         """Build num_envs environments of `task_factory()` and one batch of their
         simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
         `seed` seeds environment i's random state with seed + i until a seeded reset;
-        `nthread` defaults to the CPUs this process may use. Raises TaskError for a bad
-        count, a factory that does not make new Tasks, or environments whose spaces or
-        MuJoCo data layouts differ; what `composer.Environment` raises otherwise."""
+        `nthread` defaults to the CPUs this process may use; the observation options are
+        `composer.Environment`'s. Raises TaskError for a bad count, a factory that does not
+        make new Tasks, or environments whose spaces or MuJoCo data layouts differ; what
+        `composer.Environment` raises otherwise."""
         if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
             raise errors.TaskError(f"num_envs must be a positive int, got {num_envs!r}")
         self.num_envs = num_envs
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.render_mode = render_mode
-        self._envs = self._make_envs(task_factory, time_limit, flatten_observations, seed)
+        observations = dict(
+            flatten_observations=flatten_observations,
+            strip_singleton_obs_buffer_dim=strip_singleton_obs_buffer_dim,
+            delayed_observation_padding=delayed_observation_padding,
+        )
+        self._envs = self._make_envs(task_factory, time_limit, seed, observations)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
         self.single_action_space = first.action_space
@@ -116,11 +125,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             "render_fps": first.metadata["render_fps"],
             "autoreset_mode": self.autoreset_mode,
         }
-        task = first.task
-        self._substeps = task.physics_steps_per_control_step
-        self._step_limit = stepping.step_limit(time_limit, task.control_timestep, max_episode_steps)
+        self._substeps = first.timing.substeps
+        self._step_limit = first.timing.step_limit(time_limit, max_episode_steps)
         self._actions = stepping.ActionRule(first.action_space, num_envs)
-        self._methods = stepping.TaskStep(task)
+        self._methods = stepping.TaskStep(first.task)
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
         if nthread is None:
             nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
@@ -149,17 +157,20 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             first.physics.model, self.num_envs, nthread=nthread, persistent=persistent
         )
         self._set_models()
-        self._physics = VectorPhysics(self._batch, self._envs)
+        self._simulations = Simulations(self._batch, self._envs)
         self._observations = BatchObservations(
-            first.updater, self._physics, self._read_env, lambda i: self._envs[i].random_state
+            first.updater,
+            self._simulations.physics(),
+            self._read_env,
+            lambda i: self._envs[i].random_state,
         )
 
     def _make_envs(
         self,
         task_factory: Callable[[], Task],
         time_limit: float | None,
-        flatten: bool,
         seed: int | None,
+        observations: dict[str, Any],
     ) -> list[Environment]:
         envs: list[Environment] = []
         for i in range(self.num_envs):
@@ -177,9 +188,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 task,
                 time_limit=math.inf if time_limit is None else time_limit,
                 random_state=None if seed is None else seed + i,
-                flatten_observations=flatten,
                 render_mode=self.render_mode,
                 render_camera=getattr(task, "render_camera", -1),
+                **observations,
             )
             if envs:
                 for label in ("observation_space", "action_space"):
@@ -227,13 +238,12 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
     @property
     def batch_physics(self) -> VectorPhysics:
         """The BatchPhysics batched methods get, over every environment between steps."""
-        self._physics._select(None)
-        return self._physics
+        return self._simulations.physics()
 
     @property
     def control_timestep(self) -> float:
         """Seconds of simulation per `step()`."""
-        return self._envs[0].control_timestep
+        return self._envs[0].timing.control_timestep
 
     # -- gymnasium API -------------------------------------------------------------------
 
@@ -283,7 +293,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
             self._save(i)
-            self._observations.load(i, env.updater.channels)
+            self._observations.load(i, env.updater)
             self._held[i] = _SYNCED
         self._steps[ids] = 0
         self._over[ids] = False
@@ -347,9 +357,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         info: dict[str, Any],
     ) -> None:
         actions = self._actions.clipped(actions, ids)
-        self._before_step(ids, actions)
+        physics = self._simulations.physics(ids)
+        self._before_step(physics, ids, actions)
         failures = self._advance(ids, actions)
-        self._after_step(ids)
+        self._after_step(physics, ids)
         self._steps[ids] += 1
         self._observations.finish(ids, self._steps[ids] * self._substeps)
         errors_found = self._invalid(ids, failures)
@@ -359,18 +370,17 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             truncated[i] = True
         ok = ids[~np.isin(ids, list(errors_found))] if errors_found else ids
         if ok.size:
-            self._outcome(ok, rewards, terminated, info)
+            self._outcome(self._simulations.physics(ok), rewards, terminated, info)
             truncated[ok] = self._steps[ok] >= self._step_limit
 
-    def _before_step(self, ids: np.ndarray, actions: np.ndarray) -> None:
+    def _before_step(self, physics: VectorPhysics, ids: np.ndarray, actions: np.ndarray) -> None:
         methods = self._methods
-        self._select(ids)
-        if methods.apply(self._physics, actions):
+        if methods.apply(physics, actions):
             self._wrote(ids)
         if methods.applies_each(self._hooks[0]):
             for k, i in enumerate(ids):
-                env, physics = self._envs[i], self._materialize(i)
-                methods.apply_each(env.task, self._hooks[i], physics, actions[k], env.random_state)
+                env, own = self._envs[i], self._materialize(i)
+                methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
                 self._save(i)
 
     def _advance(self, ids: np.ndarray, actions: np.ndarray) -> dict[int, str]:
@@ -415,17 +425,16 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
         self._held[ids] = _STALE
-        self._physics._stepped(ids, consistent)
+        self._simulations.stepped(ids, consistent)
 
-    def _after_step(self, ids: np.ndarray) -> None:
+    def _after_step(self, physics: VectorPhysics, ids: np.ndarray) -> None:
         methods = self._methods
-        self._select(ids)
-        if methods.finish(self._physics):
+        if methods.finish(physics):
             self._wrote(ids)
         if methods.finishes_each(self._hooks[0]):
             for i in ids:
-                env, physics = self._envs[i], self._materialize(i)
-                methods.finish_each(env.task, self._hooks[i], physics, env.random_state)
+                env, own = self._envs[i], self._materialize(i)
+                methods.finish_each(env.task, self._hooks[i], own, env.random_state)
                 self._save(i)
 
     def _invalid(self, ids: np.ndarray, failures: dict[int, str]) -> dict[int, str]:
@@ -440,12 +449,15 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         return found
 
     def _outcome(
-        self, ids: np.ndarray, rewards: np.ndarray, terminated: np.ndarray, info: dict[str, Any]
+        self,
+        physics: VectorPhysics,
+        rewards: np.ndarray,
+        terminated: np.ndarray,
+        info: dict[str, Any],
     ) -> None:
-        """Reward, termination, info entries and discount of environments `ids`."""
-        methods, n = self._methods, self.num_envs
-        self._select(ids)
-        rows = methods.outcome(self._physics)
+        """Reward, termination, info entries and discount of the environments of `physics`."""
+        methods, n, ids = self._methods, self.num_envs, physics.ids
+        rows = methods.outcome(physics)
         if rows.rewards is not None:
             rewards[ids] = rows.rewards
         if rows.terminations is not None:
@@ -456,8 +468,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             info_layout.put(info, "discount", ids, rows.discounts, n)
         if _OUTCOME.intersection(methods.single):
             for i in ids:
-                task, physics = self._envs[i].task, self._materialize(i)
-                reward, ended, entries = methods.outcome_each(task, physics)
+                task, own = self._envs[i].task, self._materialize(i)
+                reward, ended, entries = methods.outcome_each(task, own)
                 if reward is not None:
                     rewards[i] = reward
                 if ended is not None:
@@ -465,9 +477,6 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 info_layout.add(info, entries, i, n)
 
     # -- per-environment access ----------------------------------------------------------
-
-    def _select(self, ids: np.ndarray) -> None:
-        self._physics._select(None if len(ids) == self.num_envs else ids)
 
     def _materialize(self, i: int) -> mjcf.Physics:
         """Environment i's physics, holding its simulation (state and derived fields)."""
@@ -496,12 +505,12 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         mujoco.mj_getState(physics.model, physics.data, self._state[i], _STATE)
         self._warning[i, :, 0] = physics.data.warning.lastinfo
         self._warning[i, :, 1] = physics.data.warning.number
-        self._physics._changed(i)
+        self._simulations.changed(i)
 
     def _read_env(self, i: int, channel: int) -> np.ndarray:
         """Observable `channel` of environment i, read from its own physics."""
         self._materialize(i)
-        return self._envs[i].updater.channels[channel].read()
+        return self._envs[i].updater.readers[channel]()
 
     # gymnasium 1.2 types the frames with an unbound TypeVar (RenderFrame); 1.4 does not.
     def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override, unused-ignore]

@@ -16,9 +16,12 @@ from typing import Any
 
 from gymnasium.vector import AutoresetMode
 
-from composer.registration import RegistrationError, accepted_keywords, resolve_task
+from composer.registration import ENVIRONMENT_OPTIONS, task_factory
 from composer.task import Task
 from composer.vector.environment import VectorEnvironment
+
+# The keywords of a vector environment beside those of `registration.make_environment`.
+_VECTOR_OPTIONS = ("max_episode_steps", "autoreset_mode", "nthread")
 
 
 def make_vector_environment(
@@ -37,15 +40,8 @@ def make_vector_environment(
     ('module:TaskClass') or a callable; the other keywords are VectorEnvironment's.
     Raises RegistrationError for a task that cannot be imported or a keyword it does not
     accept, and what VectorEnvironment raises."""
-    factory = resolve_task(task)
-    accepted = accepted_keywords(factory)
-    unknown = sorted(set(task_kwargs) - set(accepted)) if accepted is not None else []
-    if unknown:
-        raise RegistrationError(
-            f"task {task!r} got unknown keyword argument(s) {unknown}; it accepts {accepted}"
-        )
     return VectorEnvironment(
-        lambda: factory(**task_kwargs),
+        task_factory(task, task_kwargs, (*ENVIRONMENT_OPTIONS, *_VECTOR_OPTIONS)),
         num_envs,
         time_limit=time_limit,
         flatten_observations=flatten_observations,

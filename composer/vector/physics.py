@@ -8,7 +8,10 @@
     physics.ids, physics.tasks, physics.random_states    # who the n rows are
 
 The `composer.BatchPhysics` a VectorEnvironment passes to batched methods (the contract is
-`composer.batched`'s). It covers the environments of one call (`ids`, ascending).
+`composer.batched`'s). Each covers a fixed set of environments (`ids`, ascending):
+`Simulations.physics(ids)` gives the one of the environments of a call, and
+`Simulations.physics()` the one of every environment, kept with its bindings; all share
+the `Simulations`, which knows what of the batch is fresh.
 `bind(elements)` takes elements of the first environment's model, as `mjcf.Physics.bind`
 does, and gives their fields with a leading environment axis: `bind(joint).qpos` is (n, 1)
 for a hinge. Reads are copies. MjData fields come from MuJoCo's batch
@@ -68,25 +71,26 @@ class _Field:
 
 
 class BatchBinding(batched.Binding):
-    """Fields of bound elements in the environments of the current call, (n, ...) each.
+    """Fields of bound elements in the environments of a VectorPhysics, (n, ...) each.
     Raises mjcf.BindingError for a field the elements' kind does not have."""
 
     __slots__ = ("_elements", "_fields", "_physics")
 
     _physics: VectorPhysics
-    _elements: Any  # an element or a list of elements of one kind
+    _elements: Any  # an element or a tuple of elements of one kind
     _fields: dict[str, _Field]
 
-    def __init__(self, physics: VectorPhysics, elements: Any) -> None:
-        """Bind `elements` (of the first environment's model); resolved field by field."""
+    def __init__(self, physics: VectorPhysics, elements: Any, fields: dict[str, _Field]) -> None:
+        """Bind `elements` (of the first environment's model) in the environments of
+        `physics`; `fields` holds their fields as resolved, shared by every view."""
         object.__setattr__(self, "_physics", physics)
         object.__setattr__(self, "_elements", elements)
-        object.__setattr__(self, "_fields", {})
+        object.__setattr__(self, "_fields", fields)
 
     def _field(self, name: str) -> _Field:
         found = self._fields.get(name)
         if found is None:
-            found = self._fields[name] = self._physics._resolve(self._elements, name)
+            found = self._fields[name] = self._physics.simulations._resolve(self._elements, name)
         return found
 
     def _get(self, name: str) -> np.ndarray:
@@ -99,70 +103,58 @@ class BatchBinding(batched.Binding):
         return f"<BatchBinding of {self._elements!r}>"
 
 
-class VectorPhysics(batched.BatchPhysics):
-    """Numpy access to the simulations of the environments of one call (see the module)."""
+class Simulations:
+    """The simulations of a VectorEnvironment, and which of their derived fields in the
+    batch lag their state: what every VectorPhysics over them shares.
+
+        simulations = Simulations(batch, envs)
+        simulations.physics()           # the VectorPhysics of every environment
+        simulations.physics(ids)        # of environments `ids` (ascending)
+        simulations.stepped(ids, True)  # the environment stepped them in the batch
+        simulations.changed(i)          # it wrote environment i's state from its MjData
+    """
 
     def __init__(self, batch: mujoco_batch.Batch, envs: Sequence[Environment]) -> None:
         """Serve `batch`, whose simulation i is `envs[i]`; the first environment's physics
         resolves elements."""
-        self._batch = batch
-        self._envs = envs
-        self._template = envs[0].physics
-        self._ids: np.ndarray | None = None  # None: every environment
-        self._bindings: dict[Any, batched.Binding] = {}
+        self.batch = batch
+        self.envs = envs
+        self.template = envs[0].physics
         # Per simulation: whether the batch's derived fields lag its state rows, for the
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
         self._registered: set[str] = set()  # the MjData fields bound from the batch
+        # Per bound elements: their binding class (None: no elements) and resolved fields.
+        self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
+        self._every = VectorPhysics(self, None)
 
-    # -- who the rows are ----------------------------------------------------------------
+    def physics(self, ids: np.ndarray | None = None) -> VectorPhysics:
+        """The VectorPhysics of environments `ids` (ascending; None: every one)."""
+        if ids is None or len(ids) == self.batch.nsim:
+            return self._every
+        return VectorPhysics(self, ids)
 
-    @property
-    def ids(self) -> np.ndarray:
-        """The environments of this call, ascending: row k is environment ids[k]."""
-        if self._ids is None:
-            return np.arange(self._batch.nsim)
-        return self._ids.copy()
-
-    @property
-    def num_envs(self) -> int:
-        """n, the number of rows."""
-        return self._batch.nsim if self._ids is None else len(self._ids)
-
-    @property
-    def tasks(self) -> list[Task]:
-        """Each row's task (per-episode state a task keeps on itself is read here)."""
-        return [self._envs[i].task for i in self.ids]
-
-    @property
-    def random_states(self) -> list[np.random.RandomState]:
-        """Each row's RandomState: draw from these to stay reproducible per environment."""
-        return [self._envs[i].random_state for i in self.ids]
-
-    @property
-    def batch(self) -> mujoco_batch.Batch:
-        """The underlying `mujoco.batch.Batch`, every environment (not only this call's)."""
-        return self._batch
-
-    def _select(self, ids: np.ndarray | None) -> None:
-        """Cover environments `ids` (ascending), or every one with None."""
-        self._ids = ids
-
-    def _stepped(self, ids: np.ndarray, consistent: bool) -> None:
+    def stepped(self, ids: np.ndarray, consistent: bool) -> None:
         """Simulations `ids` were stepped: with stage mjSTAGE_VEL (`consistent`), only their
         acceleration stage lags; after plain steps their fields lag as mj_step leaves them."""
         self._pos_stale[ids] = False
         self._acc_stale[ids] = consistent
 
-    def _changed(self, ids: Any) -> None:
+    def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
         self._pos_stale[ids] = True
         self._acc_stale[ids] = True
 
-    def _refresh(self, stage: tracking.Stage) -> None:
-        """Recompute the derived fields of the covered simulations that lag for `stage`."""
-        ids = self.ids
+    def _wrote(self, ids: np.ndarray | None, effect: tracking.Effect) -> None:
+        """Batched methods wrote the state rows of simulations `ids` (None: all)."""
+        written = slice(None) if ids is None else ids
+        self._acc_stale[written] = True
+        if effect != tracking.Effect.STEP_INPUT:
+            self._pos_stale[written] = True
+
+    def _refresh(self, ids: np.ndarray, stage: tracking.Stage) -> None:
+        """Recompute the derived fields of simulations `ids` that lag for `stage`."""
         stale = self._pos_stale[ids]
         if stage == _ACC:
             stale = stale | self._acc_stale[ids]
@@ -172,10 +164,95 @@ class VectorPhysics(batched.BatchPhysics):
         batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
-            self._batch.forward(None if len(which) == self._batch.nsim else which, batch_stage)
+            self.batch.forward(None if len(which) == self.batch.nsim else which, batch_stage)
         self._pos_stale[which] = False
         if stage == _ACC:
             self._acc_stale[which] = False
+
+    def _source(self, name: str) -> np.ndarray:
+        """MjData field `name` of every simulation, as the batch holds it. Raises
+        BatchError for a field the batch does not hold."""
+        batched.check_source(name)
+        source = self.batch.bind(name)
+        if name not in self._registered:
+            self._registered.add(name)
+            if name not in batched.STATE_FIELDS:
+                # MuJoCo's batch copies an output out at each call from its first bind on:
+                # until the next call it holds nothing, whatever the stages say.
+                self._pos_stale[:] = True
+                self._acc_stale[:] = True
+        return source
+
+    def _binding(self, key: Any) -> tuple[type[BatchBinding] | None, dict[str, _Field]]:
+        """How elements `key` (an element or a tuple of them) bind: their binding class
+        (None for no elements) and their fields resolved so far. Raises mjcf.BindingError
+        for elements of another model."""
+        found = self._bound.get(key)
+        if found is None:
+            template = self.template.bind(key)
+            if template is mjcf.binding.EMPTY:
+                found = (None, {})
+            else:
+                found = (batched.binding_class(BatchBinding, template.kind), {})
+            self._bound[key] = found
+        return found
+
+    def _resolve(self, elements: Any, name: str) -> _Field:
+        """Field `name` of `elements`; raises mjcf.BindingError for one their kind has not."""
+        model = self.template.model
+        template = self.template.bind(list(elements) if isinstance(elements, tuple) else elements)
+        value = getattr(template, name)  # raises mjcf.BindingError for an unknown field
+        spec = fields.kind_fields(template.kind)[name]
+        ids = np.atleast_1d(np.asarray(template.ids))
+        rows, _ = fields.row_index(model, spec.address, ids)
+        source = self._source(spec.name) if spec.struct == "data" else None
+        if spec.name == "sensordata":
+            stage = tracking.sensor_stage(model, ids)
+        else:
+            stage = tracking.field_stage(spec)
+        effect = tracking.write_effect(spec)
+        return _Field(source, spec.name, rows, np.shape(value), stage, effect)
+
+
+class VectorPhysics(batched.BatchPhysics):
+    """Numpy access to the simulations of some environments of a VectorEnvironment (see
+    the module docstring); made by `Simulations.physics`."""
+
+    def __init__(self, simulations: Simulations, ids: np.ndarray | None) -> None:
+        """Cover environments `ids` (ascending; None: every one) of `simulations`."""
+        self.simulations = simulations
+        self._ids = ids
+        self._every = np.arange(simulations.batch.nsim) if ids is None else ids
+        self._bindings: dict[Any, batched.Binding | batched.EmptyBinding] = {}
+
+    # -- who the rows are ----------------------------------------------------------------
+
+    @property
+    def ids(self) -> np.ndarray:
+        """The environments covered, ascending: row k is environment ids[k]."""
+        return self._every.copy()
+
+    @property
+    def num_envs(self) -> int:
+        """n, the number of rows."""
+        return len(self._every)
+
+    @property
+    def tasks(self) -> list[Task]:
+        """Each row's task (per-episode state a task keeps on itself is read here)."""
+        envs = self.simulations.envs
+        return [envs[i].task for i in self._every]
+
+    @property
+    def random_states(self) -> list[np.random.RandomState]:
+        """Each row's RandomState: draw from these to stay reproducible per environment."""
+        envs = self.simulations.envs
+        return [envs[i].random_state for i in self._every]
+
+    @property
+    def batch(self) -> mujoco_batch.Batch:
+        """The underlying `mujoco.batch.Batch`, every environment (not only those covered)."""
+        return self.simulations.batch
 
     # -- access --------------------------------------------------------------------------
 
@@ -186,58 +263,31 @@ class VectorPhysics(batched.BatchPhysics):
         key = elements if isinstance(elements, mjcf.Element) else tuple(elements)
         found = self._bindings.get(key)
         if found is None:
-            single = isinstance(key, mjcf.Element)
-            template = self._template.bind(key)  # raises BindingError for foreign elements
-            if template is mjcf.binding.EMPTY:
-                return batched.EmptyBinding(self)
-            cls = batched.binding_class(BatchBinding, template.kind)
-            found = self._bindings[key] = cls(self, key if single else list(key))
+            cls, fields = self.simulations._binding(key)
+            found = batched.EmptyBinding(self) if cls is None else cls(self, key, fields)
+            self._bindings[key] = found
         return found
 
     def field(self, name: str) -> np.ndarray:
         """See `composer.BatchPhysics.field`."""
-        source = self._source(name)
+        simulations = self.simulations
+        source = simulations._source(name)
         stage = tracking.read_stage(name)
         if name == "sensordata":
-            model = self._template.model
+            model = simulations.template.model
             stage = tracking.sensor_stage(model, np.arange(model.nsensor))
         if stage:
-            self._refresh(stage)
+            simulations._refresh(self._every, stage)
         return source.copy() if self._ids is None else source[self._ids]
 
-    def _source(self, name: str) -> np.ndarray:
-        batched.check_source(name)
-        source = self._batch.bind(name)
-        if name not in self._registered:
-            self._registered.add(name)
-            if name not in batched.STATE_FIELDS:
-                # MuJoCo's batch copies an output out at each call from its first bind on:
-                # until the next call it holds nothing, whatever the stages say.
-                self._pos_stale[:] = True
-                self._acc_stale[:] = True
-        return source
-
-    def _resolve(self, elements: Any, name: str) -> _Field:
-        template = self._template.bind(elements)
-        value = getattr(template, name)  # raises mjcf.BindingError for an unknown field
-        spec = fields.kind_fields(template.kind)[name]
-        ids = np.atleast_1d(np.asarray(template.ids))
-        rows, _ = fields.row_index(self._template.model, spec.address, ids)
-        source = self._source(spec.name) if spec.struct == "data" else None
-        if spec.name == "sensordata":
-            stage = tracking.sensor_stage(self._template.model, ids)
-        else:
-            stage = tracking.field_stage(spec)
-        effect = tracking.write_effect(spec)
-        return _Field(source, spec.name, rows, np.shape(value), stage, effect)
-
     def _read(self, found: _Field) -> np.ndarray:
+        """The rows of bound field `found` of the environments covered, a new array."""
         if found.stage:
-            self._refresh(found.stage)
+            self.simulations._refresh(self._every, found.stage)
         ids, source = self._ids, found.source
         if source is None:
-            envs = self._envs if ids is None else [self._envs[i] for i in ids]
-            rows = [getattr(env.physics.model, found.model_name)[found.rows] for env in envs]
+            models = [self.simulations.envs[i].physics.model for i in self._every]
+            rows = [getattr(model, found.model_name)[found.rows] for model in models]
             return np.stack(rows).reshape(len(rows), *found.shape)
         if ids is None:
             values = np.take(source, found.rows, axis=1)
@@ -246,6 +296,9 @@ class VectorPhysics(batched.BatchPhysics):
         return values.reshape(len(values), *found.shape)
 
     def _write(self, found: _Field, name: str, value: Any) -> None:
+        """Write `value`, (n, ...) rows, to bound field `found` (named `name`) of the
+        environments covered. Raises BatchError for a field batched methods cannot
+        assign, mjcf.BindingError for values that do not fit."""
         source = found.source
         if not found.writable or source is None:  # no source: not writable
             raise batched.not_writable(name, model_field=source is None)
@@ -256,21 +309,14 @@ class VectorPhysics(batched.BatchPhysics):
             source[:, found.rows] = rows
         else:
             source[self._ids[:, None], found.rows] = rows
-        self._wrote(found.effect)
-
-    def _wrote(self, effect: tracking.Effect) -> None:
-        """The covered simulations' state rows were written, with `effect`."""
-        written = slice(None) if self._ids is None else self._ids
-        self._acc_stale[written] = True
-        if effect != tracking.Effect.STEP_INPUT:
-            self._pos_stale[written] = True
+        self.simulations._wrote(self._ids, found.effect)
 
     def set_control(self, controls: Any) -> None:
         """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
-        ctrl = self._batch.bind("ctrl")
+        ctrl = self.simulations.batch.bind("ctrl")
         rows = batched.rows_to_write(controls, self.num_envs, ctrl.shape[1:], "ctrl")
         if self._ids is None:
             ctrl[:] = rows
         else:
             ctrl[self._ids] = rows
-        self._wrote(tracking.Effect.STEP_INPUT)
+        self.simulations._wrote(self._ids, tracking.Effect.STEP_INPUT)

@@ -9,6 +9,7 @@ import pytest
 
 import composer
 import mjcf
+from arenas import Floor
 from composer import BatchOfOne, VectorEnvironment
 from tests.composer.vector_scenes import BatchedSwing, SensingSwing
 
@@ -119,7 +120,7 @@ def test_what_the_vector_batch_refuses_a_batch_of_one_refuses_alike():
 def test_who_the_row_is_an_environment_says():
     env = composer.Environment(BatchedSwing())
     env.reset(seed=0)
-    served = BatchOfOne.of(env.physics)
+    served = env.batch_physics
     assert served.num_envs == 1 and served.ids.tolist() == [0]
     assert served.tasks == [env.task] and served.random_states == [env.random_state]
     assert isinstance(served, composer.BatchPhysics)
@@ -129,6 +130,38 @@ def test_who_the_row_is_an_environment_says():
     with pytest.raises(composer.BatchError, match="no random state"):
         _ = bare.random_states
     assert bare.bind([]).qpos.shape == (1, 0)
+
+
+class Drawing(composer.NullTask):
+    """A reward drawn from each environment's random state (it needs to know whose rows),
+    in batched form only: Task's `get_reward` runs it with a batch of one."""
+
+    def __init__(self) -> None:
+        super().__init__(Floor())
+
+    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        return np.array([state.uniform() for state in physics.random_states])
+
+
+def test_a_task_called_with_its_environment_physics_runs_with_that_environment_batch():
+    env = composer.Environment(Drawing())
+    env.reset(seed=3)
+    before = env.random_state.get_state(legacy=False)
+    drawn = env.task.get_reward(env.physics)  # Task's single form: the batched one, served
+    env.random_state.set_state(before)
+    assert drawn == env.random_state.uniform()
+    # Another physics of the same model is no environment's: a new batch, no random state.
+    other = mjcf.Physics.from_mjcf_model(env.task.root_entity.mjcf_model)
+    with pytest.raises(composer.BatchError, match="no random state"):
+        env.task.get_reward(other)
+    # A second environment of the task serves it from then on; the first no longer does.
+    second = composer.Environment(env.task)
+    second.reset(seed=5)
+    state = second.random_state.get_state(legacy=False)
+    second.task.get_reward(second.physics)
+    assert second.random_state.get_state(legacy=False) != state
+    with pytest.raises(composer.BatchError, match="no random state"):
+        env.task.get_reward(env.physics)
 
 
 def test_bindings_follow_a_recompile():

@@ -167,6 +167,22 @@ def test_bounds_survive_buffers_and_aggregators():
     assert obs in space
 
 
+def test_integer_observables_are_bounded_by_their_type_range():
+    # int64's range is not exact in float64: its bounds must not wrap around when cast.
+    def count(dtype):
+        return observation.Generic(lambda physics: np.array([3, 4], dtype=dtype))
+
+    env = composer.Environment(
+        ClockTask(wide=count(np.int64), narrow=count(np.int32), small=count(np.uint8))
+    )
+    for name, dtype in (("wide", np.int64), ("narrow", np.int32), ("small", np.uint8)):
+        box = env.observation_space[name]
+        assert box.dtype == dtype
+        assert (box.low == np.iinfo(dtype).min).all() and (box.high == np.iinfo(dtype).max).all()
+    obs, _ = env.reset(seed=0)
+    assert obs in env.observation_space
+
+
 def test_invalid_options_name_the_observable():
     with pytest.raises(composer.ObservableError, match=r"'clock'.*buffer_size"):
         composer.Environment(ClockTask(clock=observation.Generic(step_count, buffer_size=0)))
