@@ -3,6 +3,7 @@
     python -m bench.profiles step CartpoleSwingup     # one Environment.step via gym.make
     python -m bench.profiles reset AntRun             # one reset via gym.make
     python -m bench.profiles vector 8                 # one VectorEnvironment.step, 8 ants
+                                                      # (on one thread: see _vector)
     python -m bench.profiles parse rodent             # one mjcf.from_path (bench.real_models)
     python -m bench.profiles step Reach --lines 20    # ... and the 20 costliest lines
     python -m bench.profiles step Reach --cprofile    # cProfile instead of py-spy
@@ -11,10 +12,13 @@ A child process times the operation (CPU time per call, the median of 5 stretche
 another repeats it while `py-spy record --native` samples it (`pip install py-spy`: the
 [bench] extra).
 Each sample is charged to the innermost Python function on its stack (MuJoCo's and
-numpy's C code to the Python line that called it; the MuJoCo share is shown apart), and
+numpy's C code to the Python line that called it; the MuJoCo share is shown apart; the
+cyclic garbage collector, which runs wherever an allocation triggers it, to
+'(garbage collector)'), and
 the shares are scaled by the CPU time per call: microseconds per call of each function
 (self, with what it calls in C), of each function of ours including what it calls
-(inclusive), and of each line. Resets at episode ends are left out of step profiles.
+(inclusive), and of each line of ours including what it calls (numpy, MuJoCo ...).
+Resets at episode ends are left out of step profiles.
 cProfile's figures (--cprofile) count Python calls exactly but inflate small functions.
 """
 
@@ -36,10 +40,12 @@ from collections.abc import Callable
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-OURS = ("composer/", "mjcf/", "tasks/", "entities/", "arenas/")
+OURS = ("composer/", "mjcf/", "tasks/", "entities/", "arenas/", "bench/")
 _PYTHON_FRAME = re.compile(r"^(?P<function>.+) \((?P<file>.+\.py):(?P<line>\d+)\)$")
 _SAMPLED = "_sampled_loop"
 _LEFT_OUT = "_left_out"  # frames under it (episode resets) are not the operation's
+_COLLECTOR = "gc_collect"  # CPython's cyclic garbage collector (native frames)
+GARBAGE = "(garbage collector)"
 
 
 def _step(name: str) -> Callable[[], None]:
@@ -68,10 +74,11 @@ def _reset(name: str) -> Callable[[], None]:
 def _vector(num_envs: str) -> Callable[[], None]:
     import composer
     from bench.ant_v5 import AntV5
-    from bench.bench_vector import usable_cpus
     from bench.vector_sides import actions
 
-    env = composer.VectorEnvironment(AntV5, int(num_envs), nthread=usable_cpus())
+    # One thread: py-spy samples Python threads only, and the time per call is then all
+    # the sampled thread's (MuJoCo's pool threads would add CPU time it never sees).
+    env = composer.VectorEnvironment(AntV5, int(num_envs), nthread=1)
     env.reset(seed=0)
     chosen = actions(int(num_envs))[0]
     return lambda: env.step(chosen)
@@ -136,9 +143,9 @@ def _frames(stack: str) -> list[tuple[str, str, int] | str]:
 
 def charge(raw: str) -> dict[str, Counter]:
     """Samples of the sampled loop, by innermost Python function ('self'), by innermost
-    line ('lines'), by function of ours anywhere on the stack ('inclusive'), and those
-    whose innermost frame is MuJoCo's C code by that Python function ('mujoco'); 'total'
-    counts the samples."""
+    line of ours, with all it calls ('lines'), by function of ours anywhere on the stack
+    ('inclusive'), and those whose innermost frame is MuJoCo's C code by that Python
+    function ('mujoco'); 'total' counts the samples."""
     found = {key: Counter() for key in ("self", "lines", "inclusive", "mujoco", "total")}
     for line in raw.splitlines():
         stack, _, count_text = line.rpartition(" ")
@@ -152,9 +159,15 @@ def charge(raw: str) -> dict[str, Counter]:
         found["total"]["all"] += count
         if not python:
             continue
-        function, file, number = python[-1]
-        found["self"][f"{file}:{function}"] += count
-        found["lines"][f"{file}:{number} ({function})"] += count
+        function, file, _ = python[-1]
+        own = [f for f in python if f[1].startswith(OURS)]
+        if any(isinstance(f, str) and f.startswith(_COLLECTOR) for f in frames):
+            found["self"][GARBAGE] += count
+            found["lines"][GARBAGE] += count
+        else:
+            found["self"][f"{file}:{function}"] += count
+            if own:
+                found["lines"][f"{own[-1][1]}:{own[-1][2]} ({own[-1][0]})"] += count
         if isinstance(frames[-1], str) and "mujoco" in frames[-1].lower():
             found["mujoco"][f"{file}:{function}"] += count
         for key in {f"{f[1]}:{f[0]}" for f in python if f[1].startswith(OURS)}:
@@ -169,7 +182,7 @@ def report(found: dict[str, Counter], us_per_call: float, top: int, lines: int) 
     shown = {
         "self (innermost Python function, with the C it calls)": found["self"].most_common(top),
         "inclusive (our functions and all they call)": found["inclusive"].most_common(top),
-        "lines": found["lines"].most_common(lines),
+        "lines of ours (with all they call)": found["lines"].most_common(lines),
     }
     width = max(len(key) for rows in shown.values() for key, _ in rows)
     print(f"{us_per_call:.1f} us CPU per call; {total} samples")
@@ -232,6 +245,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--lines", type=int, default=0, help="also the N costliest lines")
     parser.add_argument("--no-native", action="store_true", help="no C frames (faster)")
     parser.add_argument("--cprofile", action="store_true")
+    parser.add_argument("--raw", type=Path, help="also keep py-spy's raw samples here")
     parser.add_argument("--child", help=argparse.SUPPRESS)  # a file to time into, or ''
     args = parser.parse_args(argv)
     if args.child is not None:
@@ -240,6 +254,8 @@ def main(argv: list[str] | None = None) -> None:
         _cprofile(args.workload, args.argument, args.seconds, args.top)
     else:
         raw, us = _py_spy(args.workload, args.argument, args.seconds, args.rate, not args.no_native)
+        if args.raw is not None:
+            args.raw.write_text(raw)
         print(f"{args.workload} {args.argument}: ", end="")
         report(charge(raw), us, args.top, args.lines)
 

@@ -5,8 +5,9 @@ dm_control's walkers, taken from its published wheel at run time (nothing commit
 
 The walkers come from dm-control's wheel, downloaded once into the cache the tests use
 (`tests/dm_control_wheel.fetch`: `$COMPOSER_TEST_CACHE` or the system's temporary
-folder) and its walkers' folder unpacked beside it, so that their meshes and skins are
-where the files name them. Offline and without the cached wheel, they are left out and
+folder), with its walkers' folder (and the suite's dog meshes, which the dog names)
+unpacked beside it as the wheel lays them out, so that their meshes and skins are where
+the files name them. Offline and without the cached wheel, they are left out and
 `note` says why.
 """
 
@@ -31,8 +32,10 @@ SHIPPED = {
     "ur5e": MENAGERIE / "universal_robots_ur5e" / "ur5e.xml",
     "2f85": MENAGERIE / "robotiq_2f85" / "2f85.xml",
 }
-# dm_control's walkers, by their paths under the wheel's walkers' assets folder.
+# dm_control's walkers, by their paths under the wheel's walkers' assets folder; the
+# folders unpacked.
 _WALKERS_FOLDER = "dm_control/locomotion/walkers/assets/"
+_UNPACKED = (_WALKERS_FOLDER, "dm_control/suite/dog_assets/")
 WALKERS = {
     "rodent": "rodent.xml",
     "cmu_v2020": "humanoid_CMU_V2020.xml",
@@ -51,16 +54,16 @@ def walkers() -> dict[str, Path]:
     if not folder.is_dir():
         staging = folder.with_name(f"{folder.name}.partial-{os.getpid()}")
         with zipfile.ZipFile(wheel) as archive:
-            members = [m for m in archive.namelist() if m.startswith(_WALKERS_FOLDER)]
+            members = [m for m in archive.namelist() if m.startswith(_UNPACKED)]
             archive.extractall(staging, members)
         try:
-            os.replace(staging / _WALKERS_FOLDER, folder)
+            os.replace(staging, folder)
         except OSError:  # another process unpacked it first
             if not folder.is_dir():
                 raise
         finally:
             shutil.rmtree(staging, ignore_errors=True)
-    return {name: folder / path for name, path in WALKERS.items()}
+    return {name: folder / _WALKERS_FOLDER / path for name, path in WALKERS.items()}
 
 
 def files(*names: str) -> tuple[dict[str, Path], str]:
