@@ -1,7 +1,8 @@
-"""python -m bench [names ...] [--quick] [--json PATH]: run the benchmark suite.
+"""python -m bench [names ...] [--quick] [--json PATH] [--against SIDES]: run the suite.
 
 python -m bench                       # everything; JSON in bench/results/<time>.json
 python -m bench vector scene          # some of them
+python -m bench vector --against envpool,gymnasium   # the vector comparison with others
 python -m bench --quick --json /tmp/smoke.json   # tiny budgets: checks the plumbing
 """
 
@@ -30,10 +31,17 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="where to write the results (default: bench/results/<time>.json)",
     )
+    parser.add_argument(
+        "--against",
+        default="",
+        help="the vector benchmark also runs these, comma-separated: envpool, gymnasium "
+        "(envpool: pip install -e '.[bench]')",
+    )
     args = parser.parse_args(argv)
+    options = {"against": tuple(filter(None, args.against.split(",")))} if args.against else {}
     try:
-        report = suite.run(args.names or None, quick=args.quick, json_path=args.json)
-    except KeyError as e:
+        report = suite.run(args.names or None, args.quick, args.json, options)
+    except (KeyError, ValueError) as e:
         parser.error(str(e))
     return int(any(entry["error"] for entry in report["benchmarks"].values()))
 

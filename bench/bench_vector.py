@@ -1,174 +1,162 @@
-"""composer.VectorEnvironment against MuJoCo's own batch stepping and against Gymnasium's
-SyncVectorEnv over our single environments: 64 Ant sims, same process, same run.
+"""Gymnasium's Ant stepped N at a time: composer.VectorEnvironment against MuJoCo's floor,
+envpool and gymnasium, at N = 1, 8, 32, 128, in one run.
 
-    python bench/bench_vector.py              # 64 envs, nthread = the CPUs we may use
-    python bench/bench_vector.py 16           # another number of environments
+    python -m bench vector --against envpool,gymnasium
+    python bench/bench_vector.py --against envpool --sizes 1,8
 
-The task is gymnasium's ant.xml (the model of Ant-v5, 5 physics steps per control step)
-with Ant-v5's reward, termination and start noise, written once in batched form
-(`get_reward_batch` ...; a single environment runs them with a batch of one), and its
-default observables (joint positions and velocities).
-  vector  VectorEnvironment.step with random actions
-  raw     mujoco.batch.Batch of the same compiled model, same threads: write ctrl,
-          step(nstep=5), copy the same observation rows, compute the same reward and
-          termination with numpy (and on one thread: what the threads give here)
-  sync    gymnasium.vector.SyncVectorEnv of composer.Environments of the same task
-and the shipped composer/AntRun-v0 through `gym.make_vec(..., 'vector_entry_point')`
-(fully batched: its twins and observables run over all environments at once) against
-its SyncVectorEnv. Rounds alternate and each figure is the best round. Targets: vector
->= 0.8x raw throughput, >= 2.5x sync.
+The sides (`bench.vector_sides`, which says what each one runs): ours (`vector`), the
+floor (mujoco.batch with the same per-step numpy work), MuJoCo's physics alone
+(mujoco.rollout, one call a round), our single environments in gymnasium's
+SyncVectorEnv (`sync`), the shipped AntRun-v0 vectorized and in SyncVectorEnv, and with
+`--against`, envpool's Ant-v5 and gymnasium's own Ant-v5 in SyncVectorEnv. Every side
+runs in a process of its own (`bench.workers`), on `nthread` threads where it has threads
+(the CPUs this process may use), and the rounds alternate between them; a round resets
+(not timed), then runs about 4096 environment steps (at most 800 control steps, under
+the 1000-step limits of gymnasium's and envpool's episodes).
+
+Figures: CPU time per environment step (the process', its threads included) is the robust
+one on a shared machine: best and median round, and the rounds' spread; throughput
+(environment steps per second of wall time, best round) is what a user sees, and follows
+the load of the machine. `<side>_vs_floor` is that side's throughput relative to the floor
+(CPU figure): 1.0 is the floor's, higher is faster. `vector_vs_<side>` is ours relative to
+that side's: above 1.0 we are faster. Goals (issue 28): vector >= envpool at every N, and
+>= 0.95 of the floor at N >= 32.
 """
 
 from __future__ import annotations
 
+import argparse
+import math
 import os
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
-
-import gymnasium
-import numpy as np
-from mujoco import batch as mujoco_batch
+from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
-import composer
-import mjcf
+from bench import rounds, vector_sides
+from bench.workers import Worker
 
-ANT = Path(gymnasium.__file__).parent / "envs" / "mujoco" / "assets" / "ant.xml"
-SUBSTEPS = 5
-HEALTHY_Z = (0.2, 1.0)
+SIZES = (1, 8, 32, 128)
+AGAINST = ("envpool", "gymnasium")
+BASE_SIDES = ("vector", "floor", "physics", "sync", "antrun_vector", "antrun_sync")
+ROUNDS = 7
+ENV_STEPS = 4096
+MAX_STEPS = 800
 
 
-class AntV5(composer.Task):
-    """Ant-v5's task on its own model: forward velocity + 1 (healthy) - 0.5 |u|^2."""
+def steps_per_round(num_envs: int, env_steps: int = ENV_STEPS) -> int:
+    """Control steps of a round of about `env_steps` environment steps."""
+    return max(1, min(MAX_STEPS, math.ceil(env_steps / num_envs)))
 
-    def __init__(self) -> None:
-        self.ant = composer.Entity.from_path(ANT)
-        timestep = self.physics_timestep
-        self.set_timesteps(control_timestep=SUBSTEPS * timestep, physics_timestep=timestep)
-        self.root = self.ant.mjcf_model.find("joint", "root")
-        self.joints = self.ant.mjcf_model.find_all("joint")
 
-    @property
-    def root_entity(self) -> composer.Entity:
-        return self.ant
+def usable_cpus() -> int:
+    """The CPUs this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
-    def initialize_episode(self, physics: mjcf.Physics, random_state: np.random.RandomState):
-        joints = physics.bind(self.joints)
-        joints.qpos = joints.qpos + random_state.uniform(-0.1, 0.1, joints.qpos.shape)
-        joints.qvel = 0.1 * random_state.standard_normal(joints.qvel.shape)
 
-    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
-        control = physics.field("ctrl")
-        return (
-            physics.bind(self.root).qvel[:, 0] + 1.0 - 0.5 * np.einsum("ij,ij->i", control, control)
+def _figures(times: list[tuple[float, float]], env_steps: int) -> dict[str, float]:
+    cpu = rounds.spread([c / env_steps * 1e6 for _, c in times])
+    return {
+        "cpu_us": cpu["best"], "cpu_us_median": cpu["median"], "cpu_spread": cpu["spread"],
+        "steps_per_s": env_steps / min(w for w, _ in times),
+    }  # fmt: skip
+
+
+def _ratios(found: dict[str, dict[str, float]]) -> dict[str, float]:
+    """Each side against the floor, and ours against each side (CPU figures; see the
+    module docstring), and ours against envpool in wall time too."""
+    ratios = {}
+    floor = found.get("floor")
+    ours = found.get("vector")
+    for side, figures in found.items():
+        if side.startswith("antrun"):
+            continue  # another model
+        if floor is not None and side != "floor":
+            ratios[f"{side}_vs_floor"] = floor["cpu_us"] / figures["cpu_us"]
+        if ours is not None and side != "vector":
+            ratios[f"vector_vs_{side}"] = figures["cpu_us"] / ours["cpu_us"]
+    if ours is not None and "envpool" in found:
+        ratios["vector_vs_envpool_wall"] = ours["steps_per_s"] / found["envpool"]["steps_per_s"]
+    if "antrun_vector" in found and "antrun_sync" in found:
+        ratios["antrun_vector_vs_sync"] = (
+            found["antrun_sync"]["cpu_us"] / found["antrun_vector"]["cpu_us"]
         )
-
-    def should_terminate_episode_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
-        z = physics.bind(self.root).qpos[:, 2]
-        return (z < HEALTHY_Z[0]) | (z > HEALTHY_Z[1])
+    return ratios
 
 
-def best_rates(rounds: int, steps: int, sides: dict[str, Callable[[int], float]]) -> dict:
-    """Best env-steps/s of each side over alternating rounds of `steps` steps."""
-    best = dict.fromkeys(sides, 0.0)
-    for _ in range(rounds):
-        for name, run in sides.items():
-            best[name] = max(best[name], run(steps))
-    return best
+def _print_size(num_envs: int, steps: int, found: dict[str, dict[str, float]]) -> None:
+    print(f"\nN = {num_envs} ({steps} control steps a round)")
+    print(f"  {'side':14} {'CPU us/step':>11} {'median':>8} {'spread':>7} "
+          f"{'steps/s (wall)':>15} {'vs floor':>9}")  # fmt: skip
+    floor = found.get("floor")
+    for side, f in found.items():
+        same_model = floor is not None and not side.startswith("antrun")
+        relative = f"{floor['cpu_us'] / f['cpu_us']:9.2f}" if same_model else ""
+        print(f"  {side:14} {f['cpu_us']:11.1f} {f['cpu_us_median']:8.1f} "
+              f"{f['cpu_spread']:7.0%} {f['steps_per_s']:15.0f} {relative}")  # fmt: skip
 
 
-def stepper(env: object, actions: np.ndarray) -> Callable[[int], float]:
-    """A round of `env.step` with the actions, in env-steps per second."""
-
-    def run(steps: int) -> float:
-        env.reset(seed=0)
-        step = env.step
-        start = time.perf_counter()
-        for k in range(steps):
-            step(actions[k % len(actions)])
-        return steps * len(actions[0]) / (time.perf_counter() - start)
-
-    return run
-
-
-def raw_stepper(
-    vector: composer.VectorEnvironment, actions: np.ndarray, nthread: int
-) -> Callable[[int], float]:
-    """The same sims stepped on mujoco.batch directly, with the same per-step numpy work."""
-    physics = vector.environments[0].physics
-    model, num_envs = physics.model, vector.num_envs
-    batch = mujoco_batch.Batch(model, num_envs, nthread=nthread)
-    ctrl, qpos, qvel = batch.bind("ctrl"), batch.bind("qpos"), batch.bind("qvel")
-
-    def run(steps: int) -> float:
-        batch.reset()
-        start = time.perf_counter()
-        for k in range(steps):
-            ctrl[:] = actions[k % len(actions)]
-            batch.step(nstep=SUBSTEPS)
-            observation = {"qpos": qpos.copy(), "qvel": qvel.copy()}
-            control = ctrl.copy()
-            reward = qvel[:, 0] + 1.0 - 0.5 * np.einsum("ij,ij->i", control, control)
-            done = (qpos[:, 2] < HEALTHY_Z[0]) | (qpos[:, 2] > HEALTHY_Z[1])
-        del observation, reward, done
-        return steps * num_envs / (time.perf_counter() - start)
-
-    return run
-
-
-def main(num_envs: int = 64, quick: bool = False) -> dict[str, float]:
-    """Measure and print; returns steps/s and ratios. `quick`: 4 envs, a few steps."""
-    rounds, steps = (1, 5) if quick else (5, 60)
-    num_envs = min(num_envs, 4) if quick else num_envs
-    nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
-    vector = composer.VectorEnvironment(AntV5, num_envs, nthread=nthread)
-    print(f"{num_envs} Ant sims, {vector.batch_physics.batch.nthread} threads; "
-          f"per-environment parts: {vector.per_environment or 'none'}")  # fmt: skip
-    rng = np.random.default_rng(0)
-    actions = rng.uniform(-1, 1, size=(20, *vector.action_space.shape)).astype(np.float32)
-    sync = gymnasium.vector.SyncVectorEnv(
-        [lambda: composer.Environment(AntV5()) for _ in range(num_envs)]
-    )
-    rates = best_rates(
-        rounds, steps,
-        {"vector": stepper(vector, actions),
-         "raw_batch": raw_stepper(vector, actions, vector.batch_physics.batch.nthread),
-         "raw_batch_1_thread": raw_stepper(vector, actions, 1), "sync": stepper(sync, actions)},
-    )  # fmt: skip
-    import tasks  # noqa: F401  registers composer/AntRun-v0
-
-    shipped = gymnasium.make_vec(
-        "composer/AntRun-v0", num_envs=num_envs, vectorization_mode="vector_entry_point"
-    )
-    print(f"composer/AntRun-v0 per-environment parts: {shipped.per_environment or 'none'}")
-    shipped_sync = gymnasium.make_vec(
-        "composer/AntRun-v0", num_envs=num_envs, vectorization_mode="sync"
-    )
-    fallback = best_rates(
-        max(1, rounds // 2), steps,
-        {"antrun_vector": stepper(shipped, actions), "antrun_sync": stepper(shipped_sync, actions)},
-    )  # fmt: skip
-    results = {
-        **{f"{name}_steps_per_s": rate for name, rate in {**rates, **fallback}.items()},
-        "vector_vs_raw_batch": rates["vector"] / rates["raw_batch"],
-        "vector_vs_sync": rates["vector"] / rates["sync"],
-        "raw_batch_vs_sync": rates["raw_batch"] / rates["sync"],
-        "raw_batch_vs_1_thread": rates["raw_batch"] / rates["raw_batch_1_thread"],
-        "antrun_vector_vs_sync": fallback["antrun_vector"] / fallback["antrun_sync"],
-    }
-    for name, rate in {**rates, **fallback}.items():
-        print(f"  {name:14} {rate:10.0f} env-steps/s")
-    print(f"  vector / raw batch: {results['vector_vs_raw_batch']:.2f}x (target >= 0.8x)")
-    print(f"  vector / sync:      {results['vector_vs_sync']:.2f}x (target >= 2.5x; the raw "
-          f"batch's own is {results['raw_batch_vs_sync']:.2f}x, its threads give "
-          f"{results['raw_batch_vs_1_thread']:.2f}x)")  # fmt: skip
-    print(f"  AntRun-v0 (shipped task) vector / sync: "
-          f"{results['antrun_vector_vs_sync']:.2f}x")  # fmt: skip
+def main(
+    quick: bool = False, against: tuple[str, ...] = (), sizes: tuple[int, ...] = SIZES
+) -> dict[str, Any]:
+    """Measure and print every size; returns the figures and ratios by size ('n32': ...).
+    `quick`: N = 1 and 4, one round of a few steps. Raises ValueError for an unknown
+    side in `against`."""
+    unknown = set(against) - set(AGAINST)
+    if unknown:
+        raise ValueError(f"unknown side(s) {sorted(unknown)} to run against; known: {AGAINST}")
+    if quick:
+        sizes, round_count, env_steps = tuple(min(n, 4) for n in sizes[:2]), 1, 8
+    else:
+        round_count, env_steps = ROUNDS, ENV_STEPS
+    nthread = usable_cpus()
+    sides = list(BASE_SIDES)
+    for side in against:
+        how = vector_sides.missing(side)
+        if how is None:
+            sides.append(side)
+        else:
+            print(f"{side}: not installed, skipped; to compare with it: {how}")
+    workers = {side: Worker("bench.vector_sides", side) for side in sides}
+    results: dict[str, Any] = {"nthread": nthread, "sides": {}}
+    try:
+        print(f"Gymnasium's Ant-v5 model, {vector_sides.SUBSTEPS} physics steps per control "
+              f"step, {nthread} threads for the sides that have threads")  # fmt: skip
+        for side, worker in workers.items():
+            results["sides"][side] = worker.describe()
+            print(f"  {side:14} {results['sides'][side]}")
+        for num_envs in sizes:
+            steps = steps_per_round(num_envs, env_steps)
+            for worker in workers.values():
+                worker.build(num_envs, nthread)
+            timed = rounds.alternate(
+                {side: (lambda w=worker, s=steps: w.round(s)) for side, worker in workers.items()},
+                round_count,
+            )
+            found = {side: _figures(t, steps * num_envs) for side, t in timed.items()}
+            _print_size(num_envs, steps, found)
+            ratios = _ratios(found)
+            print("  " + ", ".join(f"{key} {value:.2f}" for key, value in ratios.items()))
+            results[f"n{num_envs}"] = {**found, **ratios}
+    finally:
+        for worker in workers.values():
+            worker.close()
     return results
 
 
+def _command_line(argv: list[str] | None = None) -> dict[str, Any]:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--against", default="", help=f"comma-separated: {', '.join(AGAINST)}")
+    parser.add_argument("--sizes", default=",".join(map(str, SIZES)), help="numbers of envs")
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args(argv)
+    return {
+        "quick": args.quick,
+        "against": tuple(filter(None, args.against.split(","))),
+        "sizes": tuple(int(n) for n in args.sizes.split(",")),
+    }
+
+
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 64)
+    main(**_command_line())

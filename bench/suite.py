@@ -3,9 +3,10 @@
     results = run(['vector', 'scene'], quick=True, json_path=Path('out.json'))
     results['benchmarks']['vector']['results']['vector_vs_raw_batch']
 
-Each benchmark is a module's `main(quick=...)` returning a dict of figures (ratios are
-the keys with '_vs_'); what it prints is shown and kept too. A benchmark that raises is
-recorded with its traceback and the others still run.
+Each benchmark is a module's `main(quick=..., **options)` returning a dict of figures
+(ratios are the keys with '_vs_'); what it prints is shown and kept too. A benchmark that
+raises is recorded with its traceback and the others still run. An option goes to the
+benchmarks whose `main` takes it (`against`: bench_vector's other sides).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import datetime
 import importlib
+import inspect
 import io
 import json
 import os
@@ -96,16 +98,36 @@ def ratios(results: Any, prefix: str = "") -> dict[str, float]:
     return found
 
 
-def run(names: list[str] | None = None, quick: bool = False, json_path: Path | None = None):
-    """Run the benchmarks `names` (all by default) and write the JSON (default
-    `default_path()`); returns what it wrote. Raises KeyError for an unknown name."""
+def _taking(module: Any, options: dict[str, Any]) -> dict[str, Any]:
+    """The options that `module.main` takes."""
+    parameters = inspect.signature(module.main).parameters
+    return {key: value for key, value in options.items() if key in parameters}
+
+
+def run(
+    names: list[str] | None = None,
+    quick: bool = False,
+    json_path: Path | None = None,
+    options: dict[str, Any] | None = None,
+):
+    """Run the benchmarks `names` (all by default) with `options` and write the JSON
+    (default `default_path()`); returns what it wrote. Raises KeyError for an unknown
+    name, ValueError for an option none of them takes."""
     names = list(BENCHMARKS) if names is None else names
     unknown = [n for n in names if n not in BENCHMARKS]
     if unknown:
         raise KeyError(f"unknown benchmark(s) {unknown}; known: {list(BENCHMARKS)}")
+    options = options or {}
+    if options:
+        modules = [importlib.import_module(BENCHMARKS[n]) for n in names]
+        taken = {key for module in modules for key in _taking(module, options)}
+        if set(options) - taken:
+            raise ValueError(f"no benchmark of {names} takes {sorted(set(options) - taken)}")
     json_path = Path(json_path or default_path()).resolve()
     cwd = os.getcwd()  # a benchmark may change it (bench_parse does)
-    report: dict[str, Any] = {"machine": machine(), "quick": quick, "benchmarks": {}}
+    report: dict[str, Any] = {
+        "machine": machine(), "quick": quick, "options": options, "benchmarks": {}
+    }  # fmt: skip
     for name in names:
         print(f"\n== {name} " + "=" * (70 - len(name)), flush=True)
         tee = _Tee(sys.stdout)
@@ -114,7 +136,7 @@ def run(names: list[str] | None = None, quick: bool = False, json_path: Path | N
         try:
             with contextlib.redirect_stdout(tee):
                 module = importlib.import_module(BENCHMARKS[name])
-                entry["results"] = module.main(quick=quick)
+                entry["results"] = module.main(quick=quick, **_taking(module, options))
         except Exception:
             entry["error"] = traceback.format_exc()
             print(entry["error"], file=sys.stderr)

@@ -4,6 +4,7 @@
     outcomes = dm_control_wheel.run_unittest_file("composer/entity_test.py")
     module = dm_control_wheel.import_module("dm_control.locomotion.walkers.ant")
     archive = dm_control_wheel.wheel()           # the unchanged wheel file
+    archive = dm_control_wheel.fetch()           # the same outside pytest (the benchmarks)
 
 How dm_control's own code and tests are measured against ours: the wheel of
 `dm-control==VERSION` is downloaded from the package index (`pip download --no-deps`,
@@ -40,9 +41,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
-from typing import Any
-
-import pytest
+from typing import Any, NoReturn
 
 VERSION = "1.0.50"
 _OURS = ("mjcf", "composer")
@@ -138,6 +137,16 @@ def rewrite(source: str) -> str:
     return _IMPORT_SUB.sub(plain, source)
 
 
+class Unavailable(RuntimeError):
+    """The wheel is not in the cache and the package index could not give it."""
+
+
+def _skip_unavailable(error: Unavailable) -> NoReturn:
+    import pytest  # only tests skip; the benchmarks use `fetch` without pytest
+
+    pytest.skip(str(error))
+
+
 def _download(folder: Path) -> Path:
     wheels = sorted(folder.glob(f"dm_control-{VERSION}-*.whl"))
     if wheels:
@@ -150,7 +159,9 @@ def _download(folder: Path) -> Path:
     wheels = sorted(folder.glob(f"dm_control-{VERSION}-*.whl"))
     if result.returncode or not wheels:
         tail = (result.stderr or result.stdout).strip().splitlines()[-1:] or ["no output"]
-        pytest.skip(f"dm-control {VERSION} could not be fetched from the package index: {tail[0]}")
+        raise Unavailable(
+            f"dm-control {VERSION} could not be fetched from the package index: {tail[0]}"
+        )
     return wheels[0]
 
 
@@ -175,12 +186,21 @@ def _unpack(wheel: Path, target: Path) -> None:
     os.replace(staging, target)
 
 
-def wheel() -> Path:
-    """The downloaded wheel file itself, unchanged (dm_control's own implementation, e.g.
-    as the reference of a differential test). Skips like `rewritten`."""
+def fetch() -> Path:
+    """The downloaded wheel file itself, unchanged, in the cache (downloaded on first use).
+    Raises Unavailable when it is not cached and the index cannot be reached."""
     cache = _cache()
     with _locked(cache / "lock"):
         return _download(cache)
+
+
+def wheel() -> Path:
+    """`fetch()` for a test (dm_control's own implementation, e.g. as the reference of a
+    differential test). Skips like `rewritten`."""
+    try:
+        return fetch()
+    except Unavailable as error:
+        _skip_unavailable(error)
 
 
 _OPTIONAL_NATIVE = ("labmaze",)
@@ -231,7 +251,10 @@ def rewritten() -> Path:
     if not (target / "dm_control").is_dir():
         with _locked(cache / "lock"):
             if not (target / "dm_control").is_dir():
-                _unpack(_download(cache), target)
+                try:
+                    _unpack(_download(cache), target)
+                except Unavailable as error:
+                    _skip_unavailable(error)
     if str(target) not in sys.path:
         sys.path.insert(0, str(target))
     _stand_in_for_absent_native_packages()

@@ -1,14 +1,19 @@
 """The benchmark suite's plumbing on tiny budgets: it runs, keeps figures and output in
-its JSON, and records a failing benchmark without stopping. No timings are asserted."""
+its JSON, records a failing benchmark without stopping, runs the vector comparison
+against other libraries or says how to install them, and profiles. No timings are
+asserted."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
+import shutil
 
 import pytest
 
-from bench import suite
+from bench import bench_parse, profiles, real_models, suite
 from bench.__main__ import main
+from bench.workers import Worker, WorkerError
 
 
 def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
@@ -21,13 +26,43 @@ def test_quick_suite_writes_figures_ratios_and_output(tmp_path):
     large = report["benchmarks"]["large"]["results"]
     assert large["2000 bodies"]["tree_mb"] > 0 and large["2000 bodies"]["parse_s"] > 0
     vector = report["benchmarks"]["vector"]
-    assert vector["error"] is None and "env-steps/s" in vector["output"]
-    assert {"vector_vs_raw_batch", "vector_vs_sync"} <= set(vector["results"])
+    assert vector["error"] is None and "steps/s (wall)" in vector["output"]
+    assert {"n1.vector_vs_floor", "n4.vector_vs_floor", "n1.vector_vs_sync"} <= set(
+        suite.ratios(vector["results"])
+    )
+    assert vector["results"]["n4"]["vector"]["cpu_us"] > 0
     scene = report["benchmarks"]["scene"]["results"]
     assert scene["memory"]["tree_mb"] > 0 and scene["memory"]["mjmodel_mb"] > 0
     assert "memory.tree_vs_mjmodel" in suite.ratios(scene)
     task_step = report["benchmarks"]["task_step"]["results"]
-    assert "CartpoleSwingup.env_vs_raw" in suite.ratios(task_step)
+    found = suite.ratios(task_step)
+    assert {"CartpoleSwingup.env_vs_raw", "Ant-v5.env_vs_raw"} <= set(found)
+    assert "AntV5.reset_vs_gymnasium_reset" in found
+
+
+def test_the_vector_comparison_runs_the_others_or_says_how_to_install_them(tmp_path):
+    path = tmp_path / "results.json"
+    command = ["vector", "--quick", "--against", "envpool,gymnasium", "--json", str(path)]
+    assert main(command) == 0
+    report = json.loads(path.read_text())
+    vector = report["benchmarks"]["vector"]
+    assert report["options"] == {"against": ["envpool", "gymnasium"]}
+    assert vector["results"]["n1"]["vector_vs_gymnasium"] > 0
+    if importlib.util.find_spec("envpool") is None:
+        assert "envpool: not installed, skipped" in vector["output"]
+        assert "pip install -e '.[bench]'" in vector["output"]
+    else:
+        assert vector["results"]["n1"]["vector_vs_envpool"] > 0
+        assert "on the MuJoCo it bundles" in vector["results"]["sides"]["envpool"]
+
+
+def test_an_unknown_side_to_run_against_is_refused(tmp_path):
+    path = tmp_path / "results.json"
+    assert main(["vector", "--quick", "--against", "nope", "--json", str(path)]) == 1
+    error = json.loads(path.read_text())["benchmarks"]["vector"]["error"]
+    assert "unknown side(s) ['nope']" in error
+    with pytest.raises(SystemExit):
+        main(["bind", "--against", "envpool"])  # no benchmark of these takes it
 
 
 def test_a_failing_benchmark_is_recorded_and_the_rest_run(tmp_path, monkeypatch):
@@ -44,3 +79,70 @@ def test_a_failing_benchmark_is_recorded_and_the_rest_run(tmp_path, monkeypatch)
 def test_unknown_benchmark_names_are_refused():
     with pytest.raises(KeyError, match="nope"):
         suite.run(["nope"])
+
+
+def test_a_side_that_raises_in_its_process_raises_with_its_traceback():
+    worker = Worker("bench.vector_sides", "no_such_side")
+    try:
+        with pytest.raises(WorkerError, match="KeyError: 'no_such_side'"):
+            worker.build(1, 1)
+    finally:
+        worker.close()
+
+
+def test_parse_measures_real_files_and_the_first_call():
+    results = bench_parse.main("ant", quick=True)
+    ant = results["ant"]
+    assert ant["parse_ms"] > 0 and ant["first_parse_ms"] > 0 and ant["mjspec_parse_ms"] > 0
+    assert {"parse_vs_mjspec", "first_parse_vs_mjspec"} <= set(suite.ratios(results["ant"]))
+    with pytest.raises(KeyError, match="nope"):
+        real_models.files("nope")
+
+
+def test_profile_charges_each_sample_to_its_innermost_python_function_and_our_line():
+    raw = "\n".join(
+        [
+            "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
+            "step (composer/environment.py:300);step (mjcf/physics.py:346);"
+            "mj_step2 (mujoco/libmujoco.so.4.0.0) 6",
+            "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
+            "step (composer/environment.py:301);clip (numpy/_core/fromnumeric.py:49) 3",
+            "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
+            "_left_out (bench/profiles.py:80);reset (composer/environment.py:250) 50",
+            "main (bench/profiles.py:1);_timed_loop (bench/profiles.py:70) 40",
+            "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
+            "from_path (mjcf/parser.py:79);os_fspath (libpython3.11.so.1.0);"
+            "gc_collect_main (libpython3.11.so.1.0);free (libc.so.6) 2",
+        ]
+    )
+    found = profiles.charge(raw)
+    assert found["total"]["all"] == 11  # resets and the timed stretch left out
+    assert found["self"] == {
+        "mjcf/physics.py:step": 6,
+        "numpy/_core/fromnumeric.py:clip": 3,
+        profiles.GARBAGE: 2,
+    }
+    assert found["mujoco"] == {"mjcf/physics.py:step": 6}
+    assert found["lines"] == {
+        "mjcf/physics.py:346 (step)": 6,
+        "composer/environment.py:301 (step)": 3,
+        profiles.GARBAGE: 2,
+    }
+    assert found["inclusive"]["composer/environment.py:step"] == 9
+    assert found["inclusive"]["mjcf/parser.py:from_path"] == 2
+
+
+def test_cprofile_profiles_a_step(capsys):
+    profiles.main(["step", "CartpoleSwingup", "--seconds", "0.4", "--cprofile", "--top", "40"])
+    out = capsys.readouterr().out
+    assert "calls under cProfile" in out and "environment.py" in out
+
+
+@pytest.mark.skipif(
+    shutil.which("py-spy") is None, reason="py-spy is not installed: pip install -e '.[bench]'"
+)
+def test_py_spy_profiles_a_step_in_microseconds_per_call(capsys):
+    profiles.main(["step", "CartpoleSwingup", "--seconds", "1", "--lines", "5"])
+    out = capsys.readouterr().out
+    assert "us CPU per call" in out
+    assert "composer/environment.py:Environment.step" in out  # inclusive, all of a step
