@@ -29,7 +29,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import mjcf
-from composer import errors
+from composer import errors, registration
 from composer.cli import catalog, engines, recipes, rollout, video
 from composer.cli.arguments import Parser, UsageError, did_you_mean, positive_int
 
@@ -201,7 +201,11 @@ def recipe_table(imports: Sequence[str] = ()) -> str:
     rows = [("task", "algo", "timesteps", "envs", "vec", "net", "lr", "batch", "gamma")]
     changes = []
     for name, info in catalog.tasks().items():
-        for r in recipes.registered(info):
+        try:
+            own = recipes.registered(info)
+        except registration.RegistrationError:  # `composer list` says why it is unavailable
+            continue
+        for r in own:
             net = "x".join(map(str, r.net))
             rows.append((name, r.algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
                          f"{r.learning_rate:g}", str(r.batch_size), f"{r.gamma:g}"))  # fmt: skip
