@@ -1,5 +1,6 @@
-"""Results in words: the one place that says how the commands write an episode, a summary
-of episodes, an evaluation during training, a duration and a count.
+"""Results in words: how `run`, `eval`, `view` and `train` write an episode, a summary of
+episodes and an evaluation during training (one formatter of the measures for both), a
+duration and a count.
 
     describe.episode(episode)        # 'return 16.15 over 75 steps, no success'
     describe.summary(stats)          # 'return 59.03 ± 8.92 over 100 episodes, success rate 0.98'
@@ -21,7 +22,7 @@ from typing import Any
 from composer.cli.rollout import Episode
 
 # The measures after the return: (key, written in full, written short), two decimals each.
-MEASURES = (
+_MEASURES = (
     ("success_rate", "success rate {:.2f}", "success {:.2f}"),
     ("forward_speed", "forward speed {:.2f} m/s", "{:.2f} m/s"),
 )
@@ -44,7 +45,7 @@ def summary(stats: dict[str, Any], compact: bool = False) -> str:
     text = f"return {stats['mean_return']:.2f} ± {stats['std_return']:.2f}"
     if not compact:
         text += f" over {count(stats['episodes'], 'episode')}"
-    for key, full, short in MEASURES:
+    for key, full, short in _MEASURES:
         if stats.get(key) is not None:
             text += ("  " + short if compact else ", " + full).format(stats[key])
     return text

@@ -40,7 +40,7 @@ POLICY_FORMAT = "composer-rllib-policy"
 POLICY_VERSION = 2
 # A checkpoint's saves, '000000020480-3fa9c1' (timesteps, then a random tag), and those
 # being written ('.000000020480-3fa9c1.partial').
-SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
+_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
 
 
 def require_ray(needs: str = "--engine ray needs") -> None:
@@ -92,7 +92,7 @@ class Checkpoint(base.Checkpoint):
         """The saves' subfolders, complete and partial."""
         if not self.folder.is_dir():
             return []
-        return sorted(p for p in self.folder.iterdir() if p.is_dir() and SAVED.fullmatch(p.name))
+        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
 
     def _complete(self) -> bool:
         return self.current().is_dir()
