@@ -121,7 +121,7 @@ def sb3_sides(info: Any, recipe: Any, per_runner: int, quick: bool) -> dict[str,
     """The floors' and the SB3 engine's measurements on `recipe`, and `per_runner`
     environments on one thread."""
     from composer import sb3
-    from composer.cli import training
+    from composer.cli.engines.sb3 import training
     from composer.vector import make_vector_environment
 
     steps = 5 if quick else 300
@@ -181,11 +181,14 @@ def main(quick: bool = False, task: str = TASK) -> dict[str, Any]:
     except ImportError:
         print("skipped: Ray is not installed (pip install -e '.[ray]')")
         return {}
-    from composer.cli import catalog, ray_algorithm, ray_files, ray_instance, recipes
+    from composer.cli import catalog, recipes
+    from composer.cli.engines.ray import algorithm as ray_algorithm
+    from composer.cli.engines.ray import files as ray_files
+    from composer.cli.engines.ray import instance as ray_instance
 
     info = catalog.find(task)
-    sb3_recipe = recipes.for_task(task).replace(vec="batched")
-    ray_recipe = ray_algorithm.ray_recipe(task, sb3_recipe.algo)
+    sb3_recipe = recipes.for_task(info).replace(vec="batched")
+    ray_recipe = recipes.for_task(info, sb3_recipe.algo, ray_files.NAME)
     per_runner = max(1, ray_recipe.n_envs // max(WORKERS))  # the CLI's default M here
     sides = sb3_sides(info, sb3_recipe, per_runner, quick)
     ray_files.quiet_ray()

@@ -11,7 +11,8 @@
 with `infos[i]['terminal_observation']` and `'TimeLimit.truncated'` as SB3 expects, and
 the step's info entries (discount, physics_error, the task's) per environment. Seeds set
 with `seed()` apply at the next `reset()`. `render()` tiles every environment's frame.
-stable-baselines3 is imported only here (`pip install .[train]`).
+This module imports stable-baselines3 (`pip install -e '.[train]'`); nothing in composer
+imports it but this module and the `composer train` engine that uses it.
 """
 
 from __future__ import annotations

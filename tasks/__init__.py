@@ -24,6 +24,7 @@ steps them with no per-environment work (its `per_environment` is []).
 """
 
 from composer.registration import register
+from tasks import recipes as recipes  # registers each task's training recipes
 from tasks.cartpole import CartpoleSwingup
 from tasks.locomotion import AntRun, WalkerRun
 from tasks.push import ArmPushBox

@@ -31,6 +31,10 @@ class PolicyError(CliError):
     """A saved policy or checkpoint cannot be found, read, or used on the task."""
 
 
+class RecipeError(CliError, ValueError):
+    """A training recipe, or a task given recipes, is not what `recipes.register` takes."""
+
+
 class UntrustedPolicyError(PolicyError):
     """A saved policy can only be loaded by unpickling, which runs code from the file:
     refused unless the user passes --trust-policy."""

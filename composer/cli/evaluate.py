@@ -6,14 +6,14 @@
 Actions are deterministic; episode i starts from seed `--seed` + i. The default seed is that
 of the evaluations `composer train` runs (`rollout.EVAL_SEED`), so with `--episodes` equal to
 training's `--eval-episodes` (10 by default, as here) it repeats training's last evaluation
-exactly, on either engine.
+exactly, on any engine.
 """
 
 from __future__ import annotations
 
 import argparse
 
-from composer.cli import catalog, rollout, training
+from composer.cli import catalog, describe, engines, rollout
 
 
 def run(args: argparse.Namespace) -> int:
@@ -21,10 +21,10 @@ def run(args: argparse.Namespace) -> int:
     info = args.info
     env = catalog.make(info)
     try:
-        model = training.load_policy(args.policy, env, args.trust_policy)
-        episodes = rollout.run_episodes(env, rollout.model_policy(model), args.episodes, args.seed)
+        policy = rollout.model_policy(engines.load_policy(args.policy, env, args.trust_policy))
+        episodes = rollout.run_episodes(env, policy, args.episodes, args.seed)
     finally:
         env.close()
     stats = rollout.summary(episodes)
-    print(f"{info.name}, policy {args.policy}: {rollout.describe_summary(stats)}")
+    print(f"{info.name}, policy {args.policy}: {describe.summary(stats)}")
     return 0

@@ -10,7 +10,8 @@
 Each command is a module (`composer.cli.listing`, `show`, `run`, `view`, `train`,
 `evaluate`) with a `run(args) -> exit status` (`args.info`: the TaskInfo of `args.task`,
 found first), imported only when chosen: `list`, `show`, `run` and `view` never import
-stable-baselines3 or torch unless given a trained policy.
+stable-baselines3, torch or Ray unless given a trained policy. The training engines
+(`composer.cli.engines`) give `composer train` their options and `--engine` its choices.
 
 Options are matched exactly (argparse's abbreviations are off: `--time` is not
 `--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
@@ -22,49 +23,32 @@ unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C 
 from __future__ import annotations
 
 import argparse
-import difflib
 import importlib
-import re
 import sys
 from collections.abc import Sequence
-from typing import Any, NoReturn
+from typing import Any
 
 import mjcf
-from composer import errors
-from composer.cli import catalog, recipes, rollout, video
-from composer.cli.errors import CliError
+from composer import errors, registration
+from composer.cli import catalog, engines, recipes, rollout, video
+from composer.cli.arguments import Parser, UsageError, did_you_mean, positive_int
 
 INTERRUPTED = 130
 USAGE_ERROR = 2
+# Each command's module, imported when the command is chosen.
+COMMANDS = {
+    "list": "composer.cli.listing",
+    "show": "composer.cli.show",
+    "run": "composer.cli.run",
+    "view": "composer.cli.view",
+    "train": "composer.cli.train",
+    "eval": "composer.cli.evaluate",
+}
 
 
-class UsageError(CliError):
-    """The command line does not parse: an unknown option, a missing or bad value; `prog`
-    is the command it concerns ('composer train')."""
-
-    def __init__(self, message: str, prog: str = "composer") -> None:
-        super().__init__(message)
-        self.prog = prog
-
-
-class Parser(argparse.ArgumentParser):
-    """An ArgumentParser that matches options exactly and raises UsageError (one line,
-    with a did-you-mean for an invalid choice) instead of printing usage and exiting."""
-
-    def __init__(self, **kwargs: Any) -> None:
-        super().__init__(allow_abbrev=False, **kwargs)
-
-    def error(self, message: str) -> NoReturn:
-        """Raise UsageError naming this command; argparse calls it for any mistake."""
-        invalid = re.search(r"invalid choice: '?([^' ]+)'? \(choose from (.*)\)", message)
-        if invalid:
-            choices = [c.strip(" '") for c in invalid.group(2).split(",")]
-            message += _did_you_mean(invalid.group(1), choices, quote="'")
-        raise UsageError(f"{message} (see: {self.prog} --help)", prog=self.prog)
-
-
-def parser() -> argparse.ArgumentParser:
-    """The argument parser of every command."""
+def parser(imports: Sequence[str] = ()) -> argparse.ArgumentParser:
+    """The argument parser of every command; `imports`: the modules given with --import,
+    whose tasks' recipes `composer train --help` lists too."""
     top = Parser(
         prog="composer",
         description="List, show, run, view, train and evaluate composer's MuJoCo tasks.",
@@ -75,18 +59,18 @@ def parser() -> argparse.ArgumentParser:
     )  # fmt: skip
     commands = top.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
-    _command(commands, "list", "listing", "list the registered tasks")
+    _command(commands, "list", "list the registered tasks")
 
-    show = _command(commands, "show", "show", "print a task's scene; --out renders a frame")
+    show = _command(commands, "show", "print a task's scene; --out renders a frame")
     _task(show)
     show.add_argument("--out", help="render a frame into this PNG file (default: no frame)")
     show.add_argument("--seed", type=int, default=0, help="seed of the episode (default: 0)")
 
-    run = _command(commands, "run", "run", "roll out a policy, print returns, record a video")
+    run = _command(commands, "run", "roll out a policy, print returns, record a video")
     _task(run)
     run.add_argument(
         "--policy", default="random",
-        help="'random' (default), or a folder or .zip written by `composer train`",
+        help="'random' (default), or a folder or policy written by `composer train`",
     )  # fmt: skip
     _trust_policy(run)
     run.add_argument("--episodes", type=positive_int, default=1, help="episodes (default: 1)")
@@ -94,28 +78,43 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--video", help=f"write the episodes to this {formats} file")
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
-    view = _command(commands, "view", "view", "watch a policy in MuJoCo's interactive viewer")
+    view = _command(commands, "view", "watch a policy in MuJoCo's interactive viewer")
     _task(view)
     view.add_argument(
         "--policy", default="random",
-        help="'random' (default), or a folder or .zip written by `composer train`",
+        help="'random' (default), or a folder or policy written by `composer train`",
     )  # fmt: skip
     _trust_policy(view)
     view.add_argument("--episodes", type=positive_int, help="quit after this many episodes")
     view.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
 
+    _train_command(commands, imports)
+
+    evaluate = _command(commands, "eval", "mean return and success of a policy")
+    _task(evaluate)
+    evaluate.add_argument("policy", help="a folder or policy written by `composer train`")
+    _trust_policy(evaluate)
+    evaluate.add_argument("--episodes", type=positive_int, default=10, help="default: 10")
+    evaluate.add_argument(
+        "--seed", type=int, default=rollout.EVAL_SEED,
+        help=f"seed of episode 1 (default: {rollout.EVAL_SEED}, as in training's evaluations: "
+        "with as many --episodes, eval repeats the last one)",
+    )  # fmt: skip
+    return top
+
+
+def _train_command(commands: argparse._SubParsersAction, imports: Sequence[str]) -> None:
+    """`composer train`: its options, then each engine's in a group of its own."""
+    every = engines.every()
+    with_extras = " or ".join(f"{engine.title} ([{engine.extra}] extra)" for engine in every)
     train = _command(
-        commands, "train", "train",
-        "train a policy with stable-baselines3 ([train] extra) or RLlib on Ray ([ray] extra)",
-        epilog=recipe_table(), formatter_class=argparse.RawDescriptionHelpFormatter,
+        commands, "train", f"train a policy with {with_extras}",
+        epilog_source=lambda: recipe_table(imports),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )  # fmt: skip
     _task(train, nargs="?", default=recipes.DEFAULT_TASK)
     train.add_argument("--algo", choices=recipes.ALGORITHMS, help="default: the task's recipe")
     train.add_argument("--timesteps", type=positive_int, help="total, counting resumed ones")
-    train.add_argument("--n-envs", type=positive_int, help="parallel environments")
-    train.add_argument(
-        "--vec", choices=recipes.VEC, help="step them in this process or one process each"
-    )
     train.add_argument("--seed", type=int, help="seed (default: 0)")
     train.add_argument("--out", help="output folder (default: runs/TASK-ALGO)")
     train.add_argument(
@@ -130,34 +129,16 @@ def parser() -> argparse.ArgumentParser:
         "--eval-episodes", type=positive_int, default=10, help="per evaluation (default: 10)"
     )
     train.add_argument("--no-video", action="store_true", help="skip the trained policy's video")
+    summaries = [
+        engine.summary + (" (default)" if engine.name == engines.DEFAULT else "")
+        for engine in every
+    ]
     train.add_argument(
-        "--tensorboard", metavar="DIR", help="also log to TensorBoard in DIR (stable-baselines3's)"
-    )
-    train.add_argument(
-        "--engine", choices=("sb3", "ray"), default="sb3",
-        help="stable-baselines3 on this machine (default), or RLlib on Ray ([ray] extra)",
+        "--engine", choices=engines.names(), default=engines.DEFAULT,
+        help=", or ".join(summaries),
     )  # fmt: skip
-    train.add_argument(
-        "--workers", type=positive_int, metavar="N", help="ray: env runners (default: CPUs)"
-    )
-    train.add_argument(
-        "--envs-per-worker", type=positive_int, metavar="M", help="ray: environments each"
-    )
-    train.add_argument(
-        "--address", metavar="HOST:PORT", help="ray: join this cluster (default: start locally)"
-    )
-
-    evaluate = _command(commands, "eval", "evaluate", "mean return and success of a policy")
-    _task(evaluate)
-    evaluate.add_argument("policy", help="a folder or .zip written by `composer train`")
-    _trust_policy(evaluate)
-    evaluate.add_argument("--episodes", type=positive_int, default=10, help="default: 10")
-    evaluate.add_argument(
-        "--seed", type=int, default=rollout.EVAL_SEED,
-        help=f"seed of episode 1 (default: {rollout.EVAL_SEED}, as in training's evaluations: "
-        "with as many --episodes, eval repeats the last one)",
-    )  # fmt: skip
-    return top
+    for engine in every:
+        engine.add_options(train.add_argument_group(f"--engine {engine.name} ({engine.title})"))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -167,11 +148,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"{e.prog}: error: {_one_line(e)}", file=sys.stderr)
         return USAGE_ERROR
+    except (errors.Error, mjcf.RenderError) as e:  # --help's recipe table: a task's import
+        print(f"composer: error: {_one_line(e)}", file=sys.stderr)
+        return USAGE_ERROR
     try:
         catalog.import_modules(args.imports)
         if "task" in args:  # found before the command's module imports torch: fails fast
             args.info = catalog.find(args.task)
-        command = importlib.import_module(f"composer.cli.{args.module}")
+        command = importlib.import_module(COMMANDS[args.command])
         return command.run(args)
     except (errors.Error, mjcf.RenderError) as e:
         print(f"composer: error: {_one_line(e)}", file=sys.stderr)
@@ -187,15 +171,15 @@ def main(argv: Sequence[str] | None = None) -> int:
 def parse(argv: Sequence[str] | None = None) -> argparse.Namespace:
     """The parsed command line; raises UsageError for anything it does not know, naming
     the closest option of the command."""
-    top = parser()
     words = list(sys.argv[1:] if argv is None else argv)
+    top = parser(_imports(words))
     known = [o for action in top._actions for o in action.option_strings]
     for index, word in enumerate(words):  # options before the command are the top's
         if not word.startswith("-"):
             if index == 0 or words[index - 1] != "--import":
                 break
         elif word.partition("=")[0] not in known:
-            top.error(f"unknown option {word}" + _did_you_mean(word.partition("=")[0], known))
+            top.error(f"unknown option {word}" + did_you_mean(word.partition("=")[0], known))
     args, unknown = top.parse_known_args(words)
     if unknown:
         name = getattr(args, "command", None)
@@ -203,31 +187,33 @@ def parse(argv: Sequence[str] | None = None) -> argparse.Namespace:
         known = [o for action in command._actions for o in action.option_strings]
         word = unknown[0]
         if word.startswith("-"):
-            message = f"unknown option {word}" + _did_you_mean(word.partition("=")[0], known)
+            message = f"unknown option {word}" + did_you_mean(word.partition("=")[0], known)
         else:
             message = f"unexpected argument {word!r}"
         command.error(message)
     return args
 
 
-def positive_int(text: str) -> int:
-    """An argparse type: a whole number of at least 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
-
-
-def recipe_table() -> str:
-    """The recipes as a text table, for `composer train --help`."""
+def recipe_table(imports: Sequence[str] = ()) -> str:
+    """The recipes of the registered tasks (those of `imports` too) as a text table, for
+    `composer train --help`."""
+    catalog.import_modules(imports)
     rows = [("task", "algo", "timesteps", "envs", "vec", "net", "lr", "batch", "gamma")]
-    for (task, algo), r in recipes.RECIPES.items():
-        net = "x".join(map(str, r.net))
-        rows.append((task, algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
-                     f"{r.learning_rate:g}", str(r.batch_size), f"{r.gamma:g}"))  # fmt: skip
+    changes = []
+    for name, info in catalog.tasks().items():
+        try:
+            own = recipes.registered(info)
+        except registration.RegistrationError:  # `composer list` says why it is unavailable
+            continue
+        for r in own:
+            net = "x".join(map(str, r.net))
+            rows.append((name, r.algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
+                         f"{r.learning_rate:g}", str(r.batch_size), f"{r.gamma:g}"))  # fmt: skip
+            changes += [
+                f"--engine {engine}: {name} {r.algo} with "
+                + ", ".join(f"{field}={value}" for field, value in changed.items())
+                for engine, changed in r.engine_changes.items()
+            ]
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
     lines = [
         "  ".join(f"{cell:<{w}}" for cell, w in zip(row, widths, strict=True)).rstrip()
@@ -235,11 +221,22 @@ def recipe_table() -> str:
     ]
     generic = ", ".join(f"{r.algo} {r.timesteps:,} steps" for r in recipes.GENERIC.values())
     return (
-        "recipes (a task's first row is its default; other tasks: "
-        + generic
-        + "):\n  "
-        + "\n  ".join(lines)
+        f"recipes (a task's first row is its default; other tasks: {generic}):\n  "
+        + "\n  ".join([*lines, *changes])
     )
+
+
+def _imports(words: Sequence[str]) -> list[str]:
+    """The modules given with --import before the command in `words`."""
+    found = []
+    for index, word in enumerate(words):
+        if word == "--import" and index + 1 < len(words):
+            found.append(words[index + 1])
+        elif word.startswith("--import="):
+            found.append(word.partition("=")[2])
+        elif not word.startswith("-") and (index == 0 or words[index - 1] != "--import"):
+            break
+    return found
 
 
 def _trust_policy(command: argparse.ArgumentParser) -> None:
@@ -251,11 +248,6 @@ def _trust_policy(command: argparse.ArgumentParser) -> None:
     )  # fmt: skip
 
 
-def _did_you_mean(word: str, known: Sequence[str], quote: str = "") -> str:
-    close = difflib.get_close_matches(word, known, n=1, cutoff=0.6)
-    return f"; did you mean {quote}{close[0]}{quote}?" if close else ""
-
-
 def _subcommands(top: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
     for action in top._actions:
         if isinstance(action, argparse._SubParsersAction):
@@ -264,11 +256,9 @@ def _subcommands(top: argparse.ArgumentParser) -> dict[str, argparse.ArgumentPar
 
 
 def _command(
-    commands: argparse._SubParsersAction, name: str, module: str, summary: str, **options: Any
+    commands: argparse._SubParsersAction, name: str, summary: str, **options: Any
 ) -> argparse.ArgumentParser:
-    command = commands.add_parser(name, help=summary, description=summary, **options)
-    command.set_defaults(module=module)
-    return command
+    return commands.add_parser(name, help=summary, description=summary, **options)
 
 
 def _task(command: argparse.ArgumentParser, **options: Any) -> None:

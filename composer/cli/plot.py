@@ -15,13 +15,13 @@ from typing import Any
 
 import numpy as np
 
-from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, OutputError
+from composer.cli.errors import MissingExtraError, OutputError
 
 try:
     from matplotlib.figure import Figure
 except ImportError as e:
     raise MissingExtraError(
-        f"plotting needs matplotlib, in the [train] extra: {TRAIN_INSTALL}"
+        "plotting needs matplotlib, in the [train] and [ray] extras: pip install matplotlib"
     ) from e
 
 

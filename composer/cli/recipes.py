@@ -1,22 +1,40 @@
-"""Training recipes: the default algorithm and hyperparameters of each task, in one table.
+"""Training recipes: how `composer train` trains a task with no flags. Each task's recipes
+live with the task, registered for its class; the CLI finds them through the task's
+registration.
 
-    recipe = recipes.for_task('Reach')                # the task's default algorithm
-    recipe = recipes.for_task('Reach', algo='ppo')    # that algorithm's row, or its generic one
+    from composer.cli.recipes import Recipe, register
+    register(MyTask, Recipe('ppo', timesteps=200_000, n_envs=8, net=(64, 64),
+                            learning_rate=3e-4, batch_size=256, normalize=True))
+
+    recipe = recipes.for_task(info)                   # the task's default (its first recipe)
+    recipe = recipes.for_task(info, 'sac')            # that algorithm's, or its generic one
+    recipe = recipes.for_task(info, 'ppo', engine='ray')   # with what that engine changes
     recipe = recipe.replace(timesteps=2048, n_envs=2) # command-line overrides
-    recipe.algo_kwargs()                              # keywords for PPO(...) / SAC(...)
 
-A task without a row trains with the generic recipe of the algorithm. `VEC` picks how the
-K environments run: 'dummy' steps them in this process (fastest for cheap tasks: no
-inter-process traffic), 'subproc' gives each its own process (for costly physics),
-'batched' steps them all on MuJoCo's thread pool (`composer.vector` through `composer.sb3`;
-it pays off when the task declares batched rewards and observations: without them Reach
-ran at 4,000 steps/s batched against 5,700 in-process with 8 environments on 2 cores).
+`register(task, *recipes)` gives the task class (or factory) that a registered id names
+its recipes, the first its default; call it where the task is registered: the shipped
+tasks' are in `tasks/recipes.py`, and a module given to `composer --import` registers its
+own tasks' the same way. Registering a task again replaces its recipes. A task without a
+recipe for an algorithm trains with the algorithm's GENERIC one.
+
+A recipe is written as stable-baselines3 reads it (per-environment rollout length, replay
+size ...); each engine translates it (`composer.cli.engines`). Where an engine was measured
+to do better with other values, `engine_changes` says which (`{'ray': {'n_envs': 32}}`).
+`vec` picks how stable-baselines3 steps the K environments: 'dummy' in this process
+(fastest for cheap tasks), 'subproc' one process each (for costly physics), 'batched' all
+on MuJoCo's thread pool (`composer.vector` through `composer.sb3`; it pays off when the
+task declares batched rewards and observations: without them Reach ran at 4,000 steps/s
+batched against 5,700 in-process with 8 environments on 2 cores).
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable, Mapping
 from typing import Any
+
+from composer import registration
+from composer.cli.errors import RecipeError
 
 ALGORITHMS = ("ppo", "sac")
 # The fields only one algorithm reads.
@@ -25,6 +43,7 @@ _ONLY = {
     "sac": ("buffer_size", "learning_starts", "train_freq", "gradient_steps"),
 }
 VEC = ("dummy", "subproc", "batched")
+# The task `composer train` trains when given none.
 DEFAULT_TASK = "Reach"
 
 
@@ -52,33 +71,23 @@ class Recipe:
     learning_starts: int = 5_000
     train_freq: int = 1
     gradient_steps: int = 1
+    # What an engine changes where it was measured to do better: {engine: {field: value}}.
+    engine_changes: Mapping[str, Mapping[str, Any]] = dataclasses.field(
+        default_factory=dict, hash=False
+    )
 
     def replace(self, **changes: Any) -> Recipe:
         """A copy with `changes` (None values are ignored)."""
         return dataclasses.replace(self, **{k: v for k, v in changes.items() if v is not None})
 
-    def algo_kwargs(self) -> dict[str, Any]:
-        """The keyword arguments of the stable-baselines3 algorithm's constructor."""
-        common = {
-            "learning_rate": self.learning_rate,
-            "batch_size": self.batch_size,
-            "gamma": self.gamma,
-            "policy_kwargs": {"net_arch": list(self.net)},
-        }
-        if self.algo == "ppo":
-            return {**common, "n_steps": self.n_steps, "n_epochs": self.n_epochs,
-                    "ent_coef": self.ent_coef}  # fmt: skip
-        return {
-            **common,
-            "buffer_size": self.buffer_size,
-            "learning_starts": self.learning_starts,
-            "train_freq": self.train_freq,
-            "gradient_steps": self.gradient_steps,
-        }
+    def for_engine(self, engine: str | None) -> Recipe:
+        """This recipe as `engine` runs it: with its `engine_changes` (and no others)."""
+        return self.replace(**(self.engine_changes.get(engine or "") or {}), engine_changes={})
 
     def table(self) -> dict[str, Any]:
         """The fields this recipe's algorithm uses, for printing and for metrics.json."""
         others = {f for algo, fields in _ONLY.items() if algo != self.algo for f in fields}
+        others.add("engine_changes")
         return {k: v for k, v in dataclasses.asdict(self).items() if k not in others}
 
     @classmethod
@@ -92,30 +101,60 @@ GENERIC = {
     "sac": Recipe("sac", 100_000, 1, (256, 256), 3e-4, 256),
 }
 
-# One row per (task, algorithm), measured on a 2-core CPU; a task's first row is its default.
-# fmt: off
-RECIPES: dict[tuple[str, str], Recipe] = {
-    # (task, algo):             Recipe(algo, timesteps, n_envs, net, learning_rate, batch_size, ...)
-    ("Reach", "ppo"):           Recipe("ppo", 800_000, 16, (64, 64), 3e-4, 256, gamma=0.95,
-                                       normalize=True, n_steps=128, vec="batched"),
-    ("CartpoleSwingup", "ppo"): Recipe("ppo", 300_000, 16, (64, 64), 3e-4, 256,
-                                       normalize=True, vec="batched"),
-    ("AntRun", "ppo"):          Recipe("ppo", 2_000_000, 16, (64, 64), 3e-4, 256,
-                                       normalize=True, vec="batched"),
-    ("WalkerRun", "ppo"):       Recipe("ppo", 2_000_000, 16, (64, 64), 3e-4, 256,
-                                       normalize=True, vec="batched"),
-    ("ArmPushBox", "ppo"):      Recipe("ppo", 1_200_000, 16, (128, 128), 3e-4, 256,
-                                       gamma=0.98, normalize=True, n_steps=128, vec="batched"),
-}
-# fmt: on
+_RECIPES: dict[Callable[..., Any], tuple[Recipe, ...]] = {}
 
 
-def default_algo(task: str) -> str:
-    """The algorithm of `task`'s first row, PPO for a task without one."""
-    return next((algo for name, algo in RECIPES if name == task), "ppo")
+def register(task: Callable[..., Any], *recipes: Recipe) -> None:
+    """Give `task` (the class or factory a registered task id names) its recipes, the first
+    its default. Raises RecipeError, registering nothing, for a task that is not callable,
+    no recipe, a recipe of an unknown algorithm, two of one algorithm, or engine changes of
+    fields a recipe does not have."""
+    if not callable(task):
+        raise RecipeError(f"recipes are registered for a task class or factory, got {task!r}")
+    if not recipes:
+        raise RecipeError(f"register({_name(task)}): give at least one Recipe")
+    fields = {f.name for f in dataclasses.fields(Recipe)} - {"engine_changes"}
+    for recipe in recipes:
+        if not isinstance(recipe, Recipe):
+            raise RecipeError(f"register({_name(task)}): expected Recipe objects, got {recipe!r}")
+        if recipe.algo not in ALGORITHMS:
+            raise RecipeError(
+                f"register({_name(task)}): algo {recipe.algo!r} is not one of {list(ALGORITHMS)}"
+            )
+        for engine, changes in recipe.engine_changes.items():
+            unknown = sorted(set(changes) - fields)
+            if unknown:
+                raise RecipeError(
+                    f"register({_name(task)}): the {recipe.algo} recipe's changes for "
+                    f"engine {engine!r} name fields a Recipe does not have: {unknown}"
+                )
+    algos = [recipe.algo for recipe in recipes]
+    if len(set(algos)) != len(algos):
+        raise RecipeError(f"register({_name(task)}): one recipe per algorithm, got {algos}")
+    _RECIPES[task] = tuple(recipes)
 
 
-def for_task(task: str, algo: str | None = None) -> Recipe:
-    """The recipe for `task` with `algo` (default: the task's default algorithm)."""
-    algo = algo or default_algo(task)
-    return RECIPES.get((task, algo), GENERIC[algo])
+def registered(info: registration.TaskInfo) -> tuple[Recipe, ...]:
+    """The recipes registered for `info`'s task, its default first (none: empty). Raises
+    RegistrationError when the task cannot be imported."""
+    return _RECIPES.get(registration.resolve_task(info.task), ())
+
+
+def default_algo(info: registration.TaskInfo) -> str:
+    """The algorithm of the task's default recipe, PPO for a task without one."""
+    own = registered(info)
+    return own[0].algo if own else "ppo"
+
+
+def for_task(
+    info: registration.TaskInfo, algo: str | None = None, engine: str | None = None
+) -> Recipe:
+    """The task's recipe for `algo` (default: its default algorithm), else the algorithm's
+    generic one, as `engine` runs it (see `Recipe.for_engine`)."""
+    algo = algo or default_algo(info)
+    own = {recipe.algo: recipe for recipe in registered(info)}
+    return own.get(algo, GENERIC[algo]).for_engine(engine)
+
+
+def _name(task: Callable[..., Any]) -> str:
+    return getattr(task, "__qualname__", repr(task))

@@ -1,6 +1,6 @@
 """Episodes of a policy in one environment: returns, lengths, success, optional frames.
 
-    policy = rollout.random_policy(env, seed=0)          # or rollout.model_policy(sb3_model)
+    policy = rollout.random_policy(env, seed=0)    # or rollout.model_policy(trained)
     episodes = rollout.run_episodes(env, policy, episodes=5, seed=0, frames=[])
     rollout.summary(episodes)   # {'episodes': 5, 'mean_return': ..., 'success_rate': ...}
 
@@ -16,12 +16,21 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
-from typing import Any, SupportsFloat, cast
+from typing import Any, Protocol, SupportsFloat, cast
 
 import gymnasium
 import numpy as np
 
 Policy = Callable[[Any], np.ndarray]
+
+
+class Predictor(Protocol):
+    """A trained policy as every engine gives one: stable-baselines3's `predict`."""
+
+    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, Any]:
+        """The action for one observation (and a recurrent state, None here)."""
+        ...
+
 
 # Frames kept per second of simulation in videos: enough to look smooth, few to render.
 VIDEO_FPS = 30.0
@@ -66,26 +75,9 @@ def random_policy(env: gymnasium.Env, seed: int | None = None) -> Policy:
     return lambda observation: space.sample()
 
 
-# The attribute of a stable-baselines3 model that carries the observation statistics it was
-# trained with (`composer.cli.training` sets it; the model's .zip keeps it).
-NORMALIZATION_ATTRIBUTE = "observation_normalization"
-
-
-def model_policy(model: Any) -> Policy:
-    """The deterministic actions of a stable-baselines3 model, its observations normalized
-    first when it carries `observation_normalization` (see `composer.cli.training`)."""
-    stats = getattr(model, NORMALIZATION_ATTRIBUTE, None)
-    if stats is None:
-        return lambda observation: model.predict(observation, deterministic=True)[0]
-    mean = np.asarray(stats["mean"])
-    scale = np.sqrt(np.asarray(stats["var"]) + stats["epsilon"])
-    clip = stats["clip"]
-
-    def policy(observation: Any) -> np.ndarray:
-        normalized = np.clip((observation - mean) / scale, -clip, clip)
-        return model.predict(normalized, deterministic=True)[0]
-
-    return policy
+def model_policy(model: Predictor) -> Policy:
+    """The deterministic actions of a trained policy (what an engine loads or trains)."""
+    return lambda observation: model.predict(observation, deterministic=True)[0]
 
 
 def frame_stride(env: gymnasium.Env) -> int:
@@ -148,26 +140,3 @@ def summary(episodes: list[Episode]) -> dict[str, Any]:
         "success_rate": float(np.mean(successes)) if successes else None,
         "forward_speed": float(np.mean(speeds)) if speeds else None,
     }
-
-
-def describe(episode: Episode) -> str:
-    """'return 12.3 over 250 steps, success' for a line of output."""
-    text = f"return {episode.episode_return:.2f} over {episode.length} steps"
-    if episode.success is not None:
-        text += ", success" if episode.success else ", no success"
-    if episode.forward_speed is not None:
-        text += f", {episode.forward_speed:.2f} m/s"
-    return text
-
-
-def describe_summary(stats: dict[str, Any]) -> str:
-    """'return 12.3 ± 4.5 over 10 episodes, success rate 0.90' for a line of output."""
-    text = (
-        f"return {stats['mean_return']:.2f} ± {stats['std_return']:.2f} "
-        f"over {stats['episodes']} episode{'s' if stats['episodes'] != 1 else ''}"
-    )
-    if stats["success_rate"] is not None:
-        text += f", success rate {stats['success_rate']:.2f}"
-    if stats.get("forward_speed") is not None:
-        text += f", forward speed {stats['forward_speed']:.2f} m/s"
-    return text

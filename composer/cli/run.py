@@ -7,7 +7,8 @@
     video: reach.mp4 (6.1 s)
 
 `--policy random` (the default) needs no training extras; `--policy PATH` loads a policy
-trained by `composer train` (its output folder, its policy.zip, or a checkpoint folder).
+trained by `composer train` (its output folder, its policy, or a checkpoint folder) with the
+engine that wrote it, which needs that engine's extra.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from composer.cli import catalog, output, rollout, video
+from composer.cli import catalog, describe, engines, output, rollout, video
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,19 +30,17 @@ def run(args: argparse.Namespace) -> int:
         if args.policy == "random":
             policy, label = rollout.random_policy(env, args.seed), "random policy"
         else:
-            from composer.cli import training  # needs the [train] extra
-
-            policy = rollout.model_policy(training.load_policy(args.policy, env, args.trust_policy))
+            policy = rollout.model_policy(engines.load_policy(args.policy, env, args.trust_policy))
             label = f"policy {args.policy}"
         frames: list[np.ndarray] | None = [] if path else None
         episodes = rollout.run_episodes(
             env, policy, args.episodes, args.seed, frames,
-            on_episode=lambda i, e: print(f"episode {i + 1}: {rollout.describe(e)}"),
+            on_episode=lambda i, e: print(f"episode {i + 1}: {describe.episode(e)}"),
         )  # fmt: skip
         fps = rollout.video_fps(env)
     finally:
         env.close()
-    print(f"{info.name}, {label}: {rollout.describe_summary(rollout.summary(episodes))}")
+    print(f"{info.name}, {label}: {describe.summary(rollout.summary(episodes))}")
     if path is not None and frames:
         written = video.write_video(frames, path, fps)
         note = "" if written.suffix == Path(args.video).suffix else " (ffmpeg not found: GIF)"

@@ -1,9 +1,9 @@
 """What `composer train` keeps in its output folder, and what a new command may do there,
-the same for both engines.
+the same for every engine.
 
-    folder = run_folder.prepare(args, training.Checkpoint)   # raises CliError, or
+    folder = run_folder.prepare(args, engines.get('sb3'))    # raises CliError, or
     progress, recipe = folder.start(args, new_recipe)        # the run resumed, or a new one
-    folder.clear_if_fresh()                                  # --fresh: once training starts
+    run_folder.clear_if_fresh(folder, engine)                # --fresh: once training starts
 
 `prepare` keeps the rules, reading the folder and writing nothing:
 - A folder that holds a finished run (a checkpoint marked completed, or results and no
@@ -11,7 +11,7 @@ the same for both engines.
   `--resume` (train it on, to a larger `--timesteps`) or `--fresh` (replace it) says what
   to do. A run that was stopped before it finished resumes without a flag.
 - `--fresh` removes only what the engine writes: its checkpoint's files, its policy, and
-  the results both engines write (metrics.json, learning_curve.png, the video), and only
+  the results every engine writes (metrics.json, learning_curve.png, the video), and only
   when the new run is ready to train (`clear_if_fresh`), so a run that cannot start (Ray
   unreachable, say) leaves the earlier one in place.
 - `--resume` needs a checkpoint, contradicts `--fresh`, and `--resume DIR` an `--out`
@@ -20,21 +20,19 @@ the same for both engines.
 - A run trains on only to more than its timesteps: a finished run needs a larger
   `--timesteps`; a stopped one may be given its own total even when its last update passed
   it (the same command then evaluates it and writes the results), but no smaller one.
-- A folder holding the other engine's checkpoint or policy is refused, even with `--resume`
+- A folder holding another engine's checkpoint or policy is refused, even with `--resume`
   or `--fresh`: the engine that wrote it resumes or replaces it.
 """
 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import shutil
-from collections.abc import Callable
 from pathlib import Path
-from typing import Generic, TypeVar
+from typing import Any
 
-from composer.cli import ray_files, recipes, training
-from composer.cli.engine import DEFAULT_ENGINE, Checkpoint, Progress
+from composer.cli import describe, engines, recipes
+from composer.cli.engines.base import Checkpoint, CheckpointType, Engine, Progress, RunFolder
 from composer.cli.errors import CliError, OutputError, PolicyError
 
 # What a finished run writes beside its checkpoint and its policy, whatever the engine.
@@ -42,69 +40,24 @@ METRICS = "metrics.json"
 CURVE = "learning_curve.png"
 VIDEO = "video.mp4"  # a GIF beside it where ffmpeg is missing (composer.cli.video)
 RESULTS = (METRICS, CURVE, VIDEO, Path(VIDEO).with_suffix(".gif").name)
-# Every engine's checkpoint: their state.json and policy tell whose a folder is.
-ENGINES: tuple[type[Checkpoint], ...] = (training.Checkpoint, ray_files.Checkpoint)
 CHOICES = "--resume continues it (to a larger --timesteps), --fresh replaces it, --out DIR "
 
-CheckpointType = TypeVar("CheckpointType", bound=Checkpoint)
 
-
-@dataclasses.dataclass(frozen=True)
-class RunFolder(Generic[CheckpointType]):
-    """An output folder `prepare` found fit for the command: its checkpoint, whether the
-    run there goes on (`resumed`: its progress and recipe), and whether --fresh asked to
-    replace what is there."""
-
-    out: Path
-    checkpoint: CheckpointType
-    fresh: bool
-    resumed: tuple[Progress, recipes.Recipe] | None
-
-    @property
-    def resumes(self) -> bool:
-        """Whether training goes on from the checkpoint."""
-        return self.resumed is not None
-
-    def start(
-        self, args: argparse.Namespace, new_recipe: Callable[[str], recipes.Recipe]
-    ) -> tuple[Progress, recipes.Recipe]:
-        """The progress and recipe to train with: the checkpoint's, or a new run's with
-        `new_recipe(algo)` (the engine's recipe with the command line's changes)."""
-        if self.resumed is not None:
-            progress, recipe = self.resumed
-        else:
-            info = args.info
-            algo = args.algo or recipes.default_algo(info.name)
-            recipe = new_recipe(algo)
-            progress = Progress(info.name, info.env_id, algo, args.seed or 0, {},
-                                engine=self.checkpoint.engine)  # fmt: skip
-        progress.recipe = recipe.table()
-        progress.completed = False
-        return progress, recipe
-
-    def clear_if_fresh(self) -> None:
-        """With --fresh, remove the earlier run's files (see `clear`), saying which."""
-        if self.fresh:
-            removed = clear(self.out, self.checkpoint)
-            if removed:
-                print(f"--fresh: removed the earlier run in {self.out}: {', '.join(removed)}")
-
-
-def prepare(args: argparse.Namespace, kind: type[CheckpointType]) -> RunFolder[CheckpointType]:
-    """The output folder of `composer train` with the engine whose checkpoints are `kind`
-    (--resume DIR, --out, or runs/TASK-ALGO, with '-ENGINE' for other engines than the
-    default), checked against the rules of the module docstring. Raises CliError (a
-    PolicyError for a checkpoint that cannot be resumed); writes nothing."""
+def prepare(args: argparse.Namespace, engine: Engine[CheckpointType]) -> RunFolder[CheckpointType]:
+    """The output folder of `composer train` with `engine` (--resume DIR, --out, or
+    runs/TASK-ALGO, with '-ENGINE' for other engines than the default), checked against
+    the rules of the module docstring. Raises CliError (a PolicyError for a checkpoint that
+    cannot be resumed); writes nothing."""
     if args.resume and args.fresh:
         raise CliError("--resume and --fresh contradict each other; give one of them")
     resume = args.resume if isinstance(args.resume, str) else None  # --resume alone: True
     if resume and args.out and Path(resume) != Path(args.out):
         raise CliError(f"--resume {resume} and --out {args.out} differ; give one of them")
     info = args.info
-    suffix = "" if kind.engine == DEFAULT_ENGINE else f"-{kind.engine}"
-    default = Path("runs") / f"{info.name}-{args.algo or recipes.default_algo(info.name)}{suffix}"
+    suffix = "" if engine.name == engines.DEFAULT else f"-{engine.name}"
+    default = Path("runs") / f"{info.name}-{args.algo or recipes.default_algo(info)}{suffix}"
     out = Path(resume or args.out or default)
-    checkpoint = kind(out / "checkpoint")
+    checkpoint = engine.checkpoint(out / "checkpoint")
     _refuse_other_engines(out, checkpoint)
     if args.resume and not checkpoint.exists():
         raise PolicyError(f"no checkpoint to resume in {out} (expected {checkpoint.state_path})")
@@ -114,10 +67,11 @@ def prepare(args: argparse.Namespace, kind: type[CheckpointType]) -> RunFolder[C
         progress = checkpoint.progress()
         if progress.completed and not args.resume:
             raise CliError(
-                f"{out} holds a finished run: {describe(progress)}; {CHOICES}trains elsewhere"
+                f"{out} holds a finished run: {describe_run(progress)}; {CHOICES}trains elsewhere"
             )
-        return RunFolder(out, checkpoint, fresh=False, resumed=_resumed(out, progress, args))
-    results = [name for name in (kind.policy, *RESULTS) if (out / name).exists()]
+        resumed = _resumed(out, progress, args, engine)
+        return RunFolder(out, checkpoint, fresh=False, resumed=resumed)
+    results = [name for name in (engine.policy, *RESULTS) if (out / name).exists()]
     if results:
         raise CliError(
             f"{out} holds results of an earlier run ({', '.join(results)}) and no checkpoint "
@@ -131,12 +85,12 @@ def _refuse_other_engines(out: Path, checkpoint: Checkpoint) -> None:
     ours = checkpoint.engine
     theirs = checkpoint.written_by()
     if theirs is not None and theirs != ours:
-        found = f"a run of --engine {theirs} ({describe(checkpoint.progress())})"
+        found = f"a run of --engine {theirs} ({describe_run(checkpoint.progress())})"
     else:
-        others = [kind for kind in ENGINES if kind.engine != ours and (out / kind.policy).exists()]
+        others = [e for e in engines.every() if e.name != ours and (out / e.policy).exists()]
         if not others:
             return
-        theirs = others[0].engine
+        theirs = others[0].name
         found = f"a policy of --engine {theirs} ({others[0].policy})"
     raise CliError(
         f"{out} holds {found}: --engine {ours} can neither resume nor replace it; "
@@ -145,7 +99,7 @@ def _refuse_other_engines(out: Path, checkpoint: Checkpoint) -> None:
 
 
 def _resumed(
-    out: Path, progress: Progress, args: argparse.Namespace
+    out: Path, progress: Progress, args: argparse.Namespace, engine: Engine[Any]
 ) -> tuple[Progress, recipes.Recipe]:
     """The checkpoint's progress and recipe, trained on to --timesteps if given. Raises
     PolicyError for another task or algorithm, CliError for a total it cannot train to."""
@@ -161,28 +115,26 @@ def _resumed(
             "choose another --out folder"
         )
     recipe = recipes.Recipe.from_table(progress.recipe)
-    for option, given, kept in (
-        ("--n-envs", args.n_envs, recipe.n_envs),
-        ("--vec", args.vec, recipe.vec),
-        ("--seed", args.seed, progress.seed),
-    ):
+    kept_values = [(name, getattr(recipe, name)) for name in engine.recipe_options]
+    for name, kept in [*kept_values, ("seed", progress.seed)]:
+        given = getattr(args, name, None)
         if given is not None and given != kept:
-            print(f"note: resuming keeps the checkpoint's {option} {kept}")
+            print(f"note: resuming keeps the checkpoint's --{name.replace('_', '-')} {kept}")
     total = args.timesteps or recipe.timesteps
     if total <= progress.timesteps and (progress.completed or total != recipe.timesteps):
         raise CliError(
             f"the run in {out} has {progress.timesteps:,} steps already "
-            f"({describe(progress)}); give --timesteps above that to train on"
+            f"({describe_run(progress)}); give --timesteps above that to train on"
         )
     return progress, recipe.replace(timesteps=total)
 
 
-def describe(progress: Progress) -> str:
+def describe_run(progress: Progress) -> str:
     """'Reach with PPO, 800,768 steps in 4m13s, last evaluation: return 61.57, success
     1.00'."""
     text = (
         f"{progress.task} with {progress.algo.upper()}, {progress.timesteps:,} steps in "
-        f"{training.duration(progress.wall_time)}"
+        f"{describe.duration(progress.wall_time)}"
     )
     if progress.evaluations:
         last = progress.evaluations[-1]
@@ -192,11 +144,20 @@ def describe(progress: Progress) -> str:
     return text
 
 
-def clear(out: Path, checkpoint: Checkpoint) -> list[str]:
-    """Remove what `checkpoint`'s engine wrote in `out` (its checkpoint's files, its policy
-    and the results); returns their names, folders ending in '/'. Raises OutputError when
-    one cannot be removed."""
-    found = [*checkpoint.files(), *(out / name for name in (checkpoint.policy, *RESULTS))]
+def clear_if_fresh(folder: RunFolder[Any], engine: Engine[Any]) -> None:
+    """With --fresh, remove the earlier run of `engine` in `folder` (see `clear`), saying
+    which files."""
+    if folder.fresh:
+        removed = clear(folder.out, folder.checkpoint, engine.policy)
+        if removed:
+            print(f"--fresh: removed the earlier run in {folder.out}: {', '.join(removed)}")
+
+
+def clear(out: Path, checkpoint: Checkpoint, policy: str) -> list[str]:
+    """Remove what `checkpoint`'s engine wrote in `out` (its checkpoint's files, its
+    `policy` and the results); returns their names, folders ending in '/'. Raises
+    OutputError when one cannot be removed."""
+    found = [*checkpoint.files(), *(out / name for name in (policy, *RESULTS))]
     paths = [path for path in found if path.exists()]
     names = [f"{path.relative_to(out)}{'/' if path.is_dir() else ''}" for path in paths]
     try:

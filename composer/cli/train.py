@@ -14,16 +14,15 @@ returns, success rate where the task reports `is_success`, forward speed where i
 checkpoint and exits with status 130; the same command then resumes it, up to
 `--timesteps` in all. A folder holding a finished run is refused unless `--resume` (train
 it on to a larger `--timesteps`) or `--fresh` (replace it) says what to do, and one holding
-the other engine's run is refused (`composer.cli.run_folder` keeps these rules).
+another engine's run is refused (`composer.cli.run_folder` keeps these rules).
 Evaluations (deterministic actions, fixed seeds) run every `--eval-every` timesteps, a
 tenth of the run by default; each saves a checkpoint.
 
-This module is the command, one for both engines; each engine gives it a checkpoint and a
-trainer (`composer.cli.engine`): `composer.cli.training` for stable-baselines3,
-`composer.cli.ray_training` for Ray. An option of one engine is refused with the other:
-`--n-envs`, `--vec` and `--tensorboard DIR` (stable-baselines3's TensorBoard scalars, with
-the evaluations as `eval/...`) are stable-baselines3's, `--workers`, `--envs-per-worker` and
-`--address` Ray's.
+This module is the command, one for every engine: it sees them only through their contract
+(`composer.cli.engines`): the chosen engine's checks, trainer and policy name. An option of
+one engine is refused with another: `--n-envs`, `--vec` and `--tensorboard DIR`
+(stable-baselines3's TensorBoard scalars, with the evaluations as `eval/...`) are
+stable-baselines3's, `--workers`, `--envs-per-worker` and `--address` Ray's.
 """
 
 from __future__ import annotations
@@ -34,140 +33,111 @@ import math
 import os
 import platform
 import socket
-from collections.abc import Callable
-from contextlib import AbstractContextManager
 from pathlib import Path
 from typing import Any
 
 from composer.cli import (
+    arguments,
     catalog,
+    describe,
+    engines,
     output,
     plot,
-    ray_files,
-    ray_instance,
-    ray_training,
     rollout,
     run_folder,
-    training,
     video,
 )
-from composer.cli.engine import Trainer
+from composer.cli.engines.base import Engine, RunFolder, Session, StopOnInterrupt, Trainer
 from composer.cli.errors import CliError
-from composer.cli.run_folder import CheckpointType, RunFolder
 from composer.registration import TaskInfo
 
 INTERRUPTED = 130
 VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this long
-# The options only one engine reads.
-SB3_ONLY = ("n_envs", "vec", "tensorboard")
-RAY_ONLY = ("workers", "envs_per_worker", "address")
 
 
 def run(args: argparse.Namespace) -> int:
     """Train, then write the policy, curve, video and metrics; returns the exit status."""
-    check_options(args)
-    if args.engine == ray_files.ENGINE:
-        return _run(args, run_folder.prepare(args, ray_files.Checkpoint), ray_training.trainer)
-    return _run(args, run_folder.prepare(args, training.Checkpoint), training.trainer)
-
-
-def _run(
-    args: argparse.Namespace,
-    folder: RunFolder[CheckpointType],
-    open_trainer: Callable[
-        [TaskInfo, RunFolder[CheckpointType], argparse.Namespace], AbstractContextManager[Trainer]
-    ],
-) -> int:
-    """`run` with the engine of `folder`'s checkpoints, whose trainer `open_trainer` opens."""
-    if args.engine == ray_files.ENGINE:
-        ray_instance.authenticate(args.address)  # before Ray is imported
-        ray_files.require_ray()
-    elif args.tensorboard:
-        training.require_tensorboard()
-        output.directory(args.tensorboard)
+    engine = engines.get(args.engine)
+    check_options(args, engine)
+    folder = run_folder.prepare(args, engine)
+    engine.prepare(args)
     if not args.no_video:
         video.require()
     output.directory(folder.out)
     eval_env = catalog.make(args.info)
     try:
-        with open_trainer(args.info, folder, args) as trainer:
-            return _train(trainer, folder, eval_env, args)
+        with engine.trainer(args.info, folder, args) as trainer:
+            return _train(engine, trainer, folder, eval_env, args)
     finally:
         eval_env.close()
 
 
-def check_options(args: argparse.Namespace) -> None:
-    """Raise CliError for options of the engine not chosen."""
-    if args.engine == ray_files.ENGINE:
-        given = [name for name in SB3_ONLY if getattr(args, name, None) is not None]
-        if given:
-            message = f"{_flags(given)} {'belongs' if len(given) == 1 else 'belong'} to the "
-            message += "stable-baselines3 engine"
-            if {"n_envs", "vec"} & set(given):
-                message += "; with --engine ray give --workers and --envs-per-worker"
-            if "tensorboard" in given:
-                message += "; --engine ray logs no TensorBoard scalars (see docs/ray.md)"
-            raise CliError(message)
-    else:
-        given = [name for name in RAY_ONLY if getattr(args, name, None) is not None]
-        if given:
-            raise CliError(f"{_flags(given)} need{'s' if len(given) == 1 else ''} --engine ray")
-
-
-def _flags(names: list[str]) -> str:
-    return " and ".join("--" + name.replace("_", "-") for name in names)
+def check_options(args: argparse.Namespace, engine: Engine[Any]) -> None:
+    """Raise CliError for options of an engine other than `engine`: they belong to the
+    default engine (and `engine` may say what to give instead), or need their own."""
+    for other in engines.every():
+        given = [name for name in other.options if getattr(args, name, None) is not None]
+        if other.name == engine.name or not given:
+            continue
+        one = len(given) == 1
+        if other.name == engines.DEFAULT:
+            raise CliError(
+                f"{arguments.flags(given)} {'belongs' if one else 'belong'} to the "
+                f"{other.title} engine{engine.instead(given)}"
+            )
+        raise CliError(f"{arguments.flags(given)} need{'s' if one else ''} --engine {other.name}")
 
 
 def _train(
-    trainer: Trainer, folder: RunFolder[Any], eval_env: Any, args: argparse.Namespace
+    engine: Engine[Any],
+    trainer: Trainer,
+    folder: RunFolder[Any],
+    eval_env: Any,
+    args: argparse.Namespace,
 ) -> int:
     """Announce the run, train it until done or Ctrl-C, save it, and finish it (or say how
     to resume it); the exit status."""
     progress, recipe = trainer.progress, trainer.recipe
-    session = training.Session(
-        progress, folder.checkpoint, eval_env,
+    session = Session(
+        progress, eval_env,
         eval_every=args.eval_every or max(1, recipe.timesteps // 10),
         eval_episodes=args.eval_episodes,
     )  # fmt: skip
-    folder.clear_if_fresh()
+    run_folder.clear_if_fresh(folder, engine)
     verb = f"resuming at {progress.timesteps:,} steps:" if folder.resumes else "training"
     print(f"{verb} {args.info.name} with {trainer.algorithm} to {recipe.timesteps:,} steps on "
           f"{trainer.where} -> {folder.out}")  # fmt: skip
     print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
-    with training.StopOnInterrupt() as stop:
+    with StopOnInterrupt() as stop:
         if progress.timesteps < recipe.timesteps:
             print("Ctrl-C saves a checkpoint and stops; the same command resumes", flush=True)
             trainer.learn(session, stop)
-    session.save(trainer.model)
+    session.save(trainer)
     if stop.requested:
         print(
             f"stopped at {progress.timesteps:,} steps after "
-            f"{training.duration(session.elapsed())}; checkpoint saved in "
+            f"{describe.duration(session.elapsed())}; checkpoint saved in "
             f"{folder.checkpoint.folder}; run the same command to resume"
         )
         return INTERRUPTED
-    _finish(args.info, trainer, session, folder, args.eval_episodes, not args.no_video)
+    _finish(args.info, trainer, session, folder.out / engine.policy, args.eval_episodes,
+            not args.no_video)  # fmt: skip
     return 0
 
 
 def _finish(
-    info: TaskInfo,
-    trainer: Trainer,
-    session: training.Session,
-    folder: RunFolder[Any],
-    episodes: int,
-    record: bool,
+    info: TaskInfo, trainer: Trainer, session: Session, policy: Path, episodes: int, record: bool
 ) -> None:
-    """After training: a final evaluation beside a random policy, then the output files."""
-    progress, model, out = session.progress, trainer.model, folder.out
-    final = session.evaluate(model)
+    """After training: a final evaluation beside a random policy, then the output files
+    (the policy at `policy`, the rest beside it)."""
+    progress, out = session.progress, policy.parent
+    final = session.evaluate(trainer)
     env = session.eval_env
     random = rollout.summary(
-        rollout.run_episodes(env, rollout.random_policy(env, 0), episodes, training.EVAL_SEED)
+        rollout.run_episodes(env, rollout.random_policy(env, 0), episodes, rollout.EVAL_SEED)
     )
     progress.completed = True
-    session.save(model)
-    policy = out / folder.checkpoint.policy
+    session.save(trainer)
     trainer.save_policy(policy)
     metrics = {
         **progress.to_json(),
@@ -183,24 +153,26 @@ def _finish(
     plot.learning_curve(metrics, out / run_folder.CURVE)
     written = [policy.name + ("/" if policy.is_dir() else ""), run_folder.CURVE, run_folder.METRICS]
     if record:
-        written.append(_record(info, model, out / run_folder.VIDEO).name)
-    print(f"{info.name}, trained policy: {rollout.describe_summary(final)}")
-    print(f"{info.name}, random policy:  {rollout.describe_summary(random)}")
+        written.append(_record(info, trainer, out / run_folder.VIDEO).name)
+    print(f"{info.name}, trained policy: {describe.summary(final)}")
+    print(f"{info.name}, random policy:  {describe.summary(random)}")
     print(
-        f"trained {progress.timesteps:,} steps in {training.duration(progress.wall_time)} "
+        f"trained {progress.timesteps:,} steps in {describe.duration(progress.wall_time)} "
         f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
     )
     print(f"watch it: composer run {info.name} --policy {out} --video {info.name}.mp4")
 
 
-def _record(info: TaskInfo, model: Any, path: Path) -> Path:
-    """A video of the model's episodes, at least VIDEO_SECONDS long; the path written."""
+def _record(info: TaskInfo, trainer: Trainer, path: Path) -> Path:
+    """A video of the trained policy's episodes, at least VIDEO_SECONDS long; the path
+    written."""
     env = catalog.make(info, render_mode="rgb_array")
     try:
         seconds = info.default_kwargs.get("time_limit") or VIDEO_SECONDS
         episodes = math.ceil(VIDEO_SECONDS / seconds)
         frames: list[Any] = []
-        rollout.run_episodes(env, rollout.model_policy(model), episodes, training.EVAL_SEED, frames)
+        policy = rollout.model_policy(trainer.predictor())
+        rollout.run_episodes(env, policy, episodes, rollout.EVAL_SEED, frames)
         return video.write_video(frames, path, rollout.video_fps(env))
     finally:
         env.close()

@@ -6,7 +6,8 @@
 
 MP4 needs ffmpeg, which `imageio-ffmpeg` ships; when it cannot be found the video is
 written as a GIF next to the requested path and the returned path says so. Videos need
-`imageio` (in the `[train]` extra); PNG images need nothing beyond numpy.
+`imageio` (in the `[train]`, `[ray]` and `[video]` extras); PNG images need nothing beyond
+numpy.
 """
 
 from __future__ import annotations

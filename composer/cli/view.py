@@ -26,7 +26,7 @@ from typing import Any
 
 import mujoco
 
-from composer.cli import catalog, rollout
+from composer.cli import catalog, describe, engines, rollout
 from composer.cli.errors import CliError
 from composer.environment import Environment
 
@@ -43,9 +43,7 @@ def run(args: argparse.Namespace) -> int:
         if args.policy == "random":
             policy = rollout.random_policy(env, args.seed)
         else:
-            from composer.cli import training  # needs the [train] extra
-
-            policy = rollout.model_policy(training.load_policy(args.policy, env, args.trust_policy))
+            policy = rollout.model_policy(engines.load_policy(args.policy, env, args.trust_policy))
         watch(env, policy, viewer, args.seed, args.episodes)
     finally:
         env.close()
@@ -95,7 +93,7 @@ def watch(
             tally.add(reward, info)
             if terminated or truncated:
                 done += 1
-                print(f"episode {done}: {rollout.describe(tally.episode(info))}", flush=True)
+                print(f"episode {done}: {describe.episode(tally.episode(info))}", flush=True)
                 model = env.physics.model
                 observation, _ = env.reset(seed=seed + done)
                 tally = rollout.Tally()

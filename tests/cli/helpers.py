@@ -31,22 +31,41 @@ def composer(
     )  # fmt: skip
 
 
-def composer_without(
-    blocked: tuple[str, ...], *args: str, cwd: Path, timeout: float = 120
-) -> subprocess.CompletedProcess[str]:
-    """The command line with the modules `blocked` uninstallable (as if not installed); it
-    then prints the stable-baselines3 and torch modules that were imported anyway."""
-    code = (
+# The optional libraries a command may import: what `composer_without` reports.
+LIBRARIES = ("stable_baselines3", "torch", "ray")
+
+
+def blocker(blocked: tuple[str, ...]) -> str:
+    """Python code that makes the packages `blocked` (and their submodules) impossible to
+    import, as if they were not installed: a finder first on sys.meta_path."""
+    return (
         "import sys\n"
-        f"for name in {blocked!r}: sys.modules[name] = None\n"
+        "class _NotInstalled:\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        f"        if name.partition('.')[0] in {blocked!r}:\n"
+        "            raise ModuleNotFoundError(f'No module named {name!r}', name=name)\n"
+        "sys.meta_path.insert(0, _NotInstalled())\n"
+    )
+
+
+def composer_without(
+    blocked: tuple[str, ...],
+    *args: str,
+    cwd: Path,
+    env: dict[str, str] | None = None,
+    timeout: float = 120,
+) -> subprocess.CompletedProcess[str]:
+    """The command line with the packages `blocked` uninstallable (as if not installed); its
+    last line of output then lists the LIBRARIES that were imported anyway."""
+    code = blocker(blocked) + (
         "from composer.cli import main\n"
         f"status = main({list(args)!r})\n"
-        "print('imported:', sorted(m for m in sys.modules if sys.modules[m] is not None\n"
-        "      and m.split('.')[0] in ('torch', 'stable_baselines3')))\n"
+        "print('imported:', sorted({m.split('.')[0] for m in sys.modules\n"
+        f"      if sys.modules[m] is not None and m.split('.')[0] in {LIBRARIES!r}}}))\n"
         "sys.exit(status)\n"
     )
     return subprocess.run(
-        [sys.executable, "-c", code], cwd=cwd, env=environment(),
+        [sys.executable, "-c", code], cwd=cwd, env=env or environment(),
         capture_output=True, text=True, timeout=timeout, check=False,
     )  # fmt: skip
 

@@ -21,10 +21,19 @@ def test_an_unknown_task_names_the_closest_and_the_known_ones(tmp_path, command)
         assert name in line.partition("Known tasks:")[2]
 
 
-@pytest.mark.parametrize("command", [["train", "Reach", "--out", "run"], ["eval", "Reach", "run"]])
-def test_training_without_the_extra_prints_the_install_command(tmp_path, command):
+@pytest.mark.parametrize(
+    ("command", "needs"),
+    [
+        (["train", "Reach", "--out", "run"], "training with stable-baselines3 needs"),
+        (["eval", "Reach", "policy.zip"], "policy.zip was trained with --engine sb3: loading "
+         "it needs"),
+    ],
+)  # fmt: skip
+def test_training_without_the_extra_prints_the_install_command(tmp_path, command, needs):
+    (tmp_path / "policy.zip").write_bytes(b"")  # a policy file: its engine needs its library
     result = composer_without(("stable_baselines3",), *command, cwd=tmp_path)
-    line = assert_one_line_error(result, "[train] extra")
+    missing = "the [train] extra (stable_baselines3 is missing)"
+    line = assert_one_line_error(result, f"{needs} {missing}")
     assert line.endswith(INSTALL)
 
 
@@ -32,8 +41,8 @@ def test_training_without_the_extra_prints_the_install_command(tmp_path, command
     "command",
     [["list"], ["show", "Reach", "--out", "f.png"], ["run", "Reach", "--video", "v.mp4"]],
 )
-def test_list_show_and_run_need_neither_torch_nor_stable_baselines3(tmp_path, command):
-    result = composer_without(("torch", "stable_baselines3"), *command, cwd=tmp_path)
+def test_list_show_and_run_need_no_training_library(tmp_path, command):
+    result = composer_without(("torch", "stable_baselines3", "ray"), *command, cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert result.stdout.rstrip().endswith("imported: []")
 

@@ -1,7 +1,8 @@
-"""A stable-baselines3 policy file read without running code from it.
+"""A stable-baselines3 policy file loaded for `composer run`, `eval` and `view`, by default
+without running code from it.
 
-    policy = sb3_files.load_policy(Path('runs/Reach-ppo/policy.zip'), 'ppo', env)
-    action, _ = policy.predict(observation, deterministic=True)
+    policy = sb3.policy.load_policy(Path('runs/Reach-ppo/policy.zip'), env)
+    action, _ = policy.predict(observation, deterministic=True)   # a files.NormalizedPolicy
 
 A stable-baselines3 .zip holds `data` (JSON, where every value that is not plain JSON is a
 pickled Python object: classes, schedules, spaces, buffers), `policy.pth` (the network's
@@ -13,7 +14,10 @@ weights through `torch.load(weights_only=True)`, which loads tensors and refuses
 else. The policy is built on the environment's own spaces, so `predict` is the model's: the
 same network, weights and action scaling, the same actions (tested against
 `PPO.load`). A file whose needed parts are pickles raises UntrustedPolicyError, which names
-`--trust-policy`, for files from a source the user trusts.
+`--trust-policy`, for files from a source the user trusts; with it, the library's own
+loader reads the file whole.
+
+This module imports stable-baselines3 and torch (the [train] extra).
 """
 
 from __future__ import annotations
@@ -28,23 +32,46 @@ from typing import Any
 
 import gymnasium
 import numpy as np
+import stable_baselines3
 import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
-from stable_baselines3.common.policies import BasePolicy
 
-from composer.cli import engine, rollout
+from composer.cli.engines import base
+from composer.cli.engines.sb3 import files
+from composer.cli.engines.sb3.files import NORMALIZATION, NormalizedPolicy
 from composer.cli.errors import PolicyError, UntrustedPolicyError
 
+ALGORITHMS: dict[str, type[BaseAlgorithm]] = {
+    "ppo": stable_baselines3.PPO,
+    "sac": stable_baselines3.SAC,
+}
 # How stable-baselines3 marks a value of `data` that it pickled.
 _PICKLED = ":serialized:"
 
+torch.set_num_threads(base.TORCH_THREADS)
 
-def load_policy(file: Path, algorithm: type[BaseAlgorithm], env: gymnasium.Env) -> BasePolicy:
+
+def load_policy(file: Path, env: gymnasium.Env, trusted: bool = False) -> NormalizedPolicy:
+    """The policy in the stable-baselines3 .zip `file`, checked to fit `env`'s spaces,
+    served with its observation statistics. Only its weights and plain settings are read
+    (`plain_policy`), unless `trusted`: then the library's own loader reads it whole,
+    unpickling and so running code from the file. Raises PolicyError, and
+    UntrustedPolicyError when the file can only be read whole."""
+    algorithm = ALGORITHMS[files.algo_of(file)]
+    if not trusted:
+        return plain_policy(file, algorithm, env)
+    model = algorithm.load(file, device="cpu")
+    base.check_spaces(file, model, env)
+    return NormalizedPolicy(model, getattr(model, NORMALIZATION, None))
+
+
+def plain_policy(
+    file: Path, algorithm: type[BaseAlgorithm], env: gymnasium.Env
+) -> NormalizedPolicy:
     """The policy saved in the stable-baselines3 .zip `file` by `algorithm`, for `env`:
-    built from the file's plain settings and its weights, carrying its observation
-    statistics as `rollout.NORMALIZATION_ATTRIBUTE` when it has them. Raises PolicyError
-    for a file that cannot be read or does not fit `env`, UntrustedPolicyError when what it
-    needs is pickled."""
+    built from the file's plain settings and its weights, served with its observation
+    statistics when it has them. Raises PolicyError for a file that cannot be read or does
+    not fit `env`, UntrustedPolicyError when what it needs is pickled."""
     try:
         with zipfile.ZipFile(file) as archive:
             data = json.loads(archive.read("data"))
@@ -64,7 +91,7 @@ def load_policy(file: Path, algorithm: type[BaseAlgorithm], env: gymnasium.Env) 
         key: gymnasium.spaces.Box(-np.inf, np.inf, tuple(data[key]["_shape"]))
         for key in ("observation_space", "action_space")
     })  # fmt: skip
-    engine.check_spaces(file, saved, env)
+    base.check_spaces(file, saved, env)
     policy_class = algorithm.policy_aliases[
         "MultiInputPolicy"
         if isinstance(env.observation_space, gymnasium.spaces.Dict)
@@ -77,10 +104,7 @@ def load_policy(file: Path, algorithm: type[BaseAlgorithm], env: gymnasium.Env) 
     except (TypeError, ValueError, RuntimeError) as e:  # settings or weights of another net
         raise PolicyError(f"cannot build the policy in {file}: {e}") from e
     policy.set_training_mode(False)
-    statistics = _plain(file, data, rollout.NORMALIZATION_ATTRIBUTE, None)
-    if statistics is not None:
-        setattr(policy, rollout.NORMALIZATION_ATTRIBUTE, statistics)
-    return policy
+    return NormalizedPolicy(policy, _plain(file, data, NORMALIZATION, None))
 
 
 def _no_learning(progress: float) -> float:

@@ -1,8 +1,8 @@
 """The Ray instance a `composer train --engine ray` run uses: started for the run and gone
 when the command returns, or a cluster joined and left as it was.
 
-    with ray_instance.running(address=None, workers=2) as cpus:   # ray.init ... ray.shutdown
-        ...                                                        # build and train
+    with instance.running(address=None, workers=2) as cpus:   # ray.init ... ray.shutdown
+        ...                                                    # build and train
 
 A local instance keeps its session folder (logs, sockets) in a temporary folder of its
 own, removed after it stops, instead of adding one per run to the system's (Ray's
@@ -35,9 +35,9 @@ import time
 from collections.abc import Iterator
 from typing import Any
 
+from composer.cli.engines.ray.algorithm import Layout
+from composer.cli.engines.ray.files import quiet_ray
 from composer.cli.errors import CliError
-from composer.cli.ray_algorithm import Layout
-from composer.cli.ray_files import quiet_ray
 
 # Seconds to wait for a cluster's address to accept a connection.
 CONNECT_SECONDS = 5.0
@@ -58,7 +58,7 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
     machine's count if None: that many env runners fit, whatever the cores) or joined at
     `address`; yields the CPUs Ray has. Raises CliError when the cluster cannot be
     reached or Ray cannot start."""
-    import ray  # only when training on Ray: `composer train` imports this module
+    import ray  # only when training on Ray: the engine imports this module to check first
 
     quiet_ray()
     options: dict[str, Any] = {

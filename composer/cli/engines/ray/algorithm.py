@@ -1,13 +1,14 @@
 """The RLlib side of `composer train --engine ray`: a task's recipe as an RLlib Algorithm.
 
-    layout = ray_algorithm.Layout(workers=2, envs_per_worker=16, address=None)
-    recipe = ray_algorithm.ray_recipe('CartpoleSwingup', 'ppo').replace(n_envs=layout.n_envs)
-    algo = ray_algorithm.build_algorithm(info, recipe, layout, seed=0)   # Ray is running
-    algo.train()['env_runners'][ray_algorithm.EPISODES]   # [(return, success), ...]
+    layout = algorithm.Layout(workers=2, envs_per_worker=16, address=None)
+    recipe = recipes.for_task(info, 'ppo', engine='ray').replace(n_envs=layout.n_envs)
+    algo = algorithm.build_algorithm(info, recipe, layout, seed=0)   # Ray is running
+    algo.train()['env_runners'][algorithm.EPISODES]   # [(return, success), ...]
 
-The recipe is the task's stable-baselines3 recipe (`composer train --help`), changed where
-measured to suit RLlib (RAY_RECIPES), then translated: PPO collects `n_steps` per
-environment per update (a batch of n_steps x N x M), with stable-baselines3's clip 0.2,
+The recipe is the task's (`composer train --help`), with what the task's recipe changes for
+this engine where measured (`Recipe.engine_changes`), translated from stable-baselines3's
+terms: PPO collects `n_steps` per environment per update (a batch of n_steps x N x M),
+with stable-baselines3's clip 0.2,
 GAE lambda 0.95, gradient norm 0.5, value loss weight 0.5, no KL term, separate policy and
 value networks and a state-independent log std; `normalize` filters observations with
 RLlib's MeanStdFilter (rewards are not scaled). SAC maps its replay, warm-up and update
@@ -44,13 +45,6 @@ SB3_PPO: dict[str, Any] = {
     "vf_clip_param": math.inf,
 }
 SB3_SAC: dict[str, Any] = {"tau": 0.005, "twin_q": True, "n_step": 1}
-# What the Ray engine changes in a task's recipe, measured on 2 cores (docs/ray.md): RLlib
-# pays mostly per call to an env runner's batch, so twice the environments collecting half
-# the steps each (the same batch of 4,096) trained 20% faster and reached the same returns
-# at the same step counts.
-RAY_RECIPES: dict[tuple[str, str], dict[str, Any]] = {
-    ("CartpoleSwingup", "ppo"): {"n_envs": 32, "n_steps": 128},
-}
 # SAC's steps per environment per round trip to the env runners: updates keep their ratio
 # to samples (training_intensity), and one step per trip left RLlib at ~300 steps/s.
 SAC_FRAGMENT = 32
@@ -69,11 +63,6 @@ class Layout:
     def n_envs(self) -> int:
         """Environments in all."""
         return self.workers * self.envs_per_worker
-
-
-def ray_recipe(task: str, algo: str) -> recipes.Recipe:
-    """`task`'s recipe for `algo` with the Ray engine's changes (RAY_RECIPES)."""
-    return recipes.for_task(task, algo).replace(**RAY_RECIPES.get((task, algo), {}))
 
 
 def build_algorithm(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:

@@ -1,99 +1,43 @@
-"""What `composer train --engine ray` writes and reads: the trained policy and the checkpoint.
+"""A policy of the Ray engine: written from a training algorithm, and loaded for `composer
+run`, `eval` and `view` without unpickling anything by default.
 
-    folder = ray_files.find_policy('runs/CartpoleSwingup-ppo-ray')   # None: not a Ray result
-    policy = ray_files.load_policy(folder, env)     # policy.predict(obs, deterministic=True)
-    checkpoint = ray_files.Checkpoint('runs/CartpoleSwingup-ppo-ray/checkpoint')
-    checkpoint.state()['timesteps'], checkpoint.algorithm_path()
+    policy = ray.policy.load_policy(folder, env)    # policy.predict(obs, deterministic=True)
+    ray.policy.save_policy(algo, folder, info)      # policy.json, weights.npz, module/
 
-A policy is a folder: `policy.json` (the task, the algorithm, the network's settings as
-RLlib's model config, the action bounds, and the running mean and std of observations the
-module was fed: RLlib's MeanStdFilter, None without normalization), `weights.npz` (the
-inference part of the trained network: plain arrays), and `module/`, the same network as
-RLlib writes an RLModule (`RLModule.from_checkpoint` reads it, for your own RLlib code).
-`load_policy` builds the algorithm's default RLModule from policy.json and loads
-weights.npz into it, reading no pickle; RLlib's `module/` holds pickles (its class and
-constructor arguments, its state), which run code when loaded, so it is read only when the
-user trusts the file (`--trust-policy`), as are policies written before weights.npz
-existed. `RayPolicy` applies the filter, the module's deterministic action and RLlib's
-unsquashing to the action bounds, as RLlib's env runners do with exploration off, so
-`composer eval` repeats training's evaluations.
+The folder's files are described in `composer.cli.engines.ray.files`. `load_policy` builds
+the algorithm's default RLModule from policy.json and loads weights.npz into it, reading no
+pickle; RLlib's `module/` holds pickles (its class and constructor arguments, its state),
+which run code when loaded, so it is read only when the user trusts the file
+(`--trust-policy`), as are policies written before weights.npz existed. `RayPolicy` applies
+the filter, the module's deterministic action and RLlib's unsquashing to the action
+bounds, as RLlib's env runners do with exploration off, so `composer eval` repeats
+training's evaluations.
 
-A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
-Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
-and `state.json` (the `Progress` with the engine's layout and which subfolder is current),
-written atomically after the subfolder is complete, so a folder with a `state.json` holds
-a complete checkpoint even when training was killed while saving. Older subfolders are
-deleted after.
-
-Ray is imported only to load or save, so `composer eval` tells a Ray result from a
-stable-baselines3 one without it.
+Ray and torch are imported only to load or save, so importing this module costs nothing.
 """
 
 from __future__ import annotations
 
 import json
-import logging
-import os
-import re
-import secrets
-import shutil
 from pathlib import Path
 from typing import Any
 
 import gymnasium
 import numpy as np
 
-from composer.cli import engine
-from composer.cli.engine import Progress
-from composer.cli.errors import MissingExtraError, OutputError, PolicyError, UntrustedPolicyError
+from composer.cli.engines import base
+from composer.cli.engines.ray.files import (
+    POLICY_FILE,
+    POLICY_FORMAT,
+    POLICY_VERSION,
+    WEIGHTS_FILE,
+    quiet_ray,
+    require_ray,
+)
+from composer.cli.errors import PolicyError, UntrustedPolicyError
 
-RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[train,ray]'"
-POLICY_FILE = "policy.json"
-WEIGHTS_FILE = "weights.npz"
-POLICY_FORMAT = "composer-rllib-policy"
-# policy.json's version: 2 says weights.npz and the model config are there.
-POLICY_VERSION = 2
-ENGINE = "ray"
 # RLlib's MeanStdFilter divides by std + this (ray.rllib.utils.filter.SMALL_NUMBER).
 _FILTER_EPSILON = 1e-8
-# A checkpoint's saves, '000000020480-3fa9c1' (timesteps, then a random tag), and those
-# being written ('.000000020480-3fa9c1.partial').
-_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
-
-
-def require_ray(needs: str = "--engine ray needs") -> None:
-    """Raise MissingExtraError with the install command unless Ray's RLlib imports; the
-    message starts with `needs`."""
-    try:
-        import ray.rllib  # noqa: F401
-    except ImportError as e:
-        raise MissingExtraError(
-            f"{needs} the [ray] extra ({e.name or 'ray'} is missing): {RAY_INSTALL}"
-        ) from e
-
-
-def quiet_ray() -> None:
-    """Keep Ray's and RLlib's Python notices (the new API stack, deprecations, token
-    files) off the terminal: errors still show, and Ray's log files keep everything."""
-    for name in ("ray", "ray.rllib", "ray.tune"):
-        logging.getLogger(name).setLevel(logging.ERROR)
-
-
-# -- policies -------------------------------------------------------------------------------
-
-
-def find_policy(path: str | os.PathLike[str]) -> Path | None:
-    """The Ray policy folder `path` names: itself, its `policy/`, or the current policy of
-    the checkpoint it is or holds; None when it names none (e.g. a stable-baselines3 file)."""
-    path = Path(path)
-    for candidate in (path, path / "policy"):
-        if (candidate / POLICY_FILE).is_file():
-            return candidate
-    for folder in (path, path / "checkpoint"):
-        checkpoint = Checkpoint(folder)
-        if checkpoint.exists():
-            return checkpoint.current() / "policy"
-    return None
 
 
 class RayPolicy:
@@ -102,7 +46,9 @@ class RayPolicy:
 
     def __init__(self, module: Any, spec: dict[str, Any]) -> None:
         """Serve `module` (an RLlib RLModule) with `spec` (the contents of policy.json)."""
-        import torch  # the [train] extra: training.py turns its absence into a message
+        import torch  # with Ray: checked by `files.require_ray`
+
+        torch.set_num_threads(base.TORCH_THREADS)
 
         self.module = module
         self.spec = spec
@@ -167,7 +113,7 @@ def write_module(module: Any, folder: Path) -> None:
     """Write the RLModule `module` into `folder`: its weights as plain arrays (weights.npz),
     and RLlib's own checkpoint of it (`module/`)."""
     folder.mkdir(parents=True, exist_ok=True)
-    module.save_to_path(_uri(folder / "module"))
+    module.save_to_path(uri(folder / "module"))
     weights: dict[str, Any] = {name: np.asarray(v) for name, v in module.get_state().items()}
     with (folder / WEIGHTS_FILE).open("wb") as file:
         np.savez(file, **weights)
@@ -232,7 +178,7 @@ def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
     module = _trusted_module(folder) if trusted else _module(folder, spec)
     module.eval()
     policy = RayPolicy(module, spec)
-    engine.check_spaces(folder, policy, env)
+    base.check_spaces(folder, policy, env)
     return policy
 
 
@@ -246,8 +192,8 @@ def _module(folder: Path, spec: dict[str, Any]) -> Any:
             "which run code when loaded; load it only if you trust where it came from, with "
             "--trust-policy (see SECURITY.md)"
         )
-    import torch  # the [train] extra: training.py turns its absence into a message
-    from ray.rllib.algorithms.ppo import PPOConfig  # Ray: checked by load_policy
+    import torch  # with Ray: checked by load_policy
+    from ray.rllib.algorithms.ppo import PPOConfig
     from ray.rllib.algorithms.sac import SACConfig
     from ray.rllib.core.rl_module.torch import TorchRLModule
 
@@ -281,7 +227,7 @@ def _trusted_module(folder: Path) -> Any:
     from ray.rllib.core.rl_module.torch import TorchRLModule
 
     try:
-        module = RLModule.from_checkpoint(_uri(folder / "module"))
+        module = RLModule.from_checkpoint(uri(folder / "module"))
     except (OSError, ValueError, KeyError) as e:
         raise PolicyError(f"cannot load the RLlib module in {folder / 'module'}: {e}") from e
     if not isinstance(module, TorchRLModule):
@@ -289,84 +235,6 @@ def _trusted_module(folder: Path) -> Any:
     return module
 
 
-def _uri(path: Path) -> str:
+def uri(path: Path) -> str:
     """`path` as RLlib takes it: absolute (a relative path is read as a URI)."""
     return str(path.resolve())
-
-
-# -- checkpoints ----------------------------------------------------------------------------
-
-
-class Checkpoint(engine.Checkpoint):
-    """A Ray training checkpoint in a folder (see the module docstring)."""
-
-    engine = ENGINE
-    policy = "policy"
-
-    def current(self) -> Path:
-        """The subfolder of the last complete save."""
-        return self.folder / str(self.state().get("saved"))
-
-    def algorithm_path(self) -> Path:
-        """The RLlib Algorithm checkpoint of the last complete save."""
-        return self.current() / "algorithm"
-
-    def save(self, model: RayModel, progress: Progress) -> None:
-        """Save `model`'s algorithm and policy into a new subfolder, then `progress` with
-        the model's layout, naming that subfolder current; then remove the older ones.
-        Raises OutputError."""
-        name = f"{int(progress.timesteps):012d}-{secrets.token_hex(3)}"
-        saved = self.folder / name
-
-        def write(folder: Path) -> None:
-            model.algo.save_to_path(_uri(folder / "algorithm"))
-            save_policy(model.algo, folder / "policy", model.info)
-
-        try:
-            self.folder.mkdir(parents=True, exist_ok=True)
-            engine.replace(saved, write)
-            self._save_state({**progress.to_json(), **model.layout, "saved": name})
-        except OSError as e:
-            raise OutputError(f"cannot save checkpoint in {self.folder}: {e}") from e
-        for old in self._saved_files():
-            if old != saved:
-                shutil.rmtree(old, ignore_errors=True)
-
-    def _complete(self) -> bool:
-        return self.current().is_dir()
-
-    def _saved_files(self) -> list[Path]:
-        if not self.folder.is_dir():
-            return []
-        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
-
-
-class RayModel:
-    """An RLlib Algorithm as `composer.cli.training.Session` sees a model: its timesteps,
-    and `predict` by its current policy (call `sync()` after training changed it), which
-    normalizes observations itself."""
-
-    def __init__(self, algo: Any, info: dict[str, Any], layout: dict[str, Any]) -> None:
-        """Wrap `algo`; `info` (task, env_id, algo) goes into policy files, `layout`
-        (workers, envs per worker, restarts) into checkpoints."""
-        self.algo = algo
-        self.info = info
-        self.layout = layout
-        self.num_timesteps = 0
-        self._policy: RayPolicy | None = None
-
-    def sync(self) -> None:
-        """Take the algorithm's current policy for `predict`."""
-        self._policy = current_policy(self.algo, self.info)
-
-    @property
-    def policy(self) -> RayPolicy:
-        """The policy `predict` uses (the algorithm's at the last `sync`)."""
-        if self._policy is None:
-            self.sync()
-        assert self._policy is not None
-        return self._policy
-
-    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
-        """The policy's action (see RayPolicy.predict)."""
-        return self.policy.predict(observation, deterministic)

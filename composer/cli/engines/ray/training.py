@@ -1,27 +1,15 @@
-"""`composer train TASK --engine ray`: train with RLlib on Ray, on this machine or a cluster,
-with the outputs and the rules of the stable-baselines3 engine.
+"""Training with RLlib on Ray: the engine's `Trainer`, which `composer train --engine ray`
+drives through the engine (`trainer`), and how a run is saved.
 
-    $ composer train CartpoleSwingup --engine ray --workers 2 --timesteps 300000
-    $ composer train AntRun --engine ray --address 10.0.0.1:6379 --workers 32
+    with training.trainer(info, folder, args) as trainer:   # Ray running, the Algorithm built
+        trainer.learn(session, stop)                        # algo.train() until done
 
 N env runners (Ray actors of one CPU each) each step M environments of the task as one
 `composer.VectorEnvironment` (MuJoCo's batch, see `composer.rllib`); the learner runs in
 this process. Without `--address` a local Ray instance is started for the run and stopped
-after it; with one the run joins that cluster (`ray start --head` on one machine, `ray
-start --address=HEAD:6379` on the others; docs/ray.md). `--workers` defaults to the CPUs
-Ray has, `--envs-per-worker` to the recipe's environments divided among them.
-
-The recipe is the task's stable-baselines3 recipe (`composer train --help`), adapted and
-translated to RLlib as `composer.cli.ray_algorithm` says.
-
-`composer.cli.train` drives the run through `trainer(info, folder, args)`, this engine's
-`engine.Trainer`, as it drives stable-baselines3's: the same output folder rules
-(`composer.cli.run_folder`: resuming, --resume, --fresh, a finished run refused), and the
-same files, the policy being a folder: `policy/` (an RLlib RLModule with its observation
-filter; `composer eval` and `composer run --policy` read it and the output folder),
-`learning_curve.png`, `video.mp4`, `metrics.json` (the same keys, plus workers,
-envs_per_worker, env_runner_restarts and ray) and `checkpoint/` (see
-`composer.cli.ray_files`). A checkpoint resumes on as many workers as given now.
+after it (`instance`); with one the run joins that cluster. `--workers` defaults to the
+CPUs Ray has, `--envs-per-worker` to the recipe's environments divided among them; a
+checkpoint resumes on as many workers as given now.
 
 An env runner that dies (killed, out of memory, its machine gone) is restarted by Ray and
 rejoins with the current weights; meanwhile the others sample the whole batch, so no
@@ -33,57 +21,125 @@ from __future__ import annotations
 import argparse
 import contextlib
 import functools
+import secrets
+import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from composer.cli import engine, ray_instance, recipes, training
+from composer.cli import describe, recipes
+from composer.cli.engines import base
+from composer.cli.engines.ray import instance
+from composer.cli.engines.ray.algorithm import EPISODES, Layout, build_algorithm, describe_runners
+from composer.cli.engines.ray.files import NAME, POLICY, Checkpoint
+from composer.cli.engines.ray.policy import RayPolicy, current_policy, save_policy, uri
+from composer.cli.errors import OutputError
 from composer.cli.progress import Bar
 from composer.cli.progress import say as progress_line
-from composer.cli.ray_algorithm import (
-    EPISODES,
-    Layout,
-    build_algorithm,
-    describe_runners,
-    ray_recipe,
-)
-from composer.cli.ray_files import Checkpoint, RayModel, save_policy
-from composer.cli.run_folder import RunFolder
 from composer.registration import TaskInfo
 
 
-class Trainer(engine.Trainer):
+class RayModel:
+    """An RLlib Algorithm with what the run records of it: its timesteps, and `predict` by
+    its current policy (call `sync()` after training changed it), which normalizes
+    observations itself."""
+
+    def __init__(self, algo: Any, info: dict[str, Any], layout: dict[str, Any]) -> None:
+        """Wrap `algo`; `info` (task, env_id, algo) goes into policy files, `layout`
+        (workers, envs per worker, restarts) into checkpoints."""
+        self.algo = algo
+        self.info = info
+        self.layout = layout
+        self.num_timesteps = 0
+        self._policy: RayPolicy | None = None
+
+    def sync(self) -> None:
+        """Take the algorithm's current policy for `predict`."""
+        self._policy = current_policy(self.algo, self.info)
+
+    @property
+    def policy(self) -> RayPolicy:
+        """The policy `predict` uses (the algorithm's at the last `sync`)."""
+        if self._policy is None:
+            self.sync()
+        assert self._policy is not None
+        return self._policy
+
+    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, None]:
+        """The policy's action (see RayPolicy.predict)."""
+        return self.policy.predict(observation, deterministic)
+
+
+class Trainer(base.Trainer):
     """An RLlib Algorithm training on its env runners (`trainer` opens one)."""
 
     library = "RLlib"
 
     def __init__(
-        self, model: RayModel, progress: engine.Progress, recipe: recipes.Recipe, layout: Layout
+        self,
+        model: RayModel,
+        progress: base.Progress,
+        recipe: recipes.Recipe,
+        checkpoint: Checkpoint,
+        layout: Layout,
     ) -> None:
         """Train `model` on from `progress` as `recipe` says, sampling on `layout`'s env
-        runners."""
-        super().__init__(model, progress, recipe)
+        runners, saving into `checkpoint`."""
+        super().__init__(progress, recipe)
+        self.model = model
+        self.checkpoint = checkpoint
         self.layout = layout
 
     @property
     def where(self) -> str:
         """'2 env runners x 16 environments'."""
         layout = self.layout
-        return (f"{engine.plural(layout.workers, 'env runner')} x "
-                f"{engine.plural(layout.envs_per_worker, 'environment')}")  # fmt: skip
+        return (f"{describe.count(layout.workers, 'env runner')} x "
+                f"{describe.count(layout.envs_per_worker, 'environment')}")  # fmt: skip
 
-    def learn(self, session: training.Session, stop: training.StopOnInterrupt) -> None:
+    @property
+    def timesteps(self) -> int:
+        """The environment steps sampled in the run."""
+        return int(self.model.num_timesteps)
+
+    def learn(self, session: base.Session, stop: base.StopOnInterrupt) -> None:
         """Iterate the algorithm (see `_train`), then take its policy for evaluation."""
         print(f"env runners: {describe_runners(self.model.algo)}", flush=True)
-        _train(self.model, session, self.recipe, stop, self.layout)
+        _train(self, session, stop)
         self.model.sync()
 
+    def predictor(self) -> RayModel:
+        """The algorithm's policy at the last `sync`."""
+        return self.model
+
+    def save_checkpoint(self) -> None:
+        """Save the algorithm and policy into a new subfolder, then the progress with the
+        layout, naming that subfolder current; then remove the older ones. Raises
+        OutputError."""
+        model, checkpoint, progress = self.model, self.checkpoint, self.progress
+        name = f"{int(progress.timesteps):012d}-{secrets.token_hex(3)}"
+        saved = checkpoint.folder / name
+
+        def write(folder: Path) -> None:
+            model.algo.save_to_path(uri(folder / "algorithm"))
+            save_policy(model.algo, folder / POLICY, model.info)
+
+        try:
+            checkpoint.folder.mkdir(parents=True, exist_ok=True)
+            base.replace(saved, write)
+            checkpoint.write_state({**progress.to_json(), **model.layout, "saved": name})
+        except OSError as e:
+            raise OutputError(f"cannot save checkpoint in {checkpoint.folder}: {e}") from e
+        for old in checkpoint.engine_files():
+            if old != saved:
+                shutil.rmtree(old, ignore_errors=True)
+
     def save_policy(self, path: Path) -> None:
-        """The algorithm's current policy, as `ray_files.save_policy` writes it."""
+        """The algorithm's current policy, as `policy.save_policy` writes it."""
         model = self.model
-        engine.replace(path, lambda folder: save_policy(model.algo, folder, model.info))
+        base.replace(path, lambda folder: save_policy(model.algo, folder, model.info))
 
     def metrics(self) -> dict[str, Any]:
         """The layout, the env runners restarted and the Ray cluster."""
@@ -92,24 +148,27 @@ class Trainer(engine.Trainer):
 
 @contextlib.contextmanager
 def trainer(
-    info: TaskInfo, folder: RunFolder[Checkpoint], args: argparse.Namespace
+    info: TaskInfo, folder: base.RunFolder[Checkpoint], args: argparse.Namespace
 ) -> Iterator[Trainer]:
-    """Within `with`: Ray running (see `ray_instance.running`) and the run in `folder` (resumed
+    """Within `with`: Ray running (see `instance.running`) and the run in `folder` (resumed
     from its checkpoint, on the workers given now or else those it had, or new with the
-    Ray engine's recipe) as an RLlib Algorithm, which is stopped after. Raises CliError
-    when Ray cannot start, the cluster cannot be reached or is too small, or RLlib cannot
-    build the algorithm."""
+    task's recipe as this engine runs it) as an RLlib Algorithm, which is stopped after.
+    Raises CliError when Ray cannot start, the cluster cannot be reached or is too small,
+    or RLlib cannot build the algorithm."""
+    import torch  # with Ray: checked by the engine's `prepare`
+
+    torch.set_num_threads(base.TORCH_THREADS)  # the learner runs in this process
     checkpoint = folder.checkpoint
     saved = checkpoint.state() if folder.resumes else {}
-    with ray_instance.running(args.address, args.workers or saved.get("workers")) as cpus:
+    with instance.running(args.address, args.workers or saved.get("workers")) as cpus:
         layout = _layout(args, saved, cpus)
-        ray_instance.check_capacity(layout, cpus)
-        note = ray_instance.oversubscribed(layout)
+        instance.check_capacity(layout, cpus)
+        note = instance.oversubscribed(layout)
         if note is not None:
             print(note)
         progress, recipe = folder.start(
             args,
-            lambda algo: ray_recipe(info.name, algo).replace(
+            lambda algo: recipes.for_task(info, algo, NAME).replace(
                 timesteps=args.timesteps, n_envs=layout.n_envs, vec="batched"
             ),
         )
@@ -120,7 +179,7 @@ def trainer(
             restarts = saved.get("env_runner_restarts", 0)
             model = RayModel(algo, _policy_info(info, recipe), _layout_json(layout, restarts))
             model.num_timesteps = progress.timesteps
-            yield Trainer(model, progress, recipe, layout)
+            yield Trainer(model, progress, recipe, checkpoint, layout)
         finally:
             algo.stop()
             # The Algorithm made itself a log folder in ~/ray_results that only Ray Tune
@@ -137,8 +196,8 @@ def _layout(args: argparse.Namespace, saved: dict[str, Any], cpus: int) -> Layou
     checkpoint's state `saved`, else as many workers as Ray has CPUs and the recipe's
     environments among them."""
     workers = args.workers or saved.get("workers") or max(1, cpus)
-    algo = args.algo or saved.get("algo") or recipes.default_algo(args.info.name)
-    default_envs = max(1, ray_recipe(args.info.name, algo).n_envs // workers)
+    algo = args.algo or saved.get("algo") or recipes.default_algo(args.info)
+    default_envs = max(1, recipes.for_task(args.info, algo, NAME).n_envs // workers)
     envs = args.envs_per_worker or saved.get("envs_per_worker") or default_envs
     return Layout(int(workers), int(envs), args.address)
 
@@ -150,7 +209,7 @@ def _policy_info(info: TaskInfo, recipe: recipes.Recipe) -> dict[str, Any]:
 def _layout_json(layout: Layout, restarts: int) -> dict[str, Any]:
     """What checkpoints and metrics.json record of the layout and the cluster; `restarts`:
     env runners restarted so far in the run."""
-    import ray  # only when training on Ray: `composer train` imports this module
+    import ray  # running: `trainer` started it
 
     return {
         "workers": layout.workers,
@@ -165,23 +224,18 @@ def _layout_json(layout: Layout, restarts: int) -> dict[str, Any]:
     }
 
 
-def _train(
-    model: RayModel,
-    session: training.Session,
-    recipe: recipes.Recipe,
-    stop: training.StopOnInterrupt,
-    layout: Layout,
-) -> None:
-    """Iterate the algorithm until `recipe.timesteps`, evaluating when due and reporting
-    env runners that fail and return, until Ctrl-C asks to stop."""
+def _train(trainer: Trainer, session: base.Session, stop: base.StopOnInterrupt) -> None:
+    """Iterate the algorithm until the recipe's timesteps, evaluating when due and
+    reporting env runners that fail and return, until Ctrl-C asks to stop."""
+    model, layout = trainer.model, trainer.layout
     algo = model.algo
     progress = session.progress
-    bar = Bar.open(recipe.timesteps, progress.timesteps)
+    bar = Bar.open(trainer.recipe.timesteps, progress.timesteps)
     say = functools.partial(progress_line, bar)
     healthy = layout.workers
     restarts = algo.env_runner_group.num_remote_worker_restarts()
     try:
-        while progress.timesteps < recipe.timesteps and not stop.requested:
+        while progress.timesteps < trainer.recipe.timesteps and not stop.requested:
             result = algo.train()
             runners = result.get("env_runners", {})
             # No runner sampled (all lost, restarting): RLlib reports NaN steps.
@@ -195,8 +249,8 @@ def _train(
             healthy, restarts = _watch_runners(model, healthy, restarts, layout, say)
             if not stop.requested and session.due(progress.timesteps):
                 model.sync()
-                say(training.report(session.evaluate(model)))
-                session.save(model)
+                say(describe.evaluation(session.evaluate(trainer)))
+                session.save(trainer)
     finally:
         if bar is not None:
             bar.close()
@@ -212,7 +266,7 @@ def _watch_runners(
     if now_restarts > restarts:
         total = model.layout["env_runner_restarts"] + now_restarts - restarts
         model.layout["env_runner_restarts"] = total
-        say(f"env runner restarted ({engine.plural(total, 'restart')} in this run); "
+        say(f"env runner restarted ({describe.count(total, 'restart')} in this run); "
             f"env runners: {describe_runners(model.algo)}")  # fmt: skip
     elif now_healthy < healthy:
         left = (f"{now_healthy} of {layout.workers} left sample the whole batch" if now_healthy

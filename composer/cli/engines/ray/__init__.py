@@ -1,0 +1,95 @@
+"""The Ray engine (`--engine ray`, the [ray] extra): RLlib's PPO and SAC on N Ray env
+runners of M environments each, on this machine or a cluster (docs/ray.md).
+
+    $ composer train CartpoleSwingup --engine ray --workers 2 --timesteps 300000
+    $ composer train AntRun --engine ray --address 10.0.0.1:6379 --workers 32
+
+It keeps the outputs and the output-folder rules of the other engines: the policy is a
+folder, `policy/` (an RLlib RLModule with its observation filter, which `composer eval` and
+`composer run --policy` read), and metrics.json has the same keys plus workers,
+envs_per_worker, env_runner_restarts and ray. Modules: `files` (its policy folder and
+checkpoint, read without Ray), `policy` (loading and writing a policy), `algorithm` (a
+recipe as an RLlib Algorithm), `instance` (the Ray instance of a run) and `training` (the
+trainer). Ray is imported only inside their functions, when a run trains or a policy loads.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from contextlib import AbstractContextManager
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import gymnasium
+
+from composer.cli import arguments
+from composer.cli.engines import base
+from composer.cli.engines.ray import files
+from composer.registration import TaskInfo
+
+if TYPE_CHECKING:
+    from composer.cli.engines.ray.policy import RayPolicy
+
+
+class RayEngine(base.Engine[files.Checkpoint]):
+    """RLlib on Ray (see the package docstring)."""
+
+    name = files.NAME
+    title = "RLlib on Ray"
+    summary = "RLlib on Ray ([ray] extra)"
+    extra = "ray"
+    checkpoint = files.Checkpoint
+    policy = files.POLICY
+    options = ("workers", "envs_per_worker", "address")
+
+    def add_options(self, group: argparse._ArgumentGroup) -> None:
+        """--workers, --envs-per-worker and --address."""
+        group.add_argument(
+            "--workers", type=arguments.positive_int, metavar="N",
+            help="env runners (default: CPUs)",
+        )  # fmt: skip
+        group.add_argument(
+            "--envs-per-worker", type=arguments.positive_int, metavar="M",
+            help="environments each (default: the recipe's, divided among them)",
+        )  # fmt: skip
+        group.add_argument(
+            "--address", metavar="HOST:PORT", help="join this cluster (default: start locally)"
+        )
+
+    def instead(self, given: Sequence[str]) -> str:
+        """Where the environments are set with Ray; that RLlib logs no TensorBoard scalars."""
+        hints = ""
+        if {"n_envs", "vec"} & set(given):
+            hints += "; with --engine ray give --workers and --envs-per-worker"
+        if "tensorboard" in given:  # RLlib writes them only under Ray Tune, not run here
+            hints += "; --engine ray logs no TensorBoard scalars (see docs/ray.md)"
+        return hints
+
+    def prepare(self, args: argparse.Namespace) -> None:
+        """Ray's RLlib and torch importable, in token mode for a cluster that has one."""
+        from composer.cli.engines.ray import instance
+
+        instance.authenticate(args.address)  # before Ray is imported
+        files.require_ray()
+
+    def trainer(
+        self, info: TaskInfo, folder: base.RunFolder[files.Checkpoint], args: argparse.Namespace
+    ) -> AbstractContextManager[base.Trainer]:
+        """`training.trainer`."""
+        from composer.cli.engines.ray import training
+
+        return training.trainer(info, folder, args)
+
+    def find_policy(self, path: Path) -> Path | None:
+        """`files.find_policy`."""
+        return files.find_policy(path)
+
+    def load_policy(self, found: Path, env: gymnasium.Env, trusted: bool) -> RayPolicy:
+        """`policy.load_policy`."""
+        from composer.cli.engines.ray import policy
+
+        return policy.load_policy(found, env, trusted)
+
+
+ENGINE = RayEngine()

@@ -1,0 +1,113 @@
+"""What the stable-baselines3 engine writes, and how a folder shows it: its checkpoint, its
+policy file, and the observation statistics a policy is served with. Reading these needs no
+library.
+
+    checkpoint = files.Checkpoint('runs/Reach-ppo/checkpoint')   # model.zip, state.json ...
+    files.find_policy(Path('runs/Reach-ppo'))    # runs/Reach-ppo/policy.zip, or None
+    files.algo_of(Path('runs/Reach-ppo/policy.zip'))   # 'ppo'
+    policy = files.NormalizedPolicy(model, statistics)  # predict() normalizes first
+
+A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms,
+`vecnormalize.pkl` for normalized recipes, and `state.json` (the `Progress`), each replaced
+atomically, `state.json` last (`composer.cli.engines.base`). The policy, `policy.zip`, is
+the model's .zip, whose `data` carries the training environments' observation statistics
+as plain JSON under NORMALIZATION (mean, var, epsilon, clip), so a policy normalizes what it
+is given as training did.
+"""
+
+from __future__ import annotations
+
+import json
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from composer.cli.engines import base
+from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, PolicyError
+
+NAME = base.DEFAULT_ENGINE
+POLICY = "policy.zip"
+ALGORITHMS = ("ppo", "sac")
+# The model attribute, and the key of its .zip's `data`, that holds the observation
+# statistics it was trained with (None or absent: no normalization).
+NORMALIZATION = "observation_normalization"
+
+
+class Checkpoint(base.Checkpoint):
+    """A stable-baselines3 training checkpoint in a folder (see the module docstring)."""
+
+    engine = NAME
+
+    def __init__(self, folder: str | Path) -> None:
+        """A checkpoint at `folder` (which need not exist yet)."""
+        super().__init__(folder)
+        self.model_path = self.folder / "model.zip"
+        self.buffer_path = self.folder / "replay_buffer.pkl"
+        self.normalization_path = self.folder / "vecnormalize.pkl"
+
+    def engine_files(self) -> list[Path]:
+        """model.zip, replay_buffer.pkl, vecnormalize.pkl and their partial files."""
+        saved = (self.model_path, self.buffer_path, self.normalization_path)
+        return [p for path in saved for p in (path, base.partial_path(path)) if p.is_file()]
+
+    def _complete(self) -> bool:
+        return self.model_path.is_file()
+
+
+def find_policy(path: Path) -> Path | None:
+    """The policy .zip `path` names: itself, or in a folder written by `composer train` its
+    policy.zip, else its checkpoint's model; None when there is none."""
+    candidates = [path] if path.suffix == ".zip" else [
+        path / POLICY, path / "checkpoint" / "model.zip", path / "model.zip"
+    ]  # fmt: skip
+    return next((candidate for candidate in candidates if candidate.is_file()), None)
+
+
+def algo_of(path: Path) -> str:
+    """The algorithm ('ppo', 'sac') a stable-baselines3 .zip was saved by, from the module
+    of its policy class: `stable_baselines3.sac.policies` for SAC, the shared actor-critic
+    policies of `stable_baselines3.common.policies` for PPO. Raises PolicyError."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            module = json.loads(archive.read("data"))["policy_class"]["__module__"]
+    except (OSError, zipfile.BadZipFile, KeyError, TypeError, ValueError) as e:
+        raise PolicyError(f"{path} is not a stable-baselines3 policy file: {e}") from e
+    if module == "stable_baselines3.common.policies":
+        algo = "ppo"
+    else:
+        algo = module.removeprefix("stable_baselines3.").partition(".")[0]
+    if algo not in ALGORITHMS:
+        raise PolicyError(f"{path} holds a {module!r} policy, not one of {list(ALGORITHMS)}")
+    return algo
+
+
+class NormalizedPolicy:
+    """A stable-baselines3 policy or model served with the observation statistics it was
+    trained with (NORMALIZATION's dict, or None): `predict` normalizes, then predicts."""
+
+    def __init__(self, network: Any, statistics: dict[str, Any] | None) -> None:
+        """Serve `network` (anything with stable-baselines3's `predict`)."""
+        self.network = network
+        self.statistics = statistics
+        self.observation_space = network.observation_space
+        self.action_space = network.action_space
+        if statistics is not None:
+            self._mean = np.asarray(statistics["mean"])
+            self._scale = np.sqrt(np.asarray(statistics["var"]) + statistics["epsilon"])
+            self._clip = statistics["clip"]
+
+    def predict(self, observation: Any, deterministic: bool = True) -> tuple[np.ndarray, Any]:
+        """The network's action for `observation`, normalized as in training first."""
+        if self.statistics is not None:
+            observation = np.clip((observation - self._mean) / self._scale, -self._clip,
+                                  self._clip)  # fmt: skip
+        return self.network.predict(observation, deterministic=deterministic)
+
+
+def missing_library(error: ImportError, needs: str) -> MissingExtraError:
+    """What to raise when stable-baselines3 or torch (the [train] extra) cannot be imported:
+    '`needs` the [train] extra (torch is missing): `TRAIN_INSTALL`'."""
+    missing = error.name or "stable_baselines3"
+    return MissingExtraError(f"{needs} the [train] extra ({missing} is missing): {TRAIN_INSTALL}")
