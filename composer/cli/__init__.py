@@ -17,7 +17,7 @@ How the package is built: its modules form layers, each importing only from its 
 and the layers listed before it, at module level, inside a function, by name (the engine
 registry, the command table) or for type checks alike, with no circle; an engine's modules
 are imported only by their own engine and by the registry, and only they import an
-engine's library (stable-baselines3, torch, Ray, TensorBoard). tests/cli/test_architecture.py
+engine's library (stable-baselines3, torch, Ray, TensorBoard). tests/cli/test_cli_architecture.py
 checks this on the real source.
 
     foundation:  errors arguments output progress video plot recipes catalog rollout describe

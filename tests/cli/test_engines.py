@@ -15,7 +15,7 @@ import pytest
 from composer.cli import engines
 from tests.cli.helpers import LIBRARIES, blocker, composer, composer_without, environment
 from tests.cli.policies import ray_policy_folder, trained
-from tests.cli.test_architecture import cli_modules
+from tests.cli.test_cli_architecture import cli_modules
 
 # The modules that run stable-baselines3 (and torch), imported only to load its policies
 # or to train with it.
