@@ -44,16 +44,16 @@ class Floor(composer.Arena):
             rgb1=[0.4, 0.6, 0.8], rgb2=[0.0, 0.0, 0.0], width=256, height=256,
         )  # fmt: skip
         self.floor = root.worldbody.add(
-            "geom", name="floor", type="plane", size=[*size, 0.1], condim=3
+            "geom", name="floor", type="plane", size=[*size, 1.0], condim=3
         )
         if floor_rgba is None:
             root.asset.add(
                 "texture", name="grid", type="2d", builtin="checker", width=256, height=256,
-                rgb1=[0.2, 0.3, 0.4], rgb2=[0.1, 0.2, 0.3], mark="edge", markrgb=[0.8] * 3,
+                rgb1=[0.38, 0.57, 0.76], rgb2=[0.19, 0.38, 0.57], mark="edge", markrgb=[1.0] * 3,
             )  # fmt: skip
             grid = root.asset.add(
                 "material", name="grid", texture="grid", texrepeat=[1, 1], texuniform=True,
-                reflectance=0.2,
+                rgba=[0.5, 0.5, 0.5, 1], reflectance=0.2,
             )  # fmt: skip
             self.floor.material = grid
         else:
