@@ -17,9 +17,8 @@ pixels a side (observations: 64x64, 84x84) no shadows and no multisampling. Larg
 (pictures, videos) are drawn as MuJoCo draws them. A setting the model's MJCF gives
 (`<quality shadowsize=...>`, `<global offwidth=...>` ...) is always kept: for a model
 compiled from an `mjcf` tree that is known from its text, otherwise a value other than
-MuJoCo's default counts as given. The model is not changed (the settings are swapped in only
-while the renderer's context is made), and the smallest font, which frames never show,
-makes that context in a fraction of the time (30 ms instead of 160 ms here).
+MuJoCo's default counts as given. The model is not changed: the settings are swapped in only
+while the renderer's context is made.
 
 The backend is MUJOCO_GL's when that is set. Otherwise it is chosen at the first renderer
 (not at import, so `import mujoco` before `import mjcf` changes nothing): on Linux the first
@@ -68,7 +67,7 @@ def make_renderer(
     chosen = fitted_settings(model, height, width, mjcf_xml)
     try:
         with _settings_lock, _swapped(model, chosen):
-            return mujoco.Renderer(model, height, width, font_scale=_FONT_SCALE)
+            return mujoco.Renderer(model, height, width)
     except ValueError as e:  # larger than the model's offscreen framebuffer
         raise errors.RenderError(str(e)) from e
     except _NoContextError as e:
@@ -181,8 +180,6 @@ _MUJOCO_DEFAULTS = {
     "global.offwidth": 640,
     "global.offheight": 480,
 }
-# The smallest font: renderers never draw text, and the 150% one takes 130 ms to make.
-_FONT_SCALE = mujoco.mjtFontScale.mjFONTSCALE_50
 # The `<visual>` section of MJCF text (a top-level section: the one element of that name).
 _VISUAL = re.compile(r"<visual\b(?:[^>]*/>|.*?</visual>)", re.DOTALL)
 # Held while a model's settings are swapped: two renderers made at once see their own.
