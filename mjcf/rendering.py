@@ -184,6 +184,10 @@ _MUJOCO_DEFAULTS = {
 _VISUAL = re.compile(r"<visual\b(?:[^>]*/>|.*?</visual>)", re.DOTALL)
 # Held while a model's settings are swapped: two renderers made at once see their own.
 _settings_lock = threading.Lock()
+# Freed EGL contexts kept for the next renderers, by context class (see _egl_reuse).
+_IDLE_CONTEXTS = 4
+_idle_contexts: dict[type, list[Any]] = {}
+_idle_lock = threading.Lock()
 _chosen: str | None = None
 _failure: str | None = None
 
@@ -266,11 +270,52 @@ def _checked_context_class(name: str) -> type:
         raise _NoContextError(f"{type(e).__name__}: {e}") from e
 
     def __init__(self: Any, max_width: int, max_height: int) -> None:
+        if self.__dict__.pop("_reused", False):
+            return
         base.__init__(self, max_width, max_height)
         if not getattr(self, "_context", True):
             raise _NoContextError(f"{name.upper()} made no OpenGL context")
 
-    return type(f"Checked{base.__name__}", (base,), {"__init__": __init__, "backend": name})
+    methods: dict[str, Any] = {"__init__": __init__, "backend": name}
+    if name == "egl":
+        methods.update(_egl_reuse(base))
+    return type(f"Checked{base.__name__}", (base,), methods)
+
+
+def _egl_reuse(base: type) -> dict[str, Any]:
+    """`__new__` and `free` that keep up to _IDLE_CONTEXTS freed EGL contexts and hand them
+    to the next renderers: MuJoCo's first render context in an OpenGL context costs 120-140
+    ms on Mesa's software rasterizer (its shaders are compiled then), a later one 7 ms, so a
+    renderer made after a recompile costs 10 ms instead of 150. An EGL context has no size
+    and keeps no MuJoCo state once its renderer freed its render context."""
+    egl = importlib.import_module("mujoco.egl")
+
+    def __new__(cls: type, max_width: int, max_height: int) -> Any:
+        with _idle_lock:
+            idle = _idle_contexts.get(cls)
+            if idle:
+                context = idle.pop()
+                context._reused = True
+                return context
+        return object.__new__(cls)
+
+    def free(self: Any) -> None:
+        context = getattr(self, "_context", None)
+        if context and egl.EGL_DISPLAY is not None:
+            with _idle_lock:
+                idle = _idle_contexts.setdefault(type(self), [])
+                if len(idle) < _IDLE_CONTEXTS:
+                    current = egl.EGL.eglGetCurrentContext()
+                    if current and current.address == context.address:
+                        no_surface = egl.EGL.EGL_NO_SURFACE
+                        egl.EGL.eglMakeCurrent(
+                            egl.EGL_DISPLAY, no_surface, no_surface, egl.EGL.EGL_NO_CONTEXT
+                        )
+                    idle.append(self)
+                    return
+        base.free(self)  # type: ignore[attr-defined]
+
+    return {"__new__": __new__, "free": free}
 
 
 def _renderer_gl_module() -> Any:

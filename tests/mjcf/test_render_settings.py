@@ -133,3 +133,20 @@ def test_depth_and_segmentation_of_small_frames_match_the_explicit_settings(ant)
     renderer.enable_segmentation_rendering()
     np.testing.assert_array_equal(segmentation, renderer.render())
     renderer.close()
+
+
+def test_a_renderer_made_after_a_recompile_reuses_an_opengl_context_and_draws_the_same(ant):
+    if rendering.backend() != "egl":
+        pytest.skip("OpenGL contexts are reused on EGL only")
+    physics = mjcf.Physics.from_mjcf_model(ant)
+    first = physics.render(64, 64)
+    used = physics._renderers[(64, 64)]._gl_context
+    ant.find("geom", "floor").rgba = [0.8, 0.3, 0.3, 1]
+    physics.reload_from_mjcf_model(ant)  # closes the renderer: its context is kept
+    reused = physics.render(64, 64)
+    assert physics._renderers[(64, 64)]._gl_context is used
+    assert np.abs(reused.astype(int) - first).max() > 30  # the new floor colour is drawn
+    rendering._idle_contexts.clear()  # the next renderer makes a context of its own
+    fresh = mjcf.Physics.from_mjcf_model(ant)
+    np.testing.assert_array_equal(reused, fresh.render(64, 64))
+    assert fresh._renderers[(64, 64)]._gl_context is not used
