@@ -189,6 +189,7 @@ _settings_lock = threading.Lock()
 # Freed EGL contexts kept for the next renderers, by context class (see _egl_reuse).
 _IDLE_CONTEXTS = 4
 _idle_contexts: dict[type, list[Any]] = {}
+_handed_out: set[int] = set()  # ids of kept contexts __new__ returned, __init__ not yet run
 _idle_lock = threading.Lock()
 _chosen: str | None = None
 _failure: str | None = None
@@ -272,7 +273,8 @@ def _checked_context_class(name: str) -> type:
         raise _NoContextError(f"{type(e).__name__}: {e}") from e
 
     def __init__(self: Any, max_width: int, max_height: int) -> None:
-        if self.__dict__.pop("_reused", False):
+        if id(self) in _handed_out:  # a kept context: made already
+            _handed_out.discard(id(self))
             return
         base.__init__(self, max_width, max_height)
         if not getattr(self, "_context", True):
@@ -297,7 +299,7 @@ def _egl_reuse(base: type) -> dict[str, Any]:
             idle = _idle_contexts.get(cls)
             if idle:
                 context = idle.pop()
-                context._reused = True
+                _handed_out.add(id(context))
                 return context
         return object.__new__(cls)
 
