@@ -41,7 +41,7 @@ import importlib
 import inspect
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal, overload
 
 import gymnasium
 
@@ -143,6 +143,18 @@ def accepted_keywords(factory: Callable[..., Any]) -> list[str] | None:
         if parameter.kind in (parameter.POSITIONAL_OR_KEYWORD, parameter.KEYWORD_ONLY):
             accepted.append(parameter.name)
     return accepted
+
+
+@overload
+def make_environment(
+    task: str | Callable[..., Task], *, pixels: Literal[False] = False, **kwargs: Any
+) -> Environment: ...
+
+
+@overload
+def make_environment(
+    task: str | Callable[..., Task], *, pixels: Literal[True], **kwargs: Any
+) -> PixelEnvironment: ...
 
 
 def make_environment(
