@@ -15,7 +15,8 @@ promised). Observables, variations and initializers live in `composer.observatio
 `composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
 environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
 written once in batched form run in both, a single environment being a batch of one
-(`composer.batched`, `composer.BatchOfOne`). Every error is a `composer.Error`.
+(`composer.batched`, `composer.BatchOfOne`). `composer.PixelEnvironment` observes an
+environment through a camera (`composer.pixels`). Every error is a `composer.Error`.
 
 dm_control's Composer code runs with its imports changed (`from dm_control import
 composer` -> `import composer`): the same names and module paths (`composer.define`,
@@ -32,6 +33,7 @@ from composer import (
     initializer,
     initializers,
     observation,
+    pixels,
     robot,
     task,
     variation,
@@ -70,6 +72,7 @@ from composer.errors import (
 from composer.hooks import HOOK_NAMES
 from composer.initializer import Initializer
 from composer.initializers import PropPlacer
+from composer.pixels import PixelEnvironment
 from composer.robot import Robot
 from composer.task import NullTask, Task
 from composer.vector import VectorEnvironment
@@ -100,6 +103,7 @@ __all__ = [
     "ObservableOptionError",
     "Observables",
     "ObservationPadding",
+    "PixelEnvironment",
     "PlacementError",
     "PoseError",
     "PropPlacer",
@@ -119,6 +123,7 @@ __all__ = [
     "initializers",
     "observable",
     "observation",
+    "pixels",
     "robot",
     "task",
     "variation",

@@ -16,12 +16,22 @@ Gymnasium 1.x loads no plugins, so an id exists only once the module registering
 imported: `import tasks` first, or use Gymnasium's module prefix `'tasks:composer/X-v0'`,
 which imports `tasks` inside `gym.make`.
 
+Rendering and pixels take Gymnasium's MuJoCo keywords: `gym.make(id, render_mode='rgb_array',
+width=64, height=64)` renders 64x64 frames (default 320x240) through `camera_name` or
+`camera_id` (one of them; default the task's `render_camera`, else the free camera);
+`pixels=True` observes the task through that camera instead (`composer.pixels`: uint8
+(height, width, 3) frames, 84x84 unless `width`/`height` say otherwise), with
+`frame_stack=k` and `proprioception=True` (a Dict of 'pixels' and the flattened state).
+
 What it promises: a registered spec holds only strings and plain values (the task as an
 import path, `'tasks.reach:Reach'`), so it pickles into `AsyncVectorEnv` workers and
 stable-baselines3's `SubprocVecEnv`. Keyword arguments of `gym.make` go to the task's
-constructor, except `time_limit`, `flatten_observations` and `render_mode`, which go to
-`composer.Environment`; a keyword neither accepts raises `RegistrationError` naming the
-task and listing what it accepts. Registering an id again is a no-op.
+constructor, except ENVIRONMENT_OPTIONS (`time_limit`, `flatten_observations`,
+`render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`, `frame_stack`,
+`proprioception`), which go to `composer.Environment` and `composer.pixels`; a keyword
+neither accepts raises `RegistrationError` naming the task and listing what it accepts, as
+do both `camera_id` and `camera_name`, or a camera the scene does not have. Registering an
+id again is a no-op.
 """
 
 from __future__ import annotations
@@ -32,18 +42,24 @@ import importlib
 import inspect
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, Literal, overload
 
 import gymnasium
 
 from composer import errors
 from composer.environment import Environment
+from composer.pixels import DEFAULT_SIZE, PixelEnvironment, check_camera, check_positive
 from composer.task import Task
 
 NAMESPACE = "composer"
 ENTRY_POINT = "composer.registration:make_environment"
 VECTOR_ENTRY_POINT = "composer.vector:make_vector_environment"
-ENVIRONMENT_OPTIONS = ("time_limit", "flatten_observations", "render_mode")
+ENVIRONMENT_OPTIONS = (
+    "time_limit", "flatten_observations", "render_mode", "width", "height", "camera_id",
+    "camera_name", "pixels", "frame_stack", "proprioception",
+)  # fmt: skip
+# The size of render() frames when `width` and `height` are not given (Environment's).
+RENDER_SIZE = (240, 320)
 
 
 class RegistrationError(errors.TaskError):
@@ -149,31 +165,84 @@ def task_factory(
     return functools.partial(factory, **task_kwargs)
 
 
+@overload
+def make_environment(
+    task: str | Callable[..., Task], *, pixels: Literal[False] = False, **kwargs: Any
+) -> Environment: ...
+
+
+@overload
+def make_environment(
+    task: str | Callable[..., Task], *, pixels: Literal[True], **kwargs: Any
+) -> PixelEnvironment: ...
+
+
 def make_environment(
     task: str | Callable[..., Task],
     *,
     time_limit: float | None = None,
     flatten_observations: bool = False,
     render_mode: str | None = None,
+    width: int | None = None,
+    height: int | None = None,
+    camera_id: int | None = None,
+    camera_name: str | None = None,
+    pixels: bool = False,
+    frame_stack: int = 1,
+    proprioception: bool = False,
     **task_kwargs: Any,
-) -> Environment:
+) -> Environment | PixelEnvironment:
     """Build `task(**task_kwargs)` and serve it as a `composer.Environment` (Gymnasium's
-    entry point for every registered id). `time_limit` None means no limit. A task with a
-    `render_camera` attribute (a camera name) is rendered through that camera. Raises
-    RegistrationError for a keyword the task does not accept (listing those it does), and
-    what the task or Environment raise (composer.Error subclasses)."""
+    entry point for every registered id); with `pixels`, served through a
+    `composer.pixels.PixelEnvironment` (the module docstring says what each keyword does).
+    `time_limit` None means no limit. Raises RegistrationError for a keyword the task does
+    not accept (listing those it does), both `camera_id` and `camera_name`, or a camera the
+    scene does not have, and what the task, Environment or PixelEnvironment raise
+    (composer.Error subclasses)."""
+    if camera_id is not None and camera_name is not None:
+        raise RegistrationError(
+            f"task {_label(task)}: give camera_id or camera_name, not both "
+            f"(got {camera_id!r} and {camera_name!r})"
+        )
+    if not pixels and (frame_stack != 1 or proprioception):
+        raise RegistrationError(
+            f"task {_label(task)}: frame_stack and proprioception shape pixel observations; "
+            "give pixels=True with them"
+        )
+    for label, value in (("width", width), ("height", height)):
+        if value is not None:
+            check_positive(label, value)
     built = task_factory(task, task_kwargs, ENVIRONMENT_OPTIONS)()
     if not isinstance(built, Task):
         raise RegistrationError(
             f"task {_label(task)} made a {type(built).__name__}, not a composer.Task"
         )
-    return Environment(
+    camera = next(
+        (c for c in (camera_name, camera_id) if c is not None), getattr(built, "render_camera", -1)
+    )
+    render_size = (RENDER_SIZE[0] if height is None else height,
+                   RENDER_SIZE[1] if width is None else width)  # fmt: skip
+    env = Environment(
         built,
         time_limit=math.inf if time_limit is None else time_limit,
-        flatten_observations=flatten_observations,
+        flatten_observations=flatten_observations or (pixels and proprioception),
         render_mode=render_mode,
-        render_camera=getattr(built, "render_camera", -1),
+        render_height=render_size[0],
+        render_width=render_size[1],
+        render_camera=camera,
     )
+    try:
+        check_camera(env.physics.model, camera)
+    except errors.TaskError as e:
+        env.close()
+        raise RegistrationError(f"task {_label(task)}: {e}") from e
+    if not pixels:
+        return env
+    return PixelEnvironment(
+        env, height=DEFAULT_SIZE if height is None else height,
+        width=DEFAULT_SIZE if width is None else width, camera=camera,
+        frame_stack=frame_stack, proprioception=proprioception,
+    )  # fmt: skip
 
 
 def _label(task: str | Callable[..., Any]) -> str:

@@ -562,7 +562,10 @@ class Physics(StateAccess):
         size = (int(height), int(width))
         renderer = self._renderers.get(size)
         if renderer is None:
-            renderer = self._renderers[size] = rendering.make_renderer(self._model, *size)
+            compiled = self.__dict__.get("_compiled")
+            renderer = self._renderers[size] = rendering.make_renderer(
+                self._model, *size, mjcf_xml=None if compiled is None else compiled.xml
+            )
         return rendering.render(renderer, self._data, camera_id, depth, segmentation, scene_option)
 
     def close(self) -> None:

@@ -1,9 +1,26 @@
 """Rendering a physics: an offscreen `mujoco.Renderer` per image size, on an OpenGL backend
-chosen once per process, and errors that say which system library is missing.
+chosen once per process, with render settings fitted to the image size, and errors that say
+which system library is missing.
 
     renderer = rendering.make_renderer(model, 240, 320)     # RenderError if no backend
     rgb = rendering.render(renderer, data, camera_id=-1, depth=False, segmentation=False)
     rendering.backend()                                      # 'egl', 'osmesa', 'glfw', ...
+    rendering.frame_settings(64, 64)                         # what a 64x64 renderer gets
+
+Render settings: MuJoCo's defaults (a 4096-pixel shadow map, 4x multisampling, a 640x480
+offscreen buffer) cost 30 to 50 times a plain frame at 64x64 on a software rasterizer
+(Mesa's llvmpipe, the usual headless EGL), and limit images to 640x480. So each renderer is
+made with the settings `frame_settings` gives for its size in place of those the model
+leaves to MuJoCo's defaults: an offscreen buffer of exactly the image's size (any size
+renders, and a small one is cheaper to multisample), and for images up to SMALL_FRAME
+pixels a side (observations: 64x64, 84x84) no shadows and no multisampling. Larger images
+(pictures, videos) are drawn as MuJoCo draws them. A setting the model's MJCF gives
+(`<quality shadowsize=...>`, `<global offwidth=...>` ...) is always kept: for a model
+compiled from an `mjcf` tree that is known from its text, otherwise a value other than
+MuJoCo's default counts as given. The model is not changed: the settings are swapped in only
+while the renderer's context is made. On EGL a closed renderer's OpenGL context is kept for
+the next renderer (a recompile closes the physics' renderers): Mesa compiles its shaders in
+each new context, so a renderer costs 10 ms instead of 150.
 
 The backend is MUJOCO_GL's when that is set. Otherwise it is chosen at the first renderer
 (not at import, so `import mujoco` before `import mjcf` changes nothing): on Linux the first
@@ -25,30 +42,75 @@ import ctypes.util
 import importlib
 import os
 import platform
+import re
 import sys
 import threading
 import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import mujoco
 import numpy as np
+from lxml import etree
 
 from mjcf import errors
 
 
-def make_renderer(model: mujoco.MjModel, height: int, width: int) -> mujoco.Renderer:
-    """An offscreen renderer of `height` x `width` on `backend()`; raises RenderError when
-    the size exceeds the model's framebuffer or no OpenGL context can be made (naming the
-    fix)."""
+def make_renderer(
+    model: mujoco.MjModel, height: int, width: int, mjcf_xml: str | None = None
+) -> mujoco.Renderer:
+    """An offscreen renderer of `height` x `width` on `backend()`, with `frame_settings` in
+    place of the render settings `model` leaves to MuJoCo's defaults (`mjcf_xml`: the MJCF
+    text it was compiled from, which says which it sets; None: a value other than MuJoCo's
+    default counts as set). Raises RenderError when the size exceeds a framebuffer the model
+    sets or no OpenGL context can be made (naming the fix)."""
     name = backend()
+    chosen = fitted_settings(model, height, width, mjcf_xml)
     try:
-        return mujoco.Renderer(model, height, width)
+        with _settings_lock, _swapped(model, chosen):
+            return mujoco.Renderer(model, height, width)
     except ValueError as e:  # larger than the model's offscreen framebuffer
         raise errors.RenderError(str(e)) from e
     except _NoContextError as e:
         raise errors.RenderError(_explicit_failure(name, str(e))) from e
     except (ImportError, OSError, RuntimeError, AttributeError, mujoco.FatalError) as e:
         raise errors.RenderError(_explicit_failure(name, f"{type(e).__name__}: {e}")) from e
+
+
+def frame_settings(height: int, width: int) -> dict[str, int]:
+    """The render settings for an image of `height` x `width`, by `<visual>` child and
+    attribute ('quality.shadowsize': see the module docstring)."""
+    settings = {"global.offwidth": int(width), "global.offheight": int(height)}
+    if max(int(height), int(width)) <= SMALL_FRAME:
+        settings.update({"quality.shadowsize": 0, "quality.offsamples": 0})
+    return settings
+
+
+def fitted_settings(
+    model: mujoco.MjModel, height: int, width: int, mjcf_xml: str | None = None
+) -> dict[str, int]:
+    """The `frame_settings` of this size that `model` leaves unset (see `make_renderer`),
+    to be used in place of its values."""
+    if mjcf_xml is None:
+        given = {key for key in _MUJOCO_DEFAULTS if _read(model, key) != _MUJOCO_DEFAULTS[key]}
+    else:
+        given = set(visual_settings_given(mjcf_xml))
+    return {k: v for k, v in frame_settings(height, width).items() if k not in given}
+
+
+def visual_settings_given(mjcf_xml: str) -> frozenset[str]:
+    """The `<visual>` settings MJCF text gives ('quality.shadowsize', 'global.offwidth' ...)."""
+    found = _VISUAL.search(mjcf_xml)
+    if found is None:
+        return frozenset()
+    section = etree.fromstring(found.group(0).encode("utf-8"))
+    return frozenset(
+        f"{child.tag}.{attribute}"
+        for child in section
+        if isinstance(child.tag, str)
+        for attribute in child.attrib
+    )
 
 
 def render(
@@ -111,6 +173,24 @@ _HEADLESS_FIX = (
 )
 
 _lock = threading.Lock()
+# Images up to this many pixels a side render without shadows and multisampling.
+SMALL_FRAME = 128
+# MuJoCo's defaults of the settings frame_settings gives (mjVisual's, in a compiled model).
+_MUJOCO_DEFAULTS = {
+    "quality.shadowsize": 4096,
+    "quality.offsamples": 4,
+    "global.offwidth": 640,
+    "global.offheight": 480,
+}
+# The `<visual>` section of MJCF text (a top-level section: the one element of that name).
+_VISUAL = re.compile(r"<visual\b(?:[^>]*/>|.*?</visual>)", re.DOTALL)
+# Held while a model's settings are swapped: two renderers made at once see their own.
+_settings_lock = threading.Lock()
+# Freed EGL contexts kept for the next renderers, by context class (see _egl_reuse).
+_IDLE_CONTEXTS = 4
+_idle_contexts: dict[type, list[Any]] = {}
+_handed_out: set[int] = set()  # ids of kept contexts __new__ returned, __init__ not yet run
+_idle_lock = threading.Lock()
 _chosen: str | None = None
 _failure: str | None = None
 
@@ -193,11 +273,53 @@ def _checked_context_class(name: str) -> type:
         raise _NoContextError(f"{type(e).__name__}: {e}") from e
 
     def __init__(self: Any, max_width: int, max_height: int) -> None:
+        if id(self) in _handed_out:  # a kept context: made already
+            _handed_out.discard(id(self))
+            return
         base.__init__(self, max_width, max_height)
         if not getattr(self, "_context", True):
             raise _NoContextError(f"{name.upper()} made no OpenGL context")
 
-    return type(f"Checked{base.__name__}", (base,), {"__init__": __init__, "backend": name})
+    methods: dict[str, Any] = {"__init__": __init__, "backend": name}
+    if name == "egl":
+        methods.update(_egl_reuse(base))
+    return type(f"Checked{base.__name__}", (base,), methods)
+
+
+def _egl_reuse(base: type) -> dict[str, Any]:
+    """`__new__` and `free` that keep up to _IDLE_CONTEXTS freed EGL contexts and hand them
+    to the next renderers: MuJoCo's first render context in an OpenGL context costs 120-140
+    ms on Mesa's software rasterizer (its shaders are compiled then), a later one 7 ms, so a
+    renderer made after a recompile costs 10 ms instead of 150. An EGL context has no size
+    and keeps no MuJoCo state once its renderer freed its render context."""
+    egl = importlib.import_module("mujoco.egl")
+
+    def __new__(cls: type, max_width: int, max_height: int) -> Any:
+        with _idle_lock:
+            idle = _idle_contexts.get(cls)
+            if idle:
+                context = idle.pop()
+                _handed_out.add(id(context))
+                return context
+        return object.__new__(cls)
+
+    def free(self: Any) -> None:
+        context = getattr(self, "_context", None)
+        if context and egl.EGL_DISPLAY is not None:
+            with _idle_lock:
+                idle = _idle_contexts.setdefault(type(self), [])
+                if len(idle) < _IDLE_CONTEXTS:
+                    current = egl.EGL.eglGetCurrentContext()
+                    if current and current.address == context.address:
+                        no_surface = egl.EGL.EGL_NO_SURFACE
+                        egl.EGL.eglMakeCurrent(
+                            egl.EGL_DISPLAY, no_surface, no_surface, egl.EGL.EGL_NO_CONTEXT
+                        )
+                    idle.append(self)
+                    return
+        base.free(self)  # type: ignore[attr-defined]
+
+    return {"__new__": __new__, "free": free}
 
 
 def _renderer_gl_module() -> Any:
@@ -219,3 +341,28 @@ def _explicit_failure(name: str, reason: str) -> str:
         f"no OpenGL context could be made with MUJOCO_GL={name!r}: {reason}. Unset MUJOCO_GL "
         f"to use the first backend that works. {_HEADLESS_FIX}."
     )
+
+
+def _section(model: mujoco.MjModel, key: str) -> tuple[Any, str]:
+    child, attribute = key.split(".")
+    return getattr(model.vis, "global_" if child == "global" else child), attribute
+
+
+def _read(model: mujoco.MjModel, key: str) -> int:
+    section, attribute = _section(model, key)
+    return int(getattr(section, attribute))
+
+
+@contextmanager
+def _swapped(model: mujoco.MjModel, settings: dict[str, int]) -> Iterator[None]:
+    """`model` with `settings` in place of its own until the block ends."""
+    saved = {key: _read(model, key) for key in settings}
+    try:
+        for key, value in settings.items():
+            section, attribute = _section(model, key)
+            setattr(section, attribute, value)
+        yield
+    finally:
+        for key, value in saved.items():
+            section, attribute = _section(model, key)
+            setattr(section, attribute, value)

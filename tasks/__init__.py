@@ -15,8 +15,11 @@
 | composer/ArmPushBox-v0           | UR5e + Robotiq 2F-85 push a box to a target       |
 
 Every id takes the task's constructor keywords (see each class: control_timestep,
-randomize, arena options ...) and the environment's `time_limit`, `flatten_observations`
-and `render_mode` through `gym.make(id, **kwargs)`. Rewards are documented on each class;
+randomize, arena options ...) and the environment's `time_limit`, `flatten_observations`,
+`render_mode`, `width`, `height`, `camera_id` and `camera_name` through
+`gym.make(id, **kwargs)`; `pixels=True` (with `frame_stack`, `proprioception`) observes the
+task through its camera instead (`composer.pixels`): `gym.make('composer/Reach-v0',
+pixels=True, width=64, height=64)`. Rewards are documented on each class;
 tasks with a goal report `info['is_success']`. Every task also computes its per-step
 methods and observables for many environments at once (`*_batch` twins, batchable
 observables), so `gym.make_vec(id, num_envs=64, vectorization_mode='vector_entry_point')`

@@ -31,12 +31,12 @@ physics = Physics.from_xml_path(sys.argv[1])
 outcomes = []
 for _ in range(2):
     try:
-        frame = physics.render(60, 80)
+        frame = physics.render(240, 320)  # drawn as MuJoCo draws it: larger than 128
         outcomes.append({"backend": rendering.backend(), "std": float(frame.std())})
     except errors.RenderError as e:
         outcomes.append({"error": str(e)})
 try:
-    renderer = mujoco.Renderer(physics.model, 60, 80)
+    renderer = mujoco.Renderer(physics.model, 240, 320)
     renderer.update_scene(physics.data)
     outcomes.append({"mujoco_std": float(renderer.render().std())})
     renderer.close()

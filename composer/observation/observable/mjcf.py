@@ -6,7 +6,10 @@
     image = MJCFCamera(head_camera, height=64, width=64)     # uint8 (64, 64, 3), bounds 0..255
     image.configure(height=32, width=32)
 
-Options are `Observable`'s (`composer.observation.observable.base`).
+Options are `Observable`'s (`composer.observation.observable.base`). A camera renders through
+the physics' renderer of its size, made once per compile: frames up to 128 pixels a side are
+drawn without shadows and multisampling unless the model's `<visual>` sets them
+(`mjcf.rendering`), at about a plain frame's cost on a software rasterizer.
 """
 
 from __future__ import annotations
