@@ -20,7 +20,7 @@ import contextlib
 from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
-from mjcf import assets, debugging, element_list, errors
+from mjcf import assets, debugging, element_list, errors, references
 from mjcf import values as _values
 from mjcf.element_list import ElementList
 from mjcf.model_operations import ModelOperations
@@ -55,7 +55,8 @@ class Element(ModelOperations):
     trees (parser, copying, default_sections, defaults, attachment, root) make elements
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
     into them, then record names with `_register()`; `_cut()` and
-    `_unregister_subtree()` take elements out. `_text` is the serializer's cache:
+    `_unregister_subtree()` take elements out; `mjcf.references` replaces references
+    held as text in `_attrs` by the elements they name. `_text` is the serializer's cache:
     ((model version, context token, number format), attribute text) of its last write.
 
     Elements read from a file are built when first used: the parser gives a section the
@@ -230,7 +231,8 @@ class Element(ModelOperations):
             element = element._parent
         model = self._root._attrs.get("model")
         prefix = f"model {model!r}: " if model and element is self._root else ""
-        if element is not self._root:
+        if element is not self._root and element is not None:
+            parts.append(element._describe())  # the top of the removed subtree
             prefix = "(removed) "
         return prefix + "/".join(reversed(parts)) if parts else prefix + "<mujoco>"
 
@@ -286,9 +288,7 @@ class Element(ModelOperations):
             value = _values.track(converted, self)
             self._attrs[attribute.name] = value
         elif attribute.kind == "reference":
-            target = self._resolve_reference(attribute, value)
-            if target is not None:
-                self._attrs[attribute.name] = value = target
+            value = references.read(self, attribute, value)
         elif attribute.kind == "file" and value:  # an empty one names no file, for MuJoCo
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
@@ -341,6 +341,7 @@ class Element(ModelOperations):
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
+            stored = references.stored(self, attribute, stored)
         elif attribute.kind == "file" and self._spec.tag in NAMED_AFTER_FILE:
             self._rename_after_file(stored)
         self._attrs[name] = stored
@@ -383,7 +384,8 @@ class Element(ModelOperations):
         return converted
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
-        for attribute, stored in converted:
+        # References last: a name is resolved in the namespace the new values select.
+        for attribute, stored in sorted(converted, key=lambda item: item[0].kind == "reference"):
             self._store(attribute, stored)
 
     def _check_rules(self, setting: set[str], removing: Iterable[str]) -> None:
@@ -477,12 +479,6 @@ class Element(ModelOperations):
                     f"{item.path} (a {item._spec.namespace or item.tag})"
                 )
 
-    def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
-        namespace = attribute.reference_namespace(self._attrs)
-        if namespace is None or attribute.is_list:
-            return None
-        return self._root.namescope.get(namespace, name)
-
     # -- children -------------------------------------------------------------------------
 
     def _child_spec(self, tag: str) -> ElementSpec:
@@ -555,6 +551,9 @@ class Element(ModelOperations):
         for attribute, stored in converted:
             if stored is not None:
                 self._attrs[attribute.name] = stored
+        for attribute, stored in converted:
+            if stored is not None and attribute.kind == "reference":
+                self._attrs[attribute.name] = references.stored(self, attribute, stored)
 
     def _single_child(self, tag: str) -> Element | None:
         for child in self._children:

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 from lxml import etree
 
-from mjcf import errors
+from mjcf import errors, references
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -89,6 +89,14 @@ class ModelOperations:
         return traversal.find_all(
             _element(self), namespace, immediate_children_only, exclude_attachments
         )
+
+    def resolve_references(self) -> None:
+        """Replace every reference held as text in this element's subtree by the element
+        it names (names that match none stay text), as dm_control does after
+        `from_path(..., resolve_references=False)`; called on a model, its attached
+        models too, and the model resolves the names it is given from then on (see
+        `mjcf.references`)."""
+        references.resolve_all(_element(self))
 
     def enter_scope(self, scope_identifier: str) -> RootElement | None:
         """The model attached into this element's model under the scoped name

@@ -26,7 +26,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import bulk, debugging, default_sections, errors, indexer, naming, xsd
+from mjcf import bulk, debugging, default_sections, errors, indexer, naming, references, xsd
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -59,9 +59,11 @@ def from_xml_string(
     """Parse MJCF text into a model. `model_dir` is where relative file names (meshes,
     includes) are found; `assets` supplies file contents by name; `escape_separators`
     accepts '/' in names (as '\\/'); `resolve_references` checks that every reference
-    names an existing element; `strict_paths` (for untrusted models) refuses included
-    and asset files outside `model_dir`. Raises mjcf.ParseError for malformed XML and
-    other mjcf errors for schema violations."""
+    names an existing element and makes references point at their elements, following
+    renames and removals (see `mjcf.references`); with False they stay text, as
+    dm_control keeps them, until `model.resolve_references()`; `strict_paths` (for
+    untrusted models) refuses included and asset files outside `model_dir`. Raises
+    mjcf.ParseError for malformed XML and other mjcf errors for schema violations."""
     return _parse(
         xml_string, escape_separators, model_dir, resolve_references, assets, None, strict_paths
     )
@@ -142,6 +144,9 @@ def _parse(
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
     object.__setattr__(root, "_confine_to", confine)
+    # References read stay text until a name changes (see mjcf.references).
+    mode = references.UNPINNED if resolve_references else references.BY_NAME
+    object.__setattr__(root, "_references", mode)
     if not strict_paths and _read_fast(
         root, xml_root, filename, escape_separators, resolve_references
     ):

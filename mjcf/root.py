@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 from typing import TYPE_CHECKING, Any
 
-from mjcf import errors, schema
+from mjcf import errors, references, schema
 from mjcf.element import Element
 from mjcf.namescope import NameScope, check_model_name
 
@@ -42,7 +42,9 @@ class RootElement(Element):
     `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
     `mjcf.composition`'s cache of the last composition of each kind of output;
     `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
-    read by `mjcf.assets`.
+    read by `mjcf.assets`; `_references` and `_forward` are `mjcf.references`' state of
+    the model's references, which `mjcf.namescope` asks to follow a name change with
+    `_before_name_change()`.
     """
 
     __slots__ = (
@@ -51,10 +53,12 @@ class RootElement(Element):
         "_composed",
         "_confine_to",
         "_early",
+        "_forward",
         "_frame",
         "_model_dir",
         "_namescope",
         "_numbering",
+        "_references",
         "_version",
     )
 
@@ -67,6 +71,8 @@ class RootElement(Element):
     _numbering: tuple[int, dict[Element, int]] | None
     _composed: dict[bool, Any] | None
     _early: dict[Any, Element]
+    _references: int
+    _forward: set[Element]
     _version: int
 
     def __init__(
@@ -95,6 +101,9 @@ class RootElement(Element):
         setter(self, "_composed", None)
         # {lxml element: element built from it before its siblings} (see Element._defer).
         setter(self, "_early", {})
+        # How references are kept, and those naming no element yet (see mjcf.references).
+        setter(self, "_references", references.PINNED)
+        setter(self, "_forward", set())
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)
@@ -205,6 +214,10 @@ class RootElement(Element):
                 return None
             element = child
         return element
+
+    def _before_name_change(self) -> None:
+        """A name of this model is about to change: see `references.before_name_change`."""
+        references.before_name_change(self)
 
     def __getstate__(self) -> tuple[None, dict[str, Any]]:
         """Pickled with every element built (see `Element._defer`)."""

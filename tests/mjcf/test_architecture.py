@@ -27,13 +27,16 @@ TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
 SIMULATION = frozenset({"binding", "named"})
+# Who keeps a model's references state: the module of the rules, and the readers and
+# copiers that make models.
+REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
 # The internal protocols: private member -> (the class that documents it, the modules that
 # may use it, the modules that may change it: assign it, or mutate what it holds).
 PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_spec": ("element.Element", ANY, frozenset()),
     "_parent": ("element.Element", ANY, frozenset()),
     "_root": ("element.Element", ANY, frozenset()),
-    "_attrs": ("element.Element", ANY, TREE_BUILDERS),
+    "_attrs": ("element.Element", ANY, TREE_BUILDERS | {"references"}),
     "_children": ("element.Element", ANY, TREE_BUILDERS),
     "_source": ("element.Element", ANY, frozenset({"parser", "copying"})),
     "_get_value": ("element.Element", ANY, frozenset()),
@@ -60,6 +63,9 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_numbering": ("root.RootElement", frozenset({"naming"}), frozenset({"naming"})),
     "_composed": ("root.RootElement", frozenset({"composition"}), frozenset({"composition"})),
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
+    "_references": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_forward": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
     "_model": ("physics.Physics", SIMULATION, frozenset()),
     "_data": ("physics.Physics", SIMULATION, frozenset()),
     "_stale": ("physics.Physics", SIMULATION, frozenset({"binding"})),
