@@ -228,37 +228,50 @@ def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
 
 
 def _expand_includes(
-    element: etree._Element,
+    root: etree._Element,
     model_dir: str,
     filename: str | None,
     assets: dict,
     included: set[str],
     confine: str | None,
 ) -> None:
-    """Replace every <include file=...> below `element` by the children of the
-    included file's root, recursively, as MuJoCo does."""
-    for include in list(element.iter("include")):
-        if include.getparent() is None:
-            continue
-        file_attr = include.attrib.get("file")
-        where = _where(filename, include)
-        if not file_attr:
-            raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
-        data, path = _include_source(file_attr, model_dir, filename, assets, where, confine)
-        key = os.path.abspath(path) if path else "asset:" + file_attr
-        if key in included:
-            raise errors.ParseError(
-                f"{where}: {file_attr!r} is included more than once (or includes itself); "
-                "MuJoCo allows each file to be included once"
-            )
-        if len(included) > _MAX_INCLUDES:
-            raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
-        included.add(key)
-        included_root = _read_xml(data, path or file_attr)
-        _expand_includes(included_root, model_dir, path or file_attr, assets, included, confine)
+    """Replace every <include file=...> below `root` by the children of the included
+    file's root, recursively, as MuJoCo does. Files are read depth first, then each
+    <include> is replaced once the file it names is whole, innermost first: a chain of
+    a thousand nested files takes no Python recursion."""
+    found: list[tuple[etree._Element, etree._Element, str]] = []  # include, file root, where
+    pending = [(root, filename)]
+    while pending:
+        tree, source = pending.pop()
+        for include in list(tree.iter("include")):
+            where = _where(source, include)
+            if any(
+                isinstance(child.tag, str) or isinstance(child, etree._Entity) for child in include
+            ):
+                raise errors.ParseError(
+                    f"{where}: an <include> cannot have children (MuJoCo refuses them); put "
+                    "them in the included file or next to the <include>"
+                )
+            file_attr = include.attrib.get("file")
+            if not file_attr:
+                raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
+            data, path = _include_source(file_attr, model_dir, source, assets, where, confine)
+            key = os.path.abspath(path) if path else "asset:" + file_attr
+            if key in included:
+                raise errors.ParseError(
+                    f"{where}: {file_attr!r} is included more than once (or includes itself); "
+                    "MuJoCo allows each file to be included once"
+                )
+            if len(included) > _MAX_INCLUDES:
+                raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
+            included.add(key)
+            included_root = _read_xml(data, path or file_attr)
+            found.append((include, included_root, f"{where}: included file {file_attr!r}"))
+            pending.append((included_root, path or file_attr))
+    for include, included_root, where in reversed(found):
         children = [c for c in included_root if isinstance(c.tag, str)]
         if not children:
-            raise errors.ParseError(f"{where}: included file {file_attr!r} has no elements")
+            raise errors.ParseError(f"{where} has no elements")
         parent = include.getparent()
         position = parent.index(include)
         parent.remove(include)

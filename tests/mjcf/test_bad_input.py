@@ -133,6 +133,34 @@ def test_include_cycle_and_missing_include(tmp_path: Path) -> None:
         mjcf.from_path(tmp_path / "lost.xml")
 
 
+def test_children_of_an_include_are_refused_as_mujoco_refuses_them(tmp_path: Path) -> None:
+    (tmp_path / "part.xml").write_text('<mujoco><body name="p"><geom size="1"/></body></mujoco>')
+    path = tmp_path / "model.xml"
+    path.write_text(
+        '<mujoco><worldbody><include file="part.xml"><joint name="j"/></include></worldbody>'
+        "</mujoco>"
+    )
+    with pytest.raises(ValueError, match="cannot have children"):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(mjcf.ParseError, match=r"model.xml:1: an <include> cannot have children"):
+        mjcf.from_path(path)
+
+
+def test_a_chain_of_a_thousand_nested_includes_reads_as_mujoco_compiles_it(
+    tmp_path: Path,
+) -> None:
+    depth = 1000
+    for i in range(depth):
+        (tmp_path / f"f{i}.xml").write_text(f'<mujoco><include file="f{i + 1}.xml"/></mujoco>')
+    (tmp_path / f"f{depth}.xml").write_text(
+        '<mujoco><worldbody><geom name="deep" size="1"/></worldbody></mujoco>'
+    )
+    expected = mujoco.MjModel.from_xml_path(str(tmp_path / "f0.xml"))
+    model = mjcf.from_path(tmp_path / "f0.xml")
+    assert model.find("geom", "deep") is not None
+    assert mjcf.Physics.from_mjcf_model(model).model.ngeom == expected.ngeom == 1
+
+
 def test_root_must_be_mujoco_and_sections_known() -> None:
     with pytest.raises(mjcf.ParseError, match="root element of an MJCF model is <mujoco>"):
         mjcf.from_xml_string("<robot/>")
