@@ -37,6 +37,11 @@ _DIRECTORY = {"mesh": "meshdir", "skin": "meshdir", "hfield": "meshdir", "flexco
               "texture": "texturedir"}  # fmt: skip
 # Files that load further files relative to themselves: always referred to by path.
 _BY_PATH = frozenset({"model"})
+# Attributes of a mesh that MuJoCo's mesh cache (keyed by file name) does not compare:
+# a mesh compiled again with other values of them would take the cached data in their
+# place, and so would a compile after it with none. Compiling gives such a mesh its file
+# under a name of its own values (tests/mjcf/test_mesh_cache.py checks the list).
+NOT_IN_MESH_CACHE_KEY = frozenset({"vertex", "normal", "texcoord", "face"})
 _file_cache: dict[str, tuple[int, int, bytes]] = {}
 
 
@@ -174,6 +179,12 @@ def is_inside(path: str, folder: str) -> bool:
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
+def _cached_apart(element: Element) -> bool:
+    """Whether `element` is a mesh from a file that sets values MuJoCo's mesh cache does
+    not compare (see `NOT_IN_MESH_CACHE_KEY`)."""
+    return element._spec.tag == "mesh" and not NOT_IN_MESH_CACHE_KEY.isdisjoint(element._attrs)
+
+
 def _asset_key(name: str) -> str:
     """The key under which MuJoCo's asset dict and file lookup know file `name`: its
     base name in lower case ('x/Part.stl' and 'part.stl' are one file to MuJoCo, even
@@ -210,6 +221,8 @@ class FileNamer:
         naming the element if its file cannot be read."""
         asset = resolve(element, attribute, value)
         try:
+            if self.by_path and _cached_apart(element):
+                return self._cache_name(element, asset)
             if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
                 if self.by_path and not os.access(asset.path, os.R_OK):
                     raise errors.AssetError(f"cannot read asset file {asset.path!r}")
@@ -228,6 +241,25 @@ class FileNamer:
         if renamed and os.path.splitext(os.path.basename(name))[0] != asset.prefix:
             self.renamed.add(element)
         return name
+
+    def _cache_name(self, element: Element, asset: Asset) -> str:
+        """A name for the file of mesh `element` (compiled with values that MuJoCo's
+        mesh cache does not compare) made of those values, its file's path and
+        contents: MuJoCo's cache then holds it apart from the same file compiled with
+        other values."""
+        digest = hashlib.sha1((asset.path or "").encode())
+        digest.update(asset.contents)
+        for name in sorted(NOT_IN_MESH_CACHE_KEY.intersection(element._attrs)):
+            value = element._get_value(element._spec.attributes[name])
+            digest.update(
+                name.encode()
+                + b"="
+                + repr(value.tolist() if hasattr(value, "tolist") else value).encode()
+            )
+        name = f"{plain_file_name(asset.prefix)}-{digest.hexdigest()[:16]}{asset.extension}"
+        taken = self._take(name, asset)
+        assert taken is not None, "a digest of the contents names only those contents"
+        return taken
 
     def _take(self, name: str, asset: Asset, collect: bool = True) -> str | None:
         """The name `asset` gets if it asks for `name`: `name` if its key is free (it
