@@ -320,6 +320,8 @@ class Element(ModelOperations):
             value = self._convert(attribute, value)
             if value is not None and attribute.name in self._spec.rule_names:
                 self._check_rules({attribute.name}, ())
+            if value is not None:
+                self._check_crash([attribute.name])
         self._store(attribute, value)
 
     def _store(self, attribute: AttributeSpec, value: Any) -> None:
@@ -381,7 +383,28 @@ class Element(ModelOperations):
             setting = {a.name for a, value in converted if value is not None}
             if not self._spec.rule_names.isdisjoint(setting):
                 self._check_rules(setting, [a.name for a, value in converted if value is None])
+        self._check_crash([a.name for a, value in converted if value is not None])
         return converted
+
+    def _check_crash(self, setting: list[str]) -> None:
+        """Raise mjcf.SchemaError if setting the attributes `setting` makes this element,
+        or its parent, one MuJoCo crashes on (`ElementSpec.crash`)."""
+        if self._spec.crashing_children:
+            children = [(child._spec.tag, child._attrs) for child in self._children]
+            crash = self._spec.crash([*self._attrs, *setting], children)
+            if crash is not None:
+                raise errors.SchemaError(f"{self.path}: {crash}")
+        parent = self._parent
+        if parent is not None and parent._spec.crashing_children:
+            parent._check_child(self._spec.tag, [*self._attrs, *setting])
+
+    def _check_child(self, tag: str, attributes: list[str]) -> None:
+        """Raise mjcf.SchemaError if a child `tag` with `attributes` set makes this
+        element one MuJoCo crashes on (`ElementSpec.crash`)."""
+        children = [(child._spec.tag, child._attrs) for child in self._children]
+        crash = self._spec.crash(self._attrs, [*children, (tag, attributes)])
+        if crash is not None:
+            raise errors.SchemaError(f"{self.path}: {crash}")
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         # References last: a name is resolved in the namespace the new values select.
@@ -504,6 +527,10 @@ class Element(ModelOperations):
     def insert(self, tag: str, position: int, **attributes: Any) -> Element:
         """Like `add`, at `position` among this element's children."""
         spec = self._child_spec(tag)
+        if self._spec.crashing_children:
+            self._check_child(
+                tag, [_ALIASES.get(n, n) for n, v in attributes.items() if v is not None]
+            )
         if not spec.repeated:
             existing = self._single_child(tag)
             if existing is not None:

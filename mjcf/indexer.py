@@ -10,7 +10,7 @@ After the XML Schema (`mjcf.xsd`) has accepted the document, this pass checks in
 what reading element by element checks beyond it: names unique in their namespace,
 references naming elements that exist, elements that may appear once appearing once,
 rules between attributes, and the values the schema leaves to the converters. It
-handles the common document; for anything else (an empty name or one with a '/',
+handles the common document; for anything else (an empty name or reference, a '/',
 generated or clashing names, a `<replicate>`, any error ...) it returns None and the
 element-by-element reader reads the document, which raises the error naming the
 element, or reads what this pass does not handle.
@@ -43,6 +43,7 @@ class _Plan:
 
     __slots__ = (
         "children",
+        "crashing",
         "dynamic",
         "identifier",
         "implicit",
@@ -82,7 +83,10 @@ class _Plan:
         # more than one of their attributes is set, or when one must be.
         self.rules = spec.rules
         self.rule_names = spec.rule_names
-        self.rare = bool(self.dynamic or self.unchecked or self.single or self.rules)
+        self.crashing = spec.crashing_children  # what crashes MuJoCo (see _refusals)
+        self.rare = bool(
+            self.dynamic or self.unchecked or self.single or self.rules or self.crashing
+        )
         self.children: dict[str, _Plan] = {}
 
 
@@ -134,14 +138,14 @@ def index(
                 for attribute, text in xml.items():
                     namespace = selected.get(attribute)
                     if namespace is not None:
-                        if PREFIX_SEPARATOR in text:
+                        if PREFIX_SEPARATOR in text or not text:
                             raise _Fallback
                         references[namespace].append(text)
             else:
                 for attribute, namespace in plan.reference_items:
                     text = xml.get(attribute)
                     if text is not None:
-                        if PREFIX_SEPARATOR in text:
+                        if PREFIX_SEPARATOR in text or not text:
                             raise _Fallback
                         references[namespace].append(text)
             if plan.rare:  # few elements need any of these
@@ -151,6 +155,11 @@ def index(
                     _check_values(xml, plan.unchecked)
                 if plan.rules:
                     _check_rules(xml, plan)
+                for attribute, tag, child_attribute, _ in plan.crashing:
+                    if attribute is None or xml.get(attribute) is not None:
+                        for child in xml.iterchildren(tag):
+                            if child_attribute is None or child.get(child_attribute) is not None:
+                                raise _Fallback
                 if plan.single:
                     if singles is None:
                         singles = set()

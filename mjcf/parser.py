@@ -397,6 +397,11 @@ class _Builder:
                 self.unnamed[(spec.namespace, text)] = element
                 del attrib[name]
             elif kind == "reference":
+                refused = attribute.refused.get(text)
+                if refused is not None:
+                    raise errors.AttributeValueError(
+                        f"{_where(self.filename, xml)}: {element.path}: {name!r} {refused}"
+                    )
                 attrib[name] = self._reference_text(element, attribute, text, xml)
             elif kind == "identifier":
                 attrib[name] = self._name_text(element, attribute, text, xml)
@@ -501,6 +506,13 @@ class _Builder:
                     raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
                 self._children(element, xml)
+                if spec.crashing_children:
+                    children = [(c._spec.tag, c._attrs) for c in element._children]
+                    crash = spec.crash(element._attrs, children)
+                    if crash is not None:
+                        raise errors.SchemaError(
+                            f"{_where(filename, xml)}: {element.path}: {crash}"
+                        )
 
     def link_unnamed(self) -> None:
         """References that name an element by the name mjcf generated for it point at

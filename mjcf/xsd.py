@@ -71,6 +71,7 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
         and not attribute.gaps
         and attribute.min_value is None
         and attribute.max_value is None
+        and attribute.finite is None
     ):
         # Integers in 32 bits, as MuJoCo reads them; reals within a C double or float.
         item = "xs:int" if attribute.kind == "int" else "float" if attribute.float32 else "double"
