@@ -80,10 +80,9 @@ def from_path(
     mjcf.ParseError if it cannot be read (see `from_xml_string` for the rest)."""
     path = os.fspath(path)
     try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except OSError as error:
-        raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
+        data = _assets.read_file(path)
+    except errors.AssetError as error:
+        raise errors.ParseError(f"cannot read MJCF file: {error}") from None
     model_dir = os.path.dirname(os.path.abspath(path))
     return _parse(
         data, escape_separators, model_dir, resolve_references, assets, path, strict_paths
@@ -102,8 +101,13 @@ def from_file(
 ) -> RootElement:
     """Parse MJCF from an open file (text or binary); `model_dir` defaults to the
     file's directory when it has a name (see `from_xml_string` for the rest)."""
-    data = file_object.read()
+    if not callable(getattr(file_object, "read", None)):
+        raise TypeError(f"from_file needs an open file, got {type(file_object).__name__}")
     name = getattr(file_object, "name", None)
+    try:
+        data = _assets.read_limited(file_object, name)
+    except errors.AssetError as error:
+        raise errors.ParseError(f"cannot read MJCF file: {error}") from None
     if not model_dir and isinstance(name, str) and os.path.exists(name):
         model_dir = os.path.dirname(os.path.abspath(name))
     filename = name if isinstance(name, str) else None
@@ -306,12 +310,9 @@ def _include_source(
     for candidate in candidates:
         if os.path.isfile(candidate):
             try:
-                with open(candidate, "rb") as handle:
-                    return handle.read(), candidate
-            except OSError as error:
-                raise errors.ParseError(
-                    f"{where}: cannot read {candidate!r}: {error.strerror}"
-                ) from None
+                return _assets.read_file(candidate), candidate
+            except errors.AssetError as error:
+                raise errors.ParseError(f"{where}: {error}") from None
     looked = ", ".join(map(repr, candidates))
     raise errors.ParseError(f"{where}: included file {file_attr!r} not found (looked in {looked})")
 
