@@ -47,6 +47,7 @@ from mjcf import (
     compiler,
     errors,
     fields,
+    frame_binding,
     named,
     raw_access,
     rendering,
@@ -159,7 +160,9 @@ class Physics(StateAccess):
         self._on_demand: tuple[Any, ...] = ()  # mj_ functions bound fields need run
         self._scratch: mujoco.MjData | None = None  # for mj_setConst, which clobbers data
         self._bindings: dict[tuple, binding_module.Binding] = {}
-        self._element_bindings: dict[object, binding_module.Binding] = {}
+        self._element_bindings: dict[
+            object, binding_module.Binding | frame_binding.FrameBinding
+        ] = {}
         self._named: named.NamedAccess | None = None
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
         self._state_check = validity.StateCheck(self)
@@ -191,21 +194,25 @@ class Physics(StateAccess):
         return cls(_compile(mujoco.MjModel.from_binary_path, os.fspath(path), None))
 
     @classmethod
-    def from_mjcf_model(cls, mjcf_model: RootElement) -> Physics:
+    def from_mjcf_model(cls, mjcf_model: RootElement, share_assets: bool = True) -> Physics:
         """Compile an `mjcf.RootElement` (with its attached models); its elements can
-        then be bound with `bind`. Raises CompileError naming the offending element."""
-        compiled = compiler.compile_composition(mjcf_model)
+        then be bound with `bind`. Copies of one model compile their meshes and textures
+        once (`mjcf.sharing`), which bindings can read but not write, unless not
+        `share_assets`. Raises CompileError naming the offending element."""
+        compiled = compiler.compile_composition(mjcf_model, share_assets)
         physics = cls(compiled.model)
         physics._compiled = compiled
         return physics
 
-    def reload_from_mjcf_model(self, mjcf_model: RootElement, keep_state: bool = False) -> None:
+    def reload_from_mjcf_model(
+        self, mjcf_model: RootElement, keep_state: bool = False, share_assets: bool = True
+    ) -> None:
         """Recompile `mjcf_model` into this physics, with fresh data (time 0, the model's
-        initial state), as `from_mjcf_model` would give; `keep_state=True` keeps time and
-        the state of the joints, actuators and mocap bodies that still exist instead.
-        Bindings made before must be made again. Raises CompileError (and then changes
-        nothing)."""
-        compiled = compiler.compile_composition(mjcf_model)
+        initial state), as `from_mjcf_model` would give (`share_assets` as there);
+        `keep_state=True` keeps time and the state of the joints, actuators and mocap
+        bodies that still exist instead. Bindings made before must be made again. Raises
+        CompileError (and then changes nothing)."""
+        compiled = compiler.compile_composition(mjcf_model, share_assets)
         data = mujoco.MjData(compiled.model)
         if keep_state:
             unnamed = compiler.unnamed_pairs(self.__dict__.get("_compiled"), compiled)
@@ -236,15 +243,32 @@ class Physics(StateAccess):
             raise errors.BindingError(
                 f"bind() takes an element or an iterable of elements, got {type(elements).__name__}"
             ) from None
-        found = self._element_bindings.get(key)
-        if found is not None:
-            return found
+        cached = self._element_bindings.get(key)
+        if cached is not None:
+            return cached
         if not key:
             return binding_module.EMPTY
         items = [elements] if isinstance(elements, ElementType) else list(key)
-        compiled = self.__dict__.get("_compiled")
-        kind, ids = tree_binding.element_ids(compiled, self._model, items)
-        found = self._binding(kind, int(ids[0]) if single else ids)
+        found: binding_module.Binding | frame_binding.FrameBinding
+        frames = [item for item in items if frame_binding.compiles_to_frame(item)]
+        if frames:
+            if len(frames) != len(items):
+                raise errors.BindingError(
+                    f"{frames[0].path} compiles to a MuJoCo <frame>, bound as a pose alone: "
+                    "bind it apart from elements of other kinds"
+                )
+            found = frame_binding.FrameBinding(self, items, single)
+        else:
+            compiled = self.__dict__.get("_compiled")
+            kind, ids = tree_binding.element_ids(compiled, self._model, items)
+            refusal = None if compiled is None else _shared_writes(compiled, items)
+            if refusal is None:
+                found = self._binding(kind, int(ids[0]) if single else ids)
+            else:  # read-only, and apart from the cached bindings of these objects
+                found = binding_module.binding_class(kind)(
+                    self, kind, int(ids[0]) if single else ids
+                )
+                found._refuse_writes(refusal)
         self._element_bindings[key] = found
         return found
 
@@ -572,6 +596,24 @@ class Physics(StateAccess):
 
     def __del__(self) -> None:
         self.close()
+
+
+def _shared_writes(compiled: compiler.Compiled, elements: list[Element]) -> str | None:
+    """Why bindings of `elements` may not be written: one of them is a mesh or texture
+    compiled once for several copies of a model (`mjcf.sharing`), which a write would
+    change for all of them; None if none is."""
+    for element in elements:
+        sharers = compiled.sharers(element)
+        if len(sharers) > 1:
+            names = ", ".join(repr(e.full_identifier) for e in sharers[1:4])
+            more = f" and {len(sharers) - 4} more" if len(sharers) > 4 else ""
+            return (
+                f"{element.path} is compiled once for {len(sharers)} copies of it (shared "
+                f"with {names}{more}, see mjcf/sharing.py), so a write through it would change "
+                "them all: read it freely, or compile with Physics.from_mjcf_model(model, "
+                "share_assets=False) to give each copy its own"
+            )
+    return None
 
 
 def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:

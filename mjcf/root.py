@@ -69,7 +69,7 @@ class RootElement(Element):
     _attachments: list[AttachmentFrame]
     _confine_to: str | None
     _numbering: tuple[int, dict[Element, int]] | None
-    _composed: dict[bool, Any] | None
+    _composed: dict[tuple[bool, bool], Any] | None
     _early: dict[Any, Element]
     _references: int
     _forward: set[Element]

@@ -115,10 +115,10 @@ def apply(specs: Mapping[str, ElementSpec]) -> None:
         )
     for spec in specs.values():
         for name, why in FINITE.items():
-            attribute = spec.attributes.get(name)
-            if attribute is not None and attribute.kind == "real":
-                attribute.finite = why
-                attribute.converter = converter_for(attribute)
+            number = spec.attributes.get(name)
+            if number is not None and number.kind == "real":
+                number.finite = why
+                number.converter = converter_for(number)
     for spec in specs.values():
         if spec.tag != "plugin" or not set(_PLUGIN_NEEDS) <= spec.attributes.keys():
             continue
