@@ -235,4 +235,12 @@ class ModelOperations:
         )
 
     def __repr__(self) -> str:
-        return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+        """The element's start tag as written, or where it is when it cannot be written
+        (a reference to a removed element ...): a repr never raises."""
+        try:
+            return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+        except Exception as error:  # a repr must not raise, whatever failed
+            reason = (
+                str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+            )
+            return f"MJCF Element: {_element(self).path} (not writable: {reason})"
