@@ -68,7 +68,7 @@ class RootElement(Element):
     _frame: AttachmentFrame | None
     _attachments: list[AttachmentFrame]
     _confine_to: str | None
-    _numbering: tuple[int, dict[Element, int]] | None
+    _numbering: tuple[tuple, dict[Element, int]] | None
     _composed: dict[tuple[bool, bool], Any] | None
     _early: dict[Any, Element]
     _references: int
@@ -95,7 +95,7 @@ class RootElement(Element):
         setter(self, "_attachments", [])
         # With strict_paths, the real folder that every file of the model must be in.
         setter(self, "_confine_to", None)
-        # (version, {unnamed element: number}) for generated names (see mjcf.naming).
+        # (versions, {unnamed element: number}) for generated names (see mjcf.naming).
         setter(self, "_numbering", None)
         # {for compiling: the last composition of this model} (see mjcf.composition).
         setter(self, "_composed", None)
