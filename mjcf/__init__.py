@@ -36,7 +36,8 @@ documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py
 all three on the real source:
 
     values:       errors debugging bulk fields assets values schema xsd namescope
-    tree:         element_list references model_operations element root base constants
+    tree:         element_list references model_operations element_names element_rules
+                  element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export

@@ -17,14 +17,14 @@ attribute is `dclass` in Python.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import assets, debugging, element_list, errors, references
 from mjcf import values as _values
 from mjcf.element_list import ElementList
-from mjcf.model_operations import ModelOperations
-from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file
+from mjcf.element_rules import ElementRules
+from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -37,9 +37,10 @@ _E = TypeVar("_E", bound="Element")
 _ALIASES = {"dclass": "class", "class_": "class"}
 
 
-class Element(ModelOperations):
+class Element(ElementRules):
     """An MJCF element. Create elements with `parent.add(tag, **attributes)`; finding,
-    removing, attaching, copying and writing are `ModelOperations`.
+    removing, attaching, copying and writing are `ModelOperations`, what its name changes
+    in its model's scope is `ElementNames`', the rules between its values `ElementRules`'.
 
     Internal protocol: what the other mjcf modules may use of an element; everything
     else is this module's (tests/mjcf/test_architecture.py holds every module to it).
@@ -386,105 +387,10 @@ class Element(ModelOperations):
         self._check_crash([a.name for a, value in converted if value is not None])
         return converted
 
-    def _check_crash(self, setting: list[str]) -> None:
-        """Raise mjcf.SchemaError if setting the attributes `setting` makes this element,
-        or its parent, one MuJoCo crashes on (`ElementSpec.crash`)."""
-        if self._spec.crashing_children:
-            children = [(child._spec.tag, child._attrs) for child in self._children]
-            crash = self._spec.crash([*self._attrs, *setting], children)
-            if crash is not None:
-                raise errors.SchemaError(f"{self.path}: {crash}")
-        parent = self._parent
-        if parent is not None and parent._spec.crashing_children:
-            parent._check_child(self._spec.tag, [*self._attrs, *setting])
-
-    def _check_child(self, tag: str, attributes: list[str]) -> None:
-        """Raise mjcf.SchemaError if a child `tag` with `attributes` set makes this
-        element one MuJoCo crashes on (`ElementSpec.crash`)."""
-        children = [(child._spec.tag, child._attrs) for child in self._children]
-        crash = self._spec.crash(self._attrs, [*children, (tag, attributes)])
-        if crash is not None:
-            raise errors.SchemaError(f"{self.path}: {crash}")
-
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         # References last: a name is resolved in the namespace the new values select.
         for attribute, stored in sorted(converted, key=lambda item: item[0].kind == "reference"):
             self._store(attribute, stored)
-
-    def _check_rules(self, setting: set[str], removing: Iterable[str]) -> None:
-        """Raise mjcf.AttributeValueError if setting the attributes `setting` (and
-        removing `removing`) would set two of a group MuJoCo allows one of (two
-        orientations of a body, say)."""
-        names = (self._attrs.keys() - set(removing)) | setting
-        rule = self._spec.conflict(names)
-        if rule is not None:
-            shown = ", ".join(sorted(rule.names & names))
-            raise errors.AttributeValueError(
-                f"{self.path}: {shown} cannot be set together: {rule.describe()} (remove "
-                "one, e.g. `del element.name`, before setting another)"
-            )
-
-    # -- names: the rules are NameScope's; an element tells its scope what changes -------
-
-    def _check_name(self, name: str) -> None:
-        check_identifier(name, self)
-
-    def _check_free(self, name: str) -> None:
-        namespace = self._spec.namespace
-        if namespace is not None and self._is_registered():
-            self._root.namescope.check_free(namespace, name, self, renaming=True)
-
-    def _is_registered(self) -> bool:
-        """Whether this element is part of its model's tree (not removed)."""
-        element: Element = self
-        while element._parent is not None:
-            element = element._parent
-        return element is self._root
-
-    def _rename(self, new_name: str | None) -> None:
-        namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        scope = self._root.namescope
-        scope.rename(namespace, self.identifier, new_name, self)
-        if new_name is None and self._spec.tag in NAMED_AFTER_FILE:
-            implicit = name_from_file(self._attrs.get("file"))
-            if implicit is not None:
-                scope.add(namespace, implicit, self, implicit=True)
-
-    def _rename_after_file(self, file_value: object) -> None:
-        namespace = self._spec.namespace  # an asset's: never None
-        if namespace is None or self._attrs.get("name") is not None or not self._is_registered():
-            return
-        scope = self._root.namescope
-        old = self.identifier
-        if old is not None:
-            scope.remove(namespace, old, self)
-        new = name_from_file(file_value)
-        if new is not None:
-            scope.add(namespace, new, self, implicit=True)
-
-    def _register(self) -> None:
-        """Record this element's name in its model's scope; raises mjcf.NameClashError
-        if another element has it."""
-        namespace = self._spec.namespace
-        if namespace is None:
-            return
-            return
-        name = self.identifier
-        if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
-            self._root.namescope.add(namespace, name, self, self._implicit())
-
-    def _implicit(self) -> bool:
-        return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
-
-    def _unregister_subtree(self) -> None:
-        scope = self._root.namescope
-        for element in self.iter():
-            namespace = element._spec.namespace
-            name = element.identifier
-            if namespace is not None and name is not None:
-                scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------
 
@@ -681,7 +587,7 @@ if TYPE_CHECKING:
     _Fresh = Element
 else:
 
-    class _Fresh(ModelOperations):
+    class _Fresh(ElementRules):
         """An element being built from its lxml element: the slots of `Element`, set as
         plain attributes (see `_from_xml`)."""
 

@@ -51,6 +51,20 @@ def compiles_to_frame(element: Element) -> bool:
     return False
 
 
+def bind_frames(physics: Physics, elements: list[Element], single: bool) -> FrameBinding | None:
+    """The binding of `elements` if they compile to `<frame>`s, None if none does; raises
+    BindingError if some do and others not, or as `FrameBinding`."""
+    frames = [element for element in elements if compiles_to_frame(element)]
+    if not frames:
+        return None
+    if len(frames) != len(elements):
+        raise errors.BindingError(
+            f"{frames[0].path} compiles to a MuJoCo <frame>, bound as a pose alone: bind it "
+            "apart from elements of other kinds"
+        )
+    return FrameBinding(physics, elements, single)
+
+
 class FrameBinding:
     """The read-only pose of elements compiled to MuJoCo `<frame>`s (module docstring)."""
 

@@ -250,18 +250,13 @@ class Physics(StateAccess):
             return binding_module.EMPTY
         items = [elements] if isinstance(elements, ElementType) else list(key)
         found: binding_module.Binding | frame_binding.FrameBinding
-        frames = [item for item in items if frame_binding.compiles_to_frame(item)]
-        if frames:
-            if len(frames) != len(items):
-                raise errors.BindingError(
-                    f"{frames[0].path} compiles to a MuJoCo <frame>, bound as a pose alone: "
-                    "bind it apart from elements of other kinds"
-                )
-            found = frame_binding.FrameBinding(self, items, single)
+        frames = frame_binding.bind_frames(self, items, single)
+        if frames is not None:
+            found = frames
         else:
             compiled = self.__dict__.get("_compiled")
             kind, ids = tree_binding.element_ids(compiled, self._model, items)
-            refusal = None if compiled is None else _shared_writes(compiled, items)
+            refusal = None if compiled is None else tree_binding.write_refusal(compiled, items)
             if refusal is None:
                 found = self._binding(kind, int(ids[0]) if single else ids)
             else:  # read-only, and apart from the cached bindings of these objects
@@ -596,24 +591,6 @@ class Physics(StateAccess):
 
     def __del__(self) -> None:
         self.close()
-
-
-def _shared_writes(compiled: compiler.Compiled, elements: list[Element]) -> str | None:
-    """Why bindings of `elements` may not be written: one of them is a mesh or texture
-    compiled once for several copies of a model (`mjcf.sharing`), which a write would
-    change for all of them; None if none is."""
-    for element in elements:
-        sharers = compiled.sharers(element)
-        if len(sharers) > 1:
-            names = ", ".join(repr(e.full_identifier) for e in sharers[1:4])
-            more = f" and {len(sharers) - 4} more" if len(sharers) > 4 else ""
-            return (
-                f"{element.path} is compiled once for {len(sharers)} copies of it (shared "
-                f"with {names}{more}, see mjcf/sharing.py), so a write through it would change "
-                "them all: read it freely, or compile with Physics.from_mjcf_model(model, "
-                "share_assets=False) to give each copy its own"
-            )
-    return None
 
 
 def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:

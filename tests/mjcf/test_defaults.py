@@ -266,3 +266,16 @@ def test_an_empty_default_shortcut_survives_include_copy() -> None:
     model.include_copy(source)
     stock = mujoco.MjModel.from_xml_string(_arm_with_default("<velocity/>"))
     assert model_differences(stock, mjcf.Physics.from_mjcf_model(model).model) == []
+
+
+def test_the_top_level_default_class_cannot_be_renamed_through_the_api() -> None:
+    """As the reader refuses it (MuJoCo: "top-level default class 'main' cannot be
+    renamed"), and the model stays as it was."""
+    model = mjcf.RootElement()
+    model.default.geom.rgba = [1, 0, 0, 1]
+    before = model.to_xml_string()
+    with pytest.raises(mjcf.AttributeValueError, match="top-level default class is 'main'"):
+        model.default.dclass = "mine"
+    assert model.to_xml_string() == before
+    model.default.dclass = "main"  # its own name, as MuJoCo takes it
+    mjcf.Physics.from_mjcf_model(model)
