@@ -39,8 +39,9 @@ _ALIASES = {"dclass": "class", "class_": "class"}
 
 class Element(ElementRules):
     """An MJCF element. Create elements with `parent.add(tag, **attributes)`; finding,
-    removing, attaching, copying and writing are `ModelOperations`, what its name changes
-    in its model's scope is `ElementNames`', the rules between its values `ElementRules`'.
+    removing, attaching, copying and writing are `ModelOperations`; its name in its
+    model's scope is kept by `ElementNames`, the rules between its values by
+    `ElementRules`.
 
     Internal protocol: what the other mjcf modules may use of an element; everything
     else is this module's (tests/mjcf/test_architecture.py holds every module to it).

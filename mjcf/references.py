@@ -75,7 +75,9 @@ def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
     resolved, unresolved = _resolve(root, namespace, attribute, value)
     if resolved is not value:
         element._attrs[attribute.name] = resolved
-        if not unresolved:
+        if unresolved:  # a list naming some elements, and some not yet
+            root._forward.add(element)
+        else:
             root._forward.discard(element)
     return resolved
 
