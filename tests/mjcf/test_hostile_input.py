@@ -3,6 +3,7 @@ work on hostile documents, and only mjcf errors out of the public API."""
 
 from __future__ import annotations
 
+import copy
 import os
 import subprocess
 import sys
@@ -114,12 +115,24 @@ def _mutated(draw) -> str:
 @given(_mutated())
 def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
     """Whatever a mutated real model does, only mjcf.Error subclasses escape reading,
-    writing and compiling it."""
+    writing, copying, attaching, compiling and binding it, and a repr never raises."""
     try:
         model = mjcf.from_xml_string(text, model_dir=str(GYM_ASSETS))
+        elements = model.find_all("body") + model.find_all("geom") + model.find_all("actuator")
+        for element in elements:
+            repr(element)
+            element.full_identifier  # noqa: B018
+            element.get_attributes()
         xml = model.to_xml_string()
         mjcf.from_xml_string(xml, model_dir=str(GYM_ASSETS), resolve_references=False)
-        mjcf.Physics.from_mjcf_model(model)
+        scene = mjcf.RootElement(model="scene")
+        scene.attach(copy.deepcopy(model))
+        scene.to_xml_string()
+        physics = mjcf.Physics.from_mjcf_model(model)
+        bodies = model.find_all("body")
+        if bodies:
+            physics.bind(bodies).xpos  # noqa: B018
+        physics.bind(model.worldbody).xpos  # noqa: B018
     except mjcf.Error:
         pass
 
