@@ -226,6 +226,7 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     for section in root._children:
         _clone_into(section, sections[section._spec.tag], memo, cloned)
     object.__setattr__(new, "_references", root._references)
+    object.__setattr__(new, "_referenced", root._referenced)
     object.__setattr__(new, "_forward", {memo[id(e)] for e in root._forward if id(e) in memo})
     for element in new.iter():
         if element._parent is not None:

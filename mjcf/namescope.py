@@ -144,7 +144,7 @@ class NameScope:
     def remove(self, namespace: str, name: str, element: Element) -> None:
         """Forget `name` if it still belongs to `element` (references naming it hold it
         from then on: see `mjcf.references`)."""
-        self.model._before_name_change()
+        self.model._before_name_change(namespace, name)
         names = self._namespaces.get(namespace)
         key = unescape(name)
         if names is not None and names.get(key) is element:
@@ -155,7 +155,6 @@ class NameScope:
         mjcf.NameClashError, changing nothing, if `new` is taken."""
         if new is not None:
             self.check_free(namespace, new, element, renaming=True)
-        self.model._before_name_change()
         if old is not None:
             self.remove(namespace, old, element)
         if new is not None:
@@ -211,7 +210,7 @@ class NameScope:
     def remove_child(self, scope: NameScope) -> None:
         """Forget an attached model's scope (scoped references into it hold their
         elements from then on: see `mjcf.references`)."""
-        self.model._before_name_change()
+        self.model._before_name_change(None, None)
         if self._children.get(scope.name) is scope:
             del self._children[scope.name]
         scope.parent = None

@@ -158,6 +158,7 @@ def _parse(
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
     builder.link_unnamed()
+    object.__setattr__(root, "_referenced", builder.referenced())
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -185,9 +186,10 @@ def _read_fast(
         return False  # a section repeated, or an entity
     if not xsd.accepts(xml_root):
         return False
-    names = indexer.index(xml_root, root._spec.children, check_references)
-    if names is None:
+    found = indexer.index(xml_root, root._spec.children, check_references)
+    if found is None:
         return False
+    names, referenced = found
     builder = _Builder(root, filename, escape_separators)
     for xml_section in xml_root:
         section = root._section(xml_section.tag)
@@ -198,6 +200,7 @@ def _read_fast(
         if len(xml_section):
             section._defer(xml_section)
     root.namescope.load(names)
+    object.__setattr__(root, "_referenced", referenced)
     return True
 
 
@@ -544,6 +547,26 @@ class _Builder:
                 self.with_references.append(element)
         if len(xml):
             self._children(element, xml)
+
+    def referenced(self) -> dict[str, frozenset[str]]:
+        """{namespace: the names the references read name} (those of default classes
+        under `references.ANY_NAMESPACE` too), for `mjcf.references`."""
+        found: dict[str, set[str]] = {references.ANY_NAMESPACE: set()}
+        for element in self.with_references:
+            attrs = element._attrs
+            loose = element._spec.key.startswith("default-")
+            for name in element._spec.references.intersection(attrs):
+                value = attrs[name]
+                if not isinstance(value, str):
+                    continue
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                words = value.split() if attribute.is_list else [value]
+                if namespace is not None:
+                    found.setdefault(namespace, set()).update(words)
+                if loose or namespace is None:
+                    found[references.ANY_NAMESPACE].update(words)
+        return {namespace: frozenset(words) for namespace, words in found.items()}
 
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's

@@ -44,6 +44,7 @@ PINNED = 0  # every reference naming an element holds it, but those in `_forward
 UNPINNED = 1  # references read from a file are text still (see the module docstring)
 BY_NAME = 2  # read with resolve_references=False: text stays text
 _MAIN_CLASS = "main"
+ANY_NAMESPACE = "*"  # `_referenced`'s key of names referenced from default classes
 
 
 def stored(element: Element, attribute: AttributeSpec, value: Any) -> Any:
@@ -82,14 +83,30 @@ def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
     return resolved
 
 
-def before_name_change(model: RootElement) -> None:
-    """A name in `model`'s scope is about to change or go: every text reference that
-    names an element, in `model` and in the models it is attached into (whose scoped
-    names reach into it), is replaced by that element first."""
+def before_name_change(model: RootElement, namespace: str | None, name: str | None) -> None:
+    """Name `name` of `namespace` in `model`'s scope is about to change or go (None: the
+    name of a model attached to it): every text reference that may name its element, in
+    `model` and in the models it is attached into (whose scoped names reach into it), is
+    replaced by the element it names first. References read from a file name elements
+    of their own model only ('/' is no part of them), and only the names the reader
+    recorded (`_referenced`), so a name none of them names leaves the model unbuilt."""
+    if model._references == UNPINNED and _read_reference(model, namespace, name):
+        pin_model(model)
     current: RootElement | None = model
     while current is not None:
-        pin_model(current)
+        _pin_forward(current)
         current = current.parent_model
+
+
+def _read_reference(model: RootElement, namespace: str | None, name: str | None) -> bool:
+    """Whether a reference read from `model`'s file may name `name` of `namespace` (none
+    names an attached model's element)."""
+    if namespace is None or name is None:
+        return False
+    referenced = model._referenced
+    if referenced is None:
+        return True
+    return name in referenced.get(namespace, ()) or name in referenced.get(ANY_NAMESPACE, ())
 
 
 def pin_model(model: RootElement) -> None:
@@ -99,7 +116,14 @@ def pin_model(model: RootElement) -> None:
         model._references = PINNED
         for element in model.iter():
             _pin(element)
-    elif model._forward and model._references == PINNED:
+    else:
+        _pin_forward(model)
+
+
+def _pin_forward(model: RootElement) -> None:
+    """Make the text references set through the API that named no element when set
+    (`_forward`) hold the elements they name now."""
+    if model._forward and model._references != BY_NAME:
         for element in list(model._forward):
             if element._is_registered():
                 _pin(element)

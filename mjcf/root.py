@@ -42,9 +42,9 @@ class RootElement(Element):
     `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
     `mjcf.composition`'s cache of the last composition of each kind of output;
     `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
-    read by `mjcf.assets`; `_references` and `_forward` are `mjcf.references`' state of
-    the model's references, which `mjcf.namescope` asks to follow a name change with
-    `_before_name_change()`.
+    read by `mjcf.assets`; `_references`, `_referenced` and `_forward` are
+    `mjcf.references`' state of the model's references, which `mjcf.namescope` asks to
+    follow a name change with `_before_name_change(namespace, name)`.
     """
 
     __slots__ = (
@@ -58,6 +58,7 @@ class RootElement(Element):
         "_model_dir",
         "_namescope",
         "_numbering",
+        "_referenced",
         "_references",
         "_version",
     )
@@ -72,6 +73,7 @@ class RootElement(Element):
     _composed: dict[tuple[bool, bool], Any] | None
     _early: dict[Any, Element]
     _references: int
+    _referenced: dict[str, frozenset[str]] | None
     _forward: set[Element]
     _version: int
 
@@ -103,6 +105,7 @@ class RootElement(Element):
         setter(self, "_early", {})
         # How references are kept, and those naming no element yet (see mjcf.references).
         setter(self, "_references", references.PINNED)
+        setter(self, "_referenced", None)
         setter(self, "_forward", set())
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
@@ -215,9 +218,10 @@ class RootElement(Element):
             element = child
         return element
 
-    def _before_name_change(self) -> None:
-        """A name of this model is about to change: see `references.before_name_change`."""
-        references.before_name_change(self)
+    def _before_name_change(self, namespace: str | None, name: str | None) -> None:
+        """Name `name` of `namespace` of this model is about to change or go (None: the
+        name of a model attached to it): see `references.before_name_change`."""
+        references.before_name_change(self, namespace, name)
 
     def __getstate__(self) -> tuple[None, dict[str, Any]]:
         """Pickled with every element built (see `Element._defer`)."""

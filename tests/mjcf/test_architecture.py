@@ -65,6 +65,7 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
     "_references": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
     "_forward": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_referenced": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
     "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
     "_model": ("physics.Physics", SIMULATION, frozenset()),
     "_data": ("physics.Physics", SIMULATION, frozenset()),
