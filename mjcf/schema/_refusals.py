@@ -14,9 +14,10 @@ differential check explains the disagreements they make (``_judge``).
   plugin=...>`` in a ``<replicate>`` (so a plugin there must name an instance); a
   ``<mesh>`` with a ``file`` and a ``<plugin>`` child; ``frame`` as the object type of a
   ``<tuple>`` element or a ``<user>`` or plugin sensor (frames are no objects of a
-  compiled model). And a hang: MuJoCo 4.0.0's compile never ends computing the length
-  range of a muscle whose gear is infinite or NaN (the full sweep of the differential
-  check found it), so no actuator takes a gear that is not finite.
+  compiled model). And hangs: MuJoCo 4.0.0's compile never ends computing the length
+  range of a muscle whose gear is infinite or NaN, or whose armature (or its joint's) is
+  NaN (the full sweep of the differential check found them), so no gear and no
+  armature may be other than finite.
 - Empty names: MuJoCo looks some names up without checking they are empty, and ``""``
   then finds the first element of that kind that has no name (a ``<pair>`` without
   ``geom1`` collides the first unnamed geom). mjcf names every element it writes
@@ -66,8 +67,10 @@ CRASHING_CHILDREN: dict[str, tuple[tuple[str | None, str, str | None], ...]] = {
     "replicate": ((None, "plugin", "plugin"),),
 }
 # Numbers that must be finite: attribute name -> why (every element that has it).
+_HANG = "MuJoCo 4.0.0's compile never ends computing the length range of a muscle"
 FINITE: dict[str, str] = {
-    "gear": "MuJoCo 4.0.0's compile never ends on a muscle whose gear is not finite",
+    "gear": f"{_HANG} whose gear is not finite",
+    "armature": f"{_HANG} whose armature, or its joint's, is not finite",
 }
 # The plugin elements that name a plugin or an instance (not <extension>'s).
 _PLUGIN_NEEDS = ("plugin", "instance")

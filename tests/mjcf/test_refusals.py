@@ -82,16 +82,21 @@ def test_what_crashes_mujoco_cannot_be_built_through_the_api() -> None:
     assert model.find("mesh", "m").plugin == [] and sdf.file is None
 
 
-def test_a_gear_that_is_not_finite_is_refused() -> None:
-    """MuJoCo 4.0.0's compile never ends on a muscle with such a gear (found by the full
-    sweep of the differential check; not run here, as it would hang)."""
-    body = '<worldbody><body><joint name="j"/><geom size="1"/></body></worldbody>'
-    for gear in ("inf", "nan", "1 0 0 0 0 -inf"):
-        xml = f'<mujoco>{body}<actuator><muscle joint="j" gear="{gear}"/></actuator></mujoco>'
+def test_a_gear_or_armature_that_is_not_finite_is_refused() -> None:
+    """MuJoCo 4.0.0's compile never ends computing a muscle's length range with such a
+    gear or armature (found by the full sweep of the differential check; not run here,
+    as it would hang)."""
+    body = '<worldbody><body><joint name="j" {}/><geom size="1"/></body></worldbody>'
+    for joint, muscle in (("", 'gear="inf"'), ("", 'gear="1 0 0 0 0 -inf"'),
+                          ("", 'armature="nan"'), ('armature="nan"', "")):  # fmt: skip
+        actuator = f'<actuator><muscle joint="j" {muscle}/></actuator>'
+        xml = f"<mujoco>{body.format(joint)}{actuator}</mujoco>"
         with pytest.raises(mjcf.AttributeValueError, match="takes finite numbers"):
             mjcf.from_xml_string(xml)
     with pytest.raises(mjcf.AttributeValueError, match="takes finite numbers"):
         mjcf.RootElement().default.muscle.gear = [float("inf")]
+    with pytest.raises(mjcf.AttributeValueError, match="takes finite numbers"):
+        mjcf.RootElement().default.joint.armature = float("nan")
 
 
 # Each refused empty name: MuJoCo compiles the document with the first unnamed element
