@@ -100,8 +100,8 @@ EXPLANATIONS = {
             "crashes MuJoCo",
             "what MuJoCo 4.0.0 crashes or hangs on is refused (mjcf/schema/_refusals.py): a "
             "<plugin> without plugin or instance (which MuJoCo's compile refuses elsewhere), "
-            "a file mesh with a <plugin>, 'frame' as an object type, a gear that is not "
-            "finite",
+            "a file mesh with a <plugin>, 'frame' as an object type, a gear or armature that "
+            "is not finite",
             stricter=True,
         ),
         Explanation(
