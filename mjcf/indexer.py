@@ -197,16 +197,13 @@ def index(
         named.update(table)
     if WORLD in names.get("body", ()):
         return None  # the world body's name
+    referenced = {namespace: frozenset(targets) for namespace, targets in references.items()}
     if check_references:
-        for namespace, targets in references.items():
-            missing = set(targets).difference(names.get(namespace, ()))
-            if namespace == "body":
-                missing.discard(WORLD)
-            elif namespace == "default":
-                missing.discard("main")
+        allowed = {"body": {WORLD}, "default": {"main"}}
+        for namespace, targets in referenced.items():
+            missing = targets.difference(names.get(namespace, ()), allowed.get(namespace, ()))
             if missing:
                 return None
-    referenced = {namespace: frozenset(targets) for namespace, targets in references.items()}
     referenced[ANY_NAMESPACE] = frozenset(loose)
     return dict(names), referenced
 
