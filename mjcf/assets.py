@@ -139,9 +139,14 @@ def read_file(path: str) -> bytes:
     except OSError as error:
         raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
     with os.fdopen(descriptor, "rb") as handle:
-        _check_stat(path, os.fstat(descriptor))
+        stat = os.fstat(descriptor)
+        _check_stat(path, stat)
         try:
-            data = handle.read(FILE_SIZE_LIMIT + 1)
+            # Its size and a byte (a read of the limit would allocate that much first);
+            # the rest, still bounded, only if it grew meanwhile.
+            data = handle.read(stat.st_size + 1)
+            if len(data) > stat.st_size:
+                data += handle.read(FILE_SIZE_LIMIT + 1 - len(data))
         except OSError as error:
             raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
     if len(data) > FILE_SIZE_LIMIT:
