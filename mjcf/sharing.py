@@ -25,7 +25,10 @@ refused (mjcf.BindingError, naming the copies that share it), through any copy, 
 too. To write one copy's asset at run time, compile without sharing:
 `mjcf.Physics.from_mjcf_model(scene, share_assets=False)` (or
 `physics.reload_from_mjcf_model(scene, share_assets=False)`), which compiles every copy's
-meshes and textures apart, at the cost of the memory sharing saves.
+meshes and textures apart, at the cost of the memory sharing saves. Named access
+(`physics.named.model.mesh_scale['arm/base']`) and `physics.model` address the compiled
+asset itself, by the first copy's name, as MuJoCo's own API does: what they write is what
+every copy compiled to.
 """
 
 from __future__ import annotations
