@@ -32,20 +32,22 @@ if TYPE_CHECKING:
     from mjcf.compiler import Compiled
     from mjcf.element import Element
     from mjcf.physics import Physics
+    from mjcf.root import RootElement
 
 _ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
 _FIELDS = ("xpos", "xquat", "xmat", "pos", "quat")
 _START_TAG = re.compile(r"\s*<(\w+)([^>]*?)/?>\s*")
 
 
-def compiles_to_frame(element: Element) -> bool:
-    """Whether `element` compiles to a MuJoCo `<frame>` (see the module docstring)."""
+def compiles_to_frame(element: Element, output: RootElement | None = None) -> bool:
+    """Whether `element` compiles to a MuJoCo `<frame>` in the output of model `output`
+    (default: the outermost model it is attached into); see the module docstring."""
     if isinstance(element, attachment.AttachmentFrame):
         return not element.compiles_to_body()
     tag = element._spec.tag
     if tag == "frame":
         return True
-    if tag == "worldbody" and element._parent is element._root:
+    if tag == "worldbody" and element._parent is element._root and element._root is not output:
         frame = attachment.frame_of(element._root)
         return frame is not None and not frame.compiles_to_body()
     return False
@@ -54,7 +56,9 @@ def compiles_to_frame(element: Element) -> bool:
 def bind_frames(physics: Physics, elements: list[Element], single: bool) -> FrameBinding | None:
     """The binding of `elements` if they compile to `<frame>`s, None if none does; raises
     BindingError if some do and others not, or as `FrameBinding`."""
-    frames = [element for element in elements if compiles_to_frame(element)]
+    compiled: Compiled | None = physics.__dict__.get("_compiled")
+    output = None if compiled is None else compiled.composition.root
+    frames = [element for element in elements if compiles_to_frame(element, output)]
     if not frames:
         return None
     if len(frames) != len(elements):
@@ -88,7 +92,7 @@ class FrameBinding:
             )
         holders, offsets = [], []
         for element in elements:
-            holder, chain = _placement(element)
+            holder, chain = _placement(element, compiled.composition.root)
             holders.append(compiled.id_of(holder, mujoco.mjtObj.mjOBJ_BODY))
             offsets.append(_offset(compiled, chain))
         object.__setattr__(self, "_physics", physics)
@@ -162,9 +166,10 @@ def _compiled_from(compiled: Compiled, element: Element) -> bool:
     return element._is_registered() or element is element.root.worldbody
 
 
-def _placement(element: Element) -> tuple[Element, list[Element]]:
-    """(the body whose pose `element` is placed in: a body, an attachment frame compiled
-    as a body or the world body; the frames between them, innermost first)."""
+def _placement(element: Element, output: RootElement) -> tuple[Element, list[Element]]:
+    """(the body whose pose `element` is placed in, in the output of model `output`: a
+    body, an attachment frame compiled as a body or the world body; the frames between
+    them, innermost first)."""
     chain: list[Element] = []
     current: Element | None = element
     while current is not None:
@@ -176,7 +181,7 @@ def _placement(element: Element) -> tuple[Element, list[Element]]:
             tag = current._spec.tag
             if tag == "worldbody" and current._parent is current._root:
                 frame = attachment.frame_of(current._root)
-                if frame is None:
+                if frame is None or current._root is output:
                     return current, chain  # the world
                 current = frame
                 continue

@@ -85,3 +85,10 @@ def test_a_frame_with_joints_is_a_body_and_binds_as_one() -> None:
     bound = physics.bind(child.worldbody)
     assert bound.mass.shape == ()  # a body binding
     bound.xfrc_applied = [0, 0, 1, 0, 0, 0]
+
+
+def test_a_model_compiled_alone_binds_its_world_body_to_the_world() -> None:
+    _, child, _ = _scene()
+    physics = mjcf.Physics.from_mjcf_model(child)  # attached elsewhere, compiled alone
+    assert physics.bind(child.worldbody).xpos.tolist() == [0, 0, 0]
+    assert physics.bind(child.worldbody).mass.shape == ()  # the world body
