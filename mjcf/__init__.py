@@ -36,12 +36,13 @@ documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py
 all three on the real source:
 
     values:       errors debugging mujoco_log bulk fields assets values schema xsd namescope
-    tree:         element_list model_operations element root base constants
+    tree:         element_list references model_operations element_names element_rules
+                  element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity rendering raw_access tree_binding
-                  compiler model_constants physics_state physics
+                  compiler model_constants frame_binding physics_state physics
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).

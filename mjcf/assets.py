@@ -7,7 +7,10 @@
 
 A file attribute read from a model file becomes an `Asset` that knows its path (the
 way MuJoCo finds it: `compiler strippath/meshdir/texturedir/assetdir`, relative to the
-model's directory) and reads its contents on first use. Files given as
+model's directory) and reads its contents on first use. Files are read only when they
+are regular files of at most `FILE_SIZE_LIMIT` bytes (1 GiB; raise it for larger
+assets), model files and included files too: a device such as /dev/zero or a FIFO is
+refused, not read until memory runs out. Files given as
 `assets={'name.stl': bytes}` are used instead of disk files of that name, as MuJoCo
 uses them.
 
@@ -33,7 +36,8 @@ import hashlib
 import itertools
 import os
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from stat import S_ISREG
+from typing import IO, TYPE_CHECKING
 
 from mjcf import errors
 
@@ -46,7 +50,16 @@ _DIRECTORY = {"mesh": "meshdir", "skin": "meshdir", "hfield": "meshdir", "flexco
               "texture": "texturedir"}  # fmt: skip
 # Files that load further files relative to themselves: always referred to by path.
 _BY_PATH = frozenset({"model"})
+# Attributes of a mesh that MuJoCo's mesh cache (keyed by file name) does not compare:
+# a mesh compiled again with other values of them would take the cached data in their
+# place, and so would a compile after it with none. Compiling gives such a mesh its file
+# under a name of its own values (tests/mjcf/test_mesh_cache.py checks the list).
+NOT_IN_MESH_CACHE_KEY = frozenset({"vertex", "normal", "texcoord", "face"})
 _file_cache: dict[str, tuple[int, int, bytes]] = {}
+# The most bytes mjcf reads of one model file or asset, or lets MuJoCo read: a larger
+# file is refused (mjcf.AssetError) rather than read until memory runs out. Raise it for
+# larger textures or height fields.
+FILE_SIZE_LIMIT = 1 << 30
 
 
 class Asset:
@@ -119,17 +132,78 @@ class Asset:
 
 
 def _read(path: str) -> bytes:
-    try:
-        stat = os.stat(path)
-        cached = _file_cache.get(path)
-        if cached is not None and cached[0] == stat.st_mtime_ns and cached[1] == stat.st_size:
-            return cached[2]
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except OSError as error:
-        raise errors.AssetError(f"cannot read asset file {path!r}: {error.strerror}") from None
+    stat = check_file(path)
+    cached = _file_cache.get(path)
+    if cached is not None and cached[0] == stat.st_mtime_ns and cached[1] == stat.st_size:
+        return cached[2]
+    data = read_file(path)
     _file_cache[path] = (stat.st_mtime_ns, stat.st_size, data)
     return data
+
+
+def check_file(path: str) -> os.stat_result:
+    """The status of file `path`, which MuJoCo may read whole; raises mjcf.AssetError
+    for a file that cannot be read, is not a regular file (a device such as /dev/zero, a
+    FIFO, which would never end or block) or holds more than `FILE_SIZE_LIMIT` bytes."""
+    try:
+        stat = os.stat(path)
+    except OSError as error:
+        raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
+    _check_stat(path, stat)
+    return stat
+
+
+def read_file(path: str) -> bytes:
+    """The contents of file `path`, read at most to `FILE_SIZE_LIMIT` bytes; raises
+    mjcf.AssetError as `check_file` does (a FIFO is opened without waiting for a writer,
+    then refused)."""
+    try:
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as error:
+        raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
+    with os.fdopen(descriptor, "rb") as handle:
+        stat = os.fstat(descriptor)
+        _check_stat(path, stat)
+        try:
+            # Its size and a byte (a read of the limit would allocate that much first);
+            # the rest, still bounded, only if it grew meanwhile.
+            data = handle.read(stat.st_size + 1)
+            if len(data) > stat.st_size:
+                data += handle.read(FILE_SIZE_LIMIT + 1 - len(data))
+        except OSError as error:
+            raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
+    if len(data) > FILE_SIZE_LIMIT:
+        raise errors.AssetError(_too_large(path))
+    return data
+
+
+def read_limited(handle: IO, name: object) -> bytes | str:
+    """Everything an open file `handle` gives, at most `FILE_SIZE_LIMIT` bytes (or
+    characters); raises mjcf.AssetError for more."""
+    try:
+        data = handle.read(FILE_SIZE_LIMIT + 1)
+    except (OSError, ValueError) as error:  # ValueError: a closed file
+        raise errors.AssetError(f"cannot read {name!r}: {error}") from None
+    if len(data) > FILE_SIZE_LIMIT:
+        raise errors.AssetError(_too_large(name))
+    return data
+
+
+def _check_stat(path: str, stat: os.stat_result) -> None:
+    if not S_ISREG(stat.st_mode):
+        raise errors.AssetError(
+            f"{path!r} is not a regular file (a device, FIFO or socket would be read forever "
+            "or block): models and their assets are read from regular files"
+        )
+    if stat.st_size > FILE_SIZE_LIMIT:
+        raise errors.AssetError(_too_large(path))
+
+
+def _too_large(name: object) -> str:
+    return (
+        f"{name!r} holds more than {FILE_SIZE_LIMIT} bytes, the limit of a model file or "
+        "asset (mjcf.assets.FILE_SIZE_LIMIT, which may be raised)"
+    )
 
 
 def resolve(element: Element, attribute: str, value: object) -> Asset:
@@ -223,6 +297,12 @@ def is_inside(path: str, folder: str) -> bool:
     return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
 
 
+def _cached_apart(element: Element) -> bool:
+    """Whether `element` is a mesh from a file that sets values MuJoCo's mesh cache does
+    not compare (see `NOT_IN_MESH_CACHE_KEY`)."""
+    return element._spec.tag == "mesh" and not NOT_IN_MESH_CACHE_KEY.isdisjoint(element._attrs)
+
+
 def _asset_key(name: str) -> str:
     """The key under which MuJoCo's asset dict and file lookup know file `name`: its
     base name in lower case ('x/Part.stl' and 'part.stl' are one file to MuJoCo, even
@@ -260,9 +340,13 @@ class FileNamer:
         naming the element if its file cannot be read."""
         asset = resolve(element, attribute, value)
         try:
+            if self.by_path and _cached_apart(element):
+                return self._cache_name(element, asset)
             if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
-                if self.by_path and not os.access(asset.path, os.R_OK):
-                    raise errors.AssetError(f"cannot read asset file {asset.path!r}")
+                if self.by_path:  # MuJoCo reads it: as mjcf would
+                    check_file(asset.path)
+                    if not os.access(asset.path, os.R_OK):
+                        raise errors.AssetError(f"cannot read asset file {asset.path!r}")
                 name = self._take(asset.path, asset, collect=False)
                 if name is not None:
                     return name
@@ -279,6 +363,25 @@ class FileNamer:
         if renamed and os.path.splitext(os.path.basename(name))[0] != asset.prefix:
             self.renamed.add(element)
         return name
+
+    def _cache_name(self, element: Element, asset: Asset) -> str:
+        """A name for the file of mesh `element` (compiled with values that MuJoCo's
+        mesh cache does not compare) made of those values, its file's path and
+        contents: MuJoCo's cache then holds it apart from the same file compiled with
+        other values."""
+        digest = hashlib.sha1((asset.path or "").encode())
+        digest.update(asset.contents)
+        for name in sorted(NOT_IN_MESH_CACHE_KEY.intersection(element._attrs)):
+            value = element._get_value(element._spec.attributes[name])
+            digest.update(
+                name.encode()
+                + b"="
+                + repr(value.tolist() if hasattr(value, "tolist") else value).encode()
+            )
+        name = f"{plain_file_name(asset.prefix)}-{digest.hexdigest()[:16]}{asset.extension}"
+        taken = self._take(name, asset)
+        assert taken is not None, "a digest of the contents names only those contents"
+        return taken
 
     def _take(self, name: str, asset: Asset, collect: bool = True) -> str | None:
         """The name `asset` gets if it asks for `name`: `name` if its key is free (it

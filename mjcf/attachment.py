@@ -134,11 +134,11 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
     if place._spec.tag == "site":
         for name in ("pos", *_ORIENTATION):
-            value = place._attrs.get(name)
-            if value is not None:
-                frame._attrs[name] = place._get_value(place._spec.attributes[name])
-                if hasattr(frame._attrs[name], "copy"):
-                    frame._attrs[name] = frame._attrs[name].copy()
+            if place._attrs.get(name) is None:
+                continue
+            value = place._get_value(place._spec.attributes[name])
+            if value is not None:  # None: blank text, which MuJoCo reads as not set
+                frame._attrs[name] = value.copy() if hasattr(value, "copy") else value
     free = place.root.namescope.free_child_name(child.model)
     if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
         child.model = free

@@ -89,7 +89,9 @@ WRITE_BITS = {
 class Target:
     """Where one bound field lives and what writing it entails (the slow path's data)."""
 
-    __slots__ = ("array", "describe", "effect", "fancy", "field", "key", "mask", "physics")
+    __slots__ = (
+        "array", "describe", "effect", "fancy", "field", "key", "mask", "physics", "refusal",
+    )  # fmt: skip
 
     def __init__(
         self,
@@ -108,10 +110,13 @@ class Target:
         self.effect = tracking.write_effect(field)
         self.mask = mask
         self.describe = describe  # a callable naming the field and rows, for messages
+        self.refusal: str | None = None  # why these rows may not be written, if not
 
     def write(self, value: Any, columns: Any = None) -> None:
         """Assign `value` to the bound rows (or `columns` of them), with the write's effects.
-        Raises BindingError for a value of the wrong shape or a bad column."""
+        Raises BindingError for a value of the wrong shape or a bad column, or for rows a
+        write may not change (`refusal`)."""
+        self.check_writable()
         key = self.key if columns is None else column_key(self, columns)
         self.refresh_before_write()
         array = self.array
@@ -124,6 +129,11 @@ class Target:
                 f"bound rows have shape {np.shape(array[key])}"
             ) from e
         self.written(key, old)
+
+    def check_writable(self) -> None:
+        """Raise BindingError if these rows may not be written (see `refusal`)."""
+        if self.refusal is not None:
+            raise errors.BindingError(f"cannot write {self.describe()}: {self.refusal}")
 
     def refresh_before_write(self) -> None:
         """Bring derived fields up to date before one is overwritten, so that a later
@@ -168,6 +178,7 @@ class WriteThrough(np.ndarray):
             np.ndarray.__setitem__(self, key, value)
             return
         target: Target = writeback[-1]
+        target.check_writable()
         target.refresh_before_write()
         old = target.array[target.key].copy() if target.effect == Effect.MODEL_CONSTANT else None
         np.ndarray.__setitem__(self, key, value)
@@ -220,7 +231,8 @@ class Binding:
 
     Make bindings with `Physics.bind(elements)` or `Physics.bind_names(kind, names)`: the
     physics caches them and tells them when it changes MjData, which a binding made directly
-    would not hear. Internal protocol: the physics calls `_detach()` before it changes MjData.
+    would not hear. Internal protocol: the physics calls `_detach()` before it changes MjData,
+    and `_refuse_writes(why)` on a binding no write may go through (a mesh shared by copies).
     """
 
     __slots__ = (
@@ -232,6 +244,7 @@ class Binding:
         "_kind",
         "_model",
         "_physics",
+        "_refusal",
         "_single",
     )
     _fields: dict[str, fields.Field] = {}
@@ -272,7 +285,7 @@ class Binding:
     def __getstate__(self) -> dict[str, Any]:
         # Cached arrays would unpickle as detached copies: keep only what says what is bound.
         return {"physics": self._physics, "kind": int(self._kind), "ids": self._ids,
-                "single": self._single}  # fmt: skip
+                "single": self._single, "refusal": self._refusal}  # fmt: skip
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         """Bind `state`'s ids; the model and data are adopted at the first read (`_entry`)."""
@@ -284,6 +297,13 @@ class Binding:
         object.__setattr__(self, "_data", None)
         object.__setattr__(self, "_cache", {})
         object.__setattr__(self, "_keys", {})
+        object.__setattr__(self, "_refusal", state.get("refusal"))
+
+    def _refuse_writes(self, why: str) -> None:
+        """Make every write through this binding raise BindingError saying `why` (reads
+        stay as they are)."""
+        object.__setattr__(self, "_refusal", why)
+        self._cache.clear()
 
     @property
     def kind(self) -> mujoco.mjtObj:
@@ -331,15 +351,18 @@ class Binding:
             if field.name in tracking.ON_DEMAND:
                 physics._compute_on_demand(field.name)
             target = Target(physics, array, key, field, mask, functools.partial(self._label, name))
+            target.refusal = self._refusal
             effect = target.effect
             # Arrays of model fields track item writes (sameframe flags, constants); copies
             # of rows no slice covers write themselves back. Views of MjData fields are plain
             # ndarrays: numpy is several hundred ns slower per operation on a subclass, and
             # state is read every step.
             tracked = effect in (Effect.MODEL, Effect.MODEL_CONSTANT)
-            view = array.view(WriteThrough) if tracked or target.fancy else None
-            # Writes whose effects need more than setting bits take the slow path (None).
-            bits = None if effect in (Effect.DERIVED, Effect.MODEL_CONSTANT) else WRITE_BITS[effect]
+            view = array.view(WriteThrough) if tracked or target.fancy or target.refusal else None
+            # Writes whose effects need more than setting bits take the slow path (None),
+            # as do writes that are refused.
+            slow = effect in (Effect.DERIVED, Effect.MODEL_CONSTANT) or target.refusal
+            bits = None if slow else WRITE_BITS[effect]
             # What a read returns when it is a view: the same object every time (its values
             # are the live buffer's); None when each read must copy rows no slice covers.
             fixed = None

@@ -39,6 +39,7 @@ class Compiled(NamedTuple):
     xml: str
     assets: dict[str, bytes]
     ids: dict[Element, int]  # the compiled index of each element with a generated name
+    lines: list[Element | None]  # the element each line of `xml` writes (its start tag)
 
     def name_of(self, element: Element) -> str:
         """The name `element` has in the compiled model; raises mjcf.BindingError for
@@ -74,6 +75,14 @@ class Compiled(NamedTuple):
             return context.class_text(name)
         return context.prefix + unescape(name)
 
+    def sharers(self, element: Element) -> list[Element]:
+        """The elements compiled to the same mesh or texture as `element` (copies of one
+        model share them, see `mjcf.sharing`), itself first; [element] alone when it
+        shares with none."""
+        first = self.composition.shared.get(element, element)
+        group = [first, *self.composition.copies_of(first)]
+        return [element, *(e for e in group if e is not element)]
+
     def id_of(self, element: Element, kind: mujoco.mjtObj) -> int:
         """The index of `element` (an object of `kind`) in the compiled model, or -1;
         raises mjcf.BindingError like `name_of`."""
@@ -85,10 +94,11 @@ class Compiled(NamedTuple):
         return mujoco.mj_name2id(self.model, kind, name)
 
 
-def compile_composition(root: RootElement) -> Compiled:
-    """Write `root` (with attached models) and compile it; raises mjcf.CompileError
-    naming the offending element when MuJoCo rejects it."""
-    xml, assets, composition, lines = serializer.serialize_for_compile(root)
+def compile_composition(root: RootElement, share_assets: bool = True) -> Compiled:
+    """Write `root` (with attached models) and compile it, the meshes and textures of
+    copies once unless not `share_assets` (see `mjcf.sharing`); raises
+    mjcf.CompileError naming the offending element when MuJoCo rejects it."""
+    xml, assets, composition, lines = serializer.serialize_for_compile(root, share_assets)
     try:
         model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
@@ -96,7 +106,7 @@ def compile_composition(root: RootElement) -> Compiled:
     ids = composition.compiled_ids  # the same for every compile of one composition
     if ids is None:
         ids = composition.compiled_ids = _generated_ids(model, composition)
-    compiled = Compiled(model, composition, xml, assets, ids)
+    compiled = Compiled(model, composition, xml, assets, ids, lines)
     keyframes.fill(model, composition, compiled.id_of)
     return compiled
 

@@ -245,19 +245,23 @@ class ModelContext:
         return out
 
 
-def composition_of(root: RootElement, for_compile: bool = False) -> Composition:
+def composition_of(
+    root: RootElement, for_compile: bool = False, share_assets: bool = True
+) -> Composition:
     """The composition of an output of `root` (with its attached models): the one made
-    for the last output of the same kind while no model changed, else a new one."""
+    for the last output of the same kind while no model changed, else a new one. Copies'
+    meshes and textures are written once unless not `share_assets` (`mjcf.sharing`)."""
     models = [root, *attachment.attached_models(root)]
     versions = [(model, model._version) for model in models]
     cached = root._composed
-    found = cached.get(for_compile) if cached else None
+    kind = (for_compile, share_assets)
+    found = cached.get(kind) if cached else None
     if found is not None and found.versions == versions:
         return found
     previous = found or (next(iter(cached.values())) if cached else None)
-    composition = Composition(root, for_compile, models, previous)
+    composition = Composition(root, for_compile, models, previous, share_assets)
     composition.versions = versions
-    object.__setattr__(root, "_composed", {**(cached or {}), for_compile: composition})
+    object.__setattr__(root, "_composed", {**(cached or {}), kind: composition})
     return composition
 
 
@@ -275,6 +279,7 @@ class Composition:
         for_compile: bool = False,
         models: list[RootElement] | None = None,
         previous: Composition | None = None,
+        share_assets: bool = True,
     ) -> None:
         self.root = root
         # Compiling writes the file names of meshes and textures named after their file
@@ -325,7 +330,10 @@ class Composition:
         for context in self._contexts.values():
             context.finish()
         # Assets of attached models written as an earlier model's (see mjcf.sharing).
-        self.shared = sharing.shared_assets(self._models) if self.has_attachments else {}
+        self.shared = (
+            sharing.shared_assets(self._models) if self.has_attachments and share_assets else {}
+        )
+        self._copies: dict[Element, list[Element]] | None = None
         shared: dict[RootElement, list[tuple[Element, str | None]]] = {}
         for element, first in self.shared.items():
             written = self._written_name(first)
@@ -442,6 +450,14 @@ class Composition:
         if target._spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
+
+    def copies_of(self, first: Element) -> list[Element]:
+        """The assets written as `first` (see `shared`), in writing order."""
+        if self._copies is None:
+            self._copies = {}
+            for copy, written_as in self.shared.items():
+                self._copies.setdefault(written_as, []).append(copy)
+        return self._copies.get(first, [])
 
     def written_assets(self, context: ModelContext) -> list[Element]:
         """The children of `context`'s model's `<asset>` that this output writes: all

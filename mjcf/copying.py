@@ -24,10 +24,11 @@ from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from mjcf import assets, attachment, bulk, errors
+from mjcf import assets, attachment, bulk, errors, references
 from mjcf import values as _values
 from mjcf.assets import Asset
 from mjcf.element import Element
+from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.root import RootElement
 from mjcf.settings import same as _same
 
@@ -47,9 +48,11 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
         )
     if _contains(source, target):
         raise errors.AttachmentError(f"{target.path}: cannot include a copy of its own ancestor")
+    # The copy is of the source as if its references had been resolved when it was read.
+    references.pin_model(source.root)
     plan: list[tuple[Element, Element, dict[str, Any], list[Element]]] = []
     _plan_merge(target, source, override_attributes, plan)
-    _check_names(target, plan)
+    renames = _check_names(target, plan)
     clones: dict[int, Element] = {}
     for destination, origin, attributes, children in plan:
         destination._attrs.update(attributes)
@@ -60,7 +63,12 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
             destination._children.append(clone)
             for element in clone.iter():
                 element._register()
-    _relink_references(clones)
+    scope = target.root.namescope
+    for destination, (namespace, old, new) in renames.items():
+        if old is not None:
+            scope.remove(namespace, old, destination)
+        scope.add(namespace, new, destination, implicit=destination._implicit())
+    _relink_references(clones, source.root)
     target._modified()
 
 
@@ -125,10 +133,21 @@ def _named_alike(target: Element, child: Element) -> Element | None:
     return found
 
 
-def _check_names(target: Element, plan: list) -> None:
-    """Raise mjcf.NameClashError if a copy would take a name that `target`'s model has."""
+def _check_names(target: Element, plan: list) -> dict[Element, tuple[str, str | None, str]]:
+    """Raise mjcf.NameClashError if a copy would take a name that `target`'s model has
+    (a copied element, or an element merged with one, which takes its name); returns
+    {merged element: (namespace, its name, its name after the merge)} of those whose
+    name changes."""
     scope = target.root.namescope
-    for _, _, _, children in plan:
+    renames = {}
+    for destination, _, attributes, children in plan:
+        namespace = destination._spec.namespace
+        old = destination.identifier
+        new = _merged_name(destination, attributes)
+        if namespace is not None and new is not None and new != old:
+            if not _merged_implicit(destination, attributes):
+                scope.check_free(namespace, new, destination, renaming=True)
+            renames[destination] = (namespace, old, new)
         for child in children:
             for element in child.iter():
                 namespace = element._spec.namespace
@@ -143,6 +162,25 @@ def _check_names(target: Element, plan: list) -> None:
                     scope.check_free(namespace, name, element)
                 if isinstance(element, attachment.AttachmentFrame):
                     scope.check_child_free(element.attached_model.model)
+    return renames
+
+
+def _merged_name(element: Element, attributes: dict[str, Any]) -> str | None:
+    """The name `element` has once `attributes` are merged into it."""
+    identifier = element._spec.identifier
+    if identifier is None:
+        return None
+    merged = {**element._attrs, **attributes}
+    name = merged.get(identifier)
+    if name is None and element._spec.tag in NAMED_AFTER_FILE:
+        return name_from_file(merged.get("file"))
+    return name
+
+
+def _merged_implicit(element: Element, attributes: dict[str, Any]) -> bool:
+    """Whether `element`'s name after the merge is the one MuJoCo gives after a file."""
+    identifier = element._spec.identifier
+    return identifier is not None and {**element._attrs, **attributes}.get(identifier) is None
 
 
 def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
@@ -160,16 +198,27 @@ def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Ele
     return clone
 
 
-def _relink_references(clones: dict[int, Element]) -> None:
-    """References to copied elements point at their copies."""
+def _relink_references(clones: dict[int, Element], source: RootElement) -> None:
+    """References to copied elements point at their copies; those to other elements of
+    the `source` model are its names, as the included text would have them, which
+    resolve in the copies' model (see `mjcf.references`)."""
+
+    def relinked(value: Any) -> Any:
+        if isinstance(value, Element):
+            clone = clones.get(id(value))
+            if clone is not None:
+                return clone
+            if value._root is source and value.identifier is not None:
+                return value.identifier
+        return value
+
     for clone in clones.values():
-        for name, value in clone._attrs.items():
-            if isinstance(value, Element) and id(value) in clones:
-                clone._attrs[name] = clones[id(value)]
-            elif isinstance(value, list):
-                clone._attrs[name] = [
-                    clones.get(id(v), v) if isinstance(v, Element) else v for v in value
-                ]
+        attrs = clone._attrs
+        spec = clone._spec
+        for name in spec.references.intersection(attrs):
+            value = attrs[name]
+            value = [relinked(v) for v in value] if isinstance(value, list) else relinked(value)
+            attrs[name] = references.stored(clone, spec.attributes[name], value)
 
 
 def _copied_value(element: Element, name: str, value: Any) -> Any:
@@ -216,6 +265,9 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     sections = {section._spec.tag: section for section in new._children}
     for section in root._children:
         _clone_into(section, sections[section._spec.tag], memo, cloned)
+    object.__setattr__(new, "_references", root._references)
+    object.__setattr__(new, "_referenced", root._referenced)
+    object.__setattr__(new, "_forward", {memo[id(e)] for e in root._forward if id(e) in memo})
     for element in new.iter():
         if element._parent is not None:
             element._register()

@@ -17,14 +17,14 @@ attribute is `dclass` in Python.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
-from mjcf import assets, debugging, element_list, errors
+from mjcf import assets, debugging, element_list, errors, references
 from mjcf import values as _values
 from mjcf.element_list import ElementList
-from mjcf.model_operations import ModelOperations
-from mjcf.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file
+from mjcf.element_rules import ElementRules
+from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
 
 if TYPE_CHECKING:
@@ -37,9 +37,11 @@ _E = TypeVar("_E", bound="Element")
 _ALIASES = {"dclass": "class", "class_": "class"}
 
 
-class Element(ModelOperations):
+class Element(ElementRules):
     """An MJCF element. Create elements with `parent.add(tag, **attributes)`; finding,
-    removing, attaching, copying and writing are `ModelOperations`.
+    removing, attaching, copying and writing are `ModelOperations`; its name in its
+    model's scope is kept by `ElementNames`, the rules between its values by
+    `ElementRules`.
 
     Internal protocol: what the other mjcf modules may use of an element; everything
     else is this module's (tests/mjcf/test_architecture.py holds every module to it).
@@ -55,7 +57,8 @@ class Element(ModelOperations):
     trees (parser, copying, default_sections, defaults, attachment, root) make elements
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
     into them, then record names with `_register()`; `_cut()` and
-    `_unregister_subtree()` take elements out. `_text` is the serializer's cache:
+    `_unregister_subtree()` take elements out; `mjcf.references` replaces references
+    held as text in `_attrs` by the elements they name. `_text` is the serializer's cache:
     ((model version, context token, number format), attribute text) of its last write.
 
     Elements read from a file are built when first used: the parser gives a section the
@@ -230,7 +233,8 @@ class Element(ModelOperations):
             element = element._parent
         model = self._root._attrs.get("model")
         prefix = f"model {model!r}: " if model and element is self._root else ""
-        if element is not self._root:
+        if element is not self._root and element is not None:
+            parts.append(element._describe())  # the top of the removed subtree
             prefix = "(removed) "
         return prefix + "/".join(reversed(parts)) if parts else prefix + "<mujoco>"
 
@@ -300,9 +304,7 @@ class Element(ModelOperations):
             value = _values.track(converted, self)
             self._attrs[attribute.name] = value
         elif attribute.kind == "reference":
-            target = self._resolve_reference(attribute, value)
-            if target is not None:
-                self._attrs[attribute.name] = value = target
+            value = references.read(self, attribute, value)
         elif attribute.kind == "file" and value:  # an empty one names no file, for MuJoCo
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
@@ -347,6 +349,8 @@ class Element(ModelOperations):
             value = self._convert(attribute, value)
             if value is not None and attribute.name in self._spec.rule_names:
                 self._check_rules({attribute.name}, ())
+            if value is not None:
+                self._check_crash([attribute.name])
         self._store(attribute, value)
 
     def _store(self, attribute: AttributeSpec, value: Any) -> None:
@@ -368,6 +372,7 @@ class Element(ModelOperations):
             self._rename(stored)
         elif attribute.kind == "reference":
             self._check_reference(attribute, stored)
+            stored = references.stored(self, attribute, stored)
         elif attribute.kind == "file":
             if isinstance(stored, assets.Asset):
                 assets.claim(stored, self)
@@ -410,123 +415,13 @@ class Element(ModelOperations):
             setting = {a.name for a, value in converted if value is not None}
             if not self._spec.rule_names.isdisjoint(setting):
                 self._check_rules(setting, [a.name for a, value in converted if value is None])
+        self._check_crash([a.name for a, value in converted if value is not None])
         return converted
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
-        for attribute, stored in converted:
+        # References last: a name is resolved in the namespace the new values select.
+        for attribute, stored in sorted(converted, key=lambda item: item[0].kind == "reference"):
             self._store(attribute, stored)
-
-    def _check_rules(self, setting: set[str], removing: Iterable[str]) -> None:
-        """Raise mjcf.AttributeValueError if setting the attributes `setting` (and
-        removing `removing`) would set two of a group MuJoCo allows one of (two
-        orientations of a body, say)."""
-        names = (self._attrs.keys() - set(removing)) | setting
-        rule = self._spec.conflict(names)
-        if rule is not None:
-            shown = ", ".join(sorted(rule.names & names))
-            raise errors.AttributeValueError(
-                f"{self.path}: {shown} cannot be set together: {rule.describe()} (remove "
-                "one, e.g. `del element.name`, before setting another)"
-            )
-
-    # -- names: the rules are NameScope's; an element tells its scope what changes -------
-
-    def _check_name(self, name: str) -> None:
-        check_identifier(name, self)
-
-    def _check_free(self, name: str) -> None:
-        namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        if self._named_in_model():
-            self._root.namescope.check_free(namespace, name, self, renaming=True)
-        else:
-            self._check_free_in_parent(name)
-
-    # The children of an element whose class sets this False (an attachment frame's
-    # joints) are named within it, not among their model's names (see mjcf.attachment).
-    _names_children_in_model = True
-
-    def _named_in_model(self) -> bool:
-        """Whether this element's name is one of its model's names: not for a child of
-        an attachment frame, whose name is its own within the frame."""
-        parent = self._parent
-        return parent is None or parent._names_children_in_model
-
-    def _check_free_in_parent(self, name: str) -> None:
-        """Raise mjcf.NameClashError if another child of this element's parent has
-        `name` in the same namespace (for names kept within their parent)."""
-        parent = self._parent
-        assert parent is not None, "named within its parent"
-        for sibling in parent._children:
-            if (
-                sibling is not self
-                and sibling._spec.namespace == self._spec.namespace
-                and sibling.identifier == name
-            ):
-                raise errors.NameClashError(
-                    f"{self.path}: the name {name!r} is already used by another "
-                    f"{self._spec.namespace} of {parent.path}: {sibling.path}"
-                )
-
-    def _is_registered(self) -> bool:
-        """Whether this element is part of its model's tree (not removed)."""
-        element: Element = self
-        while element._parent is not None:
-            element = element._parent
-        return element is self._root
-
-    def _rename(self, new_name: str | None) -> None:
-        namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        if not self._named_in_model():
-            if new_name is not None:
-                self._check_free_in_parent(new_name)
-            return
-        scope = self._root.namescope
-        scope.rename(namespace, self.identifier, new_name, self)
-        if new_name is None and self._spec.tag in NAMED_AFTER_FILE:
-            implicit = name_from_file(self._attrs.get("file"))
-            if implicit is not None:
-                scope.add(namespace, implicit, self, implicit=True)
-
-    def _rename_after_file(self, file_value: object) -> None:
-        namespace = self._spec.namespace  # an asset's: never None
-        if namespace is None or self._attrs.get("name") is not None or not self._is_registered():
-            return
-        scope = self._root.namescope
-        old = self.identifier
-        if old is not None:
-            scope.remove(namespace, old, self)
-        new = name_from_file(file_value)
-        if new is not None:
-            scope.add(namespace, new, self, implicit=True)
-
-    def _register(self) -> None:
-        """Record this element's name in its model's scope; raises mjcf.NameClashError
-        if another element has it."""
-        namespace = self._spec.namespace
-        if namespace is None:
-            return
-        if not self._named_in_model():
-            if self.identifier:
-                self._check_free_in_parent(self.identifier)
-            return
-        name = self.identifier
-        if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
-            self._root.namescope.add(namespace, name, self, self._implicit())
-
-    def _implicit(self) -> bool:
-        return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
-
-    def _unregister_subtree(self) -> None:
-        scope = self._root.namescope
-        for element in self.iter():
-            namespace = element._spec.namespace
-            name = element.identifier
-            if namespace is not None and name is not None and element._named_in_model():
-                scope.remove(namespace, name, element)
 
     # -- references ------------------------------------------------------------------------
 
@@ -543,12 +438,6 @@ class Element(ModelOperations):
                     f"{self.path}: {attribute.name!r} refers to a {namespace}, got "
                     f"{item.path} (a {item._spec.namespace or item.tag})"
                 )
-
-    def _resolve_reference(self, attribute: AttributeSpec, name: str) -> Element | None:
-        namespace = attribute.reference_namespace(self._attrs)
-        if namespace is None or attribute.is_list:
-            return None
-        return self._root.namescope.lookup(namespace, name)
 
     # -- children -------------------------------------------------------------------------
 
@@ -576,6 +465,10 @@ class Element(ModelOperations):
     def insert(self, tag: str, position: int, **attributes: Any) -> Element:
         """Like `add`, at `position` among this element's children."""
         spec = self._child_spec(tag)
+        if self._spec.crashing_children:
+            self._check_child(
+                tag, [_ALIASES.get(n, n) for n, v in attributes.items() if v is not None]
+            )
         if not spec.repeated:
             existing = self._single_child(tag)
             if existing is not None:
@@ -626,6 +519,9 @@ class Element(ModelOperations):
                 if isinstance(stored, assets.Asset):
                     assets.claim(stored, self)
                 self._attrs[attribute.name] = stored
+        for attribute, stored in converted:
+            if stored is not None and attribute.kind == "reference":
+                self._attrs[attribute.name] = references.stored(self, attribute, stored)
 
     def _single_child(self, tag: str) -> Element | None:
         for child in self._children:
@@ -727,7 +623,7 @@ if TYPE_CHECKING:
     _Fresh = Element
 else:
 
-    class _Fresh(ModelOperations):
+    class _Fresh(ElementRules):
         """An element being built from its lxml element: the slots of `Element`, set as
         plain attributes (see `_from_xml`)."""
 

@@ -21,7 +21,9 @@ import io
 import os
 import posixpath
 import zipfile
+import zlib
 
+from mjcf import assets as _assets
 from mjcf import errors, serializer
 from mjcf.assets import plain_file_name
 from mjcf.parser import from_xml_string
@@ -187,8 +189,10 @@ def from_zip(
     `from_xml_string`); it compiles to the same model. Raises mjcf.ParseError for a
     zip that is not such an archive or that is unsafe."""
     try:
+        if isinstance(zip_path, str | os.PathLike):
+            _assets.check_file(os.fspath(zip_path))  # not a device or FIFO, not too large
         archive = zipfile.ZipFile(zip_path)
-    except (OSError, zipfile.BadZipFile) as error:
+    except (OSError, zipfile.BadZipFile, errors.AssetError) as error:
         raise errors.ParseError(f"cannot read zip {zip_path!r}: {error}") from None
     with archive:
         infos = [info for info in archive.infolist() if not info.is_dir()]
@@ -201,7 +205,13 @@ def from_zip(
                 raise errors.ParseError(
                     f"zip {zip_path!r} has an entry outside it: {info.filename!r}"
                 )
-            files[name] = archive.read(info)
+            try:
+                files[name] = archive.read(info)
+            except (OSError, EOFError, RuntimeError, NotImplementedError, zipfile.BadZipFile,
+                    zlib.error) as error:  # fmt: skip
+                raise errors.ParseError(
+                    f"zip {zip_path!r}: cannot read {info.filename!r}: {error}"
+                ) from None
     model_file = _find_model_file(files, zip_path)
     folder = posixpath.dirname(model_file)
     assets = {}

@@ -1,16 +1,17 @@
 """Checking a document's names and references without building its elements: the fast
 way `mjcf.parser` reads a model.
 
-    names = indexer.index(xml_root, check_references=True)
-    if names is None:      # a document to read element by element
+    found = indexer.index(xml_root, sections, check_references=True)
+    if found is None:      # a document to read element by element
         ...
+    names, referenced = found
     names['joint']['hip']  # the lxml element of the joint called 'hip'
 
 After the XML Schema (`mjcf.xsd`) has accepted the document, this pass checks in Python
 what reading element by element checks beyond it: names unique in their namespace,
 references naming elements that exist, elements that may appear once appearing once,
 rules between attributes, and the values the schema leaves to the converters. It
-handles the common document; for anything else (an empty name or one with a '/',
+handles the common document; for anything else (an empty name or reference, a '/',
 generated or clashing names, a `<replicate>`, any error ...) it returns None and the
 element-by-element reader reads the document, which raises the error naming the
 element, or reads what this pass does not handle.
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING
 
 from mjcf import values, xsd
 from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD, name_from_file
+from mjcf.references import ANY_NAMESPACE
 
 if TYPE_CHECKING:
     from lxml import etree
@@ -43,9 +45,11 @@ class _Plan:
 
     __slots__ = (
         "children",
+        "crashing",
         "dynamic",
         "identifier",
         "implicit",
+        "loose",
         "many_references",
         "namespace",
         "rare",
@@ -63,8 +67,10 @@ class _Plan:
         self.implicit = spec.tag in NAMED_AFTER_FILE
         static: list[tuple[str, str]] = []
         dynamic: list[AttributeSpec] = []
-        # References inside default classes are resolved where a class is used.
-        if not spec.key.startswith("default-"):
+        # References inside default classes are resolved where a class is used: they are
+        # only recorded (`referenced`), not checked.
+        self.loose = tuple(spec.references) if spec.key.startswith("default-") else ()
+        if not self.loose:
             for name in spec.references:
                 attribute = spec.attributes[name]
                 if attribute.namespace_from is None and not attribute.is_list:
@@ -82,7 +88,15 @@ class _Plan:
         # more than one of their attributes is set, or when one must be.
         self.rules = spec.rules
         self.rule_names = spec.rule_names
-        self.rare = bool(self.dynamic or self.unchecked or self.single or self.rules)
+        self.crashing = spec.crashing_children  # what crashes MuJoCo (see _refusals)
+        self.rare = bool(
+            self.dynamic
+            or self.unchecked
+            or self.single
+            or self.rules
+            or self.crashing
+            or self.loose
+        )
         self.children: dict[str, _Plan] = {}
 
 
@@ -101,13 +115,15 @@ def _plan(spec: ElementSpec) -> _Plan:
 
 def index(
     xml_root: etree._Element, sections: dict[str, ElementSpec], check_references: bool
-) -> dict[str, dict[str, etree._Element]] | None:
-    """{namespace: {name: lxml element}} of the document under `xml_root`, whose
-    top-level sections have `sections` (by tag), once each; None if the document is one
+) -> tuple[dict[str, dict[str, etree._Element]], dict[str, frozenset[str]]] | None:
+    """({namespace: {name: lxml element}}, {namespace: the names references name}) of
+    the document under `xml_root`, whose top-level sections have `sections` (by tag),
+    once each; those of default classes under ANY_NAMESPACE. None if the document is one
     for the element-by-element reader (see the module docstring)."""
     names: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
     implicit: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
     references: defaultdict[str, list[str]] = defaultdict(list)
+    loose: set[str] = set()
 
     def walk(plans: dict[str, _Plan], xml_parent: etree._Element) -> None:
         singles = None
@@ -134,23 +150,32 @@ def index(
                 for attribute, text in xml.items():
                     namespace = selected.get(attribute)
                     if namespace is not None:
-                        if PREFIX_SEPARATOR in text:
+                        if PREFIX_SEPARATOR in text or not text:
                             raise _Fallback
                         references[namespace].append(text)
             else:
                 for attribute, namespace in plan.reference_items:
                     text = xml.get(attribute)
                     if text is not None:
-                        if PREFIX_SEPARATOR in text:
+                        if PREFIX_SEPARATOR in text or not text:
                             raise _Fallback
                         references[namespace].append(text)
             if plan.rare:  # few elements need any of these
+                for attribute in plan.loose:
+                    text = xml.get(attribute)
+                    if text:
+                        loose.update(text.split())
                 if plan.dynamic:
                     _dynamic_references(xml, plan.dynamic, references)
                 if plan.unchecked:
                     _check_values(xml, plan.unchecked)
                 if plan.rules:
                     _check_rules(xml, plan)
+                for attribute, tag, child_attribute, _ in plan.crashing:
+                    if attribute is None or xml.get(attribute) is not None:
+                        for child in xml.iterchildren(tag):
+                            if child_attribute is None or child.get(child_attribute) is not None:
+                                raise _Fallback
                 if plan.single:
                     if singles is None:
                         singles = set()
@@ -172,16 +197,15 @@ def index(
         named.update(table)
     if WORLD in names.get("body", ()):
         return None  # the world body's name
+    referenced = {namespace: frozenset(targets) for namespace, targets in references.items()}
     if check_references:
-        for namespace, targets in references.items():
-            missing = set(targets).difference(names.get(namespace, ()))
-            if namespace == "body":
-                missing.discard(WORLD)
-            elif namespace == "default":
-                missing.discard("main")
+        allowed = {"body": {WORLD}, "default": {"main"}}
+        for namespace, targets in referenced.items():
+            missing = targets.difference(names.get(namespace, ()), allowed.get(namespace, ()))
             if missing:
                 return None
-    return dict(names)
+    referenced[ANY_NAMESPACE] = frozenset(loose)
+    return dict(names), referenced
 
 
 def _check_values(xml: etree._Element, attributes: tuple[AttributeSpec, ...]) -> None:

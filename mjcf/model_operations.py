@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 from lxml import etree
 
-from mjcf import errors
+from mjcf import errors, references
 from mjcf.namescope import NameScope
 
 if TYPE_CHECKING:
@@ -97,6 +97,14 @@ class ModelOperations:
         return traversal.find_all(
             _element(self), namespace, immediate_children_only, exclude_attachments
         )
+
+    def resolve_references(self) -> None:
+        """Replace every reference held as text in this element's subtree by the element
+        it names (names that match none stay text), as dm_control does after
+        `from_path(..., resolve_references=False)`; called on a model, its attached
+        models too, and the model resolves the names it is given from then on (see
+        `mjcf.references`)."""
+        references.resolve_all(_element(self))
 
     def enter_scope(self, scope_identifier: str) -> RootElement | None:
         """The model attached into this element's model under the scoped name
@@ -243,4 +251,12 @@ class ModelOperations:
         return self.to_xml_string(self_only=True, pretty_print=False)
 
     def __repr__(self) -> str:
-        return f"MJCF Element: {self}"
+        """The element's start tag as written, or where it is when it cannot be written
+        (a reference to a removed element ...): a repr never raises."""
+        try:
+            return f"MJCF Element: {self.to_xml_string(self_only=True, pretty_print=False)}"
+        except Exception as error:  # a repr must not raise, whatever failed
+            reason = (
+                str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+            )
+            return f"MJCF Element: {_element(self).path} (not writable: {reason})"

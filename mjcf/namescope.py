@@ -151,7 +151,9 @@ class NameScope:
         names[key] = element
 
     def remove(self, namespace: str, name: str, element: Element) -> None:
-        """Forget `name` if it still belongs to `element`."""
+        """Forget `name` if it still belongs to `element` (references naming it hold it
+        from then on: see `mjcf.references`)."""
+        self.model._before_name_change(namespace, name)
         names = self._namespaces.get(namespace)
         key = unescape(name)
         if names is not None and names.get(key) is element:
@@ -218,7 +220,9 @@ class NameScope:
         scope.parent = self
 
     def remove_child(self, scope: NameScope) -> None:
-        """Forget an attached model's scope."""
+        """Forget an attached model's scope (scoped references into it hold their
+        elements from then on: see `mjcf.references`)."""
+        self.model._before_name_change(None, None)
         if self._children.get(scope.name) is scope:
             del self._children[scope.name]
         scope.parent = None

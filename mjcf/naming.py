@@ -10,7 +10,9 @@
 As in dm_control, an element that can carry a name but has none is written with one:
 '/unnamed_<namespace>_<i>' after its model's scope prefix ('/' for the outermost
 model), where i is its position among all elements of that namespace in its own model
-(named or not, in document order; attachment frames count as bodies). The name is
+(named or not, in document order), counting the elements of the models attached inside
+it where they are written (dm_control counts an attachment frame as one body instead),
+so that reading a written model and writing it again gives the same names. The name is
 written in every output (`to_xml_string`, exports, compiling), so the compiled model
 has it, and it is stable while the model does not change. Reading such a name back
 (`from_xml_string(model.to_xml_string())`) leaves the element unnamed again, references
@@ -163,18 +165,33 @@ def unnamed_elements(root: RootElement) -> list[Element]:
 
 def _numbers(root: RootElement) -> dict[Element, int]:
     """{unnamed element: its position in its namespace} for the elements of `root`'s
-    own tree that get a generated name; recomputed when the model changes."""
+    own tree that get a generated name; recomputed when the model (or a model attached
+    to it) changes.
+
+    The position counts every element written before it in the model's sections, those of
+    the models attached inside it too, where they are written: an attachment frame as the
+    `<body>` or `<frame>` it is written as, its joints, then the attached world body's
+    contents. Reading the written model back makes those elements its own, under the
+    names they were written with, so it numbers its unnamed elements alike: writing,
+    reading and writing again gives the same text."""
+    models = attachment.attached_models(root)
+    key = (root._version, tuple((id(model), model._version) for model in models))
     cached = root._numbering
-    if cached is not None and cached[0] == root._version:
+    if cached is not None and cached[0] == key:
         return cached[1]
     counts: dict[str, int] = {}
     numbers: dict[Element, int] = {}
-    stack = list(reversed(root._children))
+    stack: list[tuple[Element, bool]] = [(child, True) for child in reversed(root._children)]
     while stack:
-        element = stack.pop()
+        element, own = stack.pop()
         spec = element._spec
         if isinstance(element, attachment.AttachmentFrame):
-            counts["body"] = counts.get("body", 0) + 1  # its joints are named after it
+            written = "body" if element.compiles_to_body() else "frame"
+            counts[written] = counts.get(written, 0) + 1
+            inside = element.attached_model.worldbody._children
+            stack.extend((child, False) for child in reversed(inside))
+            # Its joints are named after it (see `written_name`): counted, not numbered.
+            stack.extend((child, False) for child in reversed(element._children))
             continue
         if spec.tag in _NOT_ONE_OBJECT:
             continue
@@ -182,8 +199,8 @@ def _numbers(root: RootElement) -> dict[Element, int]:
         if namespace is not None:
             count = counts.get(namespace, 0)
             counts[namespace] = count + 1
-            if element.identifier is None:
+            if own and element.identifier is None:
                 numbers[element] = count
-        stack.extend(reversed(element._children))
-    object.__setattr__(root, "_numbering", (root._version, numbers))
+        stack.extend((child, own) for child in reversed(element._children))
+    object.__setattr__(root, "_numbering", (key, numbers))
     return numbers

@@ -26,7 +26,7 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import bulk, debugging, default_sections, errors, indexer, naming, xsd
+from mjcf import bulk, debugging, default_sections, errors, indexer, naming, references, xsd
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -59,9 +59,11 @@ def from_xml_string(
     """Parse MJCF text into a model. `model_dir` is where relative file names (meshes,
     includes) are found; `assets` supplies file contents by name; `escape_separators`
     accepts '/' in names (as '\\/'); `resolve_references` checks that every reference
-    names an existing element; `strict_paths` (for untrusted models) refuses included
-    and asset files outside `model_dir`. Raises mjcf.ParseError for malformed XML and
-    other mjcf errors for schema violations."""
+    names an existing element and makes references point at their elements, following
+    renames and removals (see `mjcf.references`); with False they stay text, as
+    dm_control keeps them, until `model.resolve_references()`; `strict_paths` (for
+    untrusted models) refuses included and asset files outside `model_dir`. Raises
+    mjcf.ParseError for malformed XML and other mjcf errors for schema violations."""
     return _parse(
         xml_string, escape_separators, model_dir, resolve_references, assets, None, strict_paths
     )
@@ -78,10 +80,9 @@ def from_path(
     mjcf.ParseError if it cannot be read (see `from_xml_string` for the rest)."""
     path = os.fspath(path)
     try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except OSError as error:
-        raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
+        data = _assets.read_file(path)
+    except errors.AssetError as error:
+        raise errors.ParseError(f"cannot read MJCF file: {error}") from None
     model_dir = os.path.dirname(os.path.abspath(path))
     return _parse(
         data, escape_separators, model_dir, resolve_references, assets, path, strict_paths
@@ -104,15 +105,20 @@ def from_file(
     if isinstance(file_object, str | os.PathLike):
         path = os.fspath(file_object)
         try:
-            handle = open(path, "rb")  # noqa: SIM115 - closed below, after parsing
-        except OSError as error:
-            raise errors.ParseError(f"cannot read MJCF file {path!r}: {error.strerror}") from None
-        with handle:
-            return from_file(
-                handle, escape_separators, model_dir, resolve_references, assets, strict_paths
-            )
-    data = file_object.read()
+            contents = _assets.read_file(path)
+        except errors.AssetError as error:
+            raise errors.ParseError(f"cannot read MJCF file: {error}") from None
+        directory = model_dir or os.path.dirname(os.path.abspath(path))
+        return _parse(
+            contents, escape_separators, directory, resolve_references, assets, path, strict_paths
+        )
+    if not callable(getattr(file_object, "read", None)):
+        raise TypeError(f"from_file needs an open file or a path, got {type(file_object).__name__}")
     name = getattr(file_object, "name", None)
+    try:
+        data = _assets.read_limited(file_object, name)
+    except errors.AssetError as error:
+        raise errors.ParseError(f"cannot read MJCF file: {error}") from None
     if not model_dir and isinstance(name, str) and os.path.exists(name):
         model_dir = os.path.dirname(os.path.abspath(name))
     filename = name if isinstance(name, str) else None
@@ -153,6 +159,9 @@ def _parse(
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
     object.__setattr__(root, "_confine_to", confine)
+    # References read stay text until a name changes (see mjcf.references).
+    mode = references.UNPINNED if resolve_references else references.BY_NAME
+    object.__setattr__(root, "_references", mode)
     if not strict_paths and _read_fast(
         root, xml_root, filename, escape_separators, resolve_references
     ):
@@ -160,6 +169,7 @@ def _parse(
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
     builder.link_unnamed()
+    object.__setattr__(root, "_referenced", builder.referenced())
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -187,9 +197,10 @@ def _read_fast(
         return False  # a section repeated, or an entity
     if not xsd.accepts(xml_root):
         return False
-    names = indexer.index(xml_root, root._spec.children, check_references)
-    if names is None:
+    found = indexer.index(xml_root, root._spec.children, check_references)
+    if found is None:
         return False
+    names, referenced = found
     builder = _Builder(root, filename, escape_separators)
     for xml_section in xml_root:
         section = root._section(xml_section.tag)
@@ -200,6 +211,7 @@ def _read_fast(
         if len(xml_section):
             section._defer(xml_section)
     root.namescope.load(names)
+    object.__setattr__(root, "_referenced", referenced)
     return True
 
 
@@ -234,37 +246,50 @@ def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
 
 
 def _expand_includes(
-    element: etree._Element,
+    root: etree._Element,
     model_dir: str,
     filename: str | None,
     assets: dict,
     included: set[str],
     confine: str | None,
 ) -> None:
-    """Replace every <include file=...> below `element` by the children of the
-    included file's root, recursively, as MuJoCo does."""
-    for include in list(element.iter("include")):
-        if include.getparent() is None:
-            continue
-        file_attr = include.attrib.get("file")
-        where = _where(filename, include)
-        if not file_attr:
-            raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
-        data, path = _include_source(file_attr, model_dir, filename, assets, where, confine)
-        key = os.path.abspath(path) if path else "asset:" + file_attr
-        if key in included:
-            raise errors.ParseError(
-                f"{where}: {file_attr!r} is included more than once (or includes itself); "
-                "MuJoCo allows each file to be included once"
-            )
-        if len(included) > _MAX_INCLUDES:
-            raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
-        included.add(key)
-        included_root = _read_xml(data, path or file_attr)
-        _expand_includes(included_root, model_dir, path or file_attr, assets, included, confine)
+    """Replace every <include file=...> below `root` by the children of the included
+    file's root, recursively, as MuJoCo does. Files are read depth first, then each
+    <include> is replaced once the file it names is whole, innermost first: a chain of
+    a thousand nested files takes no Python recursion."""
+    found: list[tuple[etree._Element, etree._Element, str]] = []  # include, file root, where
+    pending = [(root, filename)]
+    while pending:
+        tree, source = pending.pop()
+        for include in list(tree.iter("include")):
+            where = _where(source, include)
+            if any(
+                isinstance(child.tag, str) or isinstance(child, etree._Entity) for child in include
+            ):
+                raise errors.ParseError(
+                    f"{where}: an <include> cannot have children (MuJoCo refuses them); put "
+                    "them in the included file or next to the <include>"
+                )
+            file_attr = include.attrib.get("file")
+            if not file_attr:
+                raise errors.ParseError(f"{where}: <include> requires the attribute 'file'")
+            data, path = _include_source(file_attr, model_dir, source, assets, where, confine)
+            key = os.path.abspath(path) if path else "asset:" + file_attr
+            if key in included:
+                raise errors.ParseError(
+                    f"{where}: {file_attr!r} is included more than once (or includes itself); "
+                    "MuJoCo allows each file to be included once"
+                )
+            if len(included) > _MAX_INCLUDES:
+                raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
+            included.add(key)
+            included_root = _read_xml(data, path or file_attr)
+            found.append((include, included_root, f"{where}: included file {file_attr!r}"))
+            pending.append((included_root, path or file_attr))
+    for include, included_root, where in reversed(found):
         children = [c for c in included_root if isinstance(c.tag, str)]
         if not children:
-            raise errors.ParseError(f"{where}: included file {file_attr!r} has no elements")
+            raise errors.ParseError(f"{where} has no elements")
         parent = include.getparent()
         position = parent.index(include)
         parent.remove(include)
@@ -299,12 +324,9 @@ def _include_source(
     for candidate in candidates:
         if os.path.isfile(candidate):
             try:
-                with open(candidate, "rb") as handle:
-                    return handle.read(), candidate
-            except OSError as error:
-                raise errors.ParseError(
-                    f"{where}: cannot read {candidate!r}: {error.strerror}"
-                ) from None
+                return _assets.read_file(candidate), candidate
+            except errors.AssetError as error:
+                raise errors.ParseError(f"{where}: {error}") from None
     looked = ", ".join(map(repr, candidates))
     raise errors.MissingFileError(
         f"{where}: included file {file_attr!r} not found (looked in {looked}, and among the "
@@ -393,6 +415,11 @@ class _Builder:
                 self.unnamed[(spec.namespace, text)] = element
                 del attrib[name]
             elif kind == "reference":
+                refused = attribute.refused.get(text)
+                if refused is not None:
+                    raise errors.AttributeValueError(
+                        f"{_where(self.filename, xml)}: {element.path}: {name!r} {refused}"
+                    )
                 attrib[name] = self._reference_text(element, attribute, text, xml)
             elif kind == "identifier":
                 attrib[name] = self._name_text(element, attribute, text, xml)
@@ -497,6 +524,13 @@ class _Builder:
                     raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
                 self._children(element, xml)
+                if spec.crashing_children:
+                    children = [(c._spec.tag, c._attrs) for c in element._children]
+                    crash = spec.crash(element._attrs, children)
+                    if crash is not None:
+                        raise errors.SchemaError(
+                            f"{_where(filename, xml)}: {element.path}: {crash}"
+                        )
 
     def link_unnamed(self) -> None:
         """References that name an element by the name mjcf generated for it point at
@@ -527,6 +561,26 @@ class _Builder:
                 self.with_references.append(element)
         if len(xml):
             self._children(element, xml)
+
+    def referenced(self) -> dict[str, frozenset[str]]:
+        """{namespace: the names the references read name} (those of default classes
+        under `references.ANY_NAMESPACE` too), for `mjcf.references`."""
+        found: dict[str, set[str]] = {references.ANY_NAMESPACE: set()}
+        for element in self.with_references:
+            attrs = element._attrs
+            loose = element._spec.key.startswith("default-")
+            for name in element._spec.references.intersection(attrs):
+                value = attrs[name]
+                if not isinstance(value, str):
+                    continue
+                attribute = element._spec.attributes[name]
+                namespace = attribute.reference_namespace(attrs)
+                words = value.split() if attribute.is_list else [value]
+                if namespace is not None:
+                    found.setdefault(namespace, set()).update(words)
+                if loose or namespace is None:
+                    found[references.ANY_NAMESPACE].update(words)
+        return {namespace: frozenset(words) for namespace, words in found.items()}
 
     def check_files(self) -> None:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's

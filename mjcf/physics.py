@@ -47,6 +47,7 @@ from mjcf import (
     compiler,
     errors,
     fields,
+    frame_binding,
     model_constants,
     mujoco_log,
     named,
@@ -162,7 +163,9 @@ class Physics(StateAccess):
         self._on_demand: tuple[Any, ...] = ()  # mj_ functions bound fields need run
         self._scratch: mujoco.MjData | None = None  # for mj_setConst, which clobbers data
         self._bindings: dict[tuple, binding_module.Binding] = {}
-        self._element_bindings: dict[object, binding_module.Binding] = {}
+        self._element_bindings: dict[
+            object, binding_module.Binding | frame_binding.FrameBinding
+        ] = {}
         self._named: named.NamedAccess | None = None
         self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
         self._state_check = validity.StateCheck(self)
@@ -194,21 +197,25 @@ class Physics(StateAccess):
         return cls(_compile(mujoco.MjModel.from_binary_path, os.fspath(path), None))
 
     @classmethod
-    def from_mjcf_model(cls, mjcf_model: RootElement) -> Physics:
+    def from_mjcf_model(cls, mjcf_model: RootElement, share_assets: bool = True) -> Physics:
         """Compile an `mjcf.RootElement` (with its attached models); its elements can
-        then be bound with `bind`. Raises CompileError naming the offending element."""
-        compiled = compiler.compile_composition(mjcf_model)
+        then be bound with `bind`. Copies of one model compile their meshes and textures
+        once (`mjcf.sharing`), which bindings can read but not write, unless not
+        `share_assets`. Raises CompileError naming the offending element."""
+        compiled = compiler.compile_composition(mjcf_model, share_assets)
         physics = cls(compiled.model)
         physics._compiled = compiled
         return physics
 
-    def reload_from_mjcf_model(self, mjcf_model: RootElement, keep_state: bool = False) -> None:
+    def reload_from_mjcf_model(
+        self, mjcf_model: RootElement, keep_state: bool = False, share_assets: bool = True
+    ) -> None:
         """Recompile `mjcf_model` into this physics, with fresh data (time 0, the model's
-        initial state), as `from_mjcf_model` would give; `keep_state=True` keeps time and
-        the state of the joints, actuators and mocap bodies that still exist instead.
-        Bindings made before must be made again. Raises CompileError (and then changes
-        nothing)."""
-        compiled = compiler.compile_composition(mjcf_model)
+        initial state), as `from_mjcf_model` would give (`share_assets` as there);
+        `keep_state=True` keeps time and the state of the joints, actuators and mocap
+        bodies that still exist instead. Bindings made before must be made again. Raises
+        CompileError (and then changes nothing)."""
+        compiled = compiler.compile_composition(mjcf_model, share_assets)
         data = mujoco.MjData(compiled.model)
         if keep_state:
             unnamed = compiler.unnamed_pairs(self.__dict__.get("_compiled"), compiled)
@@ -258,15 +265,27 @@ class Physics(StateAccess):
             raise errors.BindingError(
                 f"bind() takes an element or an iterable of elements, got {type(elements).__name__}"
             ) from None
-        found = self._element_bindings.get(key)
-        if found is not None:
-            return found
+        cached = self._element_bindings.get(key)
+        if cached is not None:
+            return cached
         if not key:
             return binding_module.EMPTY
         items = [elements] if isinstance(elements, ElementType) else list(key)
-        compiled = self.__dict__.get("_compiled")
-        kind, ids = tree_binding.element_ids(compiled, self._model, items)
-        found = self._binding(kind, int(ids[0]) if single else ids)
+        found: binding_module.Binding | frame_binding.FrameBinding
+        frames = frame_binding.bind_frames(self, items, single)
+        if frames is not None:
+            found = frames
+        else:
+            compiled = self.__dict__.get("_compiled")
+            kind, ids = tree_binding.element_ids(compiled, self._model, items)
+            refusal = None if compiled is None else tree_binding.write_refusal(compiled, items)
+            if refusal is None:
+                found = self._binding(kind, int(ids[0]) if single else ids)
+            else:  # read-only, and apart from the cached bindings of these objects
+                found = binding_module.binding_class(kind)(
+                    self, kind, int(ids[0]) if single else ids
+                )
+                found._refuse_writes(refusal)
         self._element_bindings[key] = found
         return found
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 from typing import TYPE_CHECKING, Any
 
-from mjcf import errors, schema
+from mjcf import errors, references, schema
 from mjcf.element import Element
 from mjcf.namescope import NameScope, check_model_name
 
@@ -42,7 +42,9 @@ class RootElement(Element):
     `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
     `mjcf.composition`'s cache of the last composition of each kind of output;
     `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
-    read by `mjcf.assets`.
+    read by `mjcf.assets`; `_references`, `_referenced` and `_forward` are
+    `mjcf.references`' state of the model's references, which `mjcf.namescope` asks to
+    follow a name change with `_before_name_change(namespace, name)`.
     """
 
     __slots__ = (
@@ -51,10 +53,13 @@ class RootElement(Element):
         "_composed",
         "_confine_to",
         "_early",
+        "_forward",
         "_frame",
         "_model_dir",
         "_namescope",
         "_numbering",
+        "_referenced",
+        "_references",
         "_version",
     )
 
@@ -64,9 +69,12 @@ class RootElement(Element):
     _frame: AttachmentFrame | None
     _attachments: list[AttachmentFrame]
     _confine_to: str | None
-    _numbering: tuple[int, dict[Element, int]] | None
-    _composed: dict[bool, Any] | None
+    _numbering: tuple[tuple, dict[Element, int]] | None
+    _composed: dict[tuple[bool, bool], Any] | None
     _early: dict[Any, Element]
+    _references: int
+    _referenced: dict[str, frozenset[str]] | None
+    _forward: set[Element]
     _version: int
 
     def __init__(
@@ -89,12 +97,16 @@ class RootElement(Element):
         setter(self, "_attachments", [])
         # With strict_paths, the real folder that every file of the model must be in.
         setter(self, "_confine_to", None)
-        # (version, {unnamed element: number}) for generated names (see mjcf.naming).
+        # (versions, {unnamed element: number}) for generated names (see mjcf.naming).
         setter(self, "_numbering", None)
         # {for compiling: the last composition of this model} (see mjcf.composition).
         setter(self, "_composed", None)
         # {lxml element: element built from it before its siblings} (see Element._defer).
         setter(self, "_early", {})
+        # How references are kept, and those naming no element yet (see mjcf.references).
+        setter(self, "_references", references.PINNED)
+        setter(self, "_referenced", None)
+        setter(self, "_forward", set())
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)
@@ -210,6 +222,11 @@ class RootElement(Element):
                 return None
             element = child
         return element
+
+    def _before_name_change(self, namespace: str | None, name: str | None) -> None:
+        """Name `name` of `namespace` of this model is about to change or go (None: the
+        name of a model attached to it): see `references.before_name_change`."""
+        references.before_name_change(self, namespace, name)
 
     def __getstate__(self) -> tuple[None, dict[str, Any]]:
         """Pickled with every element built (see `Element._defer`)."""

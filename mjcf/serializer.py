@@ -85,17 +85,18 @@ def file_name_of(root: RootElement, asset: _assets.Asset) -> str | None:
 
 @bulk.whole_tree
 def serialize_for_compile(
-    root: RootElement,
+    root: RootElement, share_assets: bool = True
 ) -> tuple[str, dict[str, bytes], composition.Composition, list[Element | None]]:
     """What MuJoCo compiles: the XML with every element named, files on disk by their
     absolute path (MuJoCo reads them and caches their meshes) and other assets under a
     flat unique name, those assets, the composition (how elements are named), and the
     element written on each line. Written once for each composition: compiling a model
-    again while no model changed writes nothing."""
-    composed = composition.composition_of(root, for_compile=True)
+    again while no model changed writes nothing. Copies' meshes and textures are written
+    once unless not `share_assets` (see `mjcf.sharing`)."""
+    composed = composition.composition_of(root, for_compile=True, share_assets=share_assets)
     if composed.compiled_text is None:
         files = _assets.FileNamer(root, by_path=True)
-        writer = _Writer(root, 17, True, files, for_compile=True)
+        writer = _Writer(root, 17, True, files, for_compile=True, share_assets=share_assets)
         writer.write_root()
         composed.compiled_text = ("".join(writer.parts), files.contents(), writer.owners)
     xml, assets, owners = composed.compiled_text
@@ -167,6 +168,7 @@ class _Writer:
         files: _assets.FileNamer,
         for_compile: bool,
         zero_threshold: float = 0.0,
+        share_assets: bool = True,
     ) -> None:
         self.root = root
         self.precision = precision
@@ -179,7 +181,7 @@ class _Writer:
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.composition_of(root, for_compile)
+        self.composed = composition.composition_of(root, for_compile, share_assets)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
         self._writers: dict[composition.ModelContext, _Write] = {}

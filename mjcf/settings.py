@@ -326,9 +326,9 @@ def unscaled_mass(model: RootElement) -> float:
     key = _compile_key(xml, assets)
     total = _unscaled_masses.get(key)
     if total is None:
-        spec = mujoco.MjSpec.from_string(xml, assets=assets)
-        spec.compiler.settotalmass = -1
         try:
+            spec = mujoco.MjSpec.from_string(xml, assets=assets)
+            spec.compiler.settotalmass = -1
             compiled = spec.compile()
         except ValueError as error:
             raise errors.CompileError(

@@ -17,9 +17,18 @@ model is never shared. Within one model nothing is shared: a model compiles, alo
 composed, to the assets its author wrote.
 
 The models' trees are untouched: each keeps its own elements, names and scopes; only
-the compiled model has one asset where the copies had several, so binding a copy's mesh
-reaches the one it shares, and editing a copy's mesh in the tree (another scale) gives
-it its own asset again at the next compile.
+the compiled model has one asset where the copies had several. Editing a copy's mesh in
+the tree (another scale) gives it its own asset again at the next compile. Binding a
+copy's mesh or texture (`physics.bind(arm_7_mesh)`) reaches the one asset all the copies
+compile to: it reads as ever, but a write through it would change every copy, so it is
+refused (mjcf.BindingError, naming the copies that share it), through any copy, the first
+too. To write one copy's asset at run time, compile without sharing:
+`mjcf.Physics.from_mjcf_model(scene, share_assets=False)` (or
+`physics.reload_from_mjcf_model(scene, share_assets=False)`), which compiles every copy's
+meshes and textures apart, at the cost of the memory sharing saves. Named access
+(`physics.named.model.mesh_scale['arm/base']`) and `physics.model` address the compiled
+asset itself, by the first copy's name, as MuJoCo's own API does: what they write is what
+every copy compiled to.
 """
 
 from __future__ import annotations

@@ -107,6 +107,24 @@ def _id_by_name(model: mujoco.MjModel, kind: mujoco.mjtObj, element: Element) ->
     return index
 
 
+def write_refusal(compiled: Compiled, elements: list[Element]) -> str | None:
+    """Why bindings of `elements` may not be written: one of them is a mesh or texture
+    compiled once for several copies of a model (`mjcf.sharing`), which a write would
+    change for all of them; None if none is."""
+    for element in elements:
+        sharers = compiled.sharers(element)
+        if len(sharers) > 1:
+            names = ", ".join(repr(e.full_identifier) for e in sharers[1:4])
+            more = f" and {len(sharers) - 4} more" if len(sharers) > 4 else ""
+            return (
+                f"{element.path} is compiled once for {len(sharers)} copies of it (shared "
+                f"with {names}{more}, see mjcf/sharing.py), so a write through it would change "
+                "them all: read it freely, or compile with Physics.from_mjcf_model(model, "
+                "share_assets=False) to give each copy its own"
+            )
+    return None
+
+
 def transfer_state(
     old_model: mujoco.MjModel,
     old_data: mujoco.MjData,

@@ -15,6 +15,7 @@ and writing a model never converts numbers it does not need to.
 from __future__ import annotations
 
 import copy
+import math
 import numbers
 import re
 import struct
@@ -235,7 +236,9 @@ class _Numbers(_Converter):
     def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
         self.limit = _FLOAT32_TOO_LARGE if spec.float32 else float("inf")
-        self.bounded = spec.min_value is not None or spec.max_value is not None
+        self.bounded = (
+            spec.min_value is not None or spec.max_value is not None or spec.finite is not None
+        )
 
     def _check_count(self, count: int, shown: object) -> None:
         spec = self.spec
@@ -270,6 +273,8 @@ class _Numbers(_Converter):
         spec = self.spec
         low, high = spec.min_value, spec.max_value
         for value in values:
+            if spec.finite is not None and not math.isfinite(value):
+                raise InvalidValue(f"takes finite {self.noun}, got {shown!r}: {spec.finite}")
             if value != value:  # NaN passes MuJoCo's comparisons
                 continue
             if spec.float32:
@@ -417,6 +422,10 @@ class _Keyword(_Converter):
         spec = self.spec
         if text in spec.values or (spec.blank and _is_blank(text)):
             return
+        if spec.refused:
+            refused = spec.refused.get(text.strip(" \t\n\r").lower())
+            if refused is not None:
+                raise InvalidValue(refused)
         if self.lenient:
             word = text.strip(" \t\n\r") if spec.trims else text
             if word in spec.values or (self.folded is not None and word.lower() in self.folded):
@@ -467,7 +476,14 @@ class _Identifier(_Converter):
 class _Reference(_Converter):
     """References keep names as `str` and element objects as given; the element
     checks namespaces, since only it knows the model. An empty name is kept: MuJoCo
-    reads it as no reference, except for a default class, which must be named."""
+    reads it as no reference, except for a default class, which must be named, and
+    where MuJoCo takes it for the first unnamed element (`AttributeSpec.refused`)."""
+
+    def from_text(self, text: str) -> object:
+        refused = self.spec.refused.get(text)
+        if refused is not None:
+            raise InvalidValue(refused)
+        return super().from_text(text)
 
     def from_python(self, value: object) -> object:
         if self.spec.is_list:
@@ -483,7 +499,7 @@ class _Reference(_Converter):
         if isinstance(value, str):
             if not value and self.spec.namespace == "default":
                 raise InvalidValue("takes the name of a default class, got ''")
-            return value
+            return self.from_text(value)
         if _is_element(value):
             return value
         raise InvalidValue(f"takes a name or an element, got {type(value).__name__}: {value!r}")

@@ -72,9 +72,17 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
         and attribute.min_value is None
         and attribute.max_value is None
     ):
-        # Integers in 32 bits, as MuJoCo reads them; reals within a C double or float.
-        item = "xs:int" if attribute.kind == "int" else "float" if attribute.float32 else "double"
-        return ("numbers", item, attribute.min, attribute.max)
+        # Integers in 32 bits, as MuJoCo reads them; reals within a C double or float,
+        # and without INF and NaN where mjcf wants them finite (see schema._refusals).
+        item = "float" if attribute.float32 else "double"
+        if attribute.finite is not None:
+            item = "finite-" + item
+        return (
+            "numbers",
+            "xs:int" if attribute.kind == "int" else item,
+            attribute.min,
+            attribute.max,
+        )
     return None
 
 
@@ -151,8 +159,13 @@ _REALS = "".join(
     f'<xs:totalDigits value="{digits}"/></xs:restriction></xs:simpleType>'
     f'<xs:simpleType name="{name}-exponent"><xs:restriction base="xs:double">'
     f'<xs:minExclusive value="-{largest}"/><xs:maxExclusive value="{largest}"/>'
-    '<xs:pattern value=".*[0-9NF]"/></xs:restriction></xs:simpleType>'
-    for name, digits, largest in (("double", 300, "1.7e308"), ("float", 38, "3.4e38"))
+    f'<xs:pattern value=".*[0-9{last}]"/></xs:restriction></xs:simpleType>'
+    for name, digits, largest, last in (
+        ("double", 300, "1.7e308", "NF"),
+        ("float", 38, "3.4e38", "NF"),
+        ("finite-double", 300, "1.7e308", ""),  # no INF, no NaN
+        ("finite-float", 38, "3.4e38", ""),
+    )
 )
 
 

@@ -10,7 +10,8 @@ generator: `python -m tools.mjcf_schema.generate`).
 An `ElementSpec` says which attributes and children an element may have in one
 place of the tree (a `<geom>` in a body differs from a `<geom>` in a default class);
 an `AttributeSpec` says what values an attribute takes. Specs are immutable and
-shared by every element of that kind.
+shared by every element of that kind. On top of the generated data, mjcf refuses
+what crashes MuJoCo and empty names MuJoCo binds to unnamed elements (`_refusals`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from pathlib import Path
 import mujoco
 
 from mjcf import values as _values
+from mjcf.schema import _refusals
 
 __all__ = [
     "DATA_FILE",
@@ -54,6 +56,7 @@ class AttributeSpec:
         "checks_text",
         "converter",
         "default",
+        "finite",
         "float32",
         "gaps",
         "integers",
@@ -71,6 +74,7 @@ class AttributeSpec:
         "namespace_from",
         "namespace_map",
         "ordered",
+        "refused",
         "required",
         "scalar",
         "scoped",
@@ -108,6 +112,10 @@ class AttributeSpec:
         # Blank text: numbers and text take it (MuJoCo reads it as not set), keywords not.
         self.blank: bool = bool(data.get("blank", self.kind != "keyword"))
         self.trims: bool = bool(data.get("trims", False))
+        # Text mjcf refuses though MuJoCo's reader takes it, and why (see _refusals);
+        # why it refuses infinite or NaN numbers here, if it does.
+        self.refused: dict[str, str] = {}
+        self.finite: str | None = None
         # Numbers with exactly one value read back as Python scalars, others as arrays.
         self.scalar: bool = self.kind in ("int", "real") and self.min == 1 and self.max == 1
         # Names that take the model's name-scope prefix when models are composed.
@@ -163,7 +171,7 @@ class Rule:
     set when any attribute of it is; with `blank_is_none`, when MuJoCo does not read
     its text as none (blank numbers, empty text)."""
 
-    __slots__ = ("blank_is_none", "groups", "kind", "message", "names", "numbers")
+    __slots__ = ("blank_is_none", "groups", "kind", "message", "names", "numbers", "reason")
 
     def __init__(self, data: Mapping, attributes: Mapping[str, AttributeSpec]) -> None:
         self.kind = next(k for k in ("at_most_one", "one_of", "requires", "together") if k in data)
@@ -173,6 +181,8 @@ class Rule:
         self.groups: tuple[tuple[str, ...], ...] = tuple(tuple(g) for g in groups)
         self.names = frozenset(name for group in self.groups for name in group)
         self.message: str = data.get("message", "")
+        # Why mjcf keeps a rule MuJoCo's reader does not (see _refusals), for messages.
+        self.reason: str = data.get("reason", "")
         # Whether an attribute MuJoCo reads as none counts as not given (its reader's
         # own checks), or any text does (its schema's): blank numbers, empty text.
         self.blank_is_none = bool(data.get("blank_is_none", False))
@@ -204,7 +214,7 @@ class Rule:
         if self.kind == "at_most_one":
             return f"at most one of {shown} may be set"
         if self.kind == "one_of":
-            return f"one of {shown} must be set"
+            return f"one of {shown} must be set" + (f": {self.reason}" if self.reason else "")
         if self.kind == "together":
             return f"{' and '.join(sorted(self.names))} must be set together"
         return f"{self.groups[0][0]!r} needs {self.groups[1][0]!r}"
@@ -218,6 +228,7 @@ class ElementSpec:
         "attributes",
         "checked_on_write",
         "children",
+        "crashing_children",
         "file_attributes",
         "identifier",
         "key",
@@ -268,6 +279,33 @@ class ElementSpec:
         # Rules that an element being built may break for a while (checked on writing).
         self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")
         self.checked_on_write = bool(self.required or self.needs_rules)
+        # (own attribute or None, child tag, the child's attribute or None, why): an
+        # element with that attribute and such a child crashes MuJoCo (_refusals).
+        self.crashing_children: tuple[tuple[str | None, str, str | None, str], ...] = ()
+
+    def add_rule(self, rule: Rule) -> None:
+        """Keep `rule` too (see _refusals)."""
+        self.rules = (*self.rules, rule)
+        self.rule_names = frozenset(name for rule in self.rules for name in rule.names)
+        self.needs_rules = tuple(rule for rule in self.rules if rule.kind != "at_most_one")
+        self.checked_on_write = bool(self.required or self.needs_rules)
+
+    def crash(
+        self, attributes: Iterable[str], children: Iterable[tuple[str, Iterable[str]]]
+    ) -> str | None:
+        """Why an element of this spec with `attributes` set and `children` ((tag, the
+        attributes set), ...) would crash MuJoCo, or None (see _refusals)."""
+        if not self.crashing_children:
+            return None
+        names = set(attributes)
+        found = [(tag, set(child)) for tag, child in children]
+        for name, tag, child_name, why in self.crashing_children:
+            if name is not None and name not in names:
+                continue
+            for child_tag, child_names in found:
+                if child_tag == tag and (child_name is None or child_name in child_names):
+                    return why
+        return None
 
     @property
     def name(self) -> str:
@@ -341,6 +379,7 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
             stacklevel=3,
         )
     specs = {key: ElementSpec(key, value) for key, value in data["elements"].items()}
+    _refusals.apply(specs)
     for key, value in data["elements"].items():
         spec = specs[key]
         for child_key in value["children"]:

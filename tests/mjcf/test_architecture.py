@@ -26,26 +26,29 @@ ANY = None  # every mjcf module
 TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
-SIMULATION = frozenset({"binding", "named"})
+SIMULATION = frozenset({"binding", "named", "frame_binding"})
+# Who keeps a model's references state: the module of the rules, and the readers and
+# copiers that make models.
+REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
 # The internal protocols: private member -> (the class that documents it, the modules that
 # may use it, the modules that may change it: assign it, or mutate what it holds).
 PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_spec": ("element.Element", ANY, frozenset()),
     "_parent": ("element.Element", ANY, frozenset()),
     "_root": ("element.Element", ANY, frozenset()),
-    "_attrs": ("element.Element", ANY, TREE_BUILDERS),
+    "_attrs": ("element.Element", ANY, TREE_BUILDERS | {"references"}),
     "_children": ("element.Element", ANY, TREE_BUILDERS),
     "_source": ("element.Element", ANY, frozenset({"parser", "copying"})),
     "_get_value": ("element.Element", ANY, frozenset()),
     "_single_child": ("element.Element", ANY, frozenset()),
-    "_is_registered": ("element.Element", ANY, frozenset()),
-    "_implicit": ("element.Element", ANY, frozenset()),
+    "_is_registered": ("element_names.ElementNames", ANY, frozenset()),
+    "_implicit": ("element_names.ElementNames", ANY, frozenset()),
     "_modified": ("element.Element", ANY, frozenset()),
     "_written_empty": ("element.Element", ANY, frozenset()),
     "_keep": ("element.Element", TREE_BUILDERS, frozenset()),
     "_make": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_register": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_unregister_subtree": ("element.Element", TREE_BUILDERS, frozenset()),
+    "_register": ("element_names.ElementNames", TREE_BUILDERS | {"element"}, frozenset()),
+    "_unregister_subtree": ("element_names.ElementNames", TREE_BUILDERS, frozenset()),
     "_cut": ("element.Element", TREE_BUILDERS, frozenset()),
     "_text": ("element.Element", frozenset({"serializer"}), frozenset({"serializer"})),
     "_xml": ("element.Element", frozenset({"namescope", "root"}), frozenset()),
@@ -60,6 +63,10 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_numbering": ("root.RootElement", frozenset({"naming"}), frozenset({"naming"})),
     "_composed": ("root.RootElement", frozenset({"composition"}), frozenset({"composition"})),
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
+    "_references": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_forward": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_referenced": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
     "_model": ("physics.Physics", SIMULATION, frozenset()),
     "_data": ("physics.Physics", SIMULATION, frozenset()),
     "_stale": ("physics.Physics", SIMULATION, frozenset({"binding"})),
@@ -69,6 +76,7 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_live_bindings": ("physics.Physics", frozenset({"binding"}), frozenset({"binding"})),
     "_raise_if_invalid": ("physics.Physics", frozenset({"validity"}), frozenset()),
     "_detach": ("binding.Binding", frozenset({"physics"}), frozenset()),
+    "_refuse_writes": ("binding.Binding", frozenset({"physics"}), frozenset()),
     "_writeback": ("binding.WriteThrough", frozenset({"named"}), frozenset({"named"})),
 }
 _MUTATORS = frozenset(

@@ -15,6 +15,7 @@ import pytest
 import mjcf
 from tests.conftest import MENAGERIE, MUJOCO_TESTDATA, ROBOTIQ, UR5E
 from tests.mjcf.compare import model_differences
+from tools.mjcf_schema._cases import _png
 
 PAD = MENAGERIE / "robotiq_2f85" / "assets" / "pad.stl"
 DRIVER = MENAGERIE / "robotiq_2f85" / "assets" / "driver.stl"
@@ -448,3 +449,34 @@ def test_an_included_file_and_the_files_it_names_given_as_assets(menagerie) -> N
     assets = model.get_assets()
     assert assets == {"dots.png": DOTS_PNG, "pad.stl": PAD.read_bytes()}
     _assert_names_fit_mujoco(model)
+
+
+@pytest.mark.parametrize("by_reference", ["embed", "passthrough"])
+def test_textures_left_by_reference_compile_from_an_export_as_the_physics_compiles_them(
+    tmp_path: Path, by_reference: str
+) -> None:
+    """MuJoCo leaves a texture by reference only when it reads it from a file on disk, so
+    the README's recipe (assets in memory) refuses `embed="false"` and embeds the pixels
+    under `passthrough="textures"`, as the README says next to it; an export compiles to
+    what `Physics.from_mjcf_model` compiles."""
+    image = tmp_path / "tex.png"
+    image.write_bytes(_png())
+    model = mjcf.RootElement(model="m")
+    if by_reference == "passthrough":
+        model.compiler.passthrough = "textures"
+    extra = {"embed": "false"} if by_reference == "embed" else {}
+    texture = model.asset.add("texture", name="t", type="2d", file=str(image), **extra)
+    model.asset.add("material", name="mat", texture=texture)
+    model.worldbody.add("geom", size=[1], material="mat")
+    physics = mjcf.Physics.from_mjcf_model(model)
+    assert physics.model.ntexdata == 0  # by reference
+    if by_reference == "embed":
+        with pytest.raises(ValueError, match="cannot be by reference"):
+            mujoco.MjModel.from_xml_string(model.to_xml_string(), model.get_assets())
+    else:
+        recipe = mujoco.MjModel.from_xml_string(model.to_xml_string(), model.get_assets())
+        assert recipe.ntexdata > 0  # embedded: MuJoCo read it from memory
+    out = tmp_path / "out"
+    mjcf.export_with_assets(model, out)
+    exported = mujoco.MjModel.from_xml_path(str(out / "model.xml"))
+    assert model_differences(exported, physics.model) == []

@@ -133,6 +133,34 @@ def test_include_cycle_and_missing_include(tmp_path: Path) -> None:
         mjcf.from_path(tmp_path / "lost.xml")
 
 
+def test_children_of_an_include_are_refused_as_mujoco_refuses_them(tmp_path: Path) -> None:
+    (tmp_path / "part.xml").write_text('<mujoco><body name="p"><geom size="1"/></body></mujoco>')
+    path = tmp_path / "model.xml"
+    path.write_text(
+        '<mujoco><worldbody><include file="part.xml"><joint name="j"/></include></worldbody>'
+        "</mujoco>"
+    )
+    with pytest.raises(ValueError, match="cannot have children"):
+        mujoco.MjModel.from_xml_path(str(path))
+    with pytest.raises(mjcf.ParseError, match=r"model.xml:1: an <include> cannot have children"):
+        mjcf.from_path(path)
+
+
+def test_a_chain_of_a_thousand_nested_includes_reads_as_mujoco_compiles_it(
+    tmp_path: Path,
+) -> None:
+    depth = 1000
+    for i in range(depth):
+        (tmp_path / f"f{i}.xml").write_text(f'<mujoco><include file="f{i + 1}.xml"/></mujoco>')
+    (tmp_path / f"f{depth}.xml").write_text(
+        '<mujoco><worldbody><geom name="deep" size="1"/></worldbody></mujoco>'
+    )
+    expected = mujoco.MjModel.from_xml_path(str(tmp_path / "f0.xml"))
+    model = mjcf.from_path(tmp_path / "f0.xml")
+    assert model.find("geom", "deep") is not None
+    assert mjcf.Physics.from_mjcf_model(model).model.ngeom == expected.ngeom == 1
+
+
 def test_root_must_be_mujoco_and_sections_known() -> None:
     with pytest.raises(mjcf.ParseError, match="root element of an MJCF model is <mujoco>"):
         mjcf.from_xml_string("<robot/>")
@@ -199,3 +227,49 @@ def test_counts_mujoco_refuses_inside_the_range() -> None:
     _unchanged(root, lambda: setattr(frame, "scale", [1, 2]), mjcf.AttributeValueError, "1 or 3")
     frame.scale = [3, 3, 3]
     assert mujoco.MjModel.from_xml_string(root.to_xml_string()).geom_size[0, 0] == 3
+
+
+# -- mjcf errors, never raw ones ------------------------------------------------------------
+
+
+def test_a_settotalmass_model_mujocos_reader_refuses_raises_a_compile_error() -> None:
+    """MjSpec.from_string's ValueError, when the attached model is compiled alone to find
+    the mass its settotalmass scales, is an mjcf.CompileError naming the model."""
+    child = mjcf.RootElement(model="child")
+    child.compiler.settotalmass = 5
+    child.asset.add(  # MuJoCo's reader checks the layout against the grid
+        "texture", name="t", type="cube", builtin="checker", width=8, height=8,
+        gridsize=[2, 2], gridlayout="ABC",
+    )  # fmt: skip
+    child.worldbody.add("body", name="b").add("geom", size=[0.1])
+    parent = mjcf.RootElement(model="parent")
+    parent.attach(child)
+    with pytest.raises(mjcf.CompileError, match=r"model 'child'.*settotalmass.*gridlayout"):
+        parent.to_xml_string()
+    with pytest.raises(mjcf.CompileError, match="gridlayout length must match gridsize"):
+        mjcf.Physics.from_mjcf_model(parent)
+
+
+@pytest.mark.parametrize("name", ["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis"])
+def test_a_blank_pose_of_an_attachment_site_reads_as_not_set(name: str) -> None:
+    parent = mjcf.RootElement(model="parent")
+    site = parent.worldbody.add("site", name="s", **{name: ""})
+    child = mjcf.RootElement(model="child")
+    child.worldbody.add("geom", name="g", size=[0.1])
+    frame = site.attach(child)
+    assert frame.get_attributes() == {}
+    physics = mjcf.Physics.from_mjcf_model(parent)
+    assert physics.bind(child.find("geom", "g")).xpos.tolist() == [0, 0, 0]
+
+
+def test_repr_never_raises() -> None:
+    model = mjcf.from_xml_string(
+        '<mujoco><worldbody><body><joint name="j"/><geom size="1"/></body></worldbody>'
+        '<actuator><motor name="m" joint="j"/></actuator></mujoco>'
+    )
+    motor = model.find("actuator", "m")
+    model.find("joint", "j").remove()
+    with pytest.raises(mjcf.InvalidReferenceError):
+        motor.to_xml_string()
+    assert repr(motor).startswith('MJCF Element: <actuator>/<motor name="m"> (not writable:')
+    assert "removed" in repr(motor)

@@ -100,8 +100,9 @@ def test_free_attachment_frame_binds_as_a_body() -> None:
     still.worldbody.add("geom", size=[0.1])
     fixed = scene.attach(still)
     physics = mjcf.Physics.from_mjcf_model(scene)
+    assert physics.bind(fixed).xpos.tolist() == [0, 0, 0]  # a frame's pose: see frame_binding
     with pytest.raises(mjcf.BindingError, match="compiles to a MuJoCo <frame>"):
-        physics.bind(fixed)
+        physics.bind(fixed).pos = [0, 0, 1]
 
 
 def test_binding_errors() -> None:

@@ -313,3 +313,16 @@ def test_commit_defaults_of_actuators_whose_class_sets_other_shortcuts() -> None
     mjcf.commit_defaults(reading)  # a <general> of settings only: committed
     assert reading.actuator.position[0].kp == 5
     assert model_differences(expected, mjcf.Physics.from_mjcf_model(reading).model) == []
+
+
+def test_the_top_level_default_class_cannot_be_renamed_through_the_api() -> None:
+    """As the reader refuses it (MuJoCo: "top-level default class 'main' cannot be
+    renamed"), and the model stays as it was."""
+    model = mjcf.RootElement()
+    model.default.geom.rgba = [1, 0, 0, 1]
+    before = model.to_xml_string()
+    with pytest.raises(mjcf.AttributeValueError, match="top-level default class is 'main'"):
+        model.default.dclass = "mine"
+    assert model.to_xml_string() == before
+    model.default.dclass = "main"  # its own name, as MuJoCo takes it
+    mjcf.Physics.from_mjcf_model(model)

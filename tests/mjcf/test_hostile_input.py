@@ -3,6 +3,10 @@ work on hostile documents, and only mjcf errors out of the public API."""
 
 from __future__ import annotations
 
+import copy
+import os
+import subprocess
+import sys
 import time
 import zipfile
 from pathlib import Path
@@ -111,12 +115,24 @@ def _mutated(draw) -> str:
 @given(_mutated())
 def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
     """Whatever a mutated real model does, only mjcf.Error subclasses escape reading,
-    writing and compiling it."""
+    writing, copying, attaching, compiling and binding it, and a repr never raises."""
     try:
         model = mjcf.from_xml_string(text, model_dir=str(GYM_ASSETS))
+        elements = model.find_all("body") + model.find_all("geom") + model.find_all("actuator")
+        for element in elements:
+            repr(element)
+            element.full_identifier  # noqa: B018
+            element.get_attributes()
         xml = model.to_xml_string()
         mjcf.from_xml_string(xml, model_dir=str(GYM_ASSETS), resolve_references=False)
-        mjcf.Physics.from_mjcf_model(model)
+        scene = mjcf.RootElement(model="scene")
+        scene.attach(copy.deepcopy(model))
+        scene.to_xml_string()
+        physics = mjcf.Physics.from_mjcf_model(model)
+        bodies = model.find_all("body")
+        if bodies:
+            physics.bind(bodies).xpos  # noqa: B018
+        physics.bind(model.worldbody).xpos  # noqa: B018
     except mjcf.Error:
         pass
 
@@ -147,3 +163,61 @@ def test_from_zip_refuses_entries_outside_the_archive(tmp_path: Path, entry: str
     with pytest.raises(mjcf.ParseError, match="outside it"):
         mjcf.from_zip(archive_path)
     assert not (tmp_path.parent / "evil.xml").exists()
+
+
+# -- files that never end ---------------------------------------------------------------
+
+_READ_A_DEVICE = """
+import os, sys
+import mjcf
+fifo = sys.argv[1]
+texture = '<mujoco><asset><texture name="t" type="2d" file="{}"/></asset></mujoco>'
+for path in ("/dev/zero", fifo):
+    for read in (
+        lambda: mjcf.from_xml_string(texture.format(path)).get_assets(),
+        lambda: mjcf.Physics.from_mjcf_model(mjcf.from_xml_string(texture.format(path))),
+        lambda: mjcf.from_path(path),
+        lambda: mjcf.from_zip(path),
+    ):
+        try:
+            read()
+        except mjcf.Error as error:
+            print(type(error).__name__, "not a regular file" in str(error))
+"""
+
+
+def test_a_device_or_fifo_as_a_file_is_refused_not_read(tmp_path: Path) -> None:
+    """/dev/zero read whole grew a process to 18.7 GB; a FIFO would block forever. Run in
+    a child process, so that a regression fails the test instead of the machine."""
+    fifo = tmp_path / "pipe.png"
+    os.mkfifo(fifo)
+    result = subprocess.run(
+        [sys.executable, "-c", _READ_A_DEVICE, str(fifo)],
+        capture_output=True,
+        text=True,
+        timeout=120,  # a guard against hanging, not a benchmark
+        check=True,
+    )
+    lines = result.stdout.splitlines()
+    assert len(lines) == 8 and all(line.endswith(" True") for line in lines), result.stdout
+    assert {line.split()[0] for line in lines} == {"AssetError", "ParseError"}
+
+
+def test_files_above_the_size_limit_are_refused(tmp_path: Path, monkeypatch) -> None:
+    model_file = tmp_path / "model.xml"
+    model_file.write_text(
+        '<mujoco><asset><mesh name="m" file="m.msh"/></asset>'
+        '<worldbody><geom type="mesh" mesh="m"/></worldbody></mujoco>'
+    )
+    (tmp_path / "m.msh").write_bytes((MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes())
+    model = mjcf.from_path(model_file)
+    monkeypatch.setattr(mjcf.assets, "FILE_SIZE_LIMIT", 2_000)
+    with pytest.raises(mjcf.AssetError, match=r"more than 2000 bytes.*FILE_SIZE_LIMIT"):
+        mjcf.Physics.from_mjcf_model(model)
+    with pytest.raises(mjcf.AssetError, match="more than 2000 bytes"):
+        model.get_assets()
+    monkeypatch.setattr(mjcf.assets, "FILE_SIZE_LIMIT", 100)
+    with pytest.raises(mjcf.ParseError, match="more than 100 bytes"):
+        mjcf.from_path(model_file)
+    monkeypatch.undo()
+    assert mjcf.Physics.from_mjcf_model(mjcf.from_path(model_file)).model.nmesh == 1

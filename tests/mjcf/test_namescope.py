@@ -77,6 +77,20 @@ def test_include_copy_of_a_model_whose_attached_model_clashes_changes_nothing() 
     assert scene.to_xml_string() == before and scene.find("body", "box") is None
 
 
+def test_include_copy_into_an_unnamed_element_refuses_a_name_taken_and_changes_nothing() -> None:
+    model = mjcf.from_xml_string('<mujoco><worldbody><body name="x"/></worldbody></mujoco>')
+    other = mjcf.from_xml_string('<mujoco><worldbody><body name="x"/></worldbody></mujoco>')
+    unnamed = model.worldbody.add("body")
+    before = model.to_xml_string()
+    _refused(model, lambda: unnamed.include_copy(other.find("body", "x")), "'x'")
+    assert unnamed.name is None and model.to_xml_string() == before
+    fresh = model.worldbody.add("body")
+    fresh.include_copy(mjcf.from_xml_string(before.replace('"x"', '"y"')).find("body", "y"))
+    assert model.find("body", "y") is fresh  # the merged name is the element's
+    copy.deepcopy(model)  # a model copies, and reads back, as MuJoCo compiles it
+    mjcf.Physics.from_mjcf_model(mjcf.from_xml_string(model.to_xml_string()))
+
+
 def test_the_same_model_attached_twice_gets_numbered_names() -> None:
     scene = mjcf.RootElement(model="scene")
     frames = [scene.attach(_arm()) for _ in range(3)]

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
+from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA, ROBOTIQ, UR5E, gym_model
 from tests.mjcf.compare import model_differences, trajectories_match
 from tests.mjcf.test_attachment import differences_from_alone
 
@@ -495,3 +495,28 @@ def test_an_object_type_in_any_case_or_as_a_number_compiles_as_mujoco(objtype: s
         model_differences(stock, mjcf.Physics.from_mjcf_model(mjcf.from_xml_string(xml)).model)
         == []
     )
+
+
+def test_write_read_write_is_a_fixed_point_with_attached_models() -> None:
+    """Generated names of unnamed elements count the attached models' elements where
+    they are written, so reading the text makes the same numbers (a scene body after an
+    attached robot kept '//unnamed_body_1' but read back as '//unnamed_body_2')."""
+    scene = mjcf.RootElement(model="scene")
+    scene.worldbody.add("geom", type="plane", size=[5, 5, 0.1])
+    ant = mjcf.from_path(gym_model("ant"))
+    del ant.option.integrator  # the arms' integrator is another
+    scene.worldbody.add("site").attach(ant)
+    scene.worldbody.add("body").add("geom", size=[0.1])
+    arm = mjcf.from_path(UR5E)
+    arm.find("site", "attachment_site").attach(mjcf.from_path(ROBOTIQ))
+    del arm.option.integrator
+    scene.attach(arm).add("joint", type="slide")
+    scene.worldbody.add("frame").add("body").add("geom", size=[0.1])
+    scene.actuator.add("motor", joint=ant.find_all("joint")[1])
+    written = scene.to_xml_string()
+    assert '<body name="//unnamed_body_' in written.split('name="ur5e/"')[0]
+    read = mjcf.from_xml_string(written, escape_separators=True, assets=scene.get_assets())
+    assert read.to_xml_string() == written
+    again = mjcf.from_xml_string(written, escape_separators=True, assets=scene.get_assets())
+    assert mjcf.from_xml_string(again.to_xml_string(), escape_separators=True,
+                                assets=scene.get_assets()).to_xml_string() == written  # fmt: skip

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+import pytest
 
 import mjcf
 from tests.conftest import MENAGERIE
@@ -143,3 +144,31 @@ def test_what_compiles_differently_is_not_shared(menagerie) -> None:
     pad = model.find("mesh", "pad")
     model.asset.add("mesh", name="pad_again", file=pad.file, dclass=pad.dclass)
     assert mjcf.Physics.from_mjcf_model(model).model.nmesh == 9
+
+
+def test_a_write_through_a_shared_mesh_is_refused_and_says_how_to_compile_apart(
+    menagerie,
+) -> None:
+    """A write through one copy's mesh would reach every copy's (measured with `scale` on
+    two UR5e copies): refused, for each copy; reads work; share_assets=False compiles
+    each copy its own mesh, which a write then changes alone."""
+    scene = _scene([_arm(menagerie), _arm(menagerie)])
+    first, second = (scene.find("mesh", f"arm{i}/base_0") for i in (0, 1))
+    physics = mjcf.Physics.from_mjcf_model(scene)
+    scale = physics.bind(first).scale.copy()
+    assert np.array_equal(physics.bind(second).scale, scale)
+    for mesh in (first, second):
+        with pytest.raises(mjcf.BindingError, match=r"compiled once for 2 copies.*share_assets"):
+            physics.bind(mesh).scale = 2 * scale
+        with pytest.raises(mjcf.BindingError, match="compiled once for 2 copies"):
+            physics.bind(mesh).scale[0] = 7
+        with pytest.raises(mjcf.BindingError, match="compiled once for 2 copies"):
+            physics.bind([mesh])["scale", 0] = 7
+    assert np.array_equal(physics.model.mesh_scale[physics.bind(first).element_id], scale)
+    apart = mjcf.Physics.from_mjcf_model(scene, share_assets=False)
+    assert apart.model.nmesh == 2 * physics.model.nmesh
+    apart.bind(second).scale = 2 * scale
+    assert np.array_equal(apart.bind(second).scale, 2 * scale)
+    assert np.array_equal(apart.bind(first).scale, scale)
+    unique = physics.bind(scene.find("geom", "floor"))
+    unique.size = [4, 4, 0.1]  # what is not shared is written as ever

@@ -71,6 +71,16 @@ KEYWORD_EXTRAS = ("", "0", "1", "2", "3", "-1", "true", "false", "probe_keyword"
 STRING_TEXTS = ("", "abc", "xyz", "XYZ", "xy", "xyzx", "a b", "10M", "1K", "-1", "1.5M", "1X")
 IDENTIFIER_TEXTS = ("probe_name", "", "a b", "p", "a/b", "main", "world")
 REFERENCE_TEXTS = ("p", "", "missing", "p p", "main", "world")
+# What mjcf's own refusals (mjcf/schema/_refusals.py) want of a minimal element, so that
+# the cases around it test what they test: a pair's geoms, the plugin a plugin names (a
+# plugin, not an instance: MuJoCo reads the <config> of a plugin, not an instance's).
+REFUSAL_FILL = {
+    "contact-pair": {"geom1": "p", "geom2": "p"},
+    **{
+        f"{parent}-plugin": {"plugin": "mujoco.pid"}
+        for parent in ("body", "geom", "mesh", "flexcomp", "actuator")
+    },
+}
 
 
 def _png() -> bytes:
@@ -203,7 +213,9 @@ class CaseMaker:
     def __init__(self, data: dict) -> None:
         self.elements = drafts_from_schema(data)
         self.root = data["root"]
-        self.prober = _probe.Prober(self.elements, self.root, prelude=_probe.NAMED_PRELUDE)
+        self.prober = _probe.Prober(
+            self.elements, self.root, prelude=_probe.NAMED_PRELUDE, fill=REFUSAL_FILL
+        )
         self.prober.set_paths()
         self.tags = sorted({e.tag for e in self.elements.values()} | {"probe_tag"})
         self.by_tag: dict[str, str] = {}

@@ -97,6 +97,22 @@ EXPLANATIONS = {
             stricter=True,
         ),
         Explanation(
+            "crashes MuJoCo",
+            "what MuJoCo 4.0.0 crashes or hangs on is refused (mjcf/schema/_refusals.py): a "
+            "<plugin> without plugin or instance (which MuJoCo's compile refuses elsewhere), "
+            "a file mesh with a <plugin>, 'frame' as an object type, a gear or armature that "
+            "is not finite",
+            stricter=True,
+        ),
+        Explanation(
+            "empty reference",
+            "a reference MuJoCo looks up even when it is empty, where '' finds the first "
+            "unnamed element (a <pair>'s geoms, an <exclude>'s bodies, an equality's first "
+            "object, a tendon's path), must name its element: mjcf names every element it "
+            "writes, so '' would find none",
+            stricter=True,
+        ),
+        Explanation(
             "checked later",
             "through the API, a reference may name an element added later and a required "
             "attribute may be set later: required attributes are checked when the model is "
@@ -403,6 +419,10 @@ class Judge:
             return "not numbers"
         if "already used by another flex" in error:
             return "duplicate name"
+        if "MuJoCo 4.0.0 crashes on it" in error or "compile never ends" in error:
+            return "crashes MuJoCo"
+        if "which MuJoCo reads as the first" in error or "<pair> requires the attribute" in error:
+            return "empty reference"
         if case.kind == "child" and "cannot have a <" in error and _ignored(case):
             return "ignored by MuJoCo"
         kinds = (

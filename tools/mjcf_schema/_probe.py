@@ -153,10 +153,19 @@ class Prober:
     alternative that fits the attributes a probe sets.
     """
 
-    def __init__(self, elements: dict[str, Element], root: str, prelude: str = "") -> None:
+    def __init__(
+        self,
+        elements: dict[str, Element],
+        root: str,
+        prelude: str = "",
+        fill: dict[str, dict[str, str]] | None = None,
+    ) -> None:
         self.elements = elements
         self.root = root
         self.prelude = prelude  # MJCF placed at the start of every document
+        # Values every element of a key gets besides ALSO_FILL's.
+        self.fill = {key: {**ALSO_FILL.get(key, {}), **(fill or {}).get(key, {})}
+                     for key in {*ALSO_FILL, *(fill or {})}}  # fmt: skip
         self.paths: dict[str, list[str]] = {}
         self.parses = 0
         self._reader = Reader(FILES)
@@ -204,7 +213,7 @@ class Prober:
             named = attribute.kind == "identifier" and parent != self.root
             if attribute.required or named:
                 values[attribute.name] = self.value(attribute)
-        values.update(ALSO_FILL.get(key, {}))
+        values.update(self.fill.get(key, {}))
         for name in self._alternatives(key, chosen):
             values[name] = self.value(attributes[name])
         values.update(chosen)

@@ -1,0 +1,213 @@
+"""References between elements: what an attribute such as `joint=` or `material=` points
+at, and how that follows renames and removals.
+
+    motor = model.actuator.add('motor', joint='hip')   # 'hip' exists: motor.joint is it
+    model.find('joint', 'hip').name = 'hip_x'           # the motor follows the rename
+    model.find('joint', 'hip_x').remove()               # writing the motor now raises
+    model = mjcf.from_path('arm.xml', resolve_references=False)
+    model.find('geom', 'tip').material                  # 'steel': text, as dm_control
+    model.resolve_references()                          # now the material element
+
+A model read with `resolve_references=True` (the default) behaves exactly as if every
+reference had been resolved to its element when it was read: renaming or removing an
+element changes what every reference to it writes, and writing a reference to a removed
+element raises mjcf.InvalidReferenceError. Names given through the Python API resolve
+when they are set; a name that no element has yet is kept as text, which the element
+that takes the name later answers (as MuJoCo would read the written text), and which
+then follows that element as a resolved reference does.
+
+How, without building a model read from a file whole: references read are kept as text
+while no element of the model is renamed or removed, since text written by name then
+compiles to what the element would. Before the first name of a model changes (a rename,
+a removal, an unnamed asset given another file, a detach), every text reference that
+names an element is replaced by that element (`before_name_change`, which the name
+scope calls). A model read with `resolve_references=False` keeps text as text, as
+dm_control does, until `resolve_references()`.
+
+Internal protocol: `RootElement._references` is this module's state of a model
+(`PINNED`, `UNPINNED` or `BY_NAME`) and `RootElement._forward` the elements of the model
+holding text references that named no element when set; only this module and the tree
+builders that copy models (`mjcf.copying`) change them.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from mjcf.element import Element
+    from mjcf.root import RootElement
+    from mjcf.schema import AttributeSpec
+
+# States of a model's references (`RootElement._references`).
+PINNED = 0  # every reference naming an element holds it, but those in `_forward`
+UNPINNED = 1  # references read from a file are text still (see the module docstring)
+BY_NAME = 2  # read with resolve_references=False: text stays text
+_MAIN_CLASS = "main"
+ANY_NAMESPACE = "*"  # `_referenced`'s key of names referenced from default classes
+
+
+def stored(element: Element, attribute: AttributeSpec, value: Any) -> Any:
+    """The value to store for reference `attribute` of `element`, given `value` (text,
+    an element, or a list of them) through the API: names resolved to the elements
+    that have them now, unless the model keeps references by name."""
+    root = element._root
+    if root._references == BY_NAME or not _has_text(value):
+        return value
+    namespace = attribute.reference_namespace(element._attrs)
+    if namespace is None:
+        return value
+    resolved, unresolved = _resolve(root, namespace, attribute, value)
+    if unresolved:
+        root._forward.add(element)
+    return resolved
+
+
+def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
+    """What reading reference `attribute` of `element`, stored as text `value`, gives:
+    the element (or elements) it names, which it then holds, or the text if it names
+    none or the model keeps references by name."""
+    root = element._root
+    if root._references == BY_NAME or not value:
+        return value
+    namespace = attribute.reference_namespace(element._attrs)
+    if namespace is None:
+        return value
+    resolved, unresolved = _resolve(root, namespace, attribute, value)
+    if resolved is not value:
+        element._attrs[attribute.name] = resolved
+        if unresolved:  # a list naming some elements, and some not yet
+            root._forward.add(element)
+        else:
+            root._forward.discard(element)
+    return resolved
+
+
+def before_name_change(model: RootElement, namespace: str | None, name: str | None) -> None:
+    """Name `name` of `namespace` in `model`'s scope is about to change or go (None: the
+    name of a model attached to it): every text reference that may name its element, in
+    `model` and in the models it is attached into (whose scoped names reach into it), is
+    replaced by the element it names first. References read from a file name elements
+    of their own model only ('/' is no part of them), and only the names the reader
+    recorded (`_referenced`), so a name none of them names leaves the model unbuilt."""
+    if model._references == UNPINNED and _read_reference(model, namespace, name):
+        pin_model(model)
+    current: RootElement | None = model
+    while current is not None:
+        _pin_forward(current)
+        current = current.parent_model
+
+
+def _read_reference(model: RootElement, namespace: str | None, name: str | None) -> bool:
+    """Whether a reference read from `model`'s file may name `name` of `namespace` (none
+    names an attached model's element)."""
+    if namespace is None or name is None:
+        return False
+    referenced = model._referenced
+    if referenced is None:
+        return True
+    return name in referenced.get(namespace, ()) or name in referenced.get(ANY_NAMESPACE, ())
+
+
+def pin_model(model: RootElement) -> None:
+    """Make every text reference of `model` that names an element hold that element
+    now, as reading it would (nothing for a model that keeps references by name)."""
+    if model._references == UNPINNED:
+        model._references = PINNED
+        for element in model.iter():
+            _pin(element)
+    else:
+        _pin_forward(model)
+
+
+def _pin_forward(model: RootElement) -> None:
+    """Make the text references set through the API that named no element when set
+    (`_forward`) hold the elements they name now."""
+    if model._forward and model._references != BY_NAME:
+        for element in list(model._forward):
+            if element._is_registered():
+                _pin(element)
+            else:
+                model._forward.discard(element)
+
+
+def resolve_all(element: Element) -> None:
+    """Replace every text reference of `element`'s subtree that names an element by
+    that element (names that match none stay text); for a model, also those of the
+    models attached to it, which then resolve the references they are given from now
+    on (see `Element.resolve_references`)."""
+    from mjcf import attachment  # cycle: attachment -> element -> this module
+
+    if element is element._root:
+        models = [element._root, *attachment.attached_models(element._root)]
+        for model in models:
+            model._references = PINNED
+            for item in model.iter():
+                _pin(item)
+        return
+    for item in element.iter():
+        _pin(item)
+
+
+def _pin(element: Element) -> None:
+    """Replace the text references of `element` that name an element by that element;
+    remember `element` in its model's `_forward` if some name none."""
+    attrs = element._attrs
+    spec = element._spec
+    if not spec.references or spec.references.isdisjoint(attrs):
+        return
+    root = element._root
+    unresolved = False
+    for name in spec.references.intersection(attrs):
+        value = attrs[name]
+        if not _has_text(value):
+            continue
+        attribute = spec.attributes[name]
+        namespace = attribute.reference_namespace(attrs)
+        if namespace is None:
+            continue
+        resolved, missing = _resolve(root, namespace, attribute, value)
+        attrs[name] = resolved
+        unresolved = unresolved or missing
+    if unresolved:
+        root._forward.add(element)
+    else:
+        root._forward.discard(element)
+
+
+def _has_text(value: Any) -> bool:
+    """Whether reference `value` holds a non-empty name as text."""
+    if type(value) is str:
+        return bool(value)
+    if isinstance(value, list):
+        return any(type(item) is str and item for item in value)
+    return False
+
+
+def _resolve(
+    root: RootElement, namespace: str, attribute: AttributeSpec, value: Any
+) -> tuple[Any, bool]:
+    """(`value` with its names replaced by the elements of `root` that have them,
+    whether a name matched none). A list attribute's text becomes a list."""
+    scope = root.namescope
+    if not attribute.is_list:
+        if type(value) is not str:
+            return value, False
+        target = scope.lookup(namespace, value)
+        if target is None:  # the top default class, 'main', is no element to hold
+            return value, not (namespace == "default" and value == _MAIN_CLASS)
+        return target, False
+    items = value.split() if type(value) is str else value
+    resolved = []
+    missing = False
+    for item in items:
+        if type(item) is str and item:
+            target = scope.lookup(namespace, item)
+            if target is None:
+                missing = True
+            else:
+                item = target
+        resolved.append(item)
+    if not missing and type(value) is str and not items:
+        return value, False
+    return resolved, missing
