@@ -17,7 +17,6 @@ from tests import dm_control_wheel
 
 DELIBERATE = "deliberate"  # a row of the README's table of differences
 INTERNALS = "internals"  # reaches into dm_control's private implementation
-ISSUE_26 = "issue 26"  # open: references kept as text (resolve_references=False)
 
 # file -> whether its class fixtures run (schema_test's setUpClass parses dm_control's own
 # schema file, which only one of its tests uses).
@@ -36,7 +35,6 @@ _HASHES = "asset file names are plain ('deepmind.png'), not '<name>-<sha1>'"
 _FRAME = "an attachment frame is written as a MuJoCo <frame>, a <body> only when it needs one"
 _MAIN = 'the global defaults stay MuJoCo\'s main class: no class="/" on every element'
 _SAMEFRAME = "a frame written through a binding gets MuJoCo's sameframe value, not 0"
-_TEXT_REFERENCES = "from_path(..., resolve_references=False) keeps references as text"
 
 # (file, test) -> (kind, reason)
 EXPECTED_FAILURES: dict[tuple[str, str], tuple[str, str]] = {
@@ -63,9 +61,6 @@ EXPECTED_FAILURES: dict[tuple[str, str], tuple[str, str]] = {
         INTERNALS,
         "sets the private _spec of an element and expects the error its property raises",
     ),
-    ("mjcf/element_test.py", "ElementTest.testEnterScope"): (ISSUE_26, _TEXT_REFERENCES),
-    ("mjcf/element_test.py", "ElementTest.testFind"): (ISSUE_26, _TEXT_REFERENCES),
-    ("mjcf/element_test.py", "ElementTest.testResolveReferences"): (ISSUE_26, _TEXT_REFERENCES),
     ("mjcf/physics_test.py", "PhysicsTest.test_assign_while_dirty0"): (
         DELIBERATE,
         "an item write into a view of an MjData field is not tracked (plain numpy views)",
