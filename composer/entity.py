@@ -29,7 +29,9 @@ observables), then applies `observable_options` (see `Observables.set_options`).
 
 Poses, as dm_control: `set_pose`/`get_pose` of an entity with a free joint are its world
 pose; of an entity attached without one, the pose of its attachment frame relative to the
-body it is attached in (moved in the compiled simulation: `composer.poses`).
+body it is attached in, read and written through `physics.bind(frame)`: a body's pos and
+quat when the frame has joints, else the frame's (a MuJoCo `<frame>`, moved with all it
+holds in the compiled simulation: `mjcf.frame_binding`).
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ import mujoco
 import numpy as np
 
 import mjcf
-from composer import errors, hooks, poses
+from composer import errors, hooks
 from composer.define import observable
 from composer.observables import FreePropObservableMixin, Observables
 from composer.observation import MJCFFeature
@@ -189,9 +191,6 @@ class Entity(hooks.EpisodeHooks):
 
     def _root_xmat(self, physics: mjcf.Physics) -> np.ndarray:
         """The world orientation (3, 3) of the entity's root body."""
-        frame = self.attachment_frame
-        if frame is not None and not frame.compiles_to_body():
-            return poses.FixedFrame.of(self, physics).world_xmat()
         return np.reshape(physics.bind(self.root_body).xmat, (3, 3))
 
     def global_vector_to_local_frame(self, physics: mjcf.Physics, vec_in_world_frame: Any) -> Any:
@@ -229,32 +228,38 @@ class Entity(hooks.EpisodeHooks):
                 joint = mjcf.get_freejoint(bodies[0])
         return joint
 
-    def _fixed_frame(self, physics: mjcf.Physics) -> poses.FixedFrame | poses.BodyFrame:
+    def _frame_binding(self, physics: mjcf.Physics) -> Any:
+        """The binding of the attachment frame (a body's or a frame's, both with pos and
+        quat); raises EntityError for an entity that is not attached."""
         frame = self.attachment_frame
         if frame is None:
             raise errors.EntityError(
                 f"entity {self.name!r} has no free joint and is not attached: it has no pose "
                 "(attach it, or add it with arena.add_free_entity(entity))"
             )
-        if frame.compiles_to_body():  # joints other than a free one: its body is the pose
-            return poses.BodyFrame(frame, physics)
-        return poses.FixedFrame.of(self, physics)
+        return physics.bind(frame)
 
     def set_pose(self, physics: mjcf.Physics, position: Any = None, quaternion: Any = None) -> None:
         """Place the entity: with a free joint, its world `position` (3,) and/or
         `quaternion` (4,, w first, normalized here); else its attachment frame's, relative
         to the body it is attached in. Raises EntityError for an entity not attached."""
+        if quaternion is not None:
+            quaternion = np.asarray(quaternion, dtype=np.float64)
+            quaternion = quaternion / np.linalg.norm(quaternion)
         joint = self._free_joint()
         if joint is None:
-            self._fixed_frame(physics).set_pose(position, quaternion)
+            frame = self._frame_binding(physics)
+            if position is not None:
+                frame.pos = position
+            if quaternion is not None:
+                frame.quat = quaternion
             return
         bound = physics.bind(joint)
         qpos = np.array(bound.qpos)
         if position is not None:
             qpos[:3] = position
         if quaternion is not None:
-            quaternion = np.asarray(quaternion, dtype=np.float64)
-            qpos[3:] = quaternion / np.linalg.norm(quaternion)
+            qpos[3:] = quaternion
         bound.qpos = qpos
 
     def get_pose(self, physics: mjcf.Physics) -> tuple[np.ndarray, np.ndarray]:
@@ -262,7 +267,8 @@ class Entity(hooks.EpisodeHooks):
         set_pose."""
         joint = self._free_joint()
         if joint is None:
-            return self._fixed_frame(physics).pose()
+            frame = self._frame_binding(physics)
+            return np.array(frame.pos), np.array(frame.quat)
         qpos = physics.bind(joint).qpos
         return np.array(qpos[:3]), np.array(qpos[3:])
 

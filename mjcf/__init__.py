@@ -42,7 +42,8 @@ all three on the real source:
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity rendering raw_access tree_binding
-                  compiler model_constants frame_binding physics_state physics
+                  compiler model_constants frame_poses frame_binding physics_state
+                  physics
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).

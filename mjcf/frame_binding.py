@@ -4,28 +4,41 @@ joints, the world body of a model attached there, a `<frame>` of the model.
     frame = scene.find('site', 'mount').attach(arm)    # no joints: a MuJoCo <frame>
     physics.bind(arm.worldbody).xpos                    # where the arm is: the frame's pose
     physics.bind(frame).xquat                           # the same frame
-    physics.bind(frame).pos = [0, 0, 1]                 # BindingError: fixed when compiled
+    physics.bind(frame).pos = [0, 0, 1]                 # moves the frame and all it holds
+    physics.bind(frame).quat[0] = 0.5                   # so does an item write (normalized)
 
 dm_control makes every attachment frame a body, so these elements have body fields
-there. MuJoCo 4 folds a `<frame>` into the bodies inside it when it compiles: the frame
-has no state of its own, and its pose is the pose of the body it is in composed with its
-fixed offset. A binding of such elements gives exactly that, read-only: `xpos` (3,),
-`xquat` (4,), `xmat` (9,) in the world, and `pos` (3,), `quat` (4,), the offset from that
-body, as the compiled model holds it (read from the text that was compiled, whatever the
-tree has become since). A list of n elements gives (n, ...) arrays. Everything else, and
-every write, raises BindingError saying why; never the numbers of another object.
+there. MuJoCo 4 folds a `<frame>` into what it holds when it compiles: the frame has no
+state of its own, and its pose in the world is the pose of the body it is in composed
+with its offset from that body. A binding of such elements has the fields of a pose:
+
+- `pos` (3,) and `quat` (4,): the frame's offset from the body it is in, as dm_control's
+  body `pos` and `quat`. For a frame nested in other frames it is still the offset from
+  that body (not from the frame around it). Writing either moves the frame, and with it
+  everything compiled from inside it (`mjcf.frame_poses`), as a compile with the frame
+  there would place it; quaternions are normalized (a zero one raises).
+- `xpos` (3,), `xquat` (4,), `xmat` (9,): the frame's pose in the world, derived from those
+  and from the body it is in (brought up to date first, as body fields are); read-only.
+
+The offset is kept per physics and compiled model: every binding of the frame (or of the
+world body of the model attached there) sees it, and so do the frames nested in it. A
+frame never moved has the offset the compiled text gives it, whatever the tree has
+become since; a recompile starts again from the text. A list of n elements gives (n, ...)
+arrays; written, nested frames move outermost first, so that each ends where it is asked.
+Reads are copies: those of `pos` and `quat` write the whole field back when an item of
+them is assigned; the others are read-only. Everything else raises BindingError saying
+why, as does a write that cannot be made, which then changes nothing; never the numbers
+of another object.
 """
 
 from __future__ import annotations
 
-import re
 from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
-from lxml import etree
 
-from mjcf import attachment, errors
+from mjcf import attachment, errors, fields, frame_poses
 from mjcf.binding import POS_BEHIND
 
 if TYPE_CHECKING:
@@ -34,9 +47,10 @@ if TYPE_CHECKING:
     from mjcf.physics import Physics
     from mjcf.root import RootElement
 
-_ORIENTATIONS = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
-_FIELDS = ("xpos", "xquat", "xmat", "pos", "quat")
-_START_TAG = re.compile(r"\s*<(\w+)([^>]*?)/?>\s*")
+# Each field and the MuJoCo field whose columns it has (names: see mjcf.fields).
+_FIELDS = {"pos": "body_pos", "quat": "body_quat", "xpos": "xpos", "xquat": "xquat",
+           "xmat": "xmat"}  # fmt: skip
+_WIDTH = {"pos": 3, "quat": 4}  # the fields that can be written
 
 
 def compiles_to_frame(element: Element, output: RootElement | None = None) -> bool:
@@ -70,15 +84,22 @@ def bind_frames(physics: Physics, elements: list[Element], single: bool) -> Fram
 
 
 class FrameBinding:
-    """The read-only pose of elements compiled to MuJoCo `<frame>`s (module docstring)."""
+    """The pose of elements compiled to MuJoCo `<frame>`s (module docstring)."""
 
-    __slots__ = ("_holders", "_label", "_offset_pos", "_offset_quat", "_physics", "_single")
+    __slots__ = (
+        "_chains", "_compiled", "_contents", "_holder_lines", "_holders", "_label", "_model",
+        "_offsets", "_physics", "_single",
+    )  # fmt: skip
 
     _physics: Physics
+    _model: mujoco.MjModel  # the model the binding was made for
+    _compiled: Compiled
     _single: bool
     _holders: np.ndarray  # (n,) the compiled ids of the bodies the frames are in
-    _offset_pos: np.ndarray  # (n, 3) each frame's position in its body
-    _offset_quat: np.ndarray  # (n, 4) and orientation
+    _holder_lines: list[int | None]  # their lines in the compiled text (None: the world)
+    _chains: list[list[int]]  # the lines of each element's frames, outermost first
+    _contents: dict[int, frame_poses.Contents]  # what the frame on each line holds
+    _offsets: tuple[Any, ...]  # (poses, version, pos (n, 3), quat (n, 4), mat (n, 3, 3))
     _label: str
 
     def __init__(self, physics: Physics, elements: list[Element], single: bool) -> None:
@@ -90,72 +111,211 @@ class FrameBinding:
                 "it was compiled from holds: bind it on a physics made with "
                 "Physics.from_mjcf_model(model)"
             )
-        holders, offsets = [], []
+        poses = frame_poses.of(physics)
+        holders, holder_lines, chains = [], [], []
         for element in elements:
             holder, chain = _placement(element, compiled.composition.root)
             holders.append(compiled.id_of(holder, mujoco.mjtObj.mjOBJ_BODY))
-            offsets.append(_offset(compiled, chain))
-        object.__setattr__(self, "_physics", physics)
-        object.__setattr__(self, "_single", single)
-        object.__setattr__(self, "_holders", np.asarray(holders, dtype=np.intp))
-        object.__setattr__(self, "_offset_pos", np.array([pos for pos, _ in offsets]))
-        object.__setattr__(self, "_offset_quat", np.array([quat for _, quat in offsets]))
-        object.__setattr__(
-            self, "_label", elements[0].path if single else f"{len(elements)} frames"
-        )
+            holder_lines.append(None if holders[-1] == 0 else poses.line(compiled, holder))
+            chains.append([poses.line(compiled, frame) for frame in reversed(chain)])
+        for name, value in (
+            ("_physics", physics), ("_model", physics._model), ("_compiled", compiled),
+            ("_single", single), ("_holders", np.asarray(holders, dtype=np.intp)),
+            ("_holder_lines", holder_lines), ("_chains", chains), ("_contents", {}),
+            ("_offsets", (None,)),
+            ("_label", elements[0].path if single else f"{len(elements)} frames"),
+        ):  # fmt: skip
+            object.__setattr__(self, name, value)
 
     def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("_"):  # dunder lookups, and slots not set yet
+            raise AttributeError(name)
         if name not in _FIELDS:
             raise errors.BindingError(
                 f"{self._label}: compiles to a MuJoCo <frame>, which has no '{name}': a frame "
                 f"has a pose only ({', '.join(_FIELDS)}); bind the bodies inside it for the rest"
             )
+        _, _, pos, quat, rotation = self._current()
+        if name in _WIDTH:
+            value = (pos if name == "pos" else quat).view(_PoseArray)
+            out = value[0].copy() if self._single else value.copy()
+            out._write_back = (self, name)
+            return out
         physics = self._physics
-        if name in ("pos", "quat"):
-            value = self._offset_pos if name == "pos" else self._offset_quat
+        if physics._stale & POS_BEHIND:
+            physics._refresh()
+        data, holders = physics._data, self._holders
+        if name == "xpos":
+            world = data.xpos[holders] + np.einsum(
+                "nij,nj->ni", data.xmat[holders].reshape(-1, 3, 3), pos
+            )
+        elif name == "xquat":
+            world = frame_poses.multiply(data.xquat[holders], quat)
         else:
-            if physics._stale & POS_BEHIND:
-                physics._refresh()
-            value = self._world(name, physics._data)
-        out = value[0].copy() if self._single else value.copy()
-        out.flags.writeable = False  # a copy: writing into it would change nothing
+            world = np.einsum(
+                "nij,njk->nik", data.xmat[holders].reshape(-1, 3, 3), rotation
+            ).reshape(-1, 9)
+        out = world[0].copy() if self._single else world
+        out.flags.writeable = False  # derived: write pos or quat
         return out
 
-    def _world(self, name: str, data: Any) -> np.ndarray:
-        holders = self._holders
-        rotation = data.xmat[holders].reshape(-1, 3, 3)
-        if name == "xpos":
-            return data.xpos[holders] + np.einsum("nij,nj->ni", rotation, self._offset_pos)
-        offset = np.empty((len(holders), 9))
-        for row, quat in enumerate(self._offset_quat):
-            mujoco.mju_quat2Mat(offset[row], quat)
-        matrix = np.einsum("nij,njk->nik", rotation, offset.reshape(-1, 3, 3))
-        if name == "xmat":
-            return matrix.reshape(-1, 9)
-        quats = np.empty((len(holders), 4))
-        for row in range(len(holders)):
-            mujoco.mju_mulQuat(quats[row], data.xquat[holders[row]], self._offset_quat[row])
-        return quats
+    def _current(self) -> tuple[Any, ...]:
+        """The offsets of the frames now (cached until one of the model's frames moves);
+        raises BindingError once the physics holds another model."""
+        physics = self._physics
+        if physics._model is not self._model:
+            raise errors.BindingError(
+                f"{self._label}: this binding was made for a model the physics no longer "
+                "holds; bind again"
+            )
+        poses = frame_poses.of(physics)
+        offsets = self._offsets
+        if offsets[0] is not poses or offsets[1] != poses.version:
+            found = [poses.offset(self._compiled, chain) for chain in self._chains]
+            pos = np.array([p for p, _ in found])
+            quat = np.array([q for _, q in found])
+            rotation = np.array([frame_poses.matrix(q) for q in quat])
+            offsets = (poses, poses.version, pos, quat, rotation)
+            object.__setattr__(self, "_offsets", offsets)
+        return offsets
 
     def __setattr__(self, name: str, value: Any) -> None:
-        raise errors.BindingError(
-            f"{self._label}: compiles to a MuJoCo <frame>, fixed when the model was compiled "
-            f"(a frame has no state at run time), so '{name}' cannot be written; to move it, "
-            "give the attachment frame a joint (frame.add('freejoint')) and write that, or "
-            "change the model and compile it again"
-        )
+        if name in _WIDTH:
+            self._write(name, value)
+        elif name in _FIELDS:
+            raise errors.BindingError(
+                f"{self._label}: '{name}' is derived from the frame's pose in the body it is "
+                "in and that body's pose, so it cannot be written: write 'pos' or 'quat'"
+            )
+        else:
+            raise errors.BindingError(
+                f"{self._label}: compiles to a MuJoCo <frame>, which has no '{name}' to write: "
+                "write its 'pos' or 'quat' to move it"
+            )
+
+    def _write(self, name: str, value: Any) -> None:
+        """Move the frames to the positions or orientations `value`; raises BindingError,
+        having changed nothing, for a value of the wrong shape, not finite, a zero
+        quaternion, or frames that cannot be moved (see mjcf.frame_poses)."""
+        width, count = _WIDTH[name], len(self._chains)
+        try:
+            values = np.array(np.broadcast_to(np.asarray(value, dtype=np.float64), (count, width)))
+        except (ValueError, TypeError) as e:
+            shape = "(3,)" if width == 3 else "(4,)"
+            expected = shape if self._single else f"({count}, {width}) or {shape}"
+            raise errors.BindingError(
+                f"cannot write {value!r} to '{name}' of {self._label}: expected {expected} numbers"
+            ) from e
+        if not np.isfinite(values).all():
+            raise errors.BindingError(
+                f"cannot write '{name}' of {self._label}: not finite: {values.tolist()}"
+            )
+        if name == "quat":
+            norms = np.linalg.norm(values, axis=1)
+            if not norms.all():
+                raise errors.BindingError(
+                    f"cannot write 'quat' of {self._label}: a zero quaternion is no orientation"
+                )
+            values /= norms[:, None]
+        self._current()  # raises if the physics holds another model
+        order = sorted(range(count), key=lambda row: len(self._chains[row]))
+        held = [self._held(row) for row in order]
+        for contents in held:
+            contents.check()
+        poses = frame_poses.of(self._physics)
+        undo: frame_poses.Undo = []
+        try:
+            for row, contents in zip(order, held, strict=True):
+                new = values[row]
+                pos, quat = (new, None) if name == "pos" else (None, new)
+                poses.move(self._compiled, self._chains[row], contents, pos, quat, undo)
+        except BaseException:
+            for restore in reversed(undo):
+                restore()
+            raise
+
+    def _held(self, row: int) -> frame_poses.Contents:
+        line = self._chains[row][-1]
+        contents = self._contents.get(line)
+        if contents is None:
+            contents = frame_poses.Contents(
+                self._physics, self._compiled, line, self._holder_lines[row]
+            )
+            self._contents[line] = contents
+        return contents
 
     def __getitem__(self, index: Any) -> np.ndarray:
-        name = index[0] if isinstance(index, tuple) else index
-        value = getattr(self, str(name))
-        return value[..., index[1]] if isinstance(index, tuple) else value
+        """`binding['pos']` and `binding['xpos', columns]` (index, slice, list, names)."""
+        name, columns = _split(index)
+        value = getattr(self, name)
+        if columns is None:
+            return value
+        return np.asarray(value)[..., _columns(name, columns)]
 
     def __setitem__(self, index: Any, value: Any) -> None:
-        name = index[0] if isinstance(index, tuple) else index
-        self.__setattr__(str(name), value)
+        """`binding['pos'] = v`, `binding['pos', 'z'] = 1`: moves the frames."""
+        name, columns = _split(index)
+        if columns is None:
+            self.__setattr__(name, value)
+            return
+        current = np.array(getattr(self, name))
+        current[..., _columns(name, columns)] = value
+        self.__setattr__(name, current)
+
+    def __dir__(self) -> list[str]:
+        return sorted({*super().__dir__(), *_FIELDS})
 
     def __repr__(self) -> str:
         return f"<FrameBinding {self._label}>"
+
+
+class _PoseArray(np.ndarray):
+    """A frame's `pos` or `quat` as read: assigning an item writes the whole value back
+    (moving the frame). Arrays derived from it (slices, results) are plain copies."""
+
+    __slots__ = ("_write_back",)
+
+    _write_back: tuple[FrameBinding, str]
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        write_back = getattr(self, "_write_back", None)
+        if write_back is None:
+            np.ndarray.__setitem__(self, key, value)
+            return
+        new = self.view(np.ndarray).copy()
+        new[key] = value
+        binding, name = write_back
+        binding.__setattr__(name, new)
+        np.ndarray.__setitem__(self, Ellipsis, np.asarray(getattr(binding, name)))
+
+    def __repr__(self) -> str:
+        return repr(self.view(np.ndarray))
+
+
+def _split(index: Any) -> tuple[str, Any]:
+    if isinstance(index, tuple):
+        if len(index) != 2:
+            raise errors.BindingError(
+                f"index a binding as binding['field'] or binding['field', columns], got {index!r}"
+            )
+        return str(index[0]), index[1]
+    return str(index), None
+
+
+def _columns(name: str, columns: Any) -> Any:
+    """Column names ('x', ['qw', 'qz']) of field `name` as indices; others pass through.
+    Raises BindingError for a name the field's columns do not have."""
+    names = fields.column_names(_FIELDS.get(name, "")) or ()
+    listed = columns if isinstance(columns, list | tuple) else [columns]
+    if not any(isinstance(column, str) for column in listed):
+        return columns
+    unknown = [c for c in listed if not isinstance(c, str) or c not in names]
+    if unknown:
+        raise errors.BindingError(
+            f"'{name}' has no column named {unknown[0]!r}: its columns are {list(names)}"
+        )
+    indices = [names.index(c) for c in listed]
+    return indices[0] if isinstance(columns, str) else indices
 
 
 def _compiled_from(compiled: Compiled, element: Element) -> bool:
@@ -195,40 +355,3 @@ def _placement(element: Element, output: RootElement) -> tuple[Element, list[Ele
                 chain.append(current)
         current = current._parent
     raise errors.BindingError(f"{element.path}: is not in its model")
-
-
-def _offset(compiled: Compiled, chain: list[Element]) -> tuple[np.ndarray, np.ndarray]:
-    """The pose (pos (3,), quat (4,)) of the innermost frame of `chain` in the body they
-    are in, from the frames' text as compiled."""
-    pos, quat = np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
-    for frame in reversed(chain):  # the outermost first
-        local_pos, local_quat = _local_pose(compiled, frame)
-        new_pos, new_quat = np.empty(3), np.empty(4)
-        mujoco.mju_mulPose(new_pos, new_quat, pos, quat, local_pos, local_quat)
-        pos, quat = new_pos, new_quat
-    return pos, quat
-
-
-def _local_pose(compiled: Compiled, frame: Element) -> tuple[np.ndarray, np.ndarray]:
-    """The pose of `frame` in its parent, as MuJoCo reads it from its compiled start tag
-    (with the compiled model's angle units and euler sequence)."""
-    try:
-        line = compiled.lines.index(frame)
-    except ValueError:
-        raise errors.BindingError(
-            f"{frame.path}: was added after the model was compiled; compile it again"
-        ) from None
-    match = _START_TAG.fullmatch(compiled.xml.splitlines()[line])
-    assert match is not None, "a compiled line holds one start tag"
-    attributes = etree.fromstring(f"<frame{match.group(2)}/>").attrib
-    pose = " ".join(f'{name}="{attributes[name]}"' for name in ("pos", *_ORIENTATIONS)
-                    if name in attributes)  # fmt: skip
-    compiler = compiled.composition.merged_settings("compiler").attributes
-    settings = " ".join(
-        f'{name}="{compiler[name]}"' for name in ("angle", "eulerseq") if name in compiler
-    )
-    probe = mujoco.MjModel.from_xml_string(
-        f'<mujoco><compiler {settings}/><worldbody><body {pose}><geom size="1"/></body>'
-        "</worldbody></mujoco>"
-    )
-    return probe.body_pos[1].copy(), probe.body_quat[1].copy()

@@ -48,6 +48,7 @@ from mjcf import (
     errors,
     fields,
     frame_binding,
+    frame_poses,
     model_constants,
     mujoco_log,
     named,
@@ -111,9 +112,12 @@ class Physics(StateAccess):
     for a field MuJoCo computes only for sensors, `_update_constants(undo, what)` after
     writing an input of mj_setConst, and `_raise_if_invalid()`. A binding adds itself to
     `_live_bindings`, whose `_detach()` the physics calls before it changes MjData.
+    `_frame_poses` holds the current poses of the model's `<frame>`s, which
+    `mjcf.frame_poses` keeps (and replaces when the physics holds another model).
     """
 
     legacy_step: bool = True
+    _frame_poses: frame_poses.FramePoses | None = None
     _live_bindings: weakref.WeakSet[binding_module.Binding]
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:

@@ -55,16 +55,6 @@ _DM_ENV = (
     "TimeSteps, and the environment has no dm_env specs (composer.dm_env_bridge adapts it)"
 )
 DIFFERENCES: dict[str, list[Difference]] = {
-    "composer/entity_test.py": [
-        Difference(
-            r"EntityTest\.test(Set|Shift)Pose\d+",
-            "compiles to a MuJoCo <frame>",
-            114,
-            "binds the attachment frame of an entity attached without joints: here that "
-            "frame is a MuJoCo <frame> folded into what it holds, not a body (README: "
-            "attachment frames); moving such an entity works (tests/composer/test_entity.py)",
-        ),
-    ],
     "composer/environment_hooks_test.py": [
         Difference(
             r"EnvironmentHooksTest\.testEnvironmentHooksScheduling",

@@ -132,7 +132,7 @@ def _fixed_scene(position=None, quaternion=None):
 
 def test_set_pose_of_a_fixed_entity_moves_it_as_a_recompile_with_the_frame_moved():
     """dm_control moves the attachment frame; here the frame is a MuJoCo <frame>, folded into
-    what it holds: moving those gives what compiling the moved frame gives."""
+    what it holds, moved through its binding: the same as compiling the moved frame."""
     _, arm, physics = _fixed_scene()
     position, quaternion = arm.get_pose(physics)
     np.testing.assert_allclose(position, [0.5, 0, 1])
@@ -150,8 +150,20 @@ def test_set_pose_of_a_fixed_entity_moves_it_as_a_recompile_with_the_frame_moved
             atol=1e-12,
         )
     np.testing.assert_allclose(physics.model.body_pos, expected.model.body_pos, atol=1e-12)
+    for field in ("xpos", "xquat", "xmat"):  # the frame's binding: one owner of its pose
+        np.testing.assert_allclose(
+            getattr(physics.bind(arm.attachment_frame), field),
+            getattr(expected.bind(moved_arm.attachment_frame), field),
+            atol=1e-12,
+        )
+    np.testing.assert_allclose(
+        arm.global_vector_to_local_frame(physics, [0, 0, 1]),
+        moved_arm.global_vector_to_local_frame(expected, [0, 0, 1]),
+        atol=1e-12,
+    )
     arm.shift_pose(physics, position=[0, 0, 0.5])
     np.testing.assert_allclose(arm.get_pose(physics)[0], [0.1, -0.2, 2.0])
+    np.testing.assert_allclose(physics.bind(arm.mjcf_model.worldbody).xpos, [0.1, -0.2, 2.0])
 
 
 def test_posing_an_unattached_entity_is_an_error_naming_it():

@@ -26,7 +26,7 @@ ANY = None  # every mjcf module
 TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
-SIMULATION = frozenset({"binding", "named", "frame_binding"})
+SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
 # Who keeps a model's references state: the module of the rules, and the readers and
 # copiers that make models.
 REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
@@ -75,6 +75,7 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_update_constants": ("physics.Physics", frozenset({"binding"}), frozenset()),
     "_live_bindings": ("physics.Physics", frozenset({"binding"}), frozenset({"binding"})),
     "_raise_if_invalid": ("physics.Physics", frozenset({"validity"}), frozenset()),
+    "_frame_poses": ("physics.Physics", frozenset({"frame_poses"}), frozenset({"frame_poses"})),
     "_detach": ("binding.Binding", frozenset({"physics"}), frozenset()),
     "_refuse_writes": ("binding.Binding", frozenset({"physics"}), frozenset()),
     "_writeback": ("binding.WriteThrough", frozenset({"named"}), frozenset({"named"})),
