@@ -136,7 +136,7 @@ class BatchedTask(Protocol):
 # -- which form runs -------------------------------------------------------------------
 
 
-def _owner(cls: type, name: str) -> type | None:
+def defining_class(cls: type, name: str) -> type | None:
     """The class of `cls`'s MRO that defines attribute `name`, or None."""
     for klass in cls.__mro__:
         if name in vars(klass):
@@ -147,10 +147,10 @@ def _owner(cls: type, name: str) -> type | None:
 def prefers_batched(cls: type, single: str, batched: str) -> bool:
     """Whether objects of `cls` have method `batched` defined on the class defining method
     `single` or on a subclass of it: then the batched form is the one that runs."""
-    twin = _owner(cls, batched)
+    twin = defining_class(cls, batched)
     if twin is None:
         return False
-    owner = _owner(cls, single)
+    owner = defining_class(cls, single)
     return owner is None or issubclass(twin, owner)
 
 
