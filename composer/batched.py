@@ -263,6 +263,11 @@ class Binding:
 
     __slots__ = ()
 
+    @staticmethod
+    def _field_property(name: str) -> property:
+        """The property of field `name` in the classes `binding_class` makes: `_get`."""
+        return property(operator.methodcaller("_get", name))
+
     def _get(self, name: str) -> np.ndarray:
         raise NotImplementedError
 
@@ -292,7 +297,7 @@ def binding_class(base: type[_B], kind: mujoco.mjtObj) -> type[_B]:
     if cls is None:
         namespace: dict[str, Any] = {"__slots__": ()}
         for name in fields.kind_fields(kind):
-            namespace[name] = property(operator.methodcaller("_get", name))
+            namespace[name] = base._field_property(name)
         kind_name = fields.kind_name(kind).capitalize()
         cls = _BINDING_CLASSES[key] = type(
             f"{kind_name}{base.__name__.lstrip('_')}", (base,), namespace
