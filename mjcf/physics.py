@@ -419,11 +419,18 @@ class Physics(StateAccess):
 
         Raises NotFoundError for a keyframe the model does not have.
         """
+        self._reset_state(keyframe)
+        self.forward()
+
+    def _reset_state(self, keyframe: int | str | None) -> None:
+        """The state of qpos0 or a keyframe, its derived fields not computed yet (bindings
+        and named access compute them when first read)."""
         if keyframe is None:
             mujoco.mj_resetData(self._model, self._data)
         else:
             mujoco.mj_resetDataKeyframe(self._model, self._data, self._keyframe_id(keyframe))
-        self.forward()
+        self._stale = POS_BEHIND | ACC_BEHIND
+        self._qacc_checked = None
 
     def _keyframe_id(self, keyframe: int | str) -> int:
         nkey = self._model.nkey
@@ -446,9 +453,15 @@ class Physics(StateAccess):
     def reset_context(self, keyframe: int | str | None = None) -> Iterator[Physics]:
         """Reset, let the block set up the state, then forward and check it is valid.
 
+        One mj_forward in all, when the block ends: inside it, derived fields read through
+        bindings or named access (xpos, contacts, sensors ...) are computed when first read,
+        for the state as it is then (the reset state, until the block writes one), where
+        `reset()` would forward at once; `data`'s own are computed when the block ends,
+        or by `forward()`, as after any write.
+
         Raises PhysicsError if the state set in the block is invalid.
         """
-        self.reset(keyframe)
+        self._reset_state(keyframe)
         yield self
         self.forward()
         self.check_invalid_state()
