@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import contextlib
 import copy as copy_module
+import functools
 import os
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -58,7 +59,7 @@ from mjcf import (
 )
 from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITTEN
 from mjcf.element import Element as ElementType
-from mjcf.physics_state import STATE_WRITE, StateAccess
+from mjcf.physics_state import STATE_WRITE, ResetContext, StateAccess
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -449,8 +450,9 @@ class Physics(StateAccess):
             )
         return int(keyframe)
 
-    @contextlib.contextmanager
-    def reset_context(self, keyframe: int | str | None = None) -> Iterator[Physics]:
+    def reset_context(
+        self, keyframe: int | str | None = None
+    ) -> contextlib.AbstractContextManager[Physics]:
         """Reset, let the block set up the state, then forward and check it is valid.
 
         One mj_forward in all, when the block ends: inside it, derived fields read through
@@ -461,10 +463,7 @@ class Physics(StateAccess):
 
         Raises PhysicsError if the state set in the block is invalid.
         """
-        self._reset_state(keyframe)
-        yield self
-        self.forward()
-        self.check_invalid_state()
+        return ResetContext(self, functools.partial(self._reset_state, keyframe))
 
     def check_invalid_state(self) -> contextlib.AbstractContextManager[Physics]:
         """Raise PhysicsError if the state is invalid: MuJoCo flagged a bad qpos, qvel, qacc or

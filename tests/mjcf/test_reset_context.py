@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjcf import Physics
+from mjcf import Physics, errors
 from tests.conftest import gym_model
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
@@ -73,3 +73,14 @@ def test_a_block_that_reads_nothing_leaves_the_reset_state_forwarded():
     fresh = Physics.from_xml_path(gym_model("ant"))
     fresh.forward()
     assert _snapshot(physics) == _snapshot(fresh)
+
+
+def test_an_error_in_the_block_propagates_without_the_check_and_a_bad_state_raises():
+    physics = Physics.from_xml_path(gym_model("ant"))
+    with pytest.raises(KeyError, match="mine"), physics.reset_context():
+        physics.named.data.qvel["root"] = np.nan  # never checked: the block raises first
+        raise KeyError("mine")
+    with pytest.raises(errors.PhysicsError, match="qacc is not finite"), physics.reset_context():
+        physics.named.data.qvel["root"] = np.nan
+    with pytest.raises(errors.NotFoundError), physics.reset_context("no such keyframe"):
+        pass
