@@ -217,6 +217,7 @@ def first_row(values: np.ndarray) -> Any:
 # -- what a batch gives: the rules both kinds of BatchPhysics keep -------------------------
 
 STATE_FIELDS = tracking.STATE_FIELDS  # the MjData fields a batch holds as state, writable
+_MJTNUM = np.dtype(mujoco.MJTNUM_DTYPE)
 
 
 def check_source(name: str) -> None:
@@ -246,6 +247,8 @@ def not_writable(name: str, model_field: bool) -> errors.BatchError:
 def rows_to_write(value: Any, n: int, shape: tuple[int, ...], name: str) -> np.ndarray:
     """`value` broadcast to the (n, *shape) rows of field `name`, as mjtNum. Raises
     mjcf.BindingError for values that do not fit."""
+    if type(value) is np.ndarray and value.dtype == _MJTNUM and value.shape == (n, *shape):
+        return value  # the rows already: np.broadcast_to costs microseconds
     try:
         return np.broadcast_to(np.asarray(value, dtype=mujoco.MJTNUM_DTYPE), (n, *shape))
     except ValueError as e:
