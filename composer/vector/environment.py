@@ -434,7 +434,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         every = len(ids) == self.num_envs
         simulations = self._simulations
         consistent = self._envs[0].physics.legacy_step
-        computed = consistent
+        # The stages of the new state only once something reads them: before, the fields
+        # are recomputed if read (a first read of a derived field, in this control step).
+        computed = consistent and simulations.reads_derived
         try:
             self._batch.step(None if every else ids, nstep, _VEL if computed else _NONE)
         except mujoco_batch.SimulationError as e:

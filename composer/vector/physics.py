@@ -129,6 +129,9 @@ class Simulations:
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
         self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
+        # Whether a derived field (not state) was ever bound: until then a step need not
+        # compute the stages of the new state (`stepped`).
+        self.reads_derived = False
         # Per bound elements: their binding class (None: no elements) and resolved fields.
         self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
         self._every = VectorPhysics(self, None)
@@ -189,6 +192,7 @@ class Simulations:
             # until the next call it holds nothing, whatever the stages say.
             self._pos_stale[:] = True
             self._acc_stale[:] = True
+            self.reads_derived = True
         return source
 
     def _binding(self, key: Any) -> tuple[type[BatchBinding] | None, dict[str, _Field]]:

@@ -20,6 +20,7 @@ from tests.composer.scenes import Block, SwingTask
 from tests.composer.vector_scenes import (
     BatchedSwing,
     HookedSwing,
+    LateSight,
     SensingSwing,
     SingleFormSensingSwing,
     SingleFormSwing,
@@ -74,6 +75,16 @@ def assert_same_runs(vector, reference, steps=60, seed=3, gain=1.0):
 def test_trajectories_equal_single_environments_with_the_same_seeds(name):
     vector, reference = pair(TASKS[name], time_limit=0.3)
     assert assert_same_runs(vector, reference) >= 8  # through several autoresets
+
+
+def test_derived_fields_first_read_mid_episode_equal_single_environments():
+    # Until something reads a derived field, a step leaves the new state's stages
+    # uncomputed; the first read computes them: the values must be a single
+    # environment's all the same, through autoresets.
+    vector, reference = pair(LateSight, time_limit=0.3)
+    assert assert_same_runs(vector, reference, steps=40) >= 8
+    _, _, _, _, info = vector.step(np.zeros(vector.action_space.shape))
+    assert {"tip_height", "acceleration"} <= set(info)
 
 
 @pytest.mark.parametrize(
