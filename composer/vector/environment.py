@@ -55,6 +55,7 @@ from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
 from composer.vector import info_layout
+from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
 
@@ -110,6 +111,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             delayed_observation_padding=delayed_observation_padding,
         )
         self._envs = self._make_envs(task_factory, time_limit, seed, observations)
+        self._same_models = SameModels(num_envs)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
         self.single_action_space = first.action_space
@@ -201,10 +203,19 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             envs.append(env)
         return envs
 
-    def _set_models(self) -> None:
-        """Run simulation i on environment i's own MjModel; TaskError if layouts differ."""
+    def _set_models(self, changed: np.ndarray | None = None) -> None:
+        """Run simulation i on environment i's own MjModel, or every one on environment
+        0's while all are the same (`composer.vector.models`) and nothing runs per
+        environment during a step (which could edit its model). `changed`: the
+        environments just reset, whose models may differ now (None: compare none). Raises
+        TaskError if layouts differ."""
+        models = [env.physics.model for env in self._envs]
+        shared = False
+        if changed is not None and self.num_envs > 1 and not self.per_environment:
+            self._same_models.update(models, changed)
+            shared = self._same_models.identical
         try:
-            self._batch.set_models([env.physics.model for env in self._envs])
+            self._batch.set_models(models[0] if shared else models)
         except mujoco.FatalError as e:
             raise errors.TaskError(
                 f"the environments' models do not share MuJoCo's data layout ({e}); a "
@@ -296,7 +307,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._steps[ids] = 0
         self._over[ids] = False
         self._any_synced = True
-        self._set_models()
+        self._set_models(ids)
 
     def step(
         self, actions: Any

@@ -197,3 +197,13 @@ class LateSight(BatchedSwing):
             info["tip_height"] = physics.bind(self.pendulum.tip).xpos[:, 2]
             info["acceleration"] = physics.bind(self.pendulum.hinge).qacc[:, 0]
         return info
+
+
+class VariedSwing(BatchedSwing):
+    """BatchedSwing whose hinge damping is drawn at each episode's start, in the model
+    (written raw, as variations of model fields are): each environment's differs."""
+
+    def initialize_episode(self, physics: mjcf.Physics, random_state: np.random.RandomState):
+        hinge = physics.bind(self.pendulum.hinge)
+        physics.model.dof_damping[hinge.dofadr] = random_state.uniform(0.05, 2.0)
+        super().initialize_episode(physics, random_state)
