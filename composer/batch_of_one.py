@@ -61,16 +61,45 @@ class _Field:
 class _Binding(batched.Binding):
     """Fields of bound elements with a leading axis of one row (see the module docstring)."""
 
-    __slots__ = ("_binding", "_fields", "_strict")
+    __slots__ = ("_binding", "_fields", "_reads", "_strict")
 
     _binding: Any  # the mjcf.Physics binding of the elements
     _fields: dict[str, _Field]
+    _reads: dict[str, Callable[[], np.ndarray]]  # each field's read, made at its first
     _strict: bool
 
     def __init__(self, binding: Any, strict: bool) -> None:
         object.__setattr__(self, "_binding", binding)
         object.__setattr__(self, "_fields", {})
+        object.__setattr__(self, "_reads", {})
         object.__setattr__(self, "_strict", strict)
+
+    @staticmethod
+    def _field_property(name: str) -> property:
+        # A read is every step's: one lookup of the field's read, made once, and its call.
+        def read(self: _Binding) -> np.ndarray:
+            found = self._reads.get(name)
+            if found is None:
+                found = self._read(name)
+            return found()
+
+        return property(read)
+
+    def _read(self, name: str) -> Callable[[], np.ndarray]:
+        """Field `name`'s read, made once: the physics' binding read (fresh as it makes it),
+        copied with the leading axis. Raises BindingError, BatchError."""
+        found = self._fields.get(name) or self._field(name)
+        binding, dtype, ndmin = self._binding, found.dtype, found.ndmin
+
+        def view() -> np.ndarray:  # a plain view of the rows: copied at once
+            return getattr(binding, name)[None].copy()
+
+        def converted() -> np.ndarray:  # a write-back copy, or a dtype to change
+            return np.array(getattr(binding, name), dtype=dtype, ndmin=ndmin)
+
+        read = view if found.plain else converted
+        self._reads[name] = read
+        return read
 
     def _field(self, name: str) -> _Field:
         binding = self._binding
@@ -90,11 +119,8 @@ class _Binding(batched.Binding):
         return found
 
     def _get(self, name: str) -> np.ndarray:
-        found = self._fields.get(name) or self._field(name)
-        value = getattr(self._binding, name)
-        if found.plain:
-            return value[None].copy()
-        return np.array(value, dtype=found.dtype, ndmin=found.ndmin)
+        found = self._reads.get(name)
+        return (found or self._read(name))()
 
     def _set(self, name: str, value: Any) -> None:
         found = self._fields.get(name) or self._field(name)

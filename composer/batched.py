@@ -136,7 +136,7 @@ class BatchedTask(Protocol):
 # -- which form runs -------------------------------------------------------------------
 
 
-def _owner(cls: type, name: str) -> type | None:
+def defining_class(cls: type, name: str) -> type | None:
     """The class of `cls`'s MRO that defines attribute `name`, or None."""
     for klass in cls.__mro__:
         if name in vars(klass):
@@ -147,10 +147,10 @@ def _owner(cls: type, name: str) -> type | None:
 def prefers_batched(cls: type, single: str, batched: str) -> bool:
     """Whether objects of `cls` have method `batched` defined on the class defining method
     `single` or on a subclass of it: then the batched form is the one that runs."""
-    twin = _owner(cls, batched)
+    twin = defining_class(cls, batched)
     if twin is None:
         return False
-    owner = _owner(cls, single)
+    owner = defining_class(cls, single)
     return owner is None or issubclass(twin, owner)
 
 
@@ -217,6 +217,7 @@ def first_row(values: np.ndarray) -> Any:
 # -- what a batch gives: the rules both kinds of BatchPhysics keep -------------------------
 
 STATE_FIELDS = tracking.STATE_FIELDS  # the MjData fields a batch holds as state, writable
+_MJTNUM = np.dtype(mujoco.MJTNUM_DTYPE)
 
 
 def check_source(name: str) -> None:
@@ -246,6 +247,8 @@ def not_writable(name: str, model_field: bool) -> errors.BatchError:
 def rows_to_write(value: Any, n: int, shape: tuple[int, ...], name: str) -> np.ndarray:
     """`value` broadcast to the (n, *shape) rows of field `name`, as mjtNum. Raises
     mjcf.BindingError for values that do not fit."""
+    if type(value) is np.ndarray and value.dtype == _MJTNUM and value.shape == (n, *shape):
+        return value  # the rows already: np.broadcast_to costs microseconds
     try:
         return np.broadcast_to(np.asarray(value, dtype=mujoco.MJTNUM_DTYPE), (n, *shape))
     except ValueError as e:
@@ -262,6 +265,11 @@ class Binding:
     element by `binding_class`. Raises mjcf.BindingError for a field the kind has not."""
 
     __slots__ = ()
+
+    @staticmethod
+    def _field_property(name: str) -> property:
+        """The property of field `name` in the classes `binding_class` makes: `_get`."""
+        return property(operator.methodcaller("_get", name))
 
     def _get(self, name: str) -> np.ndarray:
         raise NotImplementedError
@@ -292,7 +300,7 @@ def binding_class(base: type[_B], kind: mujoco.mjtObj) -> type[_B]:
     if cls is None:
         namespace: dict[str, Any] = {"__slots__": ()}
         for name in fields.kind_fields(kind):
-            namespace[name] = property(operator.methodcaller("_get", name))
+            namespace[name] = base._field_property(name)
         kind_name = fields.kind_name(kind).capitalize()
         cls = _BINDING_CLASSES[key] = type(
             f"{kind_name}{base.__name__.lstrip('_')}", (base,), namespace

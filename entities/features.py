@@ -46,6 +46,10 @@ class HingeAngles(observation.Observable):
 
         return read
 
+    def field_rows(self) -> observation.FieldRows:
+        """The joints' qpos as (cos, sin)."""
+        return observation.FieldRows("qpos", self.joints, angles=True)
+
 
 class Clipped(observation.Observable):
     """`physics.bind(elements).<kind>[index]` clipped to [low, high], its bounds."""
@@ -74,13 +78,18 @@ class Clipped(observation.Observable):
         except BatchError:
             return None
         if self.index is None:
-            return lambda: _clip(getattr(binding, kind), low, high)
+            return lambda: clip(getattr(binding, kind), low, high)
         index = self.index if isinstance(self.index, tuple) else (self.index,)
         rows = (slice(None), *index)
-        return lambda: _clip(getattr(binding, kind)[rows], low, high)
+        return lambda: clip(getattr(binding, kind)[rows], low, high)
+
+    def field_rows(self) -> observation.FieldRows:
+        """Field `kind` of the elements, part `index` of it, clipped."""
+        bounds = (np.asarray(self.low, dtype=np.float64), np.asarray(self.high, dtype=np.float64))
+        return observation.FieldRows(self.kind, self.elements, self.index, bounds=bounds)
 
 
-def _clip(values: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+def clip(values: Any, low: Any, high: Any) -> np.ndarray:
     """np.clip(values, low, high), bit for bit (NaN stays NaN), at a third of its cost on
     the small arrays observables are (with bounds as arrays, not Python numbers)."""
     return np.minimum(np.maximum(values, low), high)

@@ -26,7 +26,7 @@ Fresh values: after `step()`, `forward()` and `reset()`, and after writes throug
 `mj_forward` would compute for the current state. Writes straight into `data` or `model` are
 MuJoCo's own business: call `forward()` (or `mark_as_dirty()`) after them.
 
-Stepping does not check for divergence (a check costs about two microseconds): call
+Stepping does not check for divergence (a check costs about a microsecond): call
 `check_invalid_state()` or step inside `check_divergence()` where it matters.
 """
 
@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import contextlib
 import copy as copy_module
+import functools
 import os
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -60,7 +61,7 @@ from mjcf import (
 )
 from mjcf.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITTEN
 from mjcf.element import Element as ElementType
-from mjcf.physics_state import STATE_WRITE, StateAccess
+from mjcf.physics_state import STATE_WRITE, ResetContext, StateAccess
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -73,6 +74,10 @@ _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.
 _RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
 _FWDINV = int(mujoco.mjtEnableBit.mjENBL_FWDINV)
+# Steps after which MuJoCo's mj_checkAcc has seen data.qacc as it is left: not with RK4
+# (data.qacc is its last stage's), sleep (waking recomputes it) or the forward/inverse
+# comparison.
+_RECOMPUTES_QACC = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | _FWDINV
 _VEL = int(mujoco.mjtStage.mjSTAGE_VEL)
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
@@ -90,6 +95,7 @@ _TRANSIENT = (
     "_scratch",
     "_opt",
     "_state_check",
+    "_qacc_checked",
 )
 # Attributes made when first used (see Physics.__getattr__).
 _MADE_ON_FIRST_USE = ("_data", "_warnings")
@@ -164,6 +170,9 @@ class Physics(StateAccess):
             self._hold_data(data)
         self._opt = model.opt  # a live view; cached because each `model.opt` makes one
         self._stale = stale
+        # The `_stale` a step left when MuJoCo checked the qacc it left (None: unchecked);
+        # while `_stale` still holds it, nothing has recomputed or written since.
+        self._qacc_checked: int | None = None
         self._on_demand: tuple[Any, ...] = ()  # mj_ functions bound fields need run
         self._scratch: mujoco.MjData | None = None  # for mj_setConst, which clobbers data
         self._bindings: dict[tuple, binding_module.Binding] = {}
@@ -346,31 +355,33 @@ class Physics(StateAccess):
 
         Raises StateError for `nstep` below 1.
         """
-        model, data = self._model, self._data
+        model, data, opt = self._model, self._data, self._opt
         if nstep < 1:
             raise errors.StateError(f"nstep must be at least 1, got {nstep!r}")
+        rk4 = opt.integrator == _RK4
         if not self.legacy_step:
             mujoco.mj_step(model, data, nstep)
             self._stale = LAGGING
-            return
-        if self._stale & (POS_BEHIND | LAGGING):
-            # The position/velocity stages do not describe this state: start from scratch.
-            mujoco.mj_step(model, data, nstep)
         else:
-            opt = self._opt
-            if opt.integrator != _RK4:
-                mujoco.mj_step2(model, data)
-            elif opt.enableflags & _FWDINV:
-                mujoco.mj_step(model, data)  # mj_step also compares forward and inverse
+            if self._stale & (POS_BEHIND | LAGGING):
+                # The position/velocity stages do not describe this state: start afresh.
+                mujoco.mj_step(model, data, nstep)
             else:
-                # mj_step2 has no RK4: finish this step's forward pass, then integrate.
-                mujoco.mj_forwardSkip(model, data, _VEL, 0)
-                mujoco.mj_checkAcc(model, data)
-                mujoco.mj_RungeKutta(model, data, 4)
-            if nstep > 1:
-                mujoco.mj_step(model, data, nstep - 1)
-        mujoco.mj_step1(model, data)
-        self._stale = ACC_BEHIND
+                if not rk4:
+                    mujoco.mj_step2(model, data)
+                elif opt.enableflags & _FWDINV:
+                    mujoco.mj_step(model, data)  # mj_step also compares forward and inverse
+                else:
+                    # mj_step2 has no RK4: finish this step's forward pass, then integrate.
+                    mujoco.mj_forwardSkip(model, data, _VEL, 0)
+                    mujoco.mj_checkAcc(model, data)
+                    mujoco.mj_RungeKutta(model, data, 4)
+                if nstep > 1:
+                    mujoco.mj_step(model, data, nstep - 1)
+            mujoco.mj_step1(model, data)  # positions and velocities: qacc stays the step's
+            self._stale = ACC_BEHIND
+        checked = not rk4 and not opt.enableflags & _RECOMPUTES_QACC
+        self._qacc_checked = self._stale if checked else None
 
     def forward(self) -> None:
         """Recompute every derived quantity from the state (mj_forward); clears is_dirty."""
@@ -398,6 +409,7 @@ class Physics(StateAccess):
         for compute in self._on_demand:
             compute(model, data)
         self._stale = 0
+        self._qacc_checked = None  # qacc is mj_forward's: no MuJoCo check saw it
 
     def _refresh(self) -> None:
         """Bring derived fields up to the state: the acceleration stage alone when only it
@@ -431,11 +443,18 @@ class Physics(StateAccess):
 
         Raises NotFoundError for a keyframe the model does not have.
         """
+        self._reset_state(keyframe)
+        self.forward()
+
+    def _reset_state(self, keyframe: int | str | None) -> None:
+        """The state of qpos0 or a keyframe, its derived fields not computed yet (bindings
+        and named access compute them when first read)."""
         if keyframe is None:
             mujoco.mj_resetData(self._model, self._data)
         else:
             mujoco.mj_resetDataKeyframe(self._model, self._data, self._keyframe_id(keyframe))
-        self.forward()
+        self._stale = POS_BEHIND | ACC_BEHIND
+        self._qacc_checked = None
 
     def _keyframe_id(self, keyframe: int | str) -> int:
         nkey = self._model.nkey
@@ -454,16 +473,20 @@ class Physics(StateAccess):
             )
         return int(keyframe)
 
-    @contextlib.contextmanager
-    def reset_context(self, keyframe: int | str | None = None) -> Iterator[Physics]:
+    def reset_context(
+        self, keyframe: int | str | None = None
+    ) -> contextlib.AbstractContextManager[Physics]:
         """Reset, let the block set up the state, then forward and check it is valid.
+
+        One mj_forward in all, when the block ends: inside it, derived fields read through
+        bindings or named access (xpos, contacts, sensors ...) are computed when first read,
+        for the state as it is then (the reset state, until the block writes one), where
+        `reset()` would forward at once; `data`'s own are computed when the block ends,
+        or by `forward()`, as after any write.
 
         Raises PhysicsError if the state set in the block is invalid.
         """
-        self.reset(keyframe)
-        yield self
-        self.forward()
-        self.check_invalid_state()
+        return ResetContext(self, functools.partial(self._reset_state, keyframe))
 
     def check_invalid_state(self) -> contextlib.AbstractContextManager[Physics]:
         """Raise PhysicsError if the state is invalid: MuJoCo flagged a bad qpos, qvel, qacc or
@@ -479,7 +502,8 @@ class Physics(StateAccess):
         return self._state_check
 
     def _raise_if_invalid(self) -> None:
-        validity.raise_if_invalid(self._model, self._data, self._warnings)
+        checked = self._stale == self._qacc_checked  # as the step left it: MuJoCo saw qacc
+        validity.raise_if_invalid(self._model, self._data, self._warnings, checked)
 
     @contextlib.contextmanager
     def check_divergence(self) -> Iterator[Physics]:

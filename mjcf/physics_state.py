@@ -13,13 +13,17 @@ forward first; after a control write, only what depends on the controls is recom
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
 
 from mjcf import errors, tracking
 from mjcf.binding import WRITE_BITS
+
+if TYPE_CHECKING:
+    from mjcf.physics import Physics
 
 # get_state(): dm_control's physics state (qpos, qvel, act, plugin state), plus MuJoCo 4's
 # history and plastic state when a model has them, in mj_getState's order.
@@ -99,3 +103,26 @@ class StateAccess:
     def velocity(self) -> np.ndarray:
         """A copy of the generalized velocities (data.qvel)."""
         return self._data.qvel.copy()
+
+
+class ResetContext:
+    """`physics.reset_context(keyframe)`: `start()` resets when the block starts (derived
+    fields computed when first read); the block ends with a forward and a validity check,
+    unless it raised. A class, not a generator: a reset every episode pays a third of the
+    cost."""
+
+    __slots__ = ("_physics", "_start")
+
+    def __init__(self, physics: Physics, start: Callable[[], None]) -> None:
+        self._physics = physics
+        self._start = start
+
+    def __enter__(self) -> Physics:
+        self._start()
+        return self._physics
+
+    def __exit__(self, kind: type | None, *rest: Any) -> None:
+        if kind is None:
+            physics = self._physics
+            physics.forward()
+            physics.check_invalid_state()

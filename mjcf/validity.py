@@ -32,9 +32,13 @@ _INVALID_STATE_WARNINGS = {
 _INVALID_STATE_IDS = np.array([int(w) for w in _INVALID_STATE_WARNINGS])
 
 
-def raise_if_invalid(model: mujoco.MjModel, data: mujoco.MjData, warnings: np.ndarray) -> None:
+def raise_if_invalid(
+    model: mujoco.MjModel, data: mujoco.MjData, warnings: np.ndarray, qacc_checked: bool = False
+) -> None:
     """Raise PhysicsError if MuJoCo flagged a bad qpos, qvel, qacc or ctrl since the last
-    reset (`warnings`: data.warning.number, a live view), or qacc is not finite."""
+    reset (`warnings`: data.warning.number, a live view), or qacc is not finite.
+    `qacc_checked`: MuJoCo's own check (mj_checkAcc, in a step) saw data.qacc as it is, so
+    a non-finite value there has set a warning already and qacc is not looked at again."""
     # any() over a list first: benign warnings aside, nothing is set, and this is cheapest.
     if any(warnings.tolist()) and warnings[_INVALID_STATE_IDS].any():
         found = []
@@ -46,11 +50,13 @@ def raise_if_invalid(model: mujoco.MjModel, data: mujoco.MjData, warnings: np.nd
             f"physics state is invalid at t={data.time:.6g}: MuJoCo reported "
             f"{', '.join(found)}; reset the physics to continue"
         )
+    if qacc_checked:
+        return
     # MuJoCo checks the state only when stepping; a state set since then and forwarded
     # (reset_context) shows in qacc. The dot product is not finite if any entry is not,
-    # or above 1e154, far past MuJoCo's own 1e10 bound.
+    # or above 1e154, far past MuJoCo's own 1e10 bound (ndarray.dot: half of `@`'s cost).
     qacc = data.qacc
-    if not math.isfinite(qacc @ qacc):
+    if not math.isfinite(qacc.dot(qacc)):
         bad = np.flatnonzero(~np.isfinite(qacc))
         index = int(bad[0]) if bad.size else int(np.argmax(np.abs(qacc)))
         raise errors.PhysicsError(

@@ -18,7 +18,7 @@ import composer
 import mjcf
 from arenas import Floor
 from entities import CartPole
-from tasks.rewards import tolerance
+from tasks.rewards import Tolerance
 
 
 class CartpoleSwingup(composer.Task):
@@ -56,6 +56,10 @@ class CartpoleSwingup(composer.Task):
         self.render_camera = f"{self.cartpole.name}/track"  # follows the cart
         self.randomize = randomize
         self.start_upright = start_upright
+        # The reward's terms, checked once (see the class docstring).
+        self._centered = Tolerance(margin=2.0)
+        self._small_control = Tolerance(margin=1.0, value_at_margin=0.0, sigmoid="quadratic")
+        self._small_velocity = Tolerance(margin=5.0)
         self.set_timesteps(control_timestep, physics_timestep)
 
     @property
@@ -86,10 +90,7 @@ class CartpoleSwingup(composer.Task):
         """The reward of each environment, shape (n,): see the class docstring."""
         slider, hinge = physics.bind(self.cartpole.slider), physics.bind(self.cartpole.hinge)
         upright = (np.cos(hinge.qpos[:, 0]) + 1.0) / 2.0
-        centered = (1.0 + tolerance(slider.qpos[:, 0], margin=2.0)) / 2.0
-        control = tolerance(
-            physics.field("ctrl")[:, 0], margin=1.0, value_at_margin=0.0, sigmoid="quadratic"
-        )
-        small_control = (4.0 + control) / 5.0
-        small_velocity = (1.0 + tolerance(hinge.qvel[:, 0], margin=5.0)) / 2.0
+        centered = (1.0 + self._centered(slider.qpos[:, 0])) / 2.0
+        small_control = (4.0 + self._small_control(physics.field("ctrl")[:, 0])) / 5.0
+        small_velocity = (1.0 + self._small_velocity(hinge.qvel[:, 0])) / 2.0
         return upright * centered * small_control * small_velocity

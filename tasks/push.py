@@ -26,6 +26,7 @@ import mjcf
 from arenas import Table
 from composer import BatchPhysics, observation
 from entities import Box, features, robots
+from entities.features import clip
 from tasks.rewards import squared_norms
 from tasks.unit_action import UnitActionTask
 
@@ -96,11 +97,11 @@ class ArmPushBox(UnitActionTask):
             "tcp_position": features.positions(self.robot.tcp),
             "box_position": features.positions(self.box.body),
             "tcp_to_box": observation.BatchGeneric(
-                lambda physics: np.clip(_tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10),
+                lambda physics: clip(_tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10),
                 bounds=(-10, 10),
             ),
             "box_to_target": observation.BatchGeneric(
-                lambda physics: np.clip(
+                lambda physics: clip(
                     _box_to_target(physics.bind(box), physics.bind(target)), -10, 10
                 ),
                 bounds=(-10, 10),
@@ -144,8 +145,8 @@ class ArmPushBox(UnitActionTask):
         arm_ctrl = physics.bind(self.arm_actuators)
         angles = physics.bind(self.arm_joints).qpos
         targets = arm_ctrl.ctrl + self.max_joint_step * actions[:, :6]
-        targets = np.clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
-        arm_ctrl.ctrl = np.clip(targets, self._ctrl_low, self._ctrl_high)
+        targets = clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
+        arm_ctrl.ctrl = clip(targets, self._ctrl_low, self._ctrl_high)
         low, high = self._gripper_low, self._gripper_high
         gripper = low + (actions[:, 6:] + 1.0) / 2.0 * (high - low)
         physics.bind(self.gripper_actuators).ctrl = gripper
@@ -154,8 +155,12 @@ class ArmPushBox(UnitActionTask):
         """Tool-to-box and box-to-target distances (m) of each environment, (n,) each."""
         box = physics.bind(self.box.body)
         reach = np.sqrt(squared_norms(_tcp_to_box(box, physics.bind(self.robot.tcp))))
-        push = np.sqrt(squared_norms(_box_to_target(box, physics.bind(self.target))))
-        return reach, push
+        return reach, self._push_distances(physics)
+
+    def _push_distances(self, physics: BatchPhysics) -> np.ndarray:
+        """Box-to-target distances (m) of each environment, (n,)."""
+        box = physics.bind(self.box.body)
+        return np.sqrt(squared_norms(_box_to_target(box, physics.bind(self.target))))
 
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
         """The reward of each environment, (n,): see the class docstring."""
@@ -168,7 +173,7 @@ class ArmPushBox(UnitActionTask):
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
         """'is_success': the box's centre within `target_radius` of the target's, (n,)."""
-        return {"is_success": self._distances(physics)[1] < self.target_radius}
+        return {"is_success": self._push_distances(physics) < self.target_radius}
 
 
 def _tcp_to_box(box: Any, tcp: Any) -> np.ndarray:

@@ -24,6 +24,7 @@ import mjcf
 from arenas import Floor
 from composer import BatchPhysics, observation
 from entities import PlanarArm
+from entities.features import clip
 from tasks.unit_action import UnitActionTask
 
 
@@ -76,11 +77,11 @@ class Reach(UnitActionTask):
         reach = self.arm.reach
         self.observe({
             "target_position": observation.BatchGeneric(
-                lambda physics: np.clip(physics.bind(target).mocap_pos[:, :2] / reach, -1, 1),
+                lambda physics: clip(physics.bind(target).mocap_pos[:, :2] / reach, -1, 1),
                 bounds=(-1, 1),
             ),
             "to_target": observation.BatchGeneric(
-                lambda physics: np.clip(self._to_target(physics) / reach, -2, 2),
+                lambda physics: clip(self._to_target(physics) / reach, -2, 2),
                 bounds=(-2, 2),
             ),
         })  # fmt: skip

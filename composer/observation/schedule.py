@@ -28,7 +28,7 @@ reduced when an observation is finished (`Channel.reduce_rows`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from typing import Any
 
 import numpy as np
@@ -153,16 +153,24 @@ class Schedule:
     environments (see the module docstring)."""
 
     def __init__(
-        self, channels: Sequence[Channel], substeps: int, num_envs: int, flatten: bool
+        self,
+        channels: Sequence[Channel],
+        substeps: int,
+        num_envs: int,
+        flatten: bool,
+        apart: Collection[int] = (),
     ) -> None:
         """Allocate the outputs ((num_envs, ...) per channel, or (num_envs, size) when
         flattened) and rings, and compute when each channel is sampled, for control steps
-        of `substeps` physics steps."""
+        of `substeps` physics steps. Channels `apart` (direct ones) are sampled by the
+        schedule's owner, who writes their outputs itself (`block`): `sample` leaves them
+        out, and `offsets` still counts them."""
         self.channels = list(channels)
         self.names = [channel.name for channel in self.channels]
         self.substeps = substeps
         self.num_envs = num_envs
         self.flatten = flatten
+        self._apart = frozenset(apart)
         outs = self._allocate()
         self._buffers: list[_Direct | _Ring] = [
             _Direct(out) if channel.direct else _Ring(channel, out)
@@ -174,16 +182,24 @@ class Schedule:
         self._plan()
 
     def _allocate(self) -> list[np.ndarray]:
-        n = self.num_envs
-        if not self.flatten:
-            return [np.zeros((n, *c.output_shape), dtype=c.dtype) for c in self.channels]
-        sizes = [math.prod(c.output_shape) for c in self.channels]
+        """Each channel's output: a view of columns of one (n, size) float64 block where
+        it is float64 (every channel when flattened), else an array of its own."""
+        n, channels = self.num_envs, self.channels
+        in_block = [self.flatten or c.dtype == np.float64 for c in channels]
+        sizes = [
+            math.prod(c.output_shape) if b else 0 for c, b in zip(channels, in_block, strict=True)
+        ]
         self._flat = np.zeros((n, sum(sizes)), dtype=np.float64)
         starts = np.cumsum([0, *sizes])
-        # Views into the flat rows (splitting their contiguous last axis keeps them views).
+        self._starts: list[int | None] = [
+            int(a) if b else None for a, b in zip(starts[:-1], in_block, strict=True)
+        ]
+        # Views into the block's rows (splitting their contiguous last axis keeps them views).
         return [
             self._flat[:, a:b].reshape(n, *c.output_shape)
-            for c, a, b in zip(self.channels, starts[:-1], starts[1:], strict=True)
+            if block
+            else np.zeros((n, *c.output_shape), dtype=c.dtype)
+            for c, a, b, block in zip(channels, starts[:-1], starts[1:], in_block, strict=True)
         ]
 
     def _plan(self) -> None:
@@ -200,12 +216,16 @@ class Schedule:
         self._table = np.zeros((period, substeps + 1, len(channels)), dtype=bool)
         for phase in range(period):
             due: list[tuple[int, ...]] = [()]
+            offsets = []
             for offset in range(1, substeps + 1):
                 step = phase * substeps + offset
-                due.append(tuple(k for k, c in enumerate(channels) if c.needed(step, substeps)))
+                needed = [k for k, c in enumerate(channels) if c.needed(step, substeps)]
+                if needed:
+                    offsets.append(offset)
+                due.append(tuple(k for k in needed if k not in self._apart))
                 self._table[phase, offset, list(due[-1])] = True
             self._due.append(due)
-            self._offsets.append([offset for offset in range(1, substeps + 1) if due[offset]])
+            self._offsets.append(offsets)
         self._every = np.arange(self.num_envs)
 
     @property
@@ -268,6 +288,12 @@ class Schedule:
         """Start the episodes of environments `rows` for channel k: `values` sampled at
         step 0; before them the reset value (or zeros, with `zero_padding`)."""
         self._buffers[k].restart(rows, values, random_states, zero_padding)
+
+    def block(self, k: int) -> tuple[np.ndarray, int] | None:
+        """Where channel k's outputs are: the (num_envs, size) float64 array whose columns
+        from the second item on they are a view of, or None for an array of their own."""
+        start = self._starts[k]
+        return None if start is None else (self._flat, start)
 
     def finish(self, rows: Rows, steps: Any) -> None:
         """Complete the buffered, delayed, corrupted or reduced observations of

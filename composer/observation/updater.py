@@ -14,9 +14,12 @@ preallocated arrays.
 Each observable is resolved here, once per compile: its reader (`observation.reader_of`:
 its batched reader with a batch of one where that is the form it defines) and its channel
 (`observation.channel`: shape, type, bounds). Observables whose value is empty (e.g.
-activations of a model with none) are left out. What is sampled when, and the samples
-themselves, are kept by `observation.schedule`, the schedule a `VectorEnvironment` keeps
-for all its environments; here it is a schedule of one environment.
+activations of a model with none) are left out. Those whose value is rows of bound MjData
+fields (`Observable.field_rows`), shown as sampled, are read together, a gather per field
+(`observation.fused`), instead of one by one through their readers: the same values.
+What is sampled when, and the samples themselves, are kept by `observation.schedule`, the
+schedule a `VectorEnvironment` keeps for all its environments; here it is a schedule of
+one environment.
 
 Two choices dm_control offers: `strip_singleton_buffer_dim=False` gives an observation of
 `buffer_size` 1 (and no aggregator) its leading buffer axis of length 1, and
@@ -36,6 +39,7 @@ from gymnasium import spaces
 
 from composer import errors
 from composer.observation.channel import Channel
+from composer.observation.fused import FusedRead, Plan
 from composer.observation.observable import Observable, reader_of
 from composer.observation.schedule import ALL, Schedule
 
@@ -68,6 +72,7 @@ class Updater:
         self.zero_padding = padding is ObservationPadding.ZERO
         self.channels: list[Channel] = []
         self.readers: list[Callable[[], Any]] = []
+        plans: list[Plan | None] = []
         for name in sorted(observables):
             observable = observables[name]
             observable.validate(name)
@@ -76,11 +81,46 @@ class Updater:
             if math.prod(channel.output_shape) > 0:
                 self.channels.append(channel)
                 self.readers.append(read)
+                fusable = channel.direct and channel.dtype == np.float64
+                plans.append(FusedRead.plan(observable, value, physics) if fusable else None)
         self.names = [channel.name for channel in self.channels]
-        self.schedule = Schedule(self.channels, substeps, 1, flatten)
+        self._fused_channels = frozenset(k for k, plan in enumerate(plans) if plan is not None)
+        # The observables read together (`observation.fused`), for inspection.
+        self.fused_names = [self.names[k] for k in sorted(self._fused_channels)]
+        self.schedule = Schedule(self.channels, substeps, 1, flatten, self._fused_channels)
         self.period = self.schedule.period
         self.observation_space: spaces.Dict | spaces.Box = self.schedule.observation_space
         self._random_state: Any = None
+        self._fuse(physics, plans)
+
+    def _fuse(self, physics: Any, plans: list[Plan | None]) -> None:
+        """One FusedRead per sampling interval of the planned channels, and which of them
+        are due after each physics step of each phase of the schedule."""
+        by_interval: dict[int, list[int]] = {}
+        for k in sorted(self._fused_channels):
+            by_interval.setdefault(self.channels[k].interval, []).append(k)
+        self._fused: list[tuple[int, FusedRead]] = []  # (a channel of it, the read)
+        for ks in by_interval.values():
+            columns: list[tuple[Plan, int]] = []
+            row = None
+            for k in ks:
+                plan, block = plans[k], self.schedule.block(k)
+                assert plan is not None and block is not None, "float64: in the block"
+                row, column = block[0][0], block[1]  # one environment's row of the block
+                columns.append((plan, column))
+            assert row is not None
+            read = FusedRead(physics, columns, row, [self.readers[k] for k in ks])
+            self._fused.append((ks[0], read))
+        substeps = self.substeps
+        # _fused_due[phase][offset]: the fused reads due after that physics step.
+        self._fused_due = [
+            [
+                [read for k, read in self._fused
+                 if offset and self.channels[k].needed(phase * substeps + offset, substeps)]
+                for offset in range(substeps + 1)
+            ]
+            for phase in range(self.period)
+        ]  # fmt: skip
 
     def _read(self, k: int, rows: Any) -> Any:
         return self.readers[k]()
@@ -96,18 +136,21 @@ class Updater:
     def sample(self, control_step: int, first: int, offset: int) -> None:
         """Sample what is due after physics step `offset` of control step `control_step`,
         which began after physics step `first` (both counted from the reset)."""
-        self.schedule.sample(
-            control_step % self.period, offset, ALL, first + offset, self._read,
-            self._random_states,
-        )  # fmt: skip
+        phase = control_step % self.period
+        for read in self._fused_due[phase][offset]:
+            read.read()
+        self.schedule.sample(phase, offset, ALL, first + offset, self._read, self._random_states)
 
     def reset(self, random_state: Any) -> dict[str, np.ndarray] | np.ndarray:
         """Start an episode: sample every observable at step 0 (corruptors draw from
         `random_state` from now on); the first observation."""
         self._random_state = random_state
-        schedule, zero = self.schedule, self.zero_padding
-        for k, read in enumerate(self.readers):
-            schedule.restart(k, ALL, read(), self._random_states, zero)
+        schedule, zero, fused = self.schedule, self.zero_padding, self._fused_channels
+        for _, read in self._fused:
+            read.read()
+        for k, read_k in enumerate(self.readers):
+            if k not in fused:
+                schedule.restart(k, ALL, read_k(), self._random_states, zero)
         return self.observation(0)
 
     def observation(self, step: int) -> dict[str, np.ndarray] | np.ndarray:

@@ -55,19 +55,15 @@ from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
 from composer.vector import info_layout
+from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
-# The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state.
-_INVALID = np.array(
-    [
-        int(mujoco.mjtWarning.mjWARN_BADQPOS),
-        int(mujoco.mjtWarning.mjWARN_BADQVEL),
-        int(mujoco.mjtWarning.mjWARN_BADQACC),
-        int(mujoco.mjtWarning.mjWARN_BADCTRL),
-    ]
-)
+# The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run
+# of mjtWarning, so that their counters are a view of the batch's.
+_INVALID = slice(int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADCTRL) + 1)
+assert _INVALID.stop - _INVALID.start == 4, "BADQPOS, BADQVEL, BADQACC, BADCTRL"
 _SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | int(mujoco.mjtEnableBit.mjENBL_IPC)
 _VEL = mujoco.mjtStage.mjSTAGE_VEL
 _NONE = mujoco.mjtStage.mjSTAGE_NONE
@@ -115,6 +111,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             delayed_observation_padding=delayed_observation_padding,
         )
         self._envs = self._make_envs(task_factory, time_limit, seed, observations)
+        self._same_models = SameModels(num_envs)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
         self.single_action_space = first.action_space
@@ -141,13 +138,16 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             self._build_batch(self._batch.nthread, persistent=False)
         self._state = self._batch.state
         self._warning = self._batch.warning
-        self._ctrl = self._batch.bind("ctrl")
+        self._invalid_counts = self._warning[:, _INVALID, 1]  # a view: (num_envs, 4)
+        self._every = np.arange(num_envs)
+        self._every.flags.writeable = False
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._over = np.zeros(num_envs, dtype=bool)
         # What each environment's own MjData holds of its simulation: _STALE (nothing
         # since its last physics step), _SYNCED (all of it), or _DERIVED (its derived
         # fields, but a batched write changed the state since).
         self._held = np.full(num_envs, _STALE, dtype=np.int8)
+        self._any_synced = False  # whether some environment may be _SYNCED
         self._started = False
 
     def _build_batch(self, nthread: int, persistent: bool) -> None:
@@ -203,10 +203,19 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             envs.append(env)
         return envs
 
-    def _set_models(self) -> None:
-        """Run simulation i on environment i's own MjModel; TaskError if layouts differ."""
+    def _set_models(self, changed: np.ndarray | None = None) -> None:
+        """Run simulation i on environment i's own MjModel, or every one on environment
+        0's while all are the same (`composer.vector.models`) and nothing runs per
+        environment during a step (which could edit its model). `changed`: the
+        environments just reset, whose models may differ now (None: compare none). Raises
+        TaskError if layouts differ."""
+        models = [env.physics.model for env in self._envs]
+        shared = False
+        if changed is not None and self.num_envs > 1 and not self.per_environment:
+            self._same_models.update(models, changed)
+            shared = self._same_models.identical
         try:
-            self._batch.set_models([env.physics.model for env in self._envs])
+            self._batch.set_models(models[0] if shared else models)
         except mujoco.FatalError as e:
             raise errors.TaskError(
                 f"the environments' models do not share MuJoCo's data layout ({e}); a "
@@ -297,7 +306,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             self._held[i] = _SYNCED
         self._steps[ids] = 0
         self._over[ids] = False
-        self._set_models()
+        self._any_synced = True
+        self._set_models(ids)
 
     def step(
         self, actions: Any
@@ -310,23 +320,24 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         if not self._started:
             raise errors.EpisodeError("step() called before reset(); call reset()")
         actions = self._actions.shaped(actions)
-        resetting = np.zeros(self.num_envs, dtype=bool)
-        if self.autoreset_mode is AutoresetMode.NEXT_STEP:
+        n = self.num_envs
+        ids = self._every  # the environments stepped: all but those reset now
+        if self._over.any():
+            if self.autoreset_mode is not AutoresetMode.NEXT_STEP:
+                raise errors.EpisodeError(
+                    f"the episodes of environments {np.flatnonzero(self._over).tolist()} "
+                    "ended; reset them with reset(options={'reset_mask': mask})"
+                )
             resetting = self._over.copy()
-            if resetting.any():
-                self._reset_envs(np.flatnonzero(resetting), [None] * resetting.sum(), None)
-        elif self._over.any():
-            raise errors.EpisodeError(
-                f"the episodes of environments {np.flatnonzero(self._over).tolist()} ended; "
-                "reset them with reset(options={'reset_mask': mask})"
-            )
-        rewards = np.zeros(self.num_envs)
-        terminated = np.zeros(self.num_envs, dtype=bool)
-        truncated = np.zeros(self.num_envs, dtype=bool)
+            self._reset_envs(np.flatnonzero(resetting), [None] * int(resetting.sum()), None)
+            ids = np.flatnonzero(~resetting)
+        rewards = np.zeros(n)
+        terminated = np.zeros(n, dtype=bool)
+        truncated = np.zeros(n, dtype=bool)
         info: dict[str, Any] = {}
-        ids = np.flatnonzero(~resetting)
         if ids.size:
-            self._step_envs(ids, actions[ids], rewards, terminated, truncated, info)
+            self._step_envs(ids, actions if ids is self._every else actions[ids], rewards,
+                            terminated, truncated, info)  # fmt: skip
         self._over = terminated | truncated
         if self.autoreset_mode is AutoresetMode.SAME_STEP and self._over.any():
             info = self._final(np.flatnonzero(self._over), info)
@@ -357,21 +368,34 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         info: dict[str, Any],
     ) -> None:
         actions = self._actions.clipped(actions, ids)
-        physics = self._simulations.physics(ids)
+        every = ids is self._every
+        physics = self._simulations.physics(None if every else ids)
         self._before_step(physics, ids, actions)
         failures = self._advance(ids, actions)
         self._after_step(physics, ids)
-        self._steps[ids] += 1
-        self._observations.finish(ids, self._steps[ids] * self._substeps)
+        steps = self._steps
+        if every:
+            steps += 1
+            self._observations.finish(ids, steps * self._substeps)
+        else:
+            steps[ids] += 1
+            self._observations.finish(ids, steps[ids] * self._substeps)
         errors_found = self._invalid(ids, failures)
         for i, message in errors_found.items():
             entries = stepping.diverged(message, stacklevel=3, environment=i)
             info_layout.add(info, entries, i, self.num_envs)
             truncated[i] = True
-        ok = ids[~np.isin(ids, list(errors_found))] if errors_found else ids
+        if not errors_found:
+            self._outcome(physics, rewards, terminated, info)
+            if every:
+                np.greater_equal(steps, self._step_limit, out=truncated)
+            else:
+                truncated[ids] = steps[ids] >= self._step_limit
+            return
+        ok = ids[~np.isin(ids, list(errors_found))]
         if ok.size:
             self._outcome(self._simulations.physics(ok), rewards, terminated, info)
-            truncated[ok] = self._steps[ok] >= self._step_limit
+            truncated[ok] = steps[ok] >= self._step_limit
 
     def _before_step(self, physics: VectorPhysics, ids: np.ndarray, actions: np.ndarray) -> None:
         methods = self._methods
@@ -387,8 +411,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         """Run the control step's physics steps, sampling observables when due. Returns
         the MuJoCo error message of each simulation that raised one."""
         failures: dict[int, str] = {}
-        first = self._steps[ids] * self._substeps
-        phases = self._steps[ids] % self._observations.period
+        steps = self._steps if ids is self._every else self._steps[ids]
+        first = steps * self._substeps
+        period = self._observations.period
+        phases = steps % period if period > 1 else 0
         sample = self._observations.sample
         around = None
         if self._hooks[0].has_substep_hooks:
@@ -416,16 +442,24 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         """Step simulations `ids` (but those that failed) by nstep physics steps."""
         if failures:
             ids = ids[~np.isin(ids, list(failures))]
+        every = len(ids) == self.num_envs
+        simulations = self._simulations
         consistent = self._envs[0].physics.legacy_step
+        # The stages of the new state only once something reads them: before, the fields
+        # are recomputed if read (a first read of a derived field, in this control step).
+        computed = consistent and simulations.reads_derived
         try:
-            self._batch.step(
-                None if len(ids) == self.num_envs else ids, nstep, _VEL if consistent else _NONE
-            )
+            self._batch.step(None if every else ids, nstep, _VEL if computed else _NONE)
         except mujoco_batch.SimulationError as e:
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
-        self._held[ids] = _STALE
-        self._simulations.stepped(ids, consistent)
+        if every:
+            self._held[:] = _STALE
+            self._any_synced = False
+            simulations.stepped(None, consistent, computed)
+        else:
+            self._held[ids] = _STALE
+            simulations.stepped(ids, consistent, computed)
 
     def _after_step(self, physics: VectorPhysics, ids: np.ndarray) -> None:
         methods = self._methods
@@ -440,7 +474,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
     def _invalid(self, ids: np.ndarray, failures: dict[int, str]) -> dict[int, str]:
         """{environment: message} of the stepped environments whose state is invalid."""
         found = dict(failures)
-        counts = self._warning[ids][:, _INVALID, 1]
+        if not np.count_nonzero(self._invalid_counts):
+            return found  # no warning of an invalid state anywhere
+        counts = self._invalid_counts[ids]
         for i in ids[counts.any(axis=1)]:
             if int(i) not in found:
                 message = stepping.invalid_state(self._materialize(i))
@@ -458,10 +494,11 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         """Reward, termination, info entries and discount of the environments of `physics`."""
         methods, n, ids = self._methods, self.num_envs, physics.ids
         rows = methods.outcome(physics)
+        every = slice(None) if len(ids) == n else ids
         if rows.rewards is not None:
-            rewards[ids] = rows.rewards
+            rewards[every] = rows.rewards
         if rows.terminations is not None:
-            terminated[ids] = rows.terminations
+            terminated[every] = rows.terminations
         for key, values in rows.info.items():
             info_layout.put(info, key, ids, values, n)
         if rows.discounts is not None:
@@ -492,10 +529,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             mujoco.mj_setState(physics.model, physics.data, self._state[i], _STATE)
             physics.mark_as_dirty()
         self._held[i] = _SYNCED
+        self._any_synced = True
         return physics
 
     def _wrote(self, ids: np.ndarray) -> None:
         """A batched method may have written the state rows of environments `ids`."""
+        if not self._any_synced:
+            return  # none holds its whole simulation: none can hold derived fields alone
         held = self._held[ids]
         self._held[ids] = np.where(held == _SYNCED, _DERIVED, held)
 

@@ -96,14 +96,18 @@ class BatchObservations:
     def _random_states(self, ids: np.ndarray) -> list[np.random.RandomState]:
         return [self._random_state(i) for i in ids]
 
-    def offsets(self, phases: np.ndarray) -> list[int]:
+    def offsets(self, phases: int | np.ndarray) -> list[int]:
         """The physics steps (1..substeps) of this control step after which some
-        observable is sampled, for environments in schedule phases `phases`."""
+        observable is sampled, for environments in schedule phases `phases` (one for all,
+        or one each)."""
         return self.schedule.offsets(phases)
 
-    def sample(self, ids: np.ndarray, phases: np.ndarray, offset: int, first: np.ndarray) -> None:
+    def sample(
+        self, ids: np.ndarray, phases: int | np.ndarray, offset: int, first: np.ndarray
+    ) -> None:
         """Sample the observables due after physics step `offset` of the control step, for
-        environments `ids` in phases `phases` whose control step began at steps `first`."""
+        environments `ids` in phases `phases` (one for all, or one each) whose control
+        step began at steps `first`."""
         self.schedule.sample(
             0 if self.period == 1 else phases, offset, self._rows(ids), first + offset,
             self._read, self._random_states,

@@ -47,10 +47,11 @@ if TYPE_CHECKING:
 
 
 class _Field:
-    """One bound field: where its rows are in the batch, the per-environment shape, the
-    stage a read needs fresh and what a write changes."""
+    """One bound field: where its rows are in the batch (`key`: a slice where they are a
+    run), the per-environment shape, the stage a read needs fresh and what a write
+    changes."""
 
-    __slots__ = ("effect", "model_name", "rows", "shape", "source", "stage", "writable")
+    __slots__ = ("effect", "key", "model_name", "rows", "shape", "source", "stage", "writable")
 
     def __init__(
         self,
@@ -64,6 +65,8 @@ class _Field:
         self.source = source  # (num_envs, ...) batch array; None for an MjModel field
         self.model_name = model_name
         self.rows = rows
+        run = rows.size > 0 and bool((np.diff(rows) == 1).all())
+        self.key = slice(int(rows[0]), int(rows[-1]) + 1) if run else rows
         self.shape = shape
         self.stage = stage
         self.effect = effect
@@ -110,7 +113,7 @@ class Simulations:
         simulations = Simulations(batch, envs)
         simulations.physics()           # the VectorPhysics of every environment
         simulations.physics(ids)        # of environments `ids` (ascending)
-        simulations.stepped(ids, True)  # the environment stepped them in the batch
+        simulations.stepped(ids, True, True)  # the environment stepped them, stages too
         simulations.changed(i)          # it wrote environment i's state from its MjData
     """
 
@@ -120,26 +123,33 @@ class Simulations:
         self.batch = batch
         self.envs = envs
         self.template = envs[0].physics
+        self.nsim = batch.nsim
         # Per simulation: whether the batch's derived fields lag its state rows, for the
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
-        self._registered: set[str] = set()  # the MjData fields bound from the batch
+        self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
+        # Whether a derived field (not state) was ever bound: until then a step need not
+        # compute the stages of the new state (`stepped`).
+        self.reads_derived = False
         # Per bound elements: their binding class (None: no elements) and resolved fields.
         self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
         self._every = VectorPhysics(self, None)
 
     def physics(self, ids: np.ndarray | None = None) -> VectorPhysics:
         """The VectorPhysics of environments `ids` (ascending; None: every one)."""
-        if ids is None or len(ids) == self.batch.nsim:
+        if ids is None or len(ids) == self.nsim:
             return self._every
         return VectorPhysics(self, ids)
 
-    def stepped(self, ids: np.ndarray, consistent: bool) -> None:
-        """Simulations `ids` were stepped: with stage mjSTAGE_VEL (`consistent`), only their
-        acceleration stage lags; after plain steps their fields lag as mj_step leaves them."""
-        self._pos_stale[ids] = False
-        self._acc_stale[ids] = consistent
+    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: bool) -> None:
+        """Simulations `ids` (None: all) were stepped. `consistent` (reads must describe
+        the new state): with the stages of the new state `computed` (mjSTAGE_VEL), only
+        their acceleration stage lags, else every stage does; not `consistent`: their
+        fields lag as mj_step leaves them, which reads then give."""
+        rows = slice(None) if ids is None else ids
+        self._pos_stale[rows] = consistent and not computed
+        self._acc_stale[rows] = consistent
 
     def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
@@ -164,7 +174,7 @@ class Simulations:
         batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
-            self.batch.forward(None if len(which) == self.batch.nsim else which, batch_stage)
+            self.batch.forward(None if len(which) == self.nsim else which, batch_stage)
         self._pos_stale[which] = False
         if stage == _ACC:
             self._acc_stale[which] = False
@@ -172,15 +182,17 @@ class Simulations:
     def _source(self, name: str) -> np.ndarray:
         """MjData field `name` of every simulation, as the batch holds it. Raises
         BatchError for a field the batch does not hold."""
+        source = self._sources.get(name)
+        if source is not None:
+            return source
         batched.check_source(name)
-        source = self.batch.bind(name)
-        if name not in self._registered:
-            self._registered.add(name)
-            if name not in batched.STATE_FIELDS:
-                # MuJoCo's batch copies an output out at each call from its first bind on:
-                # until the next call it holds nothing, whatever the stages say.
-                self._pos_stale[:] = True
-                self._acc_stale[:] = True
+        source = self._sources[name] = self.batch.bind(name)
+        if name not in batched.STATE_FIELDS:
+            # MuJoCo's batch copies an output out at each call from its first bind on:
+            # until the next call it holds nothing, whatever the stages say.
+            self._pos_stale[:] = True
+            self._acc_stale[:] = True
+            self.reads_derived = True
         return source
 
     def _binding(self, key: Any) -> tuple[type[BatchBinding] | None, dict[str, _Field]]:
@@ -222,8 +234,10 @@ class VectorPhysics(batched.BatchPhysics):
         """Cover environments `ids` (ascending; None: every one) of `simulations`."""
         self.simulations = simulations
         self._ids = ids
-        self._every = np.arange(simulations.batch.nsim) if ids is None else ids
+        self._every = np.arange(simulations.nsim) if ids is None else ids
+        self._count = len(self._every)
         self._bindings: dict[Any, batched.Binding | batched.EmptyBinding] = {}
+        self._stages: dict[str, tracking.Stage] = {}  # of the fields `field` read
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -235,7 +249,7 @@ class VectorPhysics(batched.BatchPhysics):
     @property
     def num_envs(self) -> int:
         """n, the number of rows."""
-        return len(self._every)
+        return self._count
 
     @property
     def tasks(self) -> list[Task]:
@@ -272,10 +286,13 @@ class VectorPhysics(batched.BatchPhysics):
         """See `composer.BatchPhysics.field`."""
         simulations = self.simulations
         source = simulations._source(name)
-        stage = tracking.read_stage(name)
-        if name == "sensordata":
-            model = simulations.template.model
-            stage = tracking.sensor_stage(model, np.arange(model.nsensor))
+        stage = self._stages.get(name)
+        if stage is None:
+            stage = tracking.read_stage(name)
+            if name == "sensordata":
+                model = simulations.template.model
+                stage = tracking.sensor_stage(model, np.arange(model.nsensor))
+            self._stages[name] = stage
         if stage:
             simulations._refresh(self._every, stage)
         return source.copy() if self._ids is None else source[self._ids]
@@ -290,7 +307,9 @@ class VectorPhysics(batched.BatchPhysics):
             rows = [getattr(model, found.model_name)[found.rows] for model in models]
             return np.stack(rows).reshape(len(rows), *found.shape)
         if ids is None:
-            values = np.take(source, found.rows, axis=1)
+            values = source[:, found.key]
+            if type(found.key) is slice:  # a view of a run of rows: copied
+                values = values.copy()
         else:
             values = source[ids[:, None], found.rows]
         return values.reshape(len(values), *found.shape)
@@ -313,10 +332,10 @@ class VectorPhysics(batched.BatchPhysics):
 
     def set_control(self, controls: Any) -> None:
         """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
-        ctrl = self.simulations.batch.bind("ctrl")
-        rows = batched.rows_to_write(controls, self.num_envs, ctrl.shape[1:], "ctrl")
+        ctrl = self.simulations._source("ctrl")
+        rows = batched.rows_to_write(controls, self._count, ctrl.shape[1:], "ctrl")
         if self._ids is None:
-            ctrl[:] = rows
+            ctrl[...] = rows
         else:
             ctrl[self._ids] = rows
         self.simulations._wrote(self._ids, tracking.Effect.STEP_INPUT)

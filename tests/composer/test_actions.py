@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gymnasium import spaces
 
 import composer
+from composer import stepping
 from tests.composer.scenes import SwingTask
 
 
@@ -32,3 +34,25 @@ def test_out_of_range_actions_are_clipped_to_ctrlrange(env: composer.Environment
     assert env.physics.data.ctrl.tolist() == [1.0]
     env.step(np.array([-3.0]))
     assert env.physics.data.ctrl.tolist() == [-1.0]
+
+
+def _exact_verdict(actions: np.ndarray) -> bool:
+    return bool(np.isfinite(actions).all())
+
+
+@pytest.mark.parametrize("num_envs", [None, 3])
+def test_the_finiteness_test_agrees_with_isfinite_on_every_kind_of_value(num_envs) -> None:
+    # Huge finite values overflow the cheap test's sum of squares; they must still pass,
+    # and every NaN or infinity, alone or among huge values, must still be refused.
+    space = spaces.Box(-np.inf, np.inf, (4,), dtype=np.float64)
+    rule = stepping.ActionRule(space, num_envs)
+    values = [0.0, -2.5, 1e-300, 1e154, 1e200, -1.7e308, np.inf, -np.inf, np.nan]
+    rng = np.random.default_rng(0)
+    for _ in range(400):
+        actions = rng.choice(values, size=rule.shape)
+        if _exact_verdict(actions):
+            clipped = rule.clipped(actions, None if num_envs is None else np.arange(num_envs))
+            np.testing.assert_array_equal(clipped, actions)
+        else:
+            with pytest.raises(composer.EpisodeError, match="non-finite"):
+                rule.clipped(actions, None if num_envs is None else np.arange(num_envs))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import warnings
 
 import gymnasium
+import mujoco
 import numpy as np
 import pytest
 from gymnasium import spaces
@@ -20,10 +21,12 @@ from tests.composer.scenes import Block, SwingTask
 from tests.composer.vector_scenes import (
     BatchedSwing,
     HookedSwing,
+    LateSight,
     SensingSwing,
     SingleFormSensingSwing,
     SingleFormSwing,
     TowerTask,
+    VariedSwing,
 )
 
 TEST_ID = "composer_tests/BatchedSwing-v0"
@@ -74,6 +77,30 @@ def assert_same_runs(vector, reference, steps=60, seed=3, gain=1.0):
 def test_trajectories_equal_single_environments_with_the_same_seeds(name):
     vector, reference = pair(TASKS[name], time_limit=0.3)
     assert assert_same_runs(vector, reference) >= 8  # through several autoresets
+
+
+def test_derived_fields_first_read_mid_episode_equal_single_environments():
+    # Until something reads a derived field, a step leaves the new state's stages
+    # uncomputed; the first read computes them: the values must be a single
+    # environment's all the same, through autoresets.
+    vector, reference = pair(LateSight, time_limit=0.3)
+    assert assert_same_runs(vector, reference, steps=40) >= 8
+    _, _, _, _, info = vector.step(np.zeros(vector.action_space.shape))
+    assert {"tip_height", "acceleration"} <= set(info)
+
+
+def test_one_model_for_all_while_all_are_the_same_and_each_its_own_once_they_differ():
+    # Simulations run on the first environment's MjModel while every model is the same,
+    # bit for bit, and each on its own once a reset edited them apart: single
+    # environments' trajectories either way, through autoresets.
+    vector, reference = pair(lambda: BatchedSwing(terminate_above=1.0), time_limit=0.3)
+    assert assert_same_runs(vector, reference) >= 8
+    assert isinstance(vector.batch_physics.batch.models, mujoco.MjModel)
+    vector, reference = pair(VariedSwing, time_limit=0.3)
+    assert assert_same_runs(vector, reference) >= 8
+    models = vector.batch_physics.batch.models
+    assert isinstance(models, tuple)
+    assert all(m is env.physics.model for m, env in zip(models, vector.environments, strict=True))
 
 
 @pytest.mark.parametrize(

@@ -174,3 +174,36 @@ class SingleFormSensingSwing(SingleFormSwing, SensingSwing):
 
     def get_reward(self, physics: mjcf.Physics) -> float:
         return float(physics.bind(self.sensors[0]).sensordata[2])
+
+
+class LateSight(BatchedSwing):
+    """BatchedSwing observing the state only, whose info reads the tip's height and the
+    hinge's acceleration from its fourth control step on: nothing derived before."""
+
+    def __init__(self, **options) -> None:
+        super().__init__(**options)
+        self.steps = 0
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        return {"angle_cos": self._angle_cos}
+
+    def after_step_batch(self, physics: BatchPhysics) -> None:
+        self.steps += 1
+
+    def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
+        info = super().get_info_batch(physics)
+        if self.steps >= 4:
+            info["tip_height"] = physics.bind(self.pendulum.tip).xpos[:, 2]
+            info["acceleration"] = physics.bind(self.pendulum.hinge).qacc[:, 0]
+        return info
+
+
+class VariedSwing(BatchedSwing):
+    """BatchedSwing whose hinge damping is drawn at each episode's start, in the model
+    (written raw, as variations of model fields are): each environment's differs."""
+
+    def initialize_episode(self, physics: mjcf.Physics, random_state: np.random.RandomState):
+        hinge = physics.bind(self.pendulum.hinge)
+        physics.model.dof_damping[hinge.dofadr] = random_state.uniform(0.05, 2.0)
+        super().initialize_episode(physics, random_state)

@@ -11,7 +11,7 @@ import pytest
 import composer
 import tasks
 from entities import menagerie, robots
-from tasks.rewards import tolerance
+from tasks.rewards import Tolerance, tolerance
 
 
 def make(task: composer.Task, **kwargs) -> composer.Environment:
@@ -35,6 +35,36 @@ def test_tolerance_is_one_inside_and_value_at_margin_one_margin_out():
         tolerance(0.0, sigmoid="cubic")
     with pytest.raises(composer.TaskError, match="value_at_margin"):
         tolerance(0.0, margin=1.0, value_at_margin=0.0)
+
+
+def _plain_tolerance(x, bounds, margin, sigmoid, value_at_margin):
+    """The formula written out plainly, numpy on float64 arrays."""
+    x = np.asarray(x, dtype=np.float64)
+    lower, upper = bounds
+    if margin == 0:
+        return np.where((lower <= x) & (x <= upper), 1.0, 0.0)
+    distance = np.maximum(np.maximum(lower - x, x - upper), 0.0) / margin
+    if sigmoid == "gaussian":
+        return np.exp(-0.5 * (distance * np.sqrt(-2.0 * np.log(value_at_margin))) ** 2)
+    if sigmoid == "quadratic":
+        return np.fmax(1.0 - (distance * np.sqrt(1.0 - value_at_margin)) ** 2, 0.0)
+    return np.fmax(1.0 - distance * (1.0 - value_at_margin), 0.0)
+
+
+@pytest.mark.parametrize("sigmoid", ["gaussian", "quadratic", "linear"])
+@pytest.mark.parametrize("bounds", [(0.0, 0.0), (-0.5, 0.2)])
+@pytest.mark.parametrize("margin", [0.0, 0.7])
+def test_a_tolerance_built_once_computes_the_formula_to_the_last_bit(sigmoid, bounds, margin):
+    term = Tolerance(bounds, margin, sigmoid, value_at_margin=0.3)
+    xs = np.concatenate([np.linspace(-3, 3, 25), [1e-300, np.inf, -np.inf]])
+    expected = _plain_tolerance(xs, bounds, margin, sigmoid, 0.3)
+    for _ in range(2):  # a call changes none of the constants it keeps
+        np.testing.assert_array_equal(term(xs), expected)
+        np.testing.assert_array_equal(tolerance(xs, bounds, margin, sigmoid, 0.3), expected)
+        assert term(0.1) == float(_plain_tolerance(0.1, bounds, margin, sigmoid, 0.3))
+        assert isinstance(term(0.1), float)
+    with pytest.raises(composer.TaskError, match="lower <= upper"):
+        Tolerance((1.0, 0.0))  # checked when built, not at the first call
 
 
 def test_cartpole_reward_is_one_balanced_and_near_zero_hanging():

@@ -28,14 +28,17 @@ environment's `mjcf.Physics`; or, to be read for many environments at once,
 `batch_reader(physics)`, the same for a `BatchPhysics`, returning (n, *shape)
 (`BatchGeneric` wraps a function). Written once: a single environment reads a batched
 observable with a batch of one, row 0 (`reader_of`), and a `VectorEnvironment` reads one
-without a batched reader once per environment.
+without a batched reader once per environment. An observable whose value is rows of one
+bound MjData field, maybe turned into (cos, sin) and clipped, may also say so
+(`field_rows`): a single environment then reads it with the others that do in one gather
+(`composer.observation.fused`), checked against its reader.
 """
 
 from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -85,6 +88,19 @@ def _aggregator(value: Any) -> Callable[[np.ndarray], np.ndarray] | None:
             f"Unrecognized aggregator name: {value!r}. Valid names: {sorted(AGGREGATORS)}, "
             "or a callable f(buffer) reducing the buffer's first axis"
         ) from None
+
+
+class FieldRows(NamedTuple):
+    """What an observable's value is, when it is rows of one MjData field of bound elements:
+    `physics.bind(elements).<field>[index]` (`index` None: all of it), then with `angles`
+    (cos, sin) of those values concatenated along the last axis, then with `bounds`
+    clipped to (low, high) as `np.minimum(np.maximum(value, low), high)`."""
+
+    field: str
+    elements: Any
+    index: Any = None
+    angles: bool = False
+    bounds: tuple[np.ndarray, np.ndarray] | None = None
 
 
 class Observable:
@@ -181,6 +197,14 @@ class Observable:
         """A function returning the current values of the n environments of `physics`,
         shape (n, *shape), resolved once per compile; or None when they cannot be read at
         once (then each environment's is read with `reader`). None here."""
+        return None
+
+    def field_rows(self) -> FieldRows | None:
+        """What the value is as rows of one bound MjData field (see `FieldRows`), for a
+        single environment to read it together with other such observables; None (here):
+        only the reader says. The class defining this must be the one defining the reader
+        (or a subclass), and the value it describes is checked against the reader's at
+        each compile."""
         return None
 
     def default_bounds(self, value: np.ndarray) -> Bounds:

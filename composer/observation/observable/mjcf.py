@@ -21,7 +21,13 @@ import numpy as np
 
 import mjcf
 from composer import errors
-from composer.observation.observable.base import Bounds, Corruptor, Observable, image_spec
+from composer.observation.observable.base import (
+    Bounds,
+    Corruptor,
+    FieldRows,
+    Observable,
+    image_spec,
+)
 
 _BOTH_SEGMENTATION_AND_DEPTH_ENABLED = (
     "`segmentation` and `depth` cannot both be `True`: a camera observable renders one image"
@@ -78,6 +84,12 @@ class MJCFFeature(Observable):
         if index is None:
             return lambda: getattr(binding, kind)
         return lambda: getattr(binding, kind)[index]
+
+    def field_rows(self) -> FieldRows:
+        """The field `kind` of the elements, part `index` of it."""
+        elements = self.mjcf_element
+        return FieldRows(self.kind, list(elements) if isinstance(elements, tuple) else elements,
+                         self.index)  # fmt: skip
 
     def __getitem__(self, key: Any) -> MJCFFeature:
         """A new observable of the same field and options reading `field[key]`. Raises
