@@ -41,9 +41,9 @@ all three on the real source:
     composition:  settings attachment naming traversal frames defaults traversal_utils
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
-    simulation:   tracking binding named validity rendering raw_access tree_binding
-                  compiler model_constants frame_poses frame_binding physics_state
-                  physics
+    simulation:   tracking binding named validity render_meshes rendering raw_access
+                  tree_binding compiler model_constants frame_poses frame_binding
+                  physics_state physics
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
