@@ -173,6 +173,31 @@ def detach(child: RootElement) -> None:
     frame._modified()
 
 
+def remove(element: Element, affect_attachments: bool) -> None:
+    """Remove `element` (and its subtree) from its model, or empty a top-level section
+    (see `Element.remove`). Raises mjcf.AttachmentError if models are attached inside (or,
+    for a section, into the model), unless `affect_attachments` (they are detached then),
+    and mjcf.SchemaError for a model root or an element removed already."""
+    parent = element.parent
+    if parent is None:
+        raise errors.SchemaError(
+            f"{element.path}: a model root or removed element cannot be removed"
+        )
+    if parent.parent is None and parent is element.root:
+        clear_section(element, affect_attachments)
+        return
+    frames = [e for e in element.iter() if isinstance(e, AttachmentFrame)]
+    if frames and not affect_attachments:
+        models = ", ".join(repr(frame.attached_model.model) for frame in frames)
+        raise errors.AttachmentError(
+            f"{element.path}: models {models} are attached inside; detach them first, or "
+            "call remove(affect_attachments=True)"
+        )
+    for frame in frames:
+        frame.detach()
+    element._cut()._modified()
+
+
 def clear_section(section: Element, affect_attachments: bool) -> None:
     """Empty the top-level section `section` (its attributes and children) of its model,
     and with `affect_attachments` the same section of every model attached into it

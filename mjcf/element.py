@@ -26,6 +26,7 @@ from mjcf.element_list import ElementList
 from mjcf.element_rules import ElementRules
 from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.namescope import NameScope
@@ -633,7 +634,5 @@ else:
 def __getattr__(name: str) -> Any:
     """`mjcf.element.RootElement`, where dm_control code finds it (defined in `mjcf.root`)."""
     if name == "RootElement":
-        from mjcf.root import RootElement  # cycle: root -> element
-
-        return RootElement
+        return ABOVE.root_class
     raise AttributeError(f"module 'mjcf.element' has no attribute {name!r}")

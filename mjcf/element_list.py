@@ -19,6 +19,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, SupportsIndex, overload
 
 from mjcf import errors
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -78,9 +79,7 @@ def children(element: Element, tag: str | None = None) -> list[Element]:
     root = element.root
     if element._parent is not root or element._spec.tag in _OWN_SECTIONS:
         return found
-    from mjcf import attachment  # cycle: attachment -> element -> element_list
-
-    for model in attachment.attached_models(root):
+    for model in ABOVE.attached_models(root):
         section = model._section(element._spec.tag)
         found.extend(c for c in section._children if tag is None or c._spec.tag == tag)
     return found

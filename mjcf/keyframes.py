@@ -24,6 +24,7 @@ import mujoco
 import numpy as np
 
 from mjcf import attachment, errors, fields
+from mjcf.upcalls import ABOVE
 from mjcf.values import format_number
 
 if TYPE_CHECKING:
@@ -197,10 +198,8 @@ def _padded_vectors(composition: Composition) -> dict[int, dict[str, str | None]
     """Full-length key vectors of every key of a composed model, computed by compiling
     it, once for each composed model and key values (writing the same model again
     does not compile it again)."""
-    from mjcf import compiler, serializer  # cycle: both lead back to composition -> keyframes
-
     keys = _all_keys(composition)
-    digest = hashlib.sha1(serializer.serialize_for_compile(composition.root)[0].encode())
+    digest = hashlib.sha1(ABOVE.serialize_for_compile(composition.root)[0].encode())
     for key, _ in keys:
         for name in _VECTORS:
             if name in key._attrs:
@@ -209,7 +208,7 @@ def _padded_vectors(composition: Composition) -> dict[int, dict[str, str | None]
         digest.update(b"|")
     rows = _padded.get(digest.digest())
     if rows is None:
-        model = compiler.compile_composition(composition.root).model
+        model = ABOVE.compile_composition(composition.root).model
         sources = {
             "qpos": model.key_qpos, "qvel": model.key_qvel, "act": model.key_act,
             "ctrl": model.key_ctrl, "mpos": model.key_mpos, "mquat": model.key_mquat,

@@ -34,6 +34,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from mjcf.upcalls import ABOVE
+
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
@@ -136,10 +138,8 @@ def resolve_all(element: Element) -> None:
     that element (names that match none stay text); for a model, also those of the
     models attached to it, which then resolve the references they are given from now
     on (see `Element.resolve_references`)."""
-    from mjcf import attachment  # cycle: attachment -> element -> this module
-
     if element is element._root:
-        models = [element._root, *attachment.attached_models(element._root)]
+        models = [element._root, *ABOVE.attached_models(element._root)]
         for model in models:
             model._references = PINNED
             for item in model.iter():

@@ -37,6 +37,7 @@ import mujoco
 import numpy as np
 
 from mjcf import errors, schema
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -171,10 +172,8 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
     attached to it) need, as dm_control does when it attaches `child`: a capacity
     `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
     (`memory` then in bytes: '1M' over '10000' is '1048576')."""
-    from mjcf import attachment  # cycle: attachment -> settings
-
     needed: dict[str, tuple[object, int | None]] = {}
-    for model in (child, *attachment.attached_models(child)):
+    for model in (child, *ABOVE.attached_models(child)):
         size = model._section("size")
         for name in size._attrs:
             value = size._get_value(size._spec.attributes[name])
@@ -313,8 +312,6 @@ def unscaled_mass(model: RootElement) -> float:
     """The total body mass of `model` (with the models attached to it) compiled alone
     without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
     element attributes."""
-    from mjcf import serializer  # cycle: serializer -> composition -> settings
-
     for element in model.iter():
         if element._spec.tag in _UNSCALABLE:
             raise errors.AttachmentError(
@@ -322,7 +319,7 @@ def unscaled_mass(model: RootElement) -> float:
                 f"the mass of a <{element.tag}> cannot be scaled to match it when the "
                 "model is attached; scale its masses instead of using settotalmass"
             )
-    xml, assets, _, _ = serializer.serialize_for_compile(model)
+    xml, assets, _, _ = ABOVE.serialize_for_compile(model)
     key = _compile_key(xml, assets)
     total = _unscaled_masses.get(key)
     if total is None:

@@ -26,6 +26,7 @@ import numpy as np
 
 from mjcf import errors
 from mjcf.assets import Asset
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
@@ -515,9 +516,7 @@ class _File(_Converter):
 
 
 def _is_element(value: object) -> bool:
-    from mjcf.element import Element  # cycle: element -> values
-
-    return isinstance(value, Element)
+    return isinstance(value, ABOVE.element_class)
 
 
 _CONVERTERS = {
