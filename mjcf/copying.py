@@ -227,7 +227,7 @@ def _copied_value(element: Element, name: str, value: Any) -> Any:
     dm_control shares it; arrays copied."""
     if type(value) is str:
         attribute = element._spec.attributes[name]
-        if attribute.kind == "file" and value:
+        if attribute.converter.files and value:
             return element._get_value(attribute)
         return value
     return value.copy() if hasattr(value, "copy") else value

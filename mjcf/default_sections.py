@@ -41,7 +41,6 @@ if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
 
 _ACTUATOR_TAGS = frozenset(schema.MUJOCO.child("actuator").children)
-_NAMES = frozenset({"string", "reference", "file"})  # built-in default: no name
 
 
 def merge_section(
@@ -159,13 +158,14 @@ def _built_in(tag: str, attribute: AttributeSpec, new_text: str, where: str) -> 
     """MuJoCo's built-in default of `attribute` of a default `<tag>`, all its numbers;
     None when it cannot differ from `new_text` (nothing to pin). Raises mjcf.ParseError
     if MuJoCo cannot say."""
-    if attribute.kind in _NAMES:
+    converter = attribute.converter
+    if converter.unset_is_empty:
         return "" if new_text else None
-    if attribute.kind in ("int", "real"):
+    if converter.numbers:
         numbers = _spec_default(tag, attribute.name)
         if numbers is not None:
             numbers = numbers[: attribute.max] if attribute.max is not None else numbers
-            if attribute.kind == "int":
+            if not converter.reals:
                 numbers = numbers.astype(int)
             return numbers[0].item() if attribute.scalar else numbers
     text = _built_in_text(tag, attribute.name, new_text)

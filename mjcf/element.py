@@ -304,9 +304,9 @@ class Element(ElementRules):
                 return None
             value = _values.track(converted, self)
             self._attrs[attribute.name] = value
-        elif attribute.kind == "reference":
+        elif converter.refers:
             value = references.read(self, attribute, value)
-        elif attribute.kind == "file" and value:  # an empty one names no file, for MuJoCo
+        elif converter.files and value:  # an empty one names no file, for MuJoCo
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
 
@@ -362,19 +362,20 @@ class Element(ElementRules):
                 raise errors.AttributeValueError(
                     f"{self.path}: {name!r} is required by <{self.tag}> and cannot be removed"
                 )
-            if attribute.kind == "identifier":
+            if attribute.converter.names:
                 self._rename(None)
             if self._attrs.pop(name, None) is not None:
                 self._modified()
             return
         stored = _values.track(value, self)
-        if attribute.kind == "identifier":
+        converter = attribute.converter
+        if converter.names:
             self._check_name(stored)
             self._rename(stored)
-        elif attribute.kind == "reference":
+        elif converter.refers:
             self._check_reference(attribute, stored)
             stored = references.stored(self, attribute, stored)
-        elif attribute.kind == "file":
+        elif converter.files:
             if isinstance(stored, assets.Asset):
                 assets.claim(stored, self)
             if self._spec.tag in NAMED_AFTER_FILE:
@@ -406,10 +407,10 @@ class Element(ElementRules):
             if stored is None:
                 converted.append((attribute, None))
                 continue
-            if attribute.kind == "identifier":
+            if attribute.converter.names:
                 self._check_name(stored)
                 self._check_free(stored)
-            elif attribute.kind == "reference":
+            elif attribute.converter.refers:
                 self._check_reference(attribute, stored)
             converted.append((attribute, stored))
         if self._spec.rule_names:
@@ -421,7 +422,7 @@ class Element(ElementRules):
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         # References last: a name is resolved in the namespace the new values select.
-        for attribute, stored in sorted(converted, key=lambda item: item[0].kind == "reference"):
+        for attribute, stored in sorted(converted, key=lambda item: item[0].converter.refers):
             self._store(attribute, stored)
 
     # -- references ------------------------------------------------------------------------
@@ -521,7 +522,7 @@ class Element(ElementRules):
                     assets.claim(stored, self)
                 self._attrs[attribute.name] = stored
         for attribute, stored in converted:
-            if stored is not None and attribute.kind == "reference":
+            if stored is not None and attribute.converter.refers:
                 self._attrs[attribute.name] = references.stored(self, attribute, stored)
 
     def _single_child(self, tag: str) -> Element | None:

@@ -18,8 +18,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from mjcf import attachment
 from mjcf.element import Element
 from mjcf.root import RootElement
@@ -62,7 +60,7 @@ def _comparable(element: Element, attribute: AttributeSpec) -> Any:
     """The value of `attribute` of `element` in a form that compares across models:
     numbers as numbers, references as the names of their targets in the element's model."""
     value = element._get_value(attribute)
-    if value is None or attribute.kind != "reference":
+    if value is None or not attribute.converter.refers:
         return value
     items = value if isinstance(value, list) else [value]
     names: list[str | None] = []
@@ -93,10 +91,7 @@ def _attached_inside(model: Element, root: Element) -> bool:
 def _same_value(attribute: AttributeSpec, a: Any, b: Any) -> bool:
     if a is None or b is None:
         return a is None and b is None
-    if attribute.kind in ("int", "real"):
-        first, second = np.asarray(a), np.asarray(b)
-        return first.shape == second.shape and bool(np.array_equal(first, second))
-    return bool(a == b)  # files (mjcf.Asset) compare by path, else by contents
+    return attribute.converter.same(a, b)
 
 
 def _is_tendon_path(element: Element) -> bool:

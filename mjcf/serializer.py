@@ -284,7 +284,7 @@ class _Writer:
         tag = spec.tag
         text = "".join(
             f' {name}="{escape(self._number_text(spec.attributes[name], value))}"'
-            if self.reformat and spec.attributes[name].kind == "real"
+            if self.reformat and spec.attributes[name].converter.reals
             else f' {name}="{escape(value)}"'
             for name, value in merged.attributes.items()
         )
@@ -525,7 +525,7 @@ class _Writer:
                 type(value) is str
                 and (plain or name not in scoped)
                 and name not in special
-                and not (reformat and spec.attributes[name].kind == "real")
+                and not (reformat and spec.attributes[name].converter.reals)
             ):
                 out.append(f' {name}="{escape(value)}"')
             else:
@@ -540,7 +540,7 @@ class _Writer:
                     out.insert(0, f' {name}="{escape(value)}"')
                 else:
                     attribute = spec.attributes.get(name)
-                    if reformat and attribute is not None and attribute.kind == "real":
+                    if reformat and attribute is not None and attribute.converter.reals:
                         value = self._number_text(attribute, value)
                     out.append(f' {name}="{escape(value)}"')
         return "".join(out)
@@ -558,20 +558,20 @@ class _Writer:
         context: composition.ModelContext,
     ) -> str:
         """The text of one attribute value in this output."""
-        kind = attribute.kind
-        if (kind == "reference" or kind == "identifier") and value == "":
+        converter = attribute.converter
+        if converter.scoped() and value == "":
             return ""  # an empty name is no name: never scoped
-        if kind == "reference":
+        if converter.refers:
             return self._reference_text(element, attribute, value, context)
-        if kind == "identifier":
+        if converter.names:
             return context.identifier_text(element, value)
-        if kind == "file":
+        if converter.files:
             if value == "":  # no file, as MuJoCo reads it
                 return ""
             if type(value) is str:  # resolve once, as reading the attribute would
                 value = element._get_value(attribute)
             return self.files.name_for(element, attribute.name, value)
-        if self.reformat and kind == "real":
+        if self.reformat and converter.reals:
             return self._number_text(attribute, value)
         if type(value) is str:
             return value

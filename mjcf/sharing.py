@@ -81,14 +81,14 @@ def _compiled_key(element: Element) -> tuple | None:
     for name in sorted(attributes):
         owner, value = attributes[name]
         attribute = owner._spec.attributes[name]
-        kind = attribute.kind
-        if kind == "reference":
+        converter = attribute.converter
+        if converter.refers:
             return None  # names an element of its own model
-        if kind == "file" and value != "":  # "": no file
+        if converter.files and value != "":  # "": no file
             asset = assets.resolve(owner, name, value)
             value = asset.path if asset.path is not None else (asset.extension, asset.contents)
-        elif type(value) is str and attribute.converter.lazy:
-            value = attribute.converter.from_text(value)
+        elif type(value) is str and converter.lazy:
+            value = converter.from_text(value)
         if isinstance(value, np.ndarray):
             value = (value.dtype.str, value.shape, value.tobytes())
         key.append((name, value))
