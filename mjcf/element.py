@@ -17,7 +17,7 @@ attribute is `dclass` in Python.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import assets, debugging, element_list, errors, references
@@ -44,12 +44,18 @@ class Element(ElementRules):
     model's scope is kept by `ElementNames`, the rules between its values by
     `ElementRules`.
 
-    Internal protocol: what the other mjcf modules may use of an element; everything
-    else is this module's (tests/mjcf/test_architecture.py holds every module to it).
-    Any module reads the tree directly, because parsing and writing are per element:
-    `_spec` (its ElementSpec), `_parent`, `_root`, `_attrs` (attribute name -> stored
-    value: text as read, or the converted value), `_children`, `_source` (where debug
-    mode saw it made), and asks `_get_value(attribute)`, `_single_child(tag)`,
+    Reading protocol: mjcf's modules read an element through `spec`, `parent` and `root`
+    and this module's functions `stored_attributes` (attribute name -> stored value: text
+    as read, or the converted value), `tree_children` and `value_of(element, attribute)`,
+    read-only and typed so; not through members, since an element's public names are its
+    MJCF attributes'.
+
+    Internal protocol: what the other mjcf modules may use of an element's private
+    members; everything else is this module's (tests/mjcf/test_architecture.py holds every
+    module to it, and lists who may use each). `_spec`, `_parent`, `_attrs`, `_children`
+    and `_get_value(attribute)` are what the reading functions return, for the modules
+    this one imports and the reader's; `_source` is where debug mode saw it made; any
+    module asks `_single_child(tag)`,
     `_is_registered()`, `_implicit()` (named after its file, by MuJoCo),
     `_written_empty()` (written even without attributes and children: a once-only
     element made by reading `parent.<tag>` is not) and `_modified()` (count an in-place
@@ -591,6 +597,31 @@ class _OnDemand(Element):
 
     def _written_empty(self) -> bool:
         return False
+
+
+# -- reading the tree: what mjcf's modules read of any element ------------------------------
+# With the properties `spec`, `parent` and `root`, these are how mjcf's other modules read an
+# element; the element's attribute names are MJCF's, so they are functions, not members.
+# Changing what they return is the tree builders' (see `Element`'s internal protocol).
+
+
+def stored_attributes(element: Element) -> Mapping[str, Any]:
+    """The attributes `element` has set, by MJCF name (`class`, not `dclass`), as it stores
+    them: text as read from a file until first used, else the converted value (see
+    `mjcf.values`); a live view, not a copy."""
+    return element._attrs
+
+
+def tree_children(element: Element) -> Sequence[Element]:
+    """The children of `element` in its own model's tree, in order (not those of models
+    attached into it: see `Element.all_children`); a live view, not a copy."""
+    return element._children
+
+
+def value_of(element: Element, attribute: AttributeSpec) -> Any:
+    """The value of `element`'s attribute `attribute` as `getattr(element, name)` returns
+    it (None if unset), converting and resolving text as read once (see `mjcf.values`)."""
+    return element._get_value(attribute)
 
 
 def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:

@@ -35,16 +35,26 @@ SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
 # Who keeps a model's references state: the module of the rules, and the readers and
 # copiers that make models.
 REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
+# The reader's modules, which another branch is rewriting: they still read elements through
+# the private members the others read through `spec`, `stored_attributes` ... (Element's
+# reading protocol).
+READER = frozenset({"parser", "indexer", "xsd", "assets"})
+# Element's bases and the tree modules below it, which `mjcf.element` imports: they cannot
+# import its reading functions, and are part of what an element is.
+BELOW_ELEMENT = frozenset({"element_names", "element_rules", "element_list", "references"})
 # The internal protocols: private member -> (the class that documents it, the modules that
 # may use it, the modules that may change it: assign it, or mutate what it holds).
 PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
-    "_spec": ("element.Element", ANY, frozenset()),
-    "_parent": ("element.Element", ANY, frozenset()),
-    "_root": ("element.Element", ANY, frozenset()),
-    "_attrs": ("element.Element", ANY, TREE_BUILDERS | {"references"}),
-    "_children": ("element.Element", ANY, TREE_BUILDERS),
+    "_spec": ("element.Element", READER, frozenset()),
+    "_parent": ("element.Element", BELOW_ELEMENT | READER, frozenset()),
+    "_attrs": (
+        "element.Element",
+        TREE_BUILDERS | BELOW_ELEMENT | READER,
+        TREE_BUILDERS | {"references"},
+    ),
+    "_children": ("element.Element", TREE_BUILDERS | BELOW_ELEMENT | READER, TREE_BUILDERS),
     "_source": ("element.Element", ANY, frozenset({"parser", "copying"})),
-    "_get_value": ("element.Element", ANY, frozenset()),
+    "_get_value": ("element.Element", READER, frozenset()),
     "_single_child": ("element.Element", ANY, frozenset()),
     "_is_registered": ("element_names.ElementNames", ANY, frozenset()),
     "_implicit": ("element_names.ElementNames", ANY, frozenset()),
