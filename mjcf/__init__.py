@@ -29,13 +29,15 @@ How the package is built: its modules form layers, each importing only from its 
 and the layers listed before it. Values and names come first (what an attribute holds,
 what MJCF allows, how names scope), then the element tree, then how trees compose
 (attachment, defaults, settings, copies), then reading and writing MJCF text, then
-compiling and simulating. A module reaches one of a later layer only by an import inside
-a function, where a module-level import would be circular, and says so; private members
-of another module's objects are used only through the internal protocol their class
-documents (`Element`, `RootElement`, `Physics`). tests/mjcf/test_architecture.py checks
-all three on the real source:
+compiling and simulating. A module calls one of a later layer only through
+`mjcf.upcalls` (`Element.find`, `attach`, `to_xml_string` ... are carried out above the
+tree), which this package fills when it is imported, so no module imports another that
+imports it, not even inside a function; private members of another module's objects are
+used only through the internal protocol their class documents (`Element`, `RootElement`,
+`Physics`). tests/mjcf/test_architecture.py checks all three on the real source:
 
-    values:       errors debugging mujoco_log bulk fields assets values schema xsd namescope
+    values:       errors upcalls debugging mujoco_log bulk fields assets values schema xsd
+                  namescope
     tree:         element_list references model_operations element_names element_rules
                   element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
@@ -46,7 +48,9 @@ all three on the real source:
                   physics_state physics
 """
 
+# The modules above the tree whose functions it calls (see `_install_upcalls`), and
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
+from mjcf import attachment, compiler, copying, naming, sameness, serializer, traversal
 from mjcf import base as base
 from mjcf import constants as constants
 from mjcf import traversal_utils as traversal_utils
@@ -81,6 +85,7 @@ from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.parser import from_file, from_path, from_xml_string
 from mjcf.physics import Physics
 from mjcf.root import RootElement
+from mjcf.upcalls import ABOVE as _ABOVE
 
 __all__ = [
     "PREFIX_SEPARATOR",
@@ -122,6 +127,31 @@ __all__ = [
     "is_debug_mode",
     "traversal_utils",
 ]
+
+
+def _install_upcalls() -> None:
+    """Give the tree the functions of the layers above it (see `mjcf.upcalls`)."""
+    _ABOVE.identifier = naming.identifier
+    _ABOVE.find = traversal.find
+    _ABOVE.find_all = traversal.find_all
+    _ABOVE.is_same_as = sameness.is_same_as
+    _ABOVE.attach = attachment.attach
+    _ABOVE.detach = attachment.detach
+    _ABOVE.remove = attachment.remove
+    _ABOVE.attached_models = attachment.attached_models
+    _ABOVE.include_copy = copying.include_copy
+    _ABOVE.deepcopy_element = copying.deepcopy_element
+    _ABOVE.to_xml_string = serializer.to_xml_string
+    _ABOVE.attribute_text = serializer.attribute_text
+    _ABOVE.serialize = serializer.serialize
+    _ABOVE.serialize_for_compile = serializer.serialize_for_compile
+    _ABOVE.compile_composition = compiler.compile_composition
+    _ABOVE.compile_model = Physics.from_mjcf_model
+    _ABOVE.element_class = Element
+    _ABOVE.root_class = RootElement
+
+
+_install_upcalls()
 
 
 def __getattr__(name: str) -> type[Error]:

@@ -22,7 +22,7 @@ for `attach` and for copies alike, and `detach` undoes it; nothing else writes i
 from __future__ import annotations
 
 from mjcf import errors, schema, settings
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children, value_of
 from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec, ElementSpec
 
@@ -106,7 +106,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         raise errors.AttachmentError(
             f"Expected a mjcf.RootElement: only a model can be attached, got {child!r}"
         )
-    if place._spec.tag not in _PLACES or isinstance(place, AttachmentFrame):
+    if place.spec.tag not in _PLACES or isinstance(place, AttachmentFrame):
         raise errors.AttachmentError(
             f"{place.path}: models attach to a site, body, frame or worldbody, not <{place.tag}>"
         )
@@ -129,14 +129,14 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     settings.check_compatible(place.root.namescope.root.model, child)
     if place.root.namescope.root.model is not place.root:
         settings.check_compatible(place.root, child)
-    body = place._parent if place._spec.tag == "site" else place
+    body = place.parent if place.spec.tag == "site" else place
     assert body is not None, "a site in the tree has a parent"
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
-    if place._spec.tag == "site":
+    if place.spec.tag == "site":
         for name in ("pos", *_ORIENTATION):
-            if place._attrs.get(name) is None:
+            if stored_attributes(place).get(name) is None:
                 continue
-            value = place._get_value(place._spec.attributes[name])
+            value = value_of(place, place.spec.attributes[name])
             if value is not None:  # None: blank text, which MuJoCo reads as not set
                 frame._attrs[name] = value.copy() if hasattr(value, "copy") else value
     free = place.root.namescope.free_child_name(child.model)
@@ -173,6 +173,31 @@ def detach(child: RootElement) -> None:
     frame._modified()
 
 
+def remove(element: Element, affect_attachments: bool) -> None:
+    """Remove `element` (and its subtree) from its model, or empty a top-level section
+    (see `Element.remove`). Raises mjcf.AttachmentError if models are attached inside (or,
+    for a section, into the model), unless `affect_attachments` (they are detached then),
+    and mjcf.SchemaError for a model root or an element removed already."""
+    parent = element.parent
+    if parent is None:
+        raise errors.SchemaError(
+            f"{element.path}: a model root or removed element cannot be removed"
+        )
+    if parent.parent is None and parent is element.root:
+        clear_section(element, affect_attachments)
+        return
+    frames = [e for e in element.iter() if isinstance(e, AttachmentFrame)]
+    if frames and not affect_attachments:
+        models = ", ".join(repr(frame.attached_model.model) for frame in frames)
+        raise errors.AttachmentError(
+            f"{element.path}: models {models} are attached inside; detach them first, or "
+            "call remove(affect_attachments=True)"
+        )
+    for frame in frames:
+        frame.detach()
+    element._cut()._modified()
+
+
 def clear_section(section: Element, affect_attachments: bool) -> None:
     """Empty the top-level section `section` (its attributes and children) of its model,
     and with `affect_attachments` the same section of every model attached into it
@@ -186,13 +211,13 @@ def clear_section(section: Element, affect_attachments: bool) -> None:
             f"into this model, and each has its own <{section.tag}>: please use "
             "remove(affect_attachments=True) to empty it in every model"
         )
-    tag = section._spec.tag
+    tag = section.spec.tag
     for each in (*attached, model) if affect_attachments else (model,):
         emptied = each._section(tag)
         for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
             if frame._is_registered():
                 detach(frame._attached)
-        for child in list(emptied._children):
+        for child in list(tree_children(emptied)):
             child._cut()
         emptied._attrs.clear()
         emptied._modified()

@@ -55,7 +55,7 @@ raises BindingError once the physics holds another model.
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import mujoco
 import numpy as np
@@ -164,20 +164,19 @@ class WriteThrough(np.ndarray):
     Only the array a binding returned does this; arrays derived from it (slices, ufunc
     results) are plain arrays of the same class.
 
-    Internal protocol: bindings and named access set `_writeback`, a tuple whose last item
-    is the `Target` the array writes to.
+    Internal protocol: bindings and named access set `_writeback`, the `Target` the array
+    writes to.
     """
 
     __slots__ = ("_writeback",)
 
-    _writeback: tuple[Any, ...]
+    _writeback: Target
 
     def __setitem__(self, key: Any, value: Any) -> None:
-        writeback = getattr(self, "_writeback", None)  # unset on arrays derived from this one
-        if writeback is None:
+        target = getattr(self, "_writeback", None)  # unset on arrays derived from this one
+        if target is None:
             np.ndarray.__setitem__(self, key, value)
             return
-        target: Target = writeback[-1]
         target.check_writable()
         target.refresh_before_write()
         old = target.array[target.key].copy() if target.effect == Effect.MODEL_CONSTANT else None
@@ -224,6 +223,18 @@ def _column_index(field: fields.Field, name: str) -> int:
             f"'{field.name}' has no column named {name!r}: {valid}; index columns by number"
         )
     return names.index(name)
+
+
+class _Entry(NamedTuple):
+    """What a binding keeps of one field, made at its first read (see `Binding._entry`)."""
+
+    fixed: np.ndarray | None  # what a read returns every time (a view), or None: copy rows
+    mask: int  # the stale stages a read must refresh first (`READ_MASK` of its stage)
+    array: np.ndarray  # the MjModel/MjData field
+    key: Key  # the bound rows of `array`
+    view: np.ndarray | None  # `array` as a WriteThrough, for fields whose writes are tracked
+    bits: int | None  # the stale bits a write sets, or None: writes go through `target`
+    target: Target  # the rows' writer (checks, effects)
 
 
 class Binding:
@@ -324,7 +335,7 @@ class Binding:
         out.flags.writeable = False
         return out
 
-    def _entry(self, name: str) -> tuple:
+    def _entry(self, name: str) -> _Entry:
         """(the view a read returns or None, read mask, array, key, WriteThrough view of the
         array or None, write bits or None, Target) for field `name`, refreshed if the physics
         changed MjData; raises BindingError."""
@@ -368,9 +379,9 @@ class Binding:
             fixed = None
             if not target.fancy:
                 fixed = array[key] if view is None else view[key]
-            entry = (fixed, mask, array, key, view, bits, target)
+            entry = _Entry(fixed, mask, array, key, view, bits, target)
             if fixed is not None and view is not None:
-                fixed._writeback = entry
+                fixed._writeback = target
             self._cache[name] = entry
         return entry
 
@@ -425,17 +436,17 @@ class Binding:
         # Hot path first: a cached field whose write only marks the physics is one numpy
         # assignment and one bitwise or.
         entry = self._cache.get(name)
-        if entry is not None and entry[5] is not None:
+        if entry is not None and entry.bits is not None:
             try:
-                entry[2][entry[3]] = value
+                entry.array[entry.key] = value
             except (ValueError, TypeError):
                 pass  # Target.write raises the explanatory error
             else:
-                self._physics._stale |= entry[5]
+                self._physics._stale |= entry.bits
                 return
         if name not in self._fields:
             raise errors.BindingError(self._unknown(name))
-        self._entry(name)[-1].write(value)
+        self._entry(name).target.write(value)
 
     def __getitem__(self, index: str | tuple[str, Any]) -> np.ndarray:
         """dm_control's `binding['pos']` and `binding['pos', columns]`: columns by index,
@@ -444,7 +455,7 @@ class Binding:
         if columns is None:
             return getattr(self, name)
         self._check_field(name)
-        target = self._entry(name)[-1]
+        target = self._entry(name).target
         key = column_key(target, columns)
         if target.mask and self._physics._stale & target.mask:
             self._physics._refresh()
@@ -458,7 +469,7 @@ class Binding:
         name, columns = _split_index(index)
         self._check_field(name)
         try:
-            self._entry(name)[-1].write(value, columns)
+            self._entry(name).target.write(value, columns)
         except IndexError as e:
             raise errors.BindingError(f"'{name}' columns {columns!r}: {e}") from e
 
@@ -563,7 +574,7 @@ def _field_property(name: str) -> property:
         if fixed is not None:
             return fixed
         out = view[key]
-        out._writeback = entry
+        out._writeback = entry.target
         return out
 
     # Writes go through Binding.__setattr__, which every assignment reaches first anyway.

@@ -56,9 +56,9 @@ class Compiled(NamedTuple):
             return self.name_of(first)
         if isinstance(element, attachment.AttachmentFrame):
             return naming.frame_name(element, composition.context(element.root).prefix)
-        if element._spec.tag == "worldbody":
+        if element.spec.tag == "worldbody":
             return naming.scoped_name(element, composition.root) or ""
-        if isinstance(element._parent, attachment.AttachmentFrame) and element.identifier:
+        if isinstance(element.parent, attachment.AttachmentFrame) and element.identifier:
             return naming.scoped_name(element, composition.root) or ""
         name = element.identifier
         if name is None:
@@ -70,8 +70,8 @@ class Compiled(NamedTuple):
                         "objects; name it and bind them by their numbered names"
                     )
                 raise errors.BindingError(f"{element.path}: was added after the model was compiled")
-            return mujoco.mj_id2name(self.model, _KINDS[element._spec.namespace], index) or ""
-        if element._spec.namespace == "default":
+            return mujoco.mj_id2name(self.model, _KINDS[element.spec.namespace], index) or ""
+        if element.spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + unescape(name)
 
@@ -119,7 +119,7 @@ def _generated_ids(model: mujoco.MjModel, composition: Composition) -> dict[Elem
         for element in naming.unnamed_elements(context.model):
             if element in composition.shared:
                 continue  # compiled as another model's (see mjcf.sharing)
-            kind = _KINDS.get(element._spec.namespace)
+            kind = _KINDS.get(element.spec.namespace)
             name = naming.written_name(element, context.prefix)
             if kind is not None and name is not None:
                 ids[element] = mujoco.mj_name2id(model, kind, name)
@@ -139,7 +139,7 @@ def unnamed_pairs(old: Compiled | None, new: Compiled) -> dict[tuple[int, int], 
     }
     pairs = {}
     for element, index in new.ids.items():
-        kind = kinds.get(element._spec.namespace)
+        kind = kinds.get(element.spec.namespace)
         previous = old.ids.get(element)
         if kind is not None and previous is not None:
             pairs[(kind, index)] = previous

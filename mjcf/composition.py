@@ -25,12 +25,14 @@ written:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, cast
 
 import mujoco
 import numpy as np
 
 from mjcf import attachment, defaults, errors, keyframes, naming, settings, sharing
+from mjcf.element import stored_attributes, tree_children, value_of
 from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 from mjcf.values import format_number
@@ -125,7 +127,7 @@ class ModelContext:
         return self.prefix + _unescape(name)
 
     def identifier_text(self, element: Element, value: str) -> str:
-        if element._spec.namespace == "default":
+        if element.spec.namespace == "default":
             return self.class_text(value)
         return self.prefix + _unescape(value)
 
@@ -147,15 +149,15 @@ class ModelContext:
         (None values are left out), or None when it writes them as stored."""
         composition = self.composition
         override: dict[str, str | None] | None = None
-        spec = element._spec
-        if spec.identifier is not None and spec.identifier not in element._attrs:
+        spec = element.spec
+        if spec.identifier is not None and spec.identifier not in stored_attributes(element):
             name = composition.generated_name(element, self)
             if name is not None:
                 override = {spec.identifier: name}
         if self.inject_class:
-            parent = element._parent
-            if parent is not None and parent._parent is self.model:
-                attribute = self._class_attribute(element, parent._spec.tag)
+            parent = element.parent
+            if parent is not None and parent.parent is self.model:
+                attribute = self._class_attribute(element, parent.spec.tag)
                 if attribute is not None:
                     override = override or {}
                     override[attribute] = self.main_reference
@@ -172,8 +174,8 @@ class ModelContext:
         return override
 
     def _class_attribute(self, element: Element, section: str) -> str | None:
-        attributes = element._spec.attributes
-        attrs = element._attrs
+        attributes = element.spec.attributes
+        attrs = stored_attributes(element)
         if section == "default":
             return None
         if section == "worldbody":
@@ -191,12 +193,12 @@ class ModelContext:
 
     def _convert_angles(self, element: Element) -> dict[str, str | None]:
         out: dict[str, str | None] = {}
-        attrs = element._attrs
+        attrs = stored_attributes(element)
         scale = self.angle_scale or 1.0
         if "euler" in attrs:
             euler = _numbers(element, "euler")
             if self.euler_seq is not None:
-                if "quat" not in element._spec.attributes:
+                if "quat" not in element.spec.attributes:
                     raise errors.AttachmentError(
                         f"{element.path}: its euler angles are in sequence {self.euler_seq!r}, "
                         "unlike the model it is attached to, and a "
@@ -216,7 +218,7 @@ class ModelContext:
             axisangle = _numbers(element, "axisangle").copy()
             axisangle[3] *= scale
             out["axisangle"] = _text(axisangle)
-        if element._spec.tag == "joint" and element._spec.namespace == "joint":
+        if element.spec.tag == "joint" and element.spec.namespace == "joint":
             joint_type = defaults.effective_value(element, "type") or "hinge"
             if joint_type in _ANGLE_JOINT_TYPES:
                 for name in _ANGLE_JOINT_ATTRIBUTES:
@@ -227,7 +229,7 @@ class ModelContext:
 
     def _scale_mass(self, element: Element) -> dict[str, str | None]:
         """Masses and inertias of `element` scaled as the model's settotalmass would."""
-        spec = element._spec
+        spec = element.spec
         scale = self.mass_scale
         out: dict[str, str | None] = {}
         if spec.namespace == "geom" and _in_body(element):
@@ -240,7 +242,7 @@ class ModelContext:
                 out["density"] = _text(np.atleast_1d(density) * scale)
         elif spec.tag == "inertial" and _in_body(element):
             for name in ("mass", "diaginertia", "fullinertia"):
-                if name in element._attrs:
+                if name in stored_attributes(element):
                     out[name] = _text(_numbers(element, name) * scale)
         return out
 
@@ -341,7 +343,7 @@ class Composition:
             name = element.identifier
             if name is not None and written is not None:
                 context = self._contexts[element.root]
-                context.shared_names[(element._spec.namespace, name)] = written
+                context.shared_names[(element.spec.namespace, name)] = written
         before = previous._contexts if previous is not None else {}
         for model, context in self._contexts.items():
             context.seal(tuple(shared.get(model, ())), before.get(model))
@@ -427,7 +429,7 @@ class Composition:
             )
         if isinstance(target, attachment.AttachmentFrame):
             return naming.frame_name(target, context.prefix)
-        if target._spec.tag == "worldbody":
+        if target.spec.tag == "worldbody":
             return WORLD
         written = self._written_name(self.shared.get(target, target))
         if written is None:
@@ -444,10 +446,10 @@ class Composition:
         name = target.identifier
         if name is None:
             return self.generated_name(target, context)
-        parent = target._parent
+        parent = target.parent
         if isinstance(parent, attachment.AttachmentFrame):
             return naming.frame_child_name(target, parent, context.prefix)
-        if target._spec.namespace == "default":
+        if target.spec.namespace == "default":
             return context.class_text(name)
         return context.prefix + _unescape(name)
 
@@ -459,10 +461,10 @@ class Composition:
                 self._copies.setdefault(written_as, []).append(copy)
         return self._copies.get(first, [])
 
-    def written_assets(self, context: ModelContext) -> list[Element]:
+    def written_assets(self, context: ModelContext) -> Sequence[Element]:
         """The children of `context`'s model's `<asset>` that this output writes: all
         but those written as another model's (see mjcf.sharing)."""
-        children = context.model._section("asset")._children
+        children = tree_children(context.model._section("asset"))
         if not self.shared or context.is_output:
             return children
         written = self._written_assets.get(context)
@@ -478,8 +480,8 @@ class Composition:
         if (
             context.plain
             and not self.for_compile
-            and element._spec.tag in NAMED_AFTER_FILE
-            and element._attrs.get("file") is not None
+            and element.spec.tag in NAMED_AFTER_FILE
+            and stored_attributes(element).get("file") is not None
         ):
             return None  # MuJoCo names it after its file, as it is written
         implicit = element.identifier
@@ -498,9 +500,9 @@ class Composition:
         override = context.rewrite(child) or {}
         if child.identifier is not None:  # named within the frame (see mjcf.naming)
             override["name"] = naming.frame_child_name(
-                child, cast(attachment.AttachmentFrame, child._parent), context.prefix
+                child, cast(attachment.AttachmentFrame, child.parent), context.prefix
             )
-        if "class" in child._spec.attributes and "class" not in child._attrs:
+        if "class" in child.spec.attributes and "class" not in stored_attributes(child):
             default = defaults.class_of(child)
             override["class"] = context.class_text(default.identifier or MAIN)
         return override or None
@@ -523,15 +525,13 @@ def frame_attributes(
 
 def _has_global_defaults(root: RootElement) -> bool:
     return any(
-        child._spec.tag != "default" and (child._attrs or child._children)
-        for child in root.default._children
+        child.spec.tag != "default" and (stored_attributes(child) or tree_children(child))
+        for child in tree_children(root.default)
     )
 
 
 def _numbers(element: Element, name: str) -> np.ndarray:
-    return np.atleast_1d(
-        np.asarray(element._get_value(element._spec.attributes[name]), dtype=float)
-    )
+    return np.atleast_1d(np.asarray(value_of(element, element.spec.attributes[name]), dtype=float))
 
 
 def _text(values: np.ndarray) -> str:
@@ -549,12 +549,12 @@ def euler_to_quat(euler: np.ndarray, sequence: str) -> np.ndarray:
 
 def _in_body(element: Element) -> bool:
     """Whether `element` is inside a body (not static in the world body)."""
-    parent = element._parent
+    parent = element.parent
     while parent is not None:
-        tag = parent._spec.tag
+        tag = parent.spec.tag
         if tag == "body":
             return True
         if tag == "worldbody" or isinstance(parent, attachment.AttachmentFrame):
             return False
-        parent = parent._parent
+        parent = parent.parent
     return False

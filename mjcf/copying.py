@@ -27,7 +27,7 @@ import numpy as np
 from mjcf import assets, attachment, bulk, errors, references
 from mjcf import values as _values
 from mjcf.assets import Asset
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children, value_of
 from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.root import RootElement
 from mjcf.settings import same as _same
@@ -77,19 +77,19 @@ def _contains(ancestor: Element, element: Element) -> bool:
     while current is not None:
         if current is ancestor:
             return True
-        current = current._parent
+        current = current.parent
     return False
 
 
 def _plan_merge(target: Element, source: Element, override: bool, plan: list) -> None:
     attributes = {}
-    for name, value in source._attrs.items():
+    for name, value in stored_attributes(source).items():
         if name == "model":
             continue
-        mine = target._attrs.get(name)
+        mine = stored_attributes(target).get(name)
         if mine is not None and not override:
-            spec = target._spec.attributes[name]
-            if not _same(spec, target._get_value(spec), source._get_value(spec)):
+            spec = target.spec.attributes[name]
+            if not _same(spec, value_of(target, spec), value_of(source, spec)):
                 raise errors.AttachmentError(
                     f"{target.path}: Conflicting values for attribute `{name}`: "
                     f"{target.get_attribute_xml_string(name)!r} here and "
@@ -99,15 +99,15 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
             continue
         attributes[name] = _copied_value(source, name, value)
     children = []
-    for child in source._children:
-        if child._spec.repeated:
+    for child in tree_children(source):
+        if child.spec.repeated:
             existing = _named_alike(target, child) if override else None
             if existing is None:
                 children.append(child)
             else:  # overriding: the element of that name takes the copy's values
                 _plan_merge(existing, child, override, plan)
             continue
-        existing = target._single_child(child._spec.tag)
+        existing = target._single_child(child.spec.tag)
         if existing is None:
             children.append(child)
         else:
@@ -119,12 +119,12 @@ def _named_alike(target: Element, child: Element) -> Element | None:
     """The child of `target` named as `child` (of the same namespace), as dm_control
     finds it to override; None if `child` is unnamed or no element has its name. Raises
     mjcf.AttachmentError if an element elsewhere in the model has it."""
-    spec = child._spec
-    name = child._attrs.get(spec.identifier) if spec.identifier else None
+    spec = child.spec
+    name = stored_attributes(child).get(spec.identifier) if spec.identifier else None
     if not isinstance(name, str) or not name or spec.namespace is None:
         return None
     found = target.find(spec.namespace, name)
-    if found is not None and found._parent is not target:
+    if found is not None and found.parent is not target:
         raise errors.AttachmentError(
             f"{target.path}: <{spec.namespace}> with identifier {name!r} is already a child of "
             f"another element ({found.path}); include_copy overrides only elements of the "
@@ -141,7 +141,7 @@ def _check_names(target: Element, plan: list) -> dict[Element, tuple[str, str | 
     scope = target.root.namescope
     renames = {}
     for destination, _, attributes, children in plan:
-        namespace = destination._spec.namespace
+        namespace = destination.spec.namespace
         old = destination.identifier
         new = _merged_name(destination, attributes)
         if namespace is not None and new is not None and new != old:
@@ -150,9 +150,9 @@ def _check_names(target: Element, plan: list) -> dict[Element, tuple[str, str | 
             renames[destination] = (namespace, old, new)
         for child in children:
             for element in child.iter():
-                namespace = element._spec.namespace
+                namespace = element.spec.namespace
                 name = element.identifier
-                named_in_frame = isinstance(element._parent, attachment.AttachmentFrame)
+                named_in_frame = isinstance(element.parent, attachment.AttachmentFrame)
                 if (
                     namespace is not None
                     and name is not None
@@ -167,33 +167,38 @@ def _check_names(target: Element, plan: list) -> dict[Element, tuple[str, str | 
 
 def _merged_name(element: Element, attributes: dict[str, Any]) -> str | None:
     """The name `element` has once `attributes` are merged into it."""
-    identifier = element._spec.identifier
+    identifier = element.spec.identifier
     if identifier is None:
         return None
-    merged = {**element._attrs, **attributes}
+    merged = {**stored_attributes(element), **attributes}
     name = merged.get(identifier)
-    if name is None and element._spec.tag in NAMED_AFTER_FILE:
+    if name is None and element.spec.tag in NAMED_AFTER_FILE:
         return name_from_file(merged.get("file"))
     return name
 
 
 def _merged_implicit(element: Element, attributes: dict[str, Any]) -> bool:
     """Whether `element`'s name after the merge is the one MuJoCo gives after a file."""
-    identifier = element._spec.identifier
-    return identifier is not None and {**element._attrs, **attributes}.get(identifier) is None
+    identifier = element.spec.identifier
+    return (
+        identifier is not None
+        and {**stored_attributes(element), **attributes}.get(identifier) is None
+    )
 
 
 def _clone(element: Element, parent: Element, clones: dict[int, Element]) -> Element:
     cls = type(element)
-    clone = cls._make(element._spec, parent, parent.root)
+    clone = cls._make(element.spec, parent, parent.root)
     object.__setattr__(
-        clone, "_attrs", {k: _copied_value(element, k, v) for k, v in element._attrs.items()}
+        clone,
+        "_attrs",
+        {k: _copied_value(element, k, v) for k, v in stored_attributes(element).items()},
     )
     clones[id(element)] = clone
     if isinstance(element, attachment.AttachmentFrame):
         frame = cast(attachment.AttachmentFrame, clone)  # made by type(element)
         attachment.link(frame, copy.deepcopy(element.attached_model))
-    for child in element._children:
+    for child in tree_children(element):
         clone._children.append(_clone(child, clone, clones))
     return clone
 
@@ -208,13 +213,13 @@ def _relink_references(clones: dict[int, Element], source: RootElement) -> None:
             clone = clones.get(id(value))
             if clone is not None:
                 return clone
-            if value._root is source and value.identifier is not None:
+            if value.root is source and value.identifier is not None:
                 return value.identifier
         return value
 
     for clone in clones.values():
         attrs = clone._attrs
-        spec = clone._spec
+        spec = clone.spec
         for name in spec.references.intersection(attrs):
             value = attrs[name]
             value = [relinked(v) for v in value] if isinstance(value, list) else relinked(value)
@@ -226,9 +231,9 @@ def _copied_value(element: Element, name: str, value: Any) -> Any:
     the source finds (its model's directory and assets are not the copy's), shared as
     dm_control shares it; arrays copied."""
     if type(value) is str:
-        attribute = element._spec.attributes[name]
-        if attribute.kind == "file" and value:
-            return element._get_value(attribute)
+        attribute = element.spec.attributes[name]
+        if attribute.converter.files and value:
+            return value_of(element, attribute)
         return value
     return value.copy() if hasattr(value, "copy") else value
 
@@ -247,7 +252,7 @@ def deepcopy_element(element: _E, memo: dict[int, Any]) -> _E:
         _copy_model(element.root, memo, cloned)
     else:  # a removed element: a removed copy, in a copy of its model
         root_copy = deepcopy_element(element.root, memo)
-        copy_ = type(element)._make(element._spec, None, root_copy)
+        copy_ = type(element)._make(element.spec, None, root_copy)
         _clone_into(element, copy_, memo, cloned)
     _relink_copies(cloned, memo)
     return memo[id(element)]
@@ -260,16 +265,16 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
         return found
     new = type(root)(model_dir=root.model_dir, assets=root.assets)
     memo[id(root)] = new
-    new._attrs.update(root._attrs)
+    new._attrs.update(stored_attributes(root))
     object.__setattr__(new, "_source", root._source)
-    sections = {section._spec.tag: section for section in new._children}
-    for section in root._children:
-        _clone_into(section, sections[section._spec.tag], memo, cloned)
+    sections = {section.spec.tag: section for section in tree_children(new)}
+    for section in tree_children(root):
+        _clone_into(section, sections[section.spec.tag], memo, cloned)
     object.__setattr__(new, "_references", root._references)
     object.__setattr__(new, "_referenced", root._referenced)
     object.__setattr__(new, "_forward", {memo[id(e)] for e in root._forward if id(e) in memo})
     for element in new.iter():
-        if element._parent is not None:
+        if element.parent is not None:
             element._register()
     for frame in attachment.frames(root):  # in the order they were attached
         attachment.link(memo[id(frame)], _copy_model(frame.attached_model, memo, cloned))
@@ -282,7 +287,7 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
     memo[id(source)] = target
     if source._source is not None:
         object.__setattr__(target, "_source", source._source)
-    source_attrs = source._attrs
+    source_attrs = stored_attributes(source)
     if source_attrs:
         attrs = target._attrs
         attrs.update(source_attrs)  # text as read is immutable: shared
@@ -299,10 +304,10 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
                 attrs[name] = list(value)
         if converted:
             cloned.append((source, target))
-    root = target._root
+    root = target.root
     children = target._children
-    for child in source._children:
-        clone = type(child)._make(child._spec, target, root)
+    for child in tree_children(source):
+        clone = type(child)._make(child.spec, target, root)
         children.append(clone)
         _clone_into(child, clone, memo, cloned)
 

@@ -35,13 +35,12 @@ from lxml import etree
 from mjcf import errors, schema
 from mjcf import values as _values
 from mjcf.defaults import LateDefault, overlay
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children, value_of
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
 
 _ACTUATOR_TAGS = frozenset(schema.MUJOCO.child("actuator").children)
-_NAMES = frozenset({"string", "reference", "file"})  # built-in default: no name
 
 
 def merge_section(
@@ -56,7 +55,7 @@ def merge_section(
     the classes defined before pinned, actuator settings kept as late settings, then
     its classes (read by `read_classes`). Raises mjcf.ParseError for a built-in value
     MuJoCo cannot report."""
-    earlier = [child for child in main._children if child._spec.tag == "default"]
+    earlier = [child for child in tree_children(main) if child.spec.tag == "default"]
     classes = []
     for xml in xml_section:
         if not isinstance(xml.tag, str):
@@ -83,7 +82,7 @@ def _read(
     where: Callable[[etree._Element], str],
     kind: type[Element] = Element,
 ) -> Element:
-    spec = main._spec.children.get(xml.tag)
+    spec = main.spec.children.get(xml.tag)
     if spec is None:
         raise errors.SchemaError(f"{where(xml)}: <default> cannot have a <{xml.tag}> child")
     if len(xml):
@@ -96,15 +95,15 @@ def _read(
 def _merge(main: Element, setting: Element) -> None:
     """Set `setting`'s attributes on the global default of its tag, numbers overlaying
     the numbers already there as MuJoCo reads them."""
-    existing = main._single_child(setting._spec.tag)
+    existing = main._single_child(setting.spec.tag)
     if existing is None:
         main._children.append(setting)
         return
-    for name in setting._attrs:
-        attribute = setting._spec.attributes[name]
-        value = setting._get_value(attribute)
-        if name in existing._attrs:
-            value = overlay(name, existing._get_value(attribute), value)
+    for name in stored_attributes(setting):
+        attribute = setting.spec.attributes[name]
+        value = value_of(setting, attribute)
+        if name in stored_attributes(existing):
+            value = overlay(name, value_of(existing, attribute), value)
         existing._attrs[name] = _values.track(value, existing)
 
 
@@ -117,17 +116,21 @@ def _pin(
 ) -> None:
     """Give `default_class` (defined before `setting` changes the global defaults) the
     values it copied of the attributes `setting` changes."""
-    tag = setting._spec.tag
+    tag = setting.spec.tag
     before = main._single_child(tag)
     own = default_class._single_child(tag)
     pins: dict[str, Any] = {}
-    for name, text in setting._attrs.items():
-        attribute = setting._spec.attributes[name]
-        mine = own._get_value(attribute) if own is not None and name in own._attrs else None
+    for name, text in stored_attributes(setting).items():
+        attribute = setting.spec.attributes[name]
+        mine = (
+            value_of(own, attribute) if own is not None and name in stored_attributes(own) else None
+        )
         if mine is not None and not _partial(attribute, mine):
             continue
         copied = (
-            before._get_value(attribute) if before is not None and name in before._attrs else None
+            value_of(before, attribute)
+            if before is not None and name in stored_attributes(before)
+            else None
         )
         if copied is None or _partial(attribute, copied):
             built_in = _built_in(tag, attribute, str(text), where(xml))
@@ -138,7 +141,7 @@ def _pin(
     if not pins:
         return
     if own is None:
-        own = type(default_class)._make(setting._spec, default_class, default_class.root)
+        own = type(default_class)._make(setting.spec, default_class, default_class.root)
         default_class._children.insert(0, own)
     for name, value in pins.items():
         own._attrs[name] = _values.track(value, own)
@@ -159,13 +162,14 @@ def _built_in(tag: str, attribute: AttributeSpec, new_text: str, where: str) -> 
     """MuJoCo's built-in default of `attribute` of a default `<tag>`, all its numbers;
     None when it cannot differ from `new_text` (nothing to pin). Raises mjcf.ParseError
     if MuJoCo cannot say."""
-    if attribute.kind in _NAMES:
+    converter = attribute.converter
+    if converter.unset_is_empty:
         return "" if new_text else None
-    if attribute.kind in ("int", "real"):
+    if converter.numbers:
         numbers = _spec_default(tag, attribute.name)
         if numbers is not None:
             numbers = numbers[: attribute.max] if attribute.max is not None else numbers
-            if attribute.kind == "int":
+            if not converter.reals:
                 numbers = numbers.astype(int)
             return numbers[0].item() if attribute.scalar else numbers
     text = _built_in_text(tag, attribute.name, new_text)

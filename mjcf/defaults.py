@@ -20,14 +20,14 @@ placed after the classes that do not see it, and written as a new top-level sect
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children, value_of
 
 if TYPE_CHECKING:
     from mjcf.root import RootElement
@@ -63,16 +63,16 @@ def late_class_name(main_class: str, number: int) -> str:
 
 def late_sections(model: RootElement) -> int:
     """How many late top-level `<default>` sections `model` has (see `LateDefault`)."""
-    return sum(type(child) is LateDefault for child in model.default._children)
+    return sum(type(child) is LateDefault for child in tree_children(model.default))
 
 
-def settings_of(default: Element, inner: Element | None = None) -> list[Element]:
+def settings_of(default: Element, inner: Element | None = None) -> Sequence[Element]:
     """The children of default class `default` that give their values to its class
     `inner` (one of its children), or, with `inner` None, to the elements that use
     `default` itself: every child, but the late settings of the global defaults made
     after `inner` was defined."""
-    children = default._children
-    if inner is None or default._parent is not default.root:
+    children = tree_children(default)
+    if inner is None or default.parent is not default.root:
         return children
     position = children.index(inner)
     return [c for i, c in enumerate(children) if i < position or type(c) is not LateDefault]
@@ -81,11 +81,11 @@ def settings_of(default: Element, inner: Element | None = None) -> list[Element]
 def default_tag(element: Element) -> str | None:
     """The tag of the default-class child that gives `element` its defaults, or None if
     this kind of element takes no defaults."""
-    spec = element._spec
+    spec = element.spec
     if "class" not in spec.attributes:
         return None
-    parent = element._parent
-    if parent is not None and parent._spec.tag == "equality" and spec.tag in _EQUALITY_TAGS:
+    parent = element.parent
+    if parent is not None and parent.spec.tag == "equality" and spec.tag in _EQUALITY_TAGS:
         return "equality"
     return _DEFAULT_TAG.get(spec.tag, spec.tag)
 
@@ -93,15 +93,15 @@ def default_tag(element: Element) -> str | None:
 def class_of(element: Element) -> Element:
     """The default class element (a `<default>`) that `element` uses."""
     model = element.root
-    name = element._attrs.get("class")
+    name = stored_attributes(element).get("class")
     if name is None:
-        ancestor = element._parent
-        while ancestor is not None and ancestor._parent is not None:
-            childclass = ancestor._attrs.get("childclass")
+        ancestor = element.parent
+        while ancestor is not None and ancestor.parent is not None:
+            childclass = stored_attributes(ancestor).get("childclass")
             if childclass is not None:
                 name = childclass
                 break
-            ancestor = ancestor._parent
+            ancestor = ancestor.parent
     if name is None:
         return model.default
     if not isinstance(name, str):
@@ -116,18 +116,18 @@ def class_chain(default: Element) -> list[Element]:
     """`default` and the classes it inherits from, outermost (main) first."""
     chain = []
     current: Element | None = default
-    while current is not None and current._spec.tag == "default":
+    while current is not None and current.spec.tag == "default":
         chain.append(current)
-        current = current._parent
+        current = current.parent
     return chain[::-1]
 
 
 def effective_value(element: Element, name: str) -> Any:
     """The value of attribute `name` that MuJoCo uses for `element`: its own, else its
     default class's, else None (MuJoCo's built-in default)."""
-    attribute = element._spec.attributes[name]
-    if name in element._attrs:
-        return element._get_value(attribute)
+    attribute = element.spec.attributes[name]
+    if name in stored_attributes(element):
+        return value_of(element, attribute)
     tag = default_tag(element)
     if tag is None:
         return None
@@ -135,8 +135,8 @@ def effective_value(element: Element, name: str) -> Any:
     for index in range(len(chain) - 1, -1, -1):
         inner = chain[index + 1] if index + 1 < len(chain) else None
         for child in reversed(settings_of(chain[index], inner)):  # a later setting wins
-            if child._spec.tag == tag and name in child._attrs:
-                return child._get_value(child._spec.attributes[name])
+            if child.spec.tag == tag and name in stored_attributes(child):
+                return value_of(child, child.spec.attributes[name])
     return None
 
 
@@ -161,17 +161,17 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
     plans = []
     for target in targets:
         tag = default_tag(target)
-        if tag is None or target._parent is None or traversal.has_ancestor(target, "default"):
+        if tag is None or target.parent is None or traversal.has_ancestor(target, "default"):
             continue
         values = _defaults_for(target, tag, names)
         if values:
             plans.append((target, values))
     for target, values in plans:
         for name, value in values.items():
-            if name not in target._attrs:
+            if name not in stored_attributes(target):
                 target._attrs[name] = _values.track(value, target)
             else:
-                own = target._get_value(target._spec.attributes[name])
+                own = value_of(target, target.spec.attributes[name])
                 target._attrs[name] = _values.track(overlay(name, value, own), target)
         target._modified()
     if whole_model and names is None:
@@ -186,7 +186,7 @@ def _remove_classes(model: RootElement) -> None:
             continue
         element._attrs.pop("class", None)
         element._attrs.pop("childclass", None)
-    for child in list(model.default._children):
+    for child in list(tree_children(model.default)):
         child._unregister_subtree()
     model.default._children.clear()
     model.default._attrs.clear()
@@ -209,18 +209,18 @@ def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str
 
 def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> dict[str, Any]:
     values: dict[str, Any] = {}
-    attributes = element._spec.attributes
+    attributes = element.spec.attributes
     chain = class_chain(class_of(element))
     for index, default in enumerate(chain):
         inner = chain[index + 1] if index + 1 < len(chain) else None
         for child in settings_of(default, inner):
-            child_tag = child._spec.tag
+            child_tag = child.spec.tag
             if child_tag == tag:
                 source = child
             elif tag in _ACTUATOR_TAGS and child_tag in _ACTUATOR_TAGS:
                 source = child
                 _reset_shortcut(values, child_tag, tag)
-                if tag == "general" and child._spec.matters_empty and child._written_empty():
+                if tag == "general" and child.spec.matters_empty and child._written_empty():
                     raise errors.AttributeValueError(
                         f"{element.path}: its default class has a <{child_tag}>, which "
                         f"sets the actuator type a <{element.tag}> takes; commit_defaults "
@@ -228,7 +228,7 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
                     )
             else:
                 continue
-            for name in source._attrs:
+            for name in stored_attributes(source):
                 if names is not None and name not in names:
                     continue
                 if child_tag != tag and name not in _ACTUATOR_SETTINGS:
@@ -243,7 +243,7 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
                         "cannot express; commit_defaults cannot commit it"
                     )
                 if name in attributes and name != "class":
-                    value = source._get_value(source._spec.attributes[name])
+                    value = value_of(source, source.spec.attributes[name])
                     values[name] = overlay(name, values.get(name), value)
                 elif child_tag != tag:
                     raise errors.AttributeValueError(

@@ -17,7 +17,7 @@ attribute is `dclass` in Python.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import assets, debugging, element_list, errors, references
@@ -26,6 +26,7 @@ from mjcf.element_list import ElementList
 from mjcf.element_rules import ElementRules
 from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.schema import AttributeSpec, ElementSpec
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.namescope import NameScope
@@ -43,12 +44,18 @@ class Element(ElementRules):
     model's scope is kept by `ElementNames`, the rules between its values by
     `ElementRules`.
 
-    Internal protocol: what the other mjcf modules may use of an element; everything
-    else is this module's (tests/mjcf/test_architecture.py holds every module to it).
-    Any module reads the tree directly, because parsing and writing are per element:
-    `_spec` (its ElementSpec), `_parent`, `_root`, `_attrs` (attribute name -> stored
-    value: text as read, or the converted value), `_children`, `_source` (where debug
-    mode saw it made), and asks `_get_value(attribute)`, `_single_child(tag)`,
+    Reading protocol: mjcf's modules read an element through `spec`, `parent` and `root`
+    and this module's functions `stored_attributes` (attribute name -> stored value: text
+    as read, or the converted value), `tree_children` and `value_of(element, attribute)`,
+    read-only and typed so; not through members, since an element's public names are its
+    MJCF attributes'.
+
+    Internal protocol: what the other mjcf modules may use of an element's private
+    members; everything else is this module's (tests/mjcf/test_architecture.py holds every
+    module to it, and lists who may use each). `_spec`, `_parent`, `_attrs`, `_children`
+    and `_get_value(attribute)` are what the reading functions return, for the modules
+    this one imports and the reader's; `_source` is where debug mode saw it made; any
+    module asks `_single_child(tag)`,
     `_is_registered()`, `_implicit()` (named after its file, by MuJoCo),
     `_written_empty()` (written even without attributes and children: a once-only
     element made by reading `parent.<tag>` is not) and `_modified()` (count an in-place
@@ -303,9 +310,9 @@ class Element(ElementRules):
                 return None
             value = _values.track(converted, self)
             self._attrs[attribute.name] = value
-        elif attribute.kind == "reference":
+        elif converter.refers:
             value = references.read(self, attribute, value)
-        elif attribute.kind == "file" and value:  # an empty one names no file, for MuJoCo
+        elif converter.files and value:  # an empty one names no file, for MuJoCo
             self._attrs[attribute.name] = value = assets.resolve(self, attribute.name, value)
         return value
 
@@ -361,19 +368,20 @@ class Element(ElementRules):
                 raise errors.AttributeValueError(
                     f"{self.path}: {name!r} is required by <{self.tag}> and cannot be removed"
                 )
-            if attribute.kind == "identifier":
+            if attribute.converter.names:
                 self._rename(None)
             if self._attrs.pop(name, None) is not None:
                 self._modified()
             return
         stored = _values.track(value, self)
-        if attribute.kind == "identifier":
+        converter = attribute.converter
+        if converter.names:
             self._check_name(stored)
             self._rename(stored)
-        elif attribute.kind == "reference":
+        elif converter.refers:
             self._check_reference(attribute, stored)
             stored = references.stored(self, attribute, stored)
-        elif attribute.kind == "file":
+        elif converter.files:
             if isinstance(stored, assets.Asset):
                 assets.claim(stored, self)
             if self._spec.tag in NAMED_AFTER_FILE:
@@ -405,10 +413,10 @@ class Element(ElementRules):
             if stored is None:
                 converted.append((attribute, None))
                 continue
-            if attribute.kind == "identifier":
+            if attribute.converter.names:
                 self._check_name(stored)
                 self._check_free(stored)
-            elif attribute.kind == "reference":
+            elif attribute.converter.refers:
                 self._check_reference(attribute, stored)
             converted.append((attribute, stored))
         if self._spec.rule_names:
@@ -420,7 +428,7 @@ class Element(ElementRules):
 
     def _apply(self, converted: list[tuple[AttributeSpec, Any]]) -> None:
         # References last: a name is resolved in the namespace the new values select.
-        for attribute, stored in sorted(converted, key=lambda item: item[0].kind == "reference"):
+        for attribute, stored in sorted(converted, key=lambda item: item[0].converter.refers):
             self._store(attribute, stored)
 
     # -- references ------------------------------------------------------------------------
@@ -520,7 +528,7 @@ class Element(ElementRules):
                     assets.claim(stored, self)
                 self._attrs[attribute.name] = stored
         for attribute, stored in converted:
-            if stored is not None and attribute.kind == "reference":
+            if stored is not None and attribute.converter.refers:
                 self._attrs[attribute.name] = references.stored(self, attribute, stored)
 
     def _single_child(self, tag: str) -> Element | None:
@@ -591,6 +599,31 @@ class _OnDemand(Element):
         return False
 
 
+# -- reading the tree: what mjcf's modules read of any element ------------------------------
+# With the properties `spec`, `parent` and `root`, these are how mjcf's other modules read an
+# element; the element's attribute names are MJCF's, so they are functions, not members.
+# Changing what they return is the tree builders' (see `Element`'s internal protocol).
+
+
+def stored_attributes(element: Element) -> Mapping[str, Any]:
+    """The attributes `element` has set, by MJCF name (`class`, not `dclass`), as it stores
+    them: text as read from a file until first used, else the converted value (see
+    `mjcf.values`); a live view, not a copy."""
+    return element._attrs
+
+
+def tree_children(element: Element) -> Sequence[Element]:
+    """The children of `element` in its own model's tree, in order (not those of models
+    attached into it: see `Element.all_children`); a live view, not a copy."""
+    return element._children
+
+
+def value_of(element: Element, attribute: AttributeSpec) -> Any:
+    """The value of `element`'s attribute `attribute` as `getattr(element, name)` returns
+    it (None if unset), converting and resolving text as read once (see `mjcf.values`)."""
+    return element._get_value(attribute)
+
+
 def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:
     """A new element, a child of `parent`, built from its lxml element `xml` (see
     `Element._defer`); (namespace, name, element) appended to `named` if it has a name."""
@@ -633,7 +666,5 @@ else:
 def __getattr__(name: str) -> Any:
     """`mjcf.element.RootElement`, where dm_control code finds it (defined in `mjcf.root`)."""
     if name == "RootElement":
-        from mjcf.root import RootElement  # cycle: root -> element
-
-        return RootElement
+        return ABOVE.root_class
     raise AttributeError(f"module 'mjcf.element' has no attribute {name!r}")

@@ -19,6 +19,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING, SupportsIndex, overload
 
 from mjcf import errors
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -74,13 +75,11 @@ class ElementList(list["Element"]):
 def children(element: Element, tag: str | None = None) -> list[Element]:
     """The children of `element` (with `tag` if given), and for a top-level section
     those of the same section of every model attached inside its model."""
-    found = [c for c in element._children if tag is None or c._spec.tag == tag]
+    found = [c for c in element._children if tag is None or c.spec.tag == tag]
     root = element.root
-    if element._parent is not root or element._spec.tag in _OWN_SECTIONS:
+    if element.parent is not root or element.spec.tag in _OWN_SECTIONS:
         return found
-    from mjcf import attachment  # cycle: attachment -> element -> element_list
-
-    for model in attachment.attached_models(root):
-        section = model._section(element._spec.tag)
-        found.extend(c for c in section._children if tag is None or c._spec.tag == tag)
+    for model in ABOVE.attached_models(root):
+        section = model._section(element.spec.tag)
+        found.extend(c for c in section._children if tag is None or c.spec.tag == tag)
     return found

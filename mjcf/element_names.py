@@ -86,7 +86,7 @@ class ElementNames(ModelOperations):
         for sibling in parent._children:
             if (
                 sibling is not self
-                and sibling._spec.namespace == self._spec.namespace
+                and sibling.spec.namespace == self._spec.namespace
                 and sibling.identifier == name
             ):
                 raise errors.NameClashError(
@@ -148,7 +148,7 @@ class ElementNames(ModelOperations):
     def _unregister_subtree(self) -> None:
         scope = self._root.namescope
         for element in self.iter():
-            namespace = element._spec.namespace
+            namespace = element.spec.namespace
             name = element.identifier
             if namespace is not None and name is not None and element._named_in_model():
                 scope.remove(namespace, name, element)

@@ -28,18 +28,18 @@ class ElementRules(ElementNames):
         """Raise mjcf.SchemaError if setting the attributes `setting` makes this element,
         or its parent, one MuJoCo crashes on (`ElementSpec.crash`)."""
         if self._spec.crashing_children:
-            children = [(child._spec.tag, child._attrs) for child in self._children]
+            children = [(child.spec.tag, child._attrs) for child in self._children]
             crash = self._spec.crash([*self._attrs, *setting], children)
             if crash is not None:
                 raise errors.SchemaError(f"{self.path}: {crash}")
         parent = self._parent
-        if parent is not None and parent._spec.crashing_children:
+        if parent is not None and parent.spec.crashing_children:
             parent._check_child(self._spec.tag, [*self._attrs, *setting])
 
     def _check_child(self, tag: str, attributes: list[str]) -> None:
         """Raise mjcf.SchemaError if a child `tag` with `attributes` set makes this
         element one MuJoCo crashes on (`ElementSpec.crash`)."""
-        children = [(child._spec.tag, child._attrs) for child in self._children]
+        children = [(child.spec.tag, child._attrs) for child in self._children]
         crash = self._spec.crash(self._attrs, [*children, (tag, attributes)])
         if crash is not None:
             raise errors.SchemaError(f"{self.path}: {crash}")

@@ -58,11 +58,11 @@ def compiles_to_frame(element: Element, output: RootElement | None = None) -> bo
     (default: the outermost model it is attached into); see the module docstring."""
     if isinstance(element, attachment.AttachmentFrame):
         return not element.compiles_to_body()
-    tag = element._spec.tag
+    tag = element.spec.tag
     if tag == "frame":
         return True
-    if tag == "worldbody" and element._parent is element._root and element._root is not output:
-        frame = attachment.frame_of(element._root)
+    if tag == "worldbody" and element.parent is element.root and element.root is not output:
+        frame = attachment.frame_of(element.root)
         return frame is not None and not frame.compiles_to_body()
     return False
 
@@ -338,10 +338,10 @@ def _placement(element: Element, output: RootElement) -> tuple[Element, list[Ele
                 return current, chain
             chain.append(current)
         else:
-            tag = current._spec.tag
-            if tag == "worldbody" and current._parent is current._root:
-                frame = attachment.frame_of(current._root)
-                if frame is None or current._root is output:
+            tag = current.spec.tag
+            if tag == "worldbody" and current.parent is current.root:
+                frame = attachment.frame_of(current.root)
+                if frame is None or current.root is output:
                     return current, chain  # the world
                 current = frame
                 continue
@@ -353,5 +353,5 @@ def _placement(element: Element, output: RootElement) -> tuple[Element, list[Ele
                 )
             if tag == "frame":
                 chain.append(current)
-        current = current._parent
+        current = current.parent
     raise errors.BindingError(f"{element.path}: is not in its model")

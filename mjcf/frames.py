@@ -9,7 +9,7 @@ mjcf.get_freejoint(body)                      # a body's free joint, or None
 from __future__ import annotations
 
 from mjcf import attachment
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children
 from mjcf.root import RootElement
 
 
@@ -25,9 +25,9 @@ def get_freejoint(element: Element | None) -> Element | None:
         element.tag == "body" or isinstance(element, attachment.AttachmentFrame)
     ):
         return None
-    for child in element._children:
+    for child in tree_children(element):
         if child.tag == "freejoint" or (
-            child.tag == "joint" and child._attrs.get("type") == "free"
+            child.tag == "joint" and stored_attributes(child).get("type") == "free"
         ):
             return child
     return None
@@ -46,7 +46,7 @@ def get_frame_joints(frame: Element | None) -> list[Element] | None:
     frame = _as_frame(frame)
     if frame is None:
         return None
-    return [child for child in frame._children if child._spec.namespace == "joint"]
+    return [child for child in tree_children(frame) if child.spec.namespace == "joint"]
 
 
 def _as_frame(element: Element | None) -> Element | None:

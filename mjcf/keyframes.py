@@ -24,6 +24,8 @@ import mujoco
 import numpy as np
 
 from mjcf import attachment, errors, fields
+from mjcf.element import stored_attributes, tree_children, value_of
+from mjcf.upcalls import ABOVE
 from mjcf.values import format_number
 
 if TYPE_CHECKING:
@@ -39,7 +41,7 @@ _VECTORS = ("qpos", "qvel", "act", "ctrl", "mpos", "mquat")
 def _all_keys(composition: Composition) -> list[tuple[Element, ModelContext]]:
     """Every key of the output with its model's context, in writing order."""
     contexts = [composition.context(composition.root), *composition.attached_contexts()]
-    return [(key, context) for context in contexts for key in context.model.keyframe._children]
+    return [(key, context) for context in contexts for key in tree_children(context.model.keyframe)]
 
 
 def keys_to_write(
@@ -87,9 +89,9 @@ def _fill_key(
     }  # fmt: skip
     own, full = layouts
     for name in _VECTORS:
-        if name not in key._attrs:
+        if name not in stored_attributes(key):
             continue
-        values = np.atleast_1d(np.asarray(key._get_value(key._spec.attributes[name]), dtype=float))
+        values = np.atleast_1d(np.asarray(value_of(key, key.spec.attributes[name]), dtype=float))
         if values.size == own[name].size:
             destination = own[name]
         elif values.size == full[name].size:
@@ -150,7 +152,7 @@ def _bodies_in_order(start: Element, with_attached: bool) -> list[Element]:
     stack = list(reversed(_kinematic_children(start, with_attached)))
     while stack:
         element = stack.pop()
-        if element._spec.tag == "body" or (
+        if element.spec.tag == "body" or (
             isinstance(element, attachment.AttachmentFrame) and element.compiles_to_body()
         ):
             found.append(element)
@@ -160,14 +162,14 @@ def _bodies_in_order(start: Element, with_attached: bool) -> list[Element]:
 
 def _kinematic_children(element: Element, with_attached: bool) -> list[Element]:
     children = [
-        c for c in element._children
-        if (c._spec.tag in ("body", "frame") and not isinstance(c, attachment.AttachmentFrame))
+        c for c in tree_children(element)
+        if (c.spec.tag in ("body", "frame") and not isinstance(c, attachment.AttachmentFrame))
         or (with_attached and isinstance(c, attachment.AttachmentFrame))
     ]  # fmt: skip
     if with_attached and isinstance(element, attachment.AttachmentFrame):
         children += [
-            c for c in element.attached_model.worldbody._children
-            if c._spec.tag in ("body", "frame") or isinstance(c, attachment.AttachmentFrame)
+            c for c in tree_children(element.attached_model.worldbody)
+            if c.spec.tag in ("body", "frame") or isinstance(c, attachment.AttachmentFrame)
         ]  # fmt: skip
     return children
 
@@ -175,10 +177,10 @@ def _kinematic_children(element: Element, with_attached: bool) -> list[Element]:
 def _own_joints(body: Element) -> list[Element]:
     """A body's joints: its own, and those of the plain frames it contains."""
     joints = []
-    for child in body._children:
-        if child._spec.namespace == "joint":
+    for child in tree_children(body):
+        if child.spec.namespace == "joint":
             joints.append(child)
-        elif child._spec.tag == "frame" and not isinstance(child, attachment.AttachmentFrame):
+        elif child.spec.tag == "frame" and not isinstance(child, attachment.AttachmentFrame):
             joints.extend(_own_joints(child))
     return joints
 
@@ -197,19 +199,17 @@ def _padded_vectors(composition: Composition) -> dict[int, dict[str, str | None]
     """Full-length key vectors of every key of a composed model, computed by compiling
     it, once for each composed model and key values (writing the same model again
     does not compile it again)."""
-    from mjcf import compiler, serializer  # cycle: both lead back to composition -> keyframes
-
     keys = _all_keys(composition)
-    digest = hashlib.sha1(serializer.serialize_for_compile(composition.root)[0].encode())
+    digest = hashlib.sha1(ABOVE.serialize_for_compile(composition.root)[0].encode())
     for key, _ in keys:
         for name in _VECTORS:
-            if name in key._attrs:
+            if name in stored_attributes(key):
                 text = key.get_attribute_xml_string(name)
                 digest.update(f"{name}={text};".encode())
         digest.update(b"|")
     rows = _padded.get(digest.digest())
     if rows is None:
-        model = compiler.compile_composition(composition.root).model
+        model = ABOVE.compile_composition(composition.root).model
         sources = {
             "qpos": model.key_qpos, "qvel": model.key_qvel, "act": model.key_act,
             "ctrl": model.key_ctrl, "mpos": model.key_mpos, "mquat": model.key_mquat,

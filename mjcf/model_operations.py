@@ -10,8 +10,8 @@ writing them (`mjcf.serializer`).
 
 `Element` inherits them from `ModelOperations`, so that `mjcf.element` holds what an
 element is (its attributes, name and children) and this module is where the tree calls
-up into the modules that build on it. Those modules import `mjcf.element`, so each
-method imports its module when it runs.
+up into the modules that build on it. Those modules import `mjcf.element`, so it calls
+them through `mjcf.upcalls`.
 """
 
 from __future__ import annotations
@@ -20,8 +20,9 @@ from typing import TYPE_CHECKING, Any, cast
 
 from lxml import etree
 
-from mjcf import errors, references
+from mjcf import references
 from mjcf.namescope import NameScope
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -50,7 +51,6 @@ class ModelOperations:
         _attrs: dict[str, Any]
 
         def _attribute_spec(self, name: str, action: str = "set") -> AttributeSpec: ...
-        def _cut(self) -> Element: ...
 
     # -- names in an output -----------------------------------------------------------------
 
@@ -68,9 +68,8 @@ class ModelOperations:
         """This element's name as model `prefix_root` (default: the outermost model it is
         attached into) writes it; see `full_identifier`. Raises mjcf.InvalidReferenceError
         if this element's model is not attached inside `prefix_root`."""
-        from mjcf import naming  # cycle: naming -> attachment -> element -> this module
 
-        return naming.identifier(_element(self), _model_of(prefix_root))
+        return ABOVE.identifier(_element(self), _model_of(prefix_root))
 
     # -- finding and comparing --------------------------------------------------------------
 
@@ -79,9 +78,8 @@ class ModelOperations:
         'attachment_frame' ...) called `identifier` ('arm/shoulder' for attached models)
         inside this element, or None. Raises mjcf.NamespaceError (a ValueError) for an
         unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
-        return traversal.find(_element(self), namespace, identifier)
+        return ABOVE.find(_element(self), namespace, identifier)
 
     def find_all(
         self,
@@ -92,9 +90,8 @@ class ModelOperations:
         """Every element of `namespace` (or with tag `namespace`) inside this element,
         in the order MuJoCo will see them, including attached models' unless excluded.
         Raises mjcf.NamespaceError (a ValueError) for an unknown namespace."""
-        from mjcf import traversal  # cycle: traversal -> attachment -> element -> this module
 
-        return traversal.find_all(
+        return ABOVE.find_all(
             _element(self), namespace, immediate_children_only, exclude_attachments
         )
 
@@ -116,9 +113,8 @@ class ModelOperations:
     def is_same_as(self, other: object) -> bool:
         """Whether `other` is structurally the same element: same schema, attribute
         values (references by what they point to) and children (see `mjcf.sameness`)."""
-        from mjcf import sameness  # cycle: sameness -> element -> this module
 
-        return sameness.is_same_as(_element(self), other)
+        return ABOVE.is_same_as(_element(self), other)
 
     # -- removing, attaching, copying -------------------------------------------------------
 
@@ -130,43 +126,22 @@ class ModelOperations:
         attached inside (or, for a section, into the model), unless `affect_attachments`
         (they are detached then), and mjcf.SchemaError for a model root or an element
         removed already."""
-        from mjcf import attachment  # cycle: attachment -> element -> this module
 
-        element = _element(self)
-        parent = element.parent
-        if parent is None:
-            raise errors.SchemaError(
-                f"{element.path}: a model root or removed element cannot be removed"
-            )
-        if parent.parent is None and parent is element.root:
-            attachment.clear_section(element, affect_attachments)
-            return
-        frames = [e for e in element.iter() if isinstance(e, attachment.AttachmentFrame)]
-        if frames and not affect_attachments:
-            models = ", ".join(repr(frame.attached_model.model) for frame in frames)
-            raise errors.AttachmentError(
-                f"{element.path}: models {models} are attached inside; detach them first, or "
-                "call remove(affect_attachments=True)"
-            )
-        for frame in frames:
-            frame.detach()
-        self._cut()._modified()
+        ABOVE.remove(_element(self), affect_attachments)
 
     def attach(self, child: RootElement) -> Element:
         """Attach model `child` here (a site, body, frame or the world body) and return
         its attachment frame; its names become scoped ('child_model/name'). Raises
         mjcf.AttachmentError (see `mjcf.attachment.attach`)."""
-        from mjcf import attachment  # cycle: attachment -> element -> this module
 
-        return attachment.attach(_element(self), child)
+        return ABOVE.attach(_element(self), child)
 
     def include_copy(self, other: Element, override_attributes: bool = False) -> None:
         """Merge a copy of `other` (an element of the same tag, or another model into
         this model) into this element, without a name scope, as `<include>` would; see
         `mjcf.copying`. Nothing changes if it raises."""
-        from mjcf import copying  # cycle: copying -> element -> this module
 
-        copying.include_copy(_element(self), other, override_attributes)
+        ABOVE.include_copy(_element(self), other, override_attributes)
 
     def __copy__(self) -> Element:
         raise TypeError(
@@ -178,9 +153,8 @@ class ModelOperations:
     def __deepcopy__(self, memo: dict[int, Any]) -> Element:
         """A copy of the whole model (detached, with its attached models), sharing the
         schema; returns this element's copy (see `mjcf.copying`)."""
-        from mjcf import copying  # cycle: copying -> element -> this module
 
-        return copying.deepcopy_element(_element(self), memo)
+        return ABOVE.deepcopy_element(_element(self), memo)
 
     # -- XML --------------------------------------------------------------------------------
 
@@ -188,12 +162,11 @@ class ModelOperations:
         self, name: str, prefix_root: RootElement | NameScope | None = None
     ) -> str | None:
         """The attribute as it would be written to XML (scoped names for references)."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
         attribute = self._attribute_spec(name, "read")
         if attribute.name not in self._attrs:
             return None
-        return serializer.attribute_text(_element(self), attribute, _model_of(prefix_root))
+        return ABOVE.attribute_text(_element(self), attribute, _model_of(prefix_root))
 
     def to_xml(
         self,
@@ -233,9 +206,8 @@ class ModelOperations:
         as 0 (as in dm_control). Files are named as `get_assets()` names them: plain
         names, or dm_control's '<name>-<sha1>.ext' with `filename_with_hash`. Raises
         mjcf errors for missing required attributes and dangling references."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> element -> this module
 
-        return serializer.to_xml_string(
+        return ABOVE.to_xml_string(
             _element(self),
             _model_of(prefix_root),
             self_only,

@@ -262,7 +262,7 @@ class FieldIndexer:
         if not isinstance(out, binding_module.WriteThrough):
             return out  # one number: a copy, like numpy's scalars
         target.fancy = not np.may_share_memory(out, array)
-        out._writeback = (target,)
+        out._writeback = target
         return out
 
     def __setitem__(self, key: Any, value: Any) -> None:

@@ -32,6 +32,7 @@ import re
 from typing import TYPE_CHECKING
 
 from mjcf import attachment
+from mjcf.element import stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
 
@@ -50,11 +51,11 @@ def scoped_name(element: Element, prefix_root: RootElement | None = None) -> str
     """The name `element` has in the output of `prefix_root` (default: the outermost
     model it is attached into); None for elements that cannot carry a name, and for
     unnamed ones that are removed or replicated."""
-    if element._spec.tag == "worldbody" and element._parent is element.root:
+    if element.spec.tag == "worldbody" and element.parent is element.root:
         return _world_body_name(element, prefix_root)
     if isinstance(element, attachment.AttachmentFrame):
         return frame_name(element, _prefix(element, prefix_root))
-    parent = element._parent
+    parent = element.parent
     if isinstance(parent, attachment.AttachmentFrame) and element.identifier is not None:
         return frame_child_name(element, parent, _prefix(element, prefix_root))
     name = element.identifier
@@ -68,7 +69,7 @@ def identifier(element: Element, prefix_root: RootElement | None = None) -> str 
     it is written with (`scoped_name`), but for the world body of an attached model,
     dm_control's name of it, its attachment frame's ('arm/'), where `scoped_name` gives
     the compiled body its contents are in."""
-    if element._spec.tag == "worldbody" and element._parent is element.root:
+    if element.spec.tag == "worldbody" and element.parent is element.root:
         frame = attachment.frame_of(element.root)
         if frame is not None and element.root is not prefix_root:
             return frame_name(frame, _prefix(frame, prefix_root))
@@ -79,31 +80,31 @@ def written_name(element: Element, prefix: str) -> str | None:
     """The name written for `element`, which has no name of its own, in an output where
     its model's prefix is `prefix` ('' for the output model); None if it is written
     without one."""
-    parent = element._parent
+    parent = element.parent
     if isinstance(parent, attachment.AttachmentFrame):
         return _frame_joint_name(element, parent, prefix)
     number = _numbers(element.root).get(element)
     if number is None:
         return None
-    namespace = element._spec.namespace
+    namespace = element.spec.namespace
     return (prefix or PREFIX_SEPARATOR) + f"{PREFIX_SEPARATOR}unnamed_{namespace}_{number}"
 
 
 def is_replicated(element: Element) -> bool:
     """Whether `element` is inside a `<replicate>`, so that it compiles to several
     objects (MuJoCo numbers their names) rather than one."""
-    parent = element._parent
+    parent = element.parent
     while parent is not None:
-        if parent._spec.tag == "replicate":
+        if parent.spec.tag == "replicate":
             return True
-        parent = parent._parent
+        parent = parent.parent
     return False
 
 
 def frame_name(frame: attachment.AttachmentFrame, prefix: str) -> str:
     """The name of an attachment frame: its own, or its model's scope ('robot/'), which
     no user name can take."""
-    own = frame._attrs.get("name")
+    own = stored_attributes(frame).get("name")
     if own is not None:
         return prefix + _unescape(own)
     return prefix + frame.attached_model.model + PREFIX_SEPARATOR
@@ -116,15 +117,17 @@ def frame_child_name(child: Element, frame: AttachmentFrame, prefix: str) -> str
     base = frame_name(frame, prefix)
     if not base.endswith(PREFIX_SEPARATOR):
         base += PREFIX_SEPARATOR
-    return base + _unescape(child._attrs["name"]) + PREFIX_SEPARATOR
+    return base + _unescape(stored_attributes(child)["name"]) + PREFIX_SEPARATOR
 
 
 def _frame_joint_name(joint: Element, frame: AttachmentFrame, prefix: str) -> str | None:
     """dm_control names the unnamed joint of an attachment frame after the frame; a
     second unnamed joint of one frame gets a name no scope can produce."""
-    if joint._spec.namespace != "joint":
+    if joint.spec.namespace != "joint":
         return None
-    unnamed = [c for c in frame._children if c._spec.namespace == "joint" and c.identifier is None]
+    unnamed = [
+        c for c in tree_children(frame) if c.spec.namespace == "joint" and c.identifier is None
+    ]
     index = next(i for i, c in enumerate(unnamed) if c is joint)
     base = frame_name(frame, prefix)
     return base if index == 0 else f"{base}{PREFIX_SEPARATOR}frame_joint_{index}"
@@ -145,9 +148,9 @@ def _world_body_name(worldbody: Element, prefix_root: RootElement | None) -> str
         return WORLD
     if frame.compiles_to_body():
         return frame_name(frame, _prefix(frame, prefix_root))
-    holder = frame._parent
-    while holder is not None and holder._spec.tag == "frame":  # MuJoCo's <frame>s are no bodies
-        holder = holder._parent
+    holder = frame.parent
+    while holder is not None and holder.spec.tag == "frame":  # MuJoCo's <frame>s are no bodies
+        holder = holder.parent
     assert holder is not None, "a frame in a tree is inside a body"
     return scoped_name(holder, prefix_root) or WORLD
 
@@ -158,7 +161,7 @@ def unnamed_elements(root: RootElement) -> list[Element]:
     found = list(_numbers(root))
     for frame in attachment.frames(root):
         found.extend(
-            c for c in frame._children if c._spec.namespace == "joint" and c.identifier is None
+            c for c in tree_children(frame) if c.spec.namespace == "joint" and c.identifier is None
         )
     return found
 
@@ -181,17 +184,17 @@ def _numbers(root: RootElement) -> dict[Element, int]:
         return cached[1]
     counts: dict[str, int] = {}
     numbers: dict[Element, int] = {}
-    stack: list[tuple[Element, bool]] = [(child, True) for child in reversed(root._children)]
+    stack: list[tuple[Element, bool]] = [(child, True) for child in reversed(tree_children(root))]
     while stack:
         element, own = stack.pop()
-        spec = element._spec
+        spec = element.spec
         if isinstance(element, attachment.AttachmentFrame):
             written = "body" if element.compiles_to_body() else "frame"
             counts[written] = counts.get(written, 0) + 1
-            inside = element.attached_model.worldbody._children
+            inside = tree_children(element.attached_model.worldbody)
             stack.extend((child, False) for child in reversed(inside))
             # Its joints are named after it (see `written_name`): counted, not numbered.
-            stack.extend((child, False) for child in reversed(element._children))
+            stack.extend((child, False) for child in reversed(tree_children(element)))
             continue
         if spec.tag in _NOT_ONE_OBJECT:
             continue
@@ -201,6 +204,6 @@ def _numbers(root: RootElement) -> dict[Element, int]:
             counts[namespace] = count + 1
             if own and element.identifier is None:
                 numbers[element] = count
-        stack.extend((child, own) for child in reversed(element._children))
+        stack.extend((child, own) for child in reversed(tree_children(element)))
     object.__setattr__(root, "_numbering", (key, numbers))
     return numbers

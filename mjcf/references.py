@@ -34,6 +34,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from mjcf.upcalls import ABOVE
+
 if TYPE_CHECKING:
     from mjcf.element import Element
     from mjcf.root import RootElement
@@ -51,7 +53,7 @@ def stored(element: Element, attribute: AttributeSpec, value: Any) -> Any:
     """The value to store for reference `attribute` of `element`, given `value` (text,
     an element, or a list of them) through the API: names resolved to the elements
     that have them now, unless the model keeps references by name."""
-    root = element._root
+    root = element.root
     if root._references == BY_NAME or not _has_text(value):
         return value
     namespace = attribute.reference_namespace(element._attrs)
@@ -67,7 +69,7 @@ def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
     """What reading reference `attribute` of `element`, stored as text `value`, gives:
     the element (or elements) it names, which it then holds, or the text if it names
     none or the model keeps references by name."""
-    root = element._root
+    root = element.root
     if root._references == BY_NAME or not value:
         return value
     namespace = attribute.reference_namespace(element._attrs)
@@ -136,10 +138,8 @@ def resolve_all(element: Element) -> None:
     that element (names that match none stay text); for a model, also those of the
     models attached to it, which then resolve the references they are given from now
     on (see `Element.resolve_references`)."""
-    from mjcf import attachment  # cycle: attachment -> element -> this module
-
-    if element is element._root:
-        models = [element._root, *attachment.attached_models(element._root)]
+    if element is element.root:
+        models = [element.root, *ABOVE.attached_models(element.root)]
         for model in models:
             model._references = PINNED
             for item in model.iter():
@@ -153,10 +153,10 @@ def _pin(element: Element) -> None:
     """Replace the text references of `element` that name an element by that element;
     remember `element` in its model's `_forward` if some name none."""
     attrs = element._attrs
-    spec = element._spec
+    spec = element.spec
     if not spec.references or spec.references.isdisjoint(attrs):
         return
-    root = element._root
+    root = element.root
     unresolved = False
     for name in spec.references.intersection(attrs):
         value = attrs[name]

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from mjcf import errors, references, schema
 from mjcf.element import Element
 from mjcf.namescope import NameScope, check_model_name
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.attachment import AttachmentFrame
@@ -169,9 +170,7 @@ class RootElement(Element):
         it (attributes set, deleted or edited in place, elements added or removed, models
         attached or detached): equal versions mean an unchanged model, so a compiled
         model can be reused."""
-        from mjcf import attachment  # cycle: attachment -> root
-
-        return self._version + sum(m._version for m in attachment.attached_models(self))
+        return self._version + sum(m._version for m in ABOVE.attached_models(self))
 
     @property
     def parent_model(self) -> RootElement | None:
@@ -190,24 +189,18 @@ class RootElement(Element):
     def detach(self) -> None:
         """Detach this model from the model it is attached to, leaving that model as it
         was before. Raises mjcf.AttachmentError if it is not attached."""
-        from mjcf import attachment  # cycle: attachment -> root
-
-        attachment.detach(self)
+        ABOVE.detach(self)
 
     def get_assets(self, filename_with_hash: bool = False) -> dict[str, bytes]:
         """`{file name: contents}` of every file `to_xml_string()` refers to (meshes,
         textures, ...), under the names it writes (unique as MuJoCo needs them), as
         `mujoco.MjModel.from_xml_string(xml, assets)` takes them; `filename_with_hash`
         as in `to_xml_string`. Raises mjcf.AssetError if a file cannot be read."""
-        from mjcf import serializer  # cycle: serializer -> attachment -> root
-
-        return serializer.serialize(self, filename_with_hash=filename_with_hash)[1]
+        return ABOVE.serialize(self, filename_with_hash=filename_with_hash)[1]
 
     def compile_model(self) -> Physics:
         """Compile this model (with attached models) into a new `mjcf.Physics`."""
-        from mjcf.physics import Physics  # cycle: physics -> compiler -> ... -> root
-
-        return Physics.from_mjcf_model(self)
+        return ABOVE.compile_model(self)
 
     def _resolve(self, xml: Any) -> Element | None:
         """The element built from lxml element `xml` of the file this model was read

@@ -16,12 +16,11 @@ their attachment frames in order, with the models they hold.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from mjcf import attachment
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children, value_of
 from mjcf.root import RootElement
 
 if TYPE_CHECKING:
@@ -30,7 +29,7 @@ if TYPE_CHECKING:
 
 def is_same_as(element: Element, other: object) -> bool:
     """Whether `other` is an element structurally equal to `element` (see module)."""
-    if not isinstance(other, Element) or other._spec is not element._spec:
+    if not isinstance(other, Element) or other.spec is not element.spec:
         return False
     is_root = isinstance(element, RootElement)
     if is_root != isinstance(other, RootElement):
@@ -43,13 +42,13 @@ def is_same_as(element: Element, other: object) -> bool:
     ):
         return False
     if _is_tendon_path(element):
-        return _same_sequence(element._children, other._children)
+        return _same_sequence(tree_children(element), tree_children(other))
     return _same_children(element, other)
 
 
 def _same_attributes(element: Element, other: Element) -> bool:
-    attributes = element._spec.attributes
-    for name in element._attrs.keys() | other._attrs.keys():
+    attributes = element.spec.attributes
+    for name in stored_attributes(element).keys() | stored_attributes(other).keys():
         attribute = attributes[name]
         if not _same_value(
             attribute, _comparable(element, attribute), _comparable(other, attribute)
@@ -61,8 +60,8 @@ def _same_attributes(element: Element, other: Element) -> bool:
 def _comparable(element: Element, attribute: AttributeSpec) -> Any:
     """The value of `attribute` of `element` in a form that compares across models:
     numbers as numbers, references as the names of their targets in the element's model."""
-    value = element._get_value(attribute)
-    if value is None or attribute.kind != "reference":
+    value = value_of(element, attribute)
+    if value is None or not attribute.converter.refers:
         return value
     items = value if isinstance(value, list) else [value]
     names: list[str | None] = []
@@ -93,18 +92,15 @@ def _attached_inside(model: Element, root: Element) -> bool:
 def _same_value(attribute: AttributeSpec, a: Any, b: Any) -> bool:
     if a is None or b is None:
         return a is None and b is None
-    if attribute.kind in ("int", "real"):
-        first, second = np.asarray(a), np.asarray(b)
-        return first.shape == second.shape and bool(np.array_equal(first, second))
-    return bool(a == b)  # files (mjcf.Asset) compare by path, else by contents
+    return attribute.converter.same(a, b)
 
 
 def _is_tendon_path(element: Element) -> bool:
-    parent = element._parent
-    return parent is not None and parent._spec.tag == "tendon" and parent._parent is element.root
+    parent = element.parent
+    return parent is not None and parent.spec.tag == "tendon" and parent.parent is element.root
 
 
-def _same_sequence(children: list[Element], others: list[Element]) -> bool:
+def _same_sequence(children: Sequence[Element], others: Sequence[Element]) -> bool:
     return len(children) == len(others) and all(
         is_same_as(child, other) for child, other in zip(children, others, strict=True)
     )
@@ -123,8 +119,8 @@ def _same_children(element: Element, other: Element) -> bool:
 
 def _by_tag(element: Element) -> dict[str, list[Element]]:
     groups: dict[str, list[Element]] = {}
-    for child in element._children:
-        if not child._attrs and not child._children and not child._written_empty():
+    for child in tree_children(element):
+        if not stored_attributes(child) and not tree_children(child) and not child._written_empty():
             continue
-        groups.setdefault(child._spec.tag, []).append(child)
+        groups.setdefault(child.spec.tag, []).append(child)
     return groups

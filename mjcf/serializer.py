@@ -16,12 +16,14 @@ parent's, and their compiler settings reconciled (see `mjcf.composition`).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, Protocol, cast
 
 import numpy as np
 
 from mjcf import assets as _assets
 from mjcf import attachment, bulk, composition, defaults, errors
+from mjcf.element import stored_attributes, tree_children, value_of
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -123,7 +125,7 @@ def to_xml_string(
         context = writer.context_of(element.root)
         if self_only:
             tag, text = writer.tag_of(element), writer.attributes(element, context)
-            children = element._children or isinstance(element, attachment.AttachmentFrame)
+            children = tree_children(element) or isinstance(element, attachment.AttachmentFrame)
             writer.parts.append(f"<{tag}{text}>...</{tag}>" if children else f"<{tag}{text}/>")
         else:
             writer.element(element, 0, context)
@@ -139,20 +141,23 @@ def attribute_text(
     output_root = prefix_root or element.root.namescope.root.model
     writer = _Writer(output_root, 17, False, _assets.FileNamer(output_root), False)
     return writer.value_text(
-        element, attribute, element._attrs[attribute.name], writer.context_of(element.root)
+        element,
+        attribute,
+        stored_attributes(element)[attribute.name],
+        writer.context_of(element.root),
     )
 
 
 def _refers_out(element: Element) -> bool:
     """Whether a reference of `element` holds an element of another model, whose written
     name changes with that model (an element of its own model changes with it)."""
-    model = element._root
-    references = element._spec.references
-    for name, value in element._attrs.items():
+    model = element.root
+    references = element.spec.references
+    for name, value in stored_attributes(element).items():
         if type(value) is str or name not in references:
             continue  # names as text (all of them, in a model read from a file)
         for item in value if isinstance(value, list) else (value,):
-            if type(item) is not str and item._root is not model:
+            if type(item) is not str and item.root is not model:
                 return True
     return False
 
@@ -192,7 +197,7 @@ class _Writer:
     def tag_of(self, element: Element) -> str:
         if isinstance(element, attachment.AttachmentFrame):
             return "body" if element.compiles_to_body() else "frame"
-        return element._spec.tag
+        return element.spec.tag
 
     # -- whole model ------------------------------------------------------------------
 
@@ -200,9 +205,9 @@ class _Writer:
         root = self.root
         self.composed.check()
         newline = "\n" if self.pretty else ""
-        name = root._attrs.get("model")
+        name = stored_attributes(root).get("model")
         self._emit(f'<mujoco model="{escape(name)}">{newline}' if name else f"<mujoco>{newline}")
-        sections = {s._spec.tag: s for s in root._children}
+        sections = {s.spec.tag: s for s in tree_children(root)}
         for tag in _SECTION_ORDER:
             section = sections.pop(tag, None)
             if section is not None:
@@ -212,13 +217,15 @@ class _Writer:
         self._emit("</mujoco>" + newline)
 
     def section(self, section: Element) -> None:
-        if not (section._children or section._attrs or self.composed.has_attachments):
+        if not (
+            tree_children(section) or stored_attributes(section) or self.composed.has_attachments
+        ):
             return  # an empty section of a model written on its own: nothing to write
-        tag = section._spec.tag
+        tag = section.spec.tag
         root_context = self.context_of(self.root)
         if tag == "compiler" or (tag in _SETTINGS and self.composed.has_attachments):
             merged = self.composed.merged_settings(tag)
-            self._write_merged(section._spec, merged, 1)
+            self._write_merged(section.spec, merged, 1)
         elif tag == "default":
             mark = self._open(section, 1, root_context)
             for context, default in self.composed.default_roots():
@@ -232,13 +239,13 @@ class _Writer:
             self._close(section, 1, mark)
         else:
             mark = self._open(section, 1, root_context)
-            self.children(section._children, 2, root_context)
+            self.children(tree_children(section), 2, root_context)
             if tag == "asset":
                 for context in self.composed.attached_contexts():
                     self.children(self.composed.written_assets(context), 2, context)
             elif tag != "worldbody":
                 for context in self.composed.attached_contexts():
-                    self.children(context.model._section(tag)._children, 2, context)
+                    self.children(tree_children(context.model._section(tag)), 2, context)
             self._close(section, 1, mark)
 
     def _default_body(self, default: Element, context: composition.ModelContext) -> None:
@@ -247,7 +254,7 @@ class _Writer:
         (`defaults.LateDefault`) begin a new top-level `<default>` section, or, inside a
         named class, a class nested in the one before, which the model's elements use."""
         groups: list[list[Element]] = [[]]
-        for child in default._children:
+        for child in tree_children(default):
             if type(child) is defaults.LateDefault:
                 groups.append([])
             groups[-1].append(child)
@@ -263,7 +270,7 @@ class _Writer:
             opening = f'{self._indent(2)}<default class="{escape(name)}"'
             self._emit(opening + ">" + self._newline())
             start = len(self.parts)
-            self.children(default._children, 3, context)
+            self.children(tree_children(default), 3, context)
             if len(self.parts) == start:
                 self._unemit()
                 self._emit(opening + "/>" + self._newline())
@@ -284,7 +291,7 @@ class _Writer:
         tag = spec.tag
         text = "".join(
             f' {name}="{escape(self._number_text(spec.attributes[name], value))}"'
-            if self.reformat and spec.attributes[name].kind == "real"
+            if self.reformat and spec.attributes[name].converter.reals
             else f' {name}="{escape(value)}"'
             for name, value in merged.attributes.items()
         )
@@ -318,23 +325,23 @@ class _Writer:
     def _open(self, element: Element, depth: int, context: composition.ModelContext) -> int:
         """Write an opening tag; returns the mark `_close` needs."""
         self._emit(
-            f"{self._indent(depth)}<{element._spec.tag}{self.attributes(element, context)}>"
+            f"{self._indent(depth)}<{element.spec.tag}{self.attributes(element, context)}>"
             + self._newline(),
             element,
         )
         return len(self.parts)
 
     def _close(self, element: Element, depth: int, mark: int) -> None:
-        if len(self.parts) == mark and not element._spec.repeated:
+        if len(self.parts) == mark and not element.spec.repeated:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
-            if element._attrs or element._written_empty():
+            if stored_attributes(element) or element._written_empty():
                 self._emit(opening[: opening.rindex(">")] + "/>" + self._newline(), element)
             return
-        self._emit(f"{self._indent(depth)}</{element._spec.tag}>{self._newline()}")
+        self._emit(f"{self._indent(depth)}</{element.spec.tag}>{self._newline()}")
 
     def children(
-        self, children: list[Element], depth: int, context: composition.ModelContext
+        self, children: Sequence[Element], depth: int, context: composition.ModelContext
     ) -> None:
         """Write `children` of one model."""
         write = self._writer(context)
@@ -386,8 +393,8 @@ class _Writer:
         def text_of(element: Element, depth: int, override: dict | None) -> str | None:
             """The attribute text of `element`'s tag; None for an attachment frame, which
             is written whole here."""
-            spec = element._spec
-            attrs = element._attrs
+            spec = element._spec  # slots, not the reading protocol: a call per element
+            attrs = element._attrs  # costs a fifth of a write
             if spec is frame_spec:
                 frame(cast(attachment.AttachmentFrame, element), depth, context)
                 return None
@@ -419,7 +426,9 @@ class _Writer:
                 if not special and not (spec.references and _refers_out(element)):
                     object.__setattr__(element, "_text", (version, text))
                 return text
-            if spec.checked_on_write and (attrs or element._children or element._written_empty()):
+            if spec.checked_on_write and (
+                attrs or tree_children(element) or element._written_empty()
+            ):
                 check_required(element)
             cacheable = override is None and not special
             if override is None:
@@ -476,18 +485,18 @@ class _Writer:
         indent = self._indent(depth)
         newline = self._newline()
         self._emit(f"{indent}<{tag}{text}>{newline}", frame)
-        for child in frame._children:
+        for child in tree_children(frame):
             self.element(
                 child, depth + 1, context, self.composed.frame_child_override(child, context)
             )
-        self.children(frame.attached_model.worldbody._children, depth + 1, child_context)
+        self.children(tree_children(frame.attached_model.worldbody), depth + 1, child_context)
         self._emit(f"{indent}</{tag}>{newline}")
 
     def _own_name(self, element: Element, context: composition.ModelContext) -> str:
         """' name="..."' for an element that MuJoCo names after its file, when its file
         is written under another name; '' when it has a name of its own."""
-        identifier = element._spec.identifier
-        if identifier is None or identifier in element._attrs:
+        identifier = element.spec.identifier
+        if identifier is None or identifier in stored_attributes(element):
             return ""
         name = element.identifier
         if name is None:
@@ -495,7 +504,7 @@ class _Writer:
         return f' {identifier}="{escape(context.identifier_text(element, name))}"'
 
     def _check_required(self, element: Element) -> None:
-        problem = element._spec.unmet(element._attrs)
+        problem = element.spec.unmet(stored_attributes(element))
         if problem is not None:
             raise errors.AttributeValueError(f"{element.path}: {problem}")
 
@@ -511,8 +520,8 @@ class _Writer:
     def _escaped_attributes(
         self, element: Element, context: composition.ModelContext, override: dict | None
     ) -> str:
-        attrs = element._attrs
-        spec = element._spec
+        attrs = stored_attributes(element)
+        spec = element.spec
         plain = context.plain
         scoped = spec.scoped_attributes
         special = spec.file_attributes
@@ -525,7 +534,7 @@ class _Writer:
                 type(value) is str
                 and (plain or name not in scoped)
                 and name not in special
-                and not (reformat and spec.attributes[name].kind == "real")
+                and not (reformat and spec.attributes[name].converter.reals)
             ):
                 out.append(f' {name}="{escape(value)}"')
             else:
@@ -540,7 +549,7 @@ class _Writer:
                     out.insert(0, f' {name}="{escape(value)}"')
                 else:
                     attribute = spec.attributes.get(name)
-                    if reformat and attribute is not None and attribute.kind == "real":
+                    if reformat and attribute is not None and attribute.converter.reals:
                         value = self._number_text(attribute, value)
                     out.append(f' {name}="{escape(value)}"')
         return "".join(out)
@@ -548,7 +557,7 @@ class _Writer:
     def _escaped_value(
         self, element: Element, name: str, value: object, context: composition.ModelContext
     ) -> str:
-        return escape(self.value_text(element, element._spec.attributes[name], value, context))
+        return escape(self.value_text(element, element.spec.attributes[name], value, context))
 
     def value_text(
         self,
@@ -558,20 +567,20 @@ class _Writer:
         context: composition.ModelContext,
     ) -> str:
         """The text of one attribute value in this output."""
-        kind = attribute.kind
-        if (kind == "reference" or kind == "identifier") and value == "":
+        converter = attribute.converter
+        if converter.scoped() and value == "":
             return ""  # an empty name is no name: never scoped
-        if kind == "reference":
+        if converter.refers:
             return self._reference_text(element, attribute, value, context)
-        if kind == "identifier":
+        if converter.names:
             return context.identifier_text(element, value)
-        if kind == "file":
+        if converter.files:
             if value == "":  # no file, as MuJoCo reads it
                 return ""
             if type(value) is str:  # resolve once, as reading the attribute would
-                value = element._get_value(attribute)
+                value = value_of(element, attribute)
             return self.files.name_for(element, attribute.name, value)
-        if self.reformat and kind == "real":
+        if self.reformat and converter.reals:
             return self._number_text(attribute, value)
         if type(value) is str:
             return value

@@ -37,6 +37,8 @@ import mujoco
 import numpy as np
 
 from mjcf import errors, schema
+from mjcf.element import stored_attributes, tree_children, value_of
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -128,20 +130,20 @@ def check_compatible(parent: RootElement, child: RootElement, inertia: bool = Tr
 def _merge_into(
     merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
 ) -> None:
-    tag = section._spec.tag
-    for name in section._attrs:
+    tag = section.spec.tag
+    for name in stored_attributes(section):
         if name in skip:
             continue
-        attribute = section._spec.attributes[name]
-        value = section._attrs[name]
+        attribute = section.spec.attributes[name]
+        value = stored_attributes(section)[name]
         text = value if type(value) is str else attribute.converter.to_text(value)
         previous = merged.sources.get(name)
         if previous is None:
             merged.attributes[name] = text
-            merged.sources[name] = (model, section._get_value(attribute))
+            merged.sources[name] = (model, value_of(section, attribute))
             continue
         other_model, other_value = previous
-        value = section._get_value(attribute)
+        value = value_of(section, attribute)
         if same(attribute, other_value, value):
             continue
         if tag == "size":
@@ -157,12 +159,12 @@ def _merge_into(
             f"{text!r}); a composed model has one value: set the same value on both, or on "
             "neither"
         )
-    for child in section._children:
-        if child._spec.repeated:
+    for child in tree_children(section):
+        if child.spec.repeated:
             continue
-        target = merged.children.get(child._spec.tag)
+        target = merged.children.get(child.spec.tag)
         if target is None:
-            target = merged.children[child._spec.tag] = MergedSettings()
+            target = merged.children[child.spec.tag] = MergedSettings()
         _merge_into(target, child, model, frozenset())
 
 
@@ -171,13 +173,11 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
     attached to it) need, as dm_control does when it attaches `child`: a capacity
     `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
     (`memory` then in bytes: '1M' over '10000' is '1048576')."""
-    from mjcf import attachment  # cycle: attachment -> settings
-
     needed: dict[str, tuple[object, int | None]] = {}
-    for model in (child, *attachment.attached_models(child)):
+    for model in (child, *ABOVE.attached_models(child)):
         size = model._section("size")
-        for name in size._attrs:
-            value = size._get_value(size._spec.attributes[name])
+        for name in stored_attributes(size):
+            value = value_of(size, size.spec.attributes[name])
             capacity = _capacity(name, value)
             held = needed.get(name)
             if held is None or (
@@ -187,7 +187,7 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
     size = parent._section("size")
     changes: dict[str, object] = {}
     for name, (value, capacity) in needed.items():
-        mine = size._get_value(size._spec.attributes[name])
+        mine = value_of(size, size.spec.attributes[name])
         if mine is None:
             changes[name] = value
             continue
@@ -227,15 +227,15 @@ def same(attribute: AttributeSpec, a: object, b: object) -> bool:
 def _explicit_setting(model: RootElement, name: str) -> Any:
     """A compiler setting `model` sets itself, or None."""
     compiler = model._section("compiler")
-    return compiler._get_value(compiler._spec.attributes[name])
+    return value_of(compiler, compiler.spec.attributes[name])
 
 
 def setting(model: RootElement, name: str) -> Any:
     """A compiler setting of `model`: its explicit value, or MuJoCo's default (of the
     setting's own type)."""
     compiler = model._section("compiler")
-    attribute = compiler._spec.attributes[name]
-    value = compiler._get_value(attribute)
+    attribute = compiler.spec.attributes[name]
+    value = value_of(compiler, attribute)
     if value is None and attribute.default is not None:
         try:
             value = attribute.converter.from_text(attribute.default)
@@ -248,19 +248,19 @@ def _inertia_sources(model: RootElement) -> list[tuple[bool, bool]]:
     """(has an <inertial>, has geoms) of every body of `model` (its own bodies)."""
     found = []
     for element in model.worldbody.iter():
-        if element._spec.tag != "body":
+        if element.spec.tag != "body":
             continue
         inertial = geoms = False
-        stack = list(element._children)
+        stack = list(tree_children(element))
         while stack:
             child = stack.pop()
-            tag = child._spec.tag
+            tag = child.spec.tag
             if tag == "inertial":
                 inertial = True
             elif tag == "geom":
                 geoms = True
             elif tag in ("frame", "replicate"):  # not attachment frames: another model
-                stack.extend(child._children)
+                stack.extend(tree_children(child))
         found.append((inertial, geoms))
     return found
 
@@ -313,16 +313,14 @@ def unscaled_mass(model: RootElement) -> float:
     """The total body mass of `model` (with the models attached to it) compiled alone
     without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
     element attributes."""
-    from mjcf import serializer  # cycle: serializer -> composition -> settings
-
     for element in model.iter():
-        if element._spec.tag in _UNSCALABLE:
+        if element.spec.tag in _UNSCALABLE:
             raise errors.AttachmentError(
                 f"{element.path}: model {model.model!r} has <compiler settotalmass>, and "
                 f"the mass of a <{element.tag}> cannot be scaled to match it when the "
                 "model is attached; scale its masses instead of using settotalmass"
             )
-    xml, assets, _, _ = serializer.serialize_for_compile(model)
+    xml, assets, _, _ = ABOVE.serialize_for_compile(model)
     key = _compile_key(xml, assets)
     total = _unscaled_masses.get(key)
     if total is None:

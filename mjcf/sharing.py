@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mjcf import assets, defaults, errors
+from mjcf.element import stored_attributes, tree_children
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -56,8 +57,8 @@ def shared_assets(models: list[RootElement]) -> dict[Element, Element]:
     shared: dict[Element, Element] = {}
     for model in models:
         seen: dict[tuple, int] = {}
-        for element in model._section("asset")._children:
-            if element._spec.tag not in SHARED_TAGS:
+        for element in tree_children(model._section("asset")):
+            if element.spec.tag not in SHARED_TAGS:
                 continue
             key = _compiled_key(element)
             if key is None:
@@ -80,19 +81,19 @@ def _compiled_key(element: Element) -> tuple | None:
     key = []
     for name in sorted(attributes):
         owner, value = attributes[name]
-        attribute = owner._spec.attributes[name]
-        kind = attribute.kind
-        if kind == "reference":
+        attribute = owner.spec.attributes[name]
+        converter = attribute.converter
+        if converter.refers:
             return None  # names an element of its own model
-        if kind == "file" and value != "":  # "": no file
+        if converter.files and value != "":  # "": no file
             asset = assets.resolve(owner, name, value)
             value = asset.path if asset.path is not None else (asset.extension, asset.contents)
-        elif type(value) is str and attribute.converter.lazy:
-            value = attribute.converter.from_text(value)
+        elif type(value) is str and converter.lazy:
+            value = converter.from_text(value)
         if isinstance(value, np.ndarray):
             value = (value.dtype.str, value.shape, value.tobytes())
         key.append((name, value))
-    return (element._spec.tag, *key)
+    return (element.spec.tag, *key)
 
 
 def _effective_attributes(element: Element) -> dict[str, tuple[Element, object]]:
@@ -102,11 +103,11 @@ def _effective_attributes(element: Element) -> dict[str, tuple[Element, object]]
     tag = defaults.default_tag(element)
     if tag is not None:
         for default in defaults.class_chain(defaults.class_of(element)):
-            for child in default._children:
-                if child._spec.tag == tag:
-                    for name, value in child._attrs.items():
+            for child in tree_children(default):
+                if child.spec.tag == tag:
+                    for name, value in stored_attributes(child).items():
                         found[name] = (child, value)
-    for name, value in element._attrs.items():
+    for name, value in stored_attributes(element).items():
         if name not in _NOT_COMPARED:
             found[name] = (element, value)
     return found

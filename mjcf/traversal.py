@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from mjcf import attachment, bulk, errors, schema
 from mjcf import values as _values
+from mjcf.element import tree_children
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -56,12 +57,12 @@ def find_all(
         return [
             e
             for e in walk(element, not exclude_attachments, immediate_children_only)
-            if e._spec.tag == namespace and not e._spec.key.startswith("default-")
+            if e.spec.tag == namespace and not e.spec.key.startswith("default-")
         ]
     return [
         e
         for e in walk(element, not exclude_attachments, immediate_children_only)
-        if e._spec.namespace == namespace
+        if e.spec.namespace == namespace
     ]
 
 
@@ -72,38 +73,38 @@ def walk(
     model's world body contents where it is attached, and its other sections after
     those of the model it is attached to."""
     if immediate_children_only:
-        yield from element._children
+        yield from tree_children(element)
         return
-    stack = list(reversed(element._children))
+    stack = list(reversed(tree_children(element)))
     while stack:
         current = stack.pop()
         yield current
-        children = current._children
+        children = tree_children(current)
         if into_attachments and isinstance(current, attachment.AttachmentFrame):
-            children = children + current.attached_model.worldbody._children
+            children = [*children, *tree_children(current.attached_model.worldbody)]
         stack.extend(reversed(children))
     if into_attachments and element is element.root:
         for child_model in attachment.attached_models(element):
-            for section in child_model._children:
-                if section._spec.tag != "worldbody":
+            for section in tree_children(child_model):
+                if section.spec.tag != "worldbody":
                     yield section
                     yield from walk(section, into_attachments=False)
 
 
 def has_ancestor(element: Element, tag: str) -> bool:
     """Whether an ancestor of `element` (within its own model) has tag `tag`."""
-    parent = element._parent
+    parent = element.parent
     while parent is not None:
-        if parent._spec.tag == tag:
+        if parent.spec.tag == tag:
             return True
-        parent = parent._parent
+        parent = parent.parent
     return False
 
 
 def _is_inside(element: Element, ancestor: Element) -> bool:
     current: Element | None = element
     while current is not None and current is not ancestor:
-        parent = current._parent
+        parent = current.parent
         if parent is None and current is current.root:
             parent = attachment.frame_of(current)
         current = parent

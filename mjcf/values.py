@@ -26,6 +26,7 @@ import numpy as np
 
 from mjcf import errors
 from mjcf.assets import Asset
+from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
@@ -149,12 +150,39 @@ class _TooLarge(ValueError):
 
 
 class _Converter:
-    """Base: strings stay strings (not blank ones, where MuJoCo refuses them)."""
+    """Base of the converters, one class for each kind of attribute, holding that kind's
+    rules: how its text and Python values are read and checked, and what it means to the
+    rest of mjcf (the flags below, which other modules ask instead of the kind's name)."""
 
     lazy = False  # True: text from files is converted on first read
+    names = False  # holds the element's name ('identifier'): setting it renames the element
+    refers = False  # holds references to elements by name ('reference')
+    files = False  # names a file ('file'), read into an `mjcf.Asset`
+    numbers = False  # holds numbers ('int', 'real'): compared and defaulted as numbers
+    reals = False  # holds real numbers, rewritten to an output's precision ('real')
+    takes_blank = True  # reads blank text as not set, unless the schema says otherwise
+    unset_is_empty = True  # MuJoCo's built-in value is empty text (not names, keywords, numbers)
 
     def __init__(self, spec: AttributeSpec) -> None:
         self.spec = spec
+
+    @classmethod
+    def scoped(cls) -> bool:
+        """Whether values take the model's name-scope prefix when models are composed."""
+        return cls.names or cls.refers
+
+    def checks_text(self) -> bool:
+        """Whether text read from a file must be checked (names are checked by the
+        element)."""
+        return False
+
+    def same(self, a: Any, b: Any) -> bool:
+        """Whether two stored values (neither None) are the same value."""
+        return bool(a == b)  # files (mjcf.Asset) compare by path, else by contents
+
+    def describe(self) -> str:
+        """The kind, for an AttributeSpec's repr ('real, 1 to 3 numbers')."""
+        return self.spec.kind
 
     def from_text(self, text: str) -> object:
         if not self.spec.blank and _is_blank(text):
@@ -167,12 +195,20 @@ class _Converter:
     def from_python(self, value: object) -> object:
         if not isinstance(value, str):
             raise InvalidValue(f"takes a string, got {type(value).__name__}: {value!r}")
-        if self.spec.kind == "string":
-            return self.from_text(value)
         return value
 
     def to_text(self, value: Any, precision: int = 17) -> str:  # a value it stores
         return str(value)
+
+
+class _String(_Converter):
+    """Strings stay strings (not blank ones, where MuJoCo refuses them)."""
+
+    def from_python(self, value: object) -> object:
+        return self.from_text(cast(str, super().from_python(value)))
+
+    def checks_text(self) -> bool:
+        return not self.spec.blank
 
 
 def round_float32(value: float) -> float:
@@ -207,6 +243,9 @@ TEXT_FORMATS = {"memory size": _memory_size, "three characters": _three_characte
 class _Format(_Converter):
     """Text MuJoCo reads by a grammar of its own (`size memory="10M"`)."""
 
+    def checks_text(self) -> bool:
+        return True
+
     def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
         self.check = TEXT_FORMATS[cast(str, spec.text_format)]  # only made for one
@@ -230,6 +269,9 @@ class _Numbers(_Converter):
     if the attribute were not set); it reads back as None and is written as it was."""
 
     lazy = True
+    numbers = True
+    reals = True
+    unset_is_empty = False
     dtype: type = float
     noun = "numbers"
 
@@ -345,6 +387,16 @@ class _Numbers(_Converter):
                 )
         return converted
 
+    def checks_text(self) -> bool:
+        return True
+
+    def same(self, a: Any, b: Any) -> bool:
+        first, second = np.asarray(a), np.asarray(b)
+        return first.shape == second.shape and bool(np.array_equal(first, second))
+
+    def describe(self) -> str:
+        return f"{self.spec.kind}, {self.spec.arity_text()}"
+
     def to_text(self, value: float | np.ndarray, precision: int = 17) -> str:
         if isinstance(value, np.ndarray):
             return " ".join([format_number(v, precision) for v in value.tolist()])
@@ -359,6 +411,7 @@ def _from_hex(word: str) -> float:
 
 
 class _Integers(_Numbers):
+    reals = False
     dtype = int
     noun = "integers"
 
@@ -388,10 +441,19 @@ class _Keyword(_Converter):
     """One keyword (or a list of distinct keywords), compared as MuJoCo compares
     them (some attributes ignore case; a few also take the keyword's number)."""
 
+    takes_blank = False
+    unset_is_empty = False
+
     def __init__(self, spec: AttributeSpec) -> None:
         super().__init__(spec)
         self.folded = frozenset(v.lower() for v in spec.values) if spec.case_insensitive else None
         self.lenient = spec.case_insensitive or spec.trims
+
+    def checks_text(self) -> bool:
+        return True
+
+    def describe(self) -> str:
+        return f"{self.spec.kind} {list(self.spec.values)}"
 
     def from_text(self, text: str) -> object:
         if self.spec.is_list:
@@ -468,6 +530,9 @@ def _integer_text(text: str, bounds: tuple[int, int]) -> bool:
 class _Identifier(_Converter):
     """Names; an empty one is no name, as MuJoCo reads it (returns None)."""
 
+    names = True
+    unset_is_empty = False
+
     def from_python(self, value: object) -> object:
         value = super().from_python(value)
         return value or None
@@ -478,6 +543,12 @@ class _Reference(_Converter):
     checks namespaces, since only it knows the model. An empty name is kept: MuJoCo
     reads it as no reference, except for a default class, which must be named, and
     where MuJoCo takes it for the first unnamed element (`AttributeSpec.refused`)."""
+
+    refers = True
+
+    def describe(self) -> str:
+        spec = self.spec
+        return f"{spec.kind} -> {spec.namespace or 'namespace from ' + str(spec.namespace_from)}"
 
     def from_text(self, text: str) -> object:
         refused = self.spec.refused.get(text)
@@ -508,6 +579,8 @@ class _Reference(_Converter):
 class _File(_Converter):
     """File attributes hold a path string or an `mjcf.Asset`."""
 
+    files = True
+
     def from_python(self, value: object) -> object:
         if isinstance(value, str | Asset):
             return value
@@ -515,13 +588,11 @@ class _File(_Converter):
 
 
 def _is_element(value: object) -> bool:
-    from mjcf.element import Element  # cycle: element -> values
-
-    return isinstance(value, Element)
+    return isinstance(value, ABOVE.element_class)
 
 
-_CONVERTERS = {
-    "string": _Converter,
+_CONVERTERS: dict[str, type[_Converter]] = {
+    "string": _String,
     "identifier": _Identifier,
     "reference": _Reference,
     "file": _File,
@@ -531,8 +602,12 @@ _CONVERTERS = {
 }
 
 
+def converter_class(kind: str, text_format: str | None = None) -> type[_Converter]:
+    """The converter class of attributes of `kind` ('real', 'reference' ...), or of text
+    read by the grammar `text_format` (see `TEXT_FORMATS`)."""
+    return _Format if text_format is not None else _CONVERTERS[kind]
+
+
 def converter_for(spec: AttributeSpec) -> _Converter:
     """The converter for an `AttributeSpec`."""
-    if spec.text_format is not None:
-        return _Format(spec)
-    return _CONVERTERS[spec.kind](spec)
+    return converter_class(spec.kind, spec.text_format)(spec)

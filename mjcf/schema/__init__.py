@@ -109,24 +109,21 @@ class AttributeSpec:
         self.ordered: bool = bool(data.get("ordered", False))
         self.alone: frozenset[str] = frozenset(data.get("alone", ()))
         self.text_format: str | None = data.get("format")
+        kind = _values.converter_class(self.kind, self.text_format)
         # Blank text: numbers and text take it (MuJoCo reads it as not set), keywords not.
-        self.blank: bool = bool(data.get("blank", self.kind != "keyword"))
+        self.blank: bool = bool(data.get("blank", kind.takes_blank))
         self.trims: bool = bool(data.get("trims", False))
         # Text mjcf refuses though MuJoCo's reader takes it, and why (see _refusals);
         # why it refuses infinite or NaN numbers here, if it does.
         self.refused: dict[str, str] = {}
         self.finite: str | None = None
         # Numbers with exactly one value read back as Python scalars, others as arrays.
-        self.scalar: bool = self.kind in ("int", "real") and self.min == 1 and self.max == 1
+        self.scalar: bool = kind.numbers and self.min == 1 and self.max == 1
         # Names that take the model's name-scope prefix when models are composed.
-        self.scoped: bool = self.kind in ("identifier", "reference")
-        self.converter = _values.converter_for(self)
+        self.scoped: bool = kind.scoped()
+        self.converter = kind(self)
         # Whether reading text must check it (names are checked by the element).
-        self.checks_text: bool = (
-            self.kind in ("keyword", "int", "real")
-            or self.text_format is not None
-            or (self.kind == "string" and not self.blank)
-        )
+        self.checks_text: bool = self.converter.checks_text()
 
     def arity_text(self) -> str:
         """Human-readable count of numbers this attribute takes ('1 to 3 numbers')."""
@@ -153,14 +150,7 @@ class AttributeSpec:
         return self.namespace_map.get(selector)
 
     def __repr__(self) -> str:
-        detail = self.kind
-        if self.kind in ("int", "real"):
-            detail += f", {self.arity_text()}"
-        elif self.kind == "keyword":
-            detail += f" {list(self.values)}"
-        elif self.kind == "reference":
-            detail += f" -> {self.namespace or 'namespace from ' + str(self.namespace_from)}"
-        return f"AttributeSpec({self.name!r}: {detail})"
+        return f"AttributeSpec({self.name!r}: {self.converter.describe()})"
 
 
 class Rule:
@@ -186,9 +176,7 @@ class Rule:
         # Whether an attribute MuJoCo reads as none counts as not given (its reader's
         # own checks), or any text does (its schema's): blank numbers, empty text.
         self.blank_is_none = bool(data.get("blank_is_none", False))
-        self.numbers = frozenset(
-            name for name in self.names if attributes[name].kind in ("int", "real")
-        )
+        self.numbers = frozenset(name for name in self.names if attributes[name].converter.numbers)
 
     def broken_by(self, attributes: Mapping[str, object]) -> bool:
         """Whether element attributes `attributes` (name -> value) break this rule."""
@@ -254,16 +242,7 @@ class ElementSpec:
             name: AttributeSpec(name, spec) for name, spec in data["attributes"].items()
         }
         self.children: dict[str, ElementSpec] = {}
-        identifiers = [a.name for a in self.attributes.values() if a.kind == "identifier"]
-        self.identifier: str | None = identifiers[0] if identifiers else None
-        self.scoped_attributes = frozenset(a.name for a in self.attributes.values() if a.scoped)
-        self.references = frozenset(
-            a.name for a in self.attributes.values() if a.kind == "reference"
-        )
-        self.required = tuple(a.name for a in self.attributes.values() if a.required)
-        self.file_attributes = frozenset(
-            a.name for a in self.attributes.values() if a.kind == "file"
-        )
+        self._sort_attributes()
         # A child that may appear once and is absent (None) until added, as dm_control's
         # "on demand" children (a body's inertial and free joint); other children that
         # may appear once are created empty on first access (`option.flag`).
@@ -282,6 +261,16 @@ class ElementSpec:
         # (own attribute or None, child tag, the child's attribute or None, why): an
         # element with that attribute and such a child crashes MuJoCo (_refusals).
         self.crashing_children: tuple[tuple[str | None, str, str | None, str], ...] = ()
+
+    def _sort_attributes(self) -> None:
+        """Which attributes name the element, refer, name files, are scoped, required."""
+        attributes = self.attributes.values()
+        identifiers = [a.name for a in attributes if a.converter.names]
+        self.identifier: str | None = identifiers[0] if identifiers else None
+        self.scoped_attributes = frozenset(a.name for a in attributes if a.scoped)
+        self.references = frozenset(a.name for a in attributes if a.converter.refers)
+        self.required = tuple(a.name for a in attributes if a.required)
+        self.file_attributes = frozenset(a.name for a in attributes if a.converter.files)
 
     def add_rule(self, rule: Rule) -> None:
         """Keep `rule` too (see _refusals)."""
@@ -326,16 +315,7 @@ class ElementSpec:
         spec = cls(key, {"tag": tag, "namespace": namespace, "attributes": {}})
         spec.attributes = dict(attributes)
         spec.children = dict(children)
-        identifiers = [a.name for a in spec.attributes.values() if a.kind == "identifier"]
-        spec.identifier = identifiers[0] if identifiers else None
-        spec.scoped_attributes = frozenset(a.name for a in spec.attributes.values() if a.scoped)
-        spec.references = frozenset(
-            a.name for a in spec.attributes.values() if a.kind == "reference"
-        )
-        spec.required = tuple(a.name for a in spec.attributes.values() if a.required)
-        spec.file_attributes = frozenset(
-            a.name for a in spec.attributes.values() if a.kind == "file"
-        )
+        spec._sort_attributes()
         spec.rules = spec.needs_rules = ()
         spec.rule_names = frozenset()
         spec.checked_on_write = bool(spec.required)

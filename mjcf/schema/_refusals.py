@@ -119,7 +119,7 @@ def apply(specs: Mapping[str, ElementSpec]) -> None:
     for spec in specs.values():
         for name, why in FINITE.items():
             number = spec.attributes.get(name)
-            if number is not None and number.kind == "real":
+            if number is not None and number.converter.reals:
                 number.finite = why
                 number.converter = converter_for(number)
     for spec in specs.values():
