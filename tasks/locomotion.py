@@ -66,8 +66,8 @@ class _Run(composer.Task):
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
         """`forward velocity - control_cost * sum(u^2) + alive_bonus` of each environment,
         (n,) (see the task)."""
-        cost = np.float64(self.control_cost) * squared_norms(physics.field("ctrl"))
-        return self.forward_velocity(physics) - cost + np.float64(self.alive_bonus)
+        cost = self.control_cost * squared_norms(physics.field("ctrl"))
+        return self.forward_velocity(physics) - cost + self.alive_bonus
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
         """'forward_velocity': `forward_velocity` (m/s), (n,); `composer eval` averages it
@@ -139,7 +139,7 @@ class AntRun(_Run):
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
         """Turned over, or fallen below `min_height`: (n,) bool."""
         torso = physics.bind(self.robot.torso)
-        return (torso.xmat[:, 8] < _ZERO) | (torso.xpos[:, 2] < np.float64(self.min_height))
+        return (torso.xmat[:, 8] < _ZERO) | (torso.xpos[:, 2] < self.min_height)
 
 
 class WalkerRun(_Run):
@@ -183,10 +183,10 @@ class WalkerRun(_Run):
         """Fallen: torso below `min_height` m or pitched more than 1 rad; (n,) bool."""
         height = physics.bind(self.robot.torso).xpos[:, 2]
         pitch = physics.bind(self.robot.root_y).qpos[:, 0]
-        return (height < np.float64(self.min_height)) | (np.abs(pitch) > _ONE)
+        return (height < self.min_height) | (np.abs(pitch) > _ONE)
 
 
-# Numbers of the per-step formulas as 0-d arrays (and numpy floats for the tasks' options):
-# numpy's arithmetic on small arrays takes a third less time with these than with Python
-# numbers, to the same result.
+# Numbers of the per-step formulas as 0-d arrays: numpy's arithmetic on small arrays takes
+# a third less time with these than with Python numbers, to the same result (the tasks'
+# options stay Python floats: making a numpy number of one costs what it would save).
 _ZERO, _ONE = np.array(0.0), np.array(1.0)

@@ -147,7 +147,7 @@ class ArmPushBox(UnitActionTask):
         simulations; the control ranges are the first environment's (all share them)."""
         arm_ctrl = physics.bind(self.arm_actuators)
         angles = physics.bind(self.arm_joints).qpos
-        targets = arm_ctrl.ctrl + np.float64(self.max_joint_step) * actions[:, :6]
+        targets = arm_ctrl.ctrl + self.max_joint_step * actions[:, :6]
         targets = clip(targets, angles - _WINDOW, angles + _WINDOW)
         arm_ctrl.ctrl = clip(targets, self._ctrl_low, self._ctrl_high)
         gripper = self._gripper_low + (actions[:, 6:] + _ONE) / _TWO * self._gripper_span
@@ -174,7 +174,7 @@ class ArmPushBox(UnitActionTask):
 
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
         """The box fell off the table: (n,) bool."""
-        return physics.bind(self.box.body).xpos[:, 2] < np.float64(self.table_height - 0.1)
+        return physics.bind(self.box.body).xpos[:, 2] < self.table_height - 0.1
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
         """'is_success': the box's centre within `target_radius` of the target's, (n,)."""

@@ -74,7 +74,7 @@ class Reach(UnitActionTask):
         self.max_joint_step = float(max_joint_step)
         # The environments of the last before_step_batch and their actions (control cost).
         self._last_actions = _NO_ACTIONS
-        reach = np.float64(self.arm.reach)
+        reach = np.array(self.arm.reach)  # a 0-d array: see _HALF below
         self.observe({
             "target_position": observation.BatchGeneric(
                 lambda physics: clip(
@@ -93,7 +93,7 @@ class Reach(UnitActionTask):
         """Servo targets: the current joint angles plus `max_joint_step * actions`, rows
         (n, 2); the actions are kept for the control cost."""
         joints = physics.bind(self.arm.joints)
-        physics.bind(self.servos).ctrl = joints.qpos + np.float64(self.max_joint_step) * actions
+        physics.bind(self.servos).ctrl = joints.qpos + self.max_joint_step * actions
         self._last_actions = (physics.ids, actions)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
@@ -136,18 +136,18 @@ class Reach(UnitActionTask):
         """The reward of each environment, shape (n,) (see the class docstring); the
         control cost takes each one's actions from the last `before_step_batch`."""
         distance = self.distances(physics)
-        ratio = distance / np.float64(self.success_distance)
-        pull = _HALF * (_ONE - distance / np.float64(2.0 * self.arm.reach))
+        ratio = distance / self.success_distance
+        pull = _HALF * (_ONE - distance / 2.0 * self.arm.reach)
         reward = pull + _HALF * np.exp(np.negative(ratio * ratio))
         if self.control_cost:
             stepped, actions = self._last_actions
             mine = actions[np.searchsorted(stepped, physics.ids)]
-            reward = reward - np.float64(self.control_cost) * np.mean(np.square(mine), axis=1)
+            reward = reward - self.control_cost * np.mean(np.square(mine), axis=1)
         return reward
 
     def get_info_batch(self, physics: BatchPhysics) -> dict[str, np.ndarray]:
         """'is_success': the fingertip within `success_distance` of the target, (n,) bool."""
-        return {"is_success": self.distances(physics) < np.float64(self.success_distance)}
+        return {"is_success": self.distances(physics) < self.success_distance}
 
 
 # Numbers of the per-step formulas as 0-d arrays: numpy's arithmetic on small arrays takes
