@@ -137,7 +137,7 @@ class Reach(UnitActionTask):
         control cost takes each one's actions from the last `before_step_batch`."""
         distance = self.distances(physics)
         ratio = distance / self.success_distance
-        pull = _HALF * (_ONE - distance / 2.0 * self.arm.reach)
+        pull = _HALF * (_ONE - distance / (2.0 * self.arm.reach))
         reward = pull + _HALF * np.exp(np.negative(ratio * ratio))
         if self.control_cost:
             stepped, actions = self._last_actions
