@@ -188,6 +188,7 @@ def test_an_entity_attached_between_resets_has_its_episode_hooks_run_from_the_ne
     calls.clear()
     env.reset(seed=0)
     assert calls == each("initialize_episode_mjcf") + each("initialize_episode")
+
     class Late(Quiet):  # no actuator: the action space stays
         def initialize_episode_mjcf(self, random_state):
             calls.append(("late", "initialize_episode_mjcf"))
