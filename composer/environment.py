@@ -293,7 +293,8 @@ class Environment(gymnasium.Env):
             if self._fixed_initial_state:
                 random_state.set_state(self._fixed_state)
             root = task.root_entity.mjcf_model
-            if root is self._compiled_root and root.version == self._version:
+            as_compiled = root is self._compiled_root and root.version == self._version
+            if as_compiled:
                 # The model as compiled, so the entity tree too (attaching or detaching
                 # changes the version): its hooks are those resolved at the compile.
                 mjcf_hooks = self._hooks.initialize_episode_mjcf
@@ -302,13 +303,12 @@ class Environment(gymnasium.Env):
                 mjcf_hooks = hooks.overriders(everyone, "initialize_episode_mjcf") + tuple(
                     self._extra_hooks["initialize_episode_mjcf"]
                 )
-                root = None
             for hook in mjcf_hooks:
                 hook(random_state)
             # True and False are dm_control's: a compile every episode, or at the first
             # reset only (their block runs once); None: when the model changed. No hook
             # ran on a model as compiled: it is unchanged.
-            changed = (root is None or bool(mjcf_hooks)) and (
+            changed = (not as_compiled or bool(mjcf_hooks)) and (
                 task.root_entity.mjcf_model.version != self._version
             )
             if changed or self._recompile_every_episode is not None:
