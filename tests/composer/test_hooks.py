@@ -176,3 +176,43 @@ def test_a_model_change_in_initialize_episode_mjcf_recompiles_before_initialize_
     env.reset(seed=0)  # no change: no recompile
     assert ("task", "after_compile") not in calls
     assert physics.model is model
+
+
+def test_an_entity_attached_between_resets_has_its_episode_hooks_run_from_the_next_reset():
+    # A reset on the model as compiled runs the hooks resolved at the compile; one after an
+    # attach finds the new entity's, as walking the tree at every reset would.
+    calls: list = []
+    task = RecordingTask(calls)
+    env = composer.Environment(task, recompile_mjcf_every_episode=None)
+    env.reset(seed=0)
+    calls.clear()
+    env.reset(seed=0)
+    assert calls == each("initialize_episode_mjcf") + each("initialize_episode")
+
+    class Late(Quiet):  # no actuator: the action space stays
+        def initialize_episode_mjcf(self, random_state):
+            calls.append(("late", "initialize_episode_mjcf"))
+
+        def after_compile(self, physics, random_state):
+            calls.append(("late", "after_compile"))
+
+        def initialize_episode(self, physics, random_state):
+            calls.append(("late", "initialize_episode"))
+
+    task.grandchild.attach(Late())
+    calls.clear()
+    env.reset(seed=0)
+    everyone = (*EVERYONE, "late")
+    assert calls == (
+        [(who, "initialize_episode_mjcf") for who in everyone]
+        + [(who, "after_compile") for who in everyone]
+        + [(who, "initialize_episode") for who in everyone]
+    )
+    calls.clear()
+    env.reset(seed=0)
+    assert calls == [(who, hook) for hook in ("initialize_episode_mjcf", "initialize_episode")
+                     for who in everyone]  # fmt: skip
+    env.add_extra_hook("initialize_episode_mjcf", lambda random_state: calls.append("extra"))
+    calls.clear()
+    env.reset(seed=0)
+    assert calls[len(everyone)] == "extra"

@@ -56,11 +56,13 @@ def _plain_tolerance(x, bounds, margin, sigmoid, value_at_margin):
 @pytest.mark.parametrize("margin", [0.0, 0.7])
 def test_a_tolerance_built_once_computes_the_formula_to_the_last_bit(sigmoid, bounds, margin):
     term = Tolerance(bounds, margin, sigmoid, value_at_margin=0.3)
-    xs = np.concatenate([np.linspace(-3, 3, 25), [1e-300, np.inf, -np.inf]])
+    random = np.random.default_rng(0).normal(0.0, 2.0, 200)
+    xs = np.concatenate([np.linspace(-3, 3, 25), random, -random, [1e-300, -1e-300, 1e-310,
+                         -1e-310, 0.0, -0.0, 1e300, -1e300, np.inf, -np.inf, np.nan]])  # fmt: skip
     expected = _plain_tolerance(xs, bounds, margin, sigmoid, 0.3)
     for _ in range(2):  # a call changes none of the constants it keeps
-        np.testing.assert_array_equal(term(xs), expected)
-        np.testing.assert_array_equal(tolerance(xs, bounds, margin, sigmoid, 0.3), expected)
+        assert term(xs).tobytes() == expected.tobytes()  # bit for bit, signs of zeros too
+        assert tolerance(xs, bounds, margin, sigmoid, 0.3).tobytes() == expected.tobytes()
         assert term(0.1) == float(_plain_tolerance(0.1, bounds, margin, sigmoid, 0.3))
         assert isinstance(term(0.1), float)
     with pytest.raises(composer.TaskError, match="lower <= upper"):
