@@ -45,6 +45,10 @@ def _xml_parser() -> etree.XMLParser:
         remove_comments=True,
         remove_pis=True,
         huge_tree=False,
+        # Whitespace between elements and xml:id are no part of MJCF: kept, they cost
+        # about a tenth of the time to read a file.
+        remove_blank_text=True,
+        collect_ids=False,
     )
 
 
