@@ -141,7 +141,7 @@ def _parse(
     filename: str | None,
     strict_paths: bool,
 ) -> RootElement:
-    xml_root = _read_xml(data, filename)
+    xml_root, exact = _read_xml(data, filename)
     if xml_root.tag != "mujoco":
         raise errors.ParseError(
             f"{_where(filename, xml_root)}: the root element of an MJCF model is <mujoco>, "
@@ -152,7 +152,9 @@ def _parse(
     if filename is not None:
         included.add(os.path.abspath(filename))
     confine = os.path.realpath(model_dir or os.getcwd()) if strict_paths else None
-    _expand_includes(xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine)
+    exact |= _expand_includes(
+        xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine
+    )
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
@@ -167,7 +169,7 @@ def _parse(
     mode = references.UNPINNED if resolve_references else references.BY_NAME
     object.__setattr__(root, "_references", mode)
     if not strict_paths and _read_fast(
-        root, xml_root, filename, escape_separators, resolve_references
+        root, xml_root, filename, escape_separators, resolve_references, exact
     ):
         return root
     builder = _Builder(root, filename, escape_separators)
@@ -187,10 +189,12 @@ def _read_fast(
     filename: str | None,
     escape_separators: bool,
     check_references: bool,
+    exact: bool,
 ) -> bool:
     """Read the document under `xml_root` into the new model `root` the fast way: checked
-    whole by the XML Schema and the indexer, its sections' contents built when first
-    used (see `Element._defer`). False, with `root` untouched, for a document the
+    whole by the XML Schema (the one that counts digits if `exact`, see
+    `xsd.needs_exact`) and the indexer, its sections' contents built when first used
+    (see `Element._defer`). False, with `root` untouched, for a document the
     element-by-element reader must read (to report an error, or to read what the fast
     way does not handle); debug mode, which records where each element was read, reads
     element by element too."""
@@ -199,7 +203,7 @@ def _read_fast(
     tags = [xml.tag for xml in xml_root]
     if len(set(tags)) != len(tags) or not all(isinstance(tag, str) for tag in tags):
         return False  # a section repeated, or an entity
-    if not xsd.accepts(xml_root):
+    if not xsd.accepts(xml_root, exact):
         return False
     found = indexer.index(xml_root, root._spec.children, check_references)
     if found is None:
@@ -230,7 +234,10 @@ def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | Non
         )
 
 
-def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
+def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, bool]:
+    """The root of the XML document `data`, and whether its numbers need the XML Schema
+    that counts digits (`xsd.needs_exact`); raises mjcf.ParseError for malformed XML
+    and for a DTD."""
     if isinstance(data, str):
         data = data.encode("utf-8")
     try:
@@ -246,7 +253,7 @@ def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
             f"{filename or '<string>'}: MJCF does not use DTDs, and models that declare one "
             "(or entities) are refused"
         )
-    return tree
+    return tree, xsd.needs_exact(data, doctype.encoding)
 
 
 def _expand_includes(
@@ -256,11 +263,13 @@ def _expand_includes(
     assets: dict,
     included: set[str],
     confine: str | None,
-) -> None:
+) -> bool:
     """Replace every <include file=...> below `root` by the children of the included
     file's root, recursively, as MuJoCo does. Files are read depth first, then each
     <include> is replaced once the file it names is whole, innermost first: a chain of
-    a thousand nested files takes no Python recursion."""
+    a thousand nested files takes no Python recursion. Whether an included file's
+    numbers need the XML Schema that counts digits (see `_read_xml`)."""
+    exact = False
     found: list[tuple[etree._Element, etree._Element, str]] = []  # include, file root, where
     pending = [(root, filename)]
     while pending:
@@ -287,7 +296,8 @@ def _expand_includes(
             if len(included) > _MAX_INCLUDES:
                 raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
             included.add(key)
-            included_root = _read_xml(data, path or file_attr)
+            included_root, included_exact = _read_xml(data, path or file_attr)
+            exact |= included_exact
             found.append((include, included_root, f"{where}: included file {file_attr!r}"))
             pending.append((included_root, path or file_attr))
     for include, included_root, where in reversed(found):
@@ -299,6 +309,7 @@ def _expand_includes(
         parent.remove(include)
         for offset, child in enumerate(children):
             parent.insert(position + offset, child)
+    return exact
 
 
 def _include_source(

@@ -82,6 +82,12 @@ BAD = {
         "only one",
     ),
     "the world's name": ('<body name="world"/>', "already used"),
+    "a decimal too large for a float": (f'<geom size="1" rgba="{"9" * 39} 0 0 1"/>', "too large"),
+    "a decimal too large for a double": (f'<body name="a" pos="1{"0" * 400} 0 0"/>', "too large"),
+    "a decimal too large, spelled": (
+        '<geom size="1" rgba="' + "&#57;" * 39 + ' 0 0 1"/>',
+        "too large",
+    ),
 }
 
 
@@ -111,10 +117,16 @@ def _texts() -> list[str]:
     return texts
 
 
-def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
+# Decimals too large for a C float or a double, and their neighbours that fit.
+_LONG = ["9" * 38, "9" * 39, "-" + "9" * 39, "1" * 400, "0." + "1" * 60, "3" + "4" * 38 + ".5"]
+
+
+@pytest.mark.parametrize("exact", [False, True], ids=["fast", "exact"])
+def test_the_xml_schema_accepts_no_value_the_converters_refuse(exact: bool) -> None:
     """The schema's value types are a subset of what the converters accept, for every
     attribute it types: so a document it accepts is one reading element by element
-    accepts too."""
+    accepts too. The fast schema takes decimals of any length: a document holding one
+    too long for it is checked against the exact one (`xsd.needs_exact`)."""
     checked = {}
     for spec in _all_specs():
         for attribute in spec.attributes.values():
@@ -122,7 +134,7 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
             if kind is not None:
                 checked.setdefault(kind, attribute)
     assert len(checked) > 20
-    definitions = xsd._REALS + "".join(
+    definitions = xsd._reals(xsd._EXACT if exact else xsd._FAST) + "".join(
         xsd._simple_type_text(f"t{i}", k) for i, k in enumerate(checked)
     )
     elements = "".join(f'<xs:element name="e{i}" type="t{i}"/>' for i in range(len(checked)))
@@ -132,10 +144,13 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
             f"{definitions}{elements}</xs:schema>"
         )
     )
-    texts = _texts() + sorted({v for kind in checked if kind[0] == "keywords" for v in kind[1]})
+    texts = _texts() + _LONG + [" ".join(["1", word]) for word in _LONG]
+    texts += sorted({v for kind in checked if kind[0] == "keywords" for v in kind[1]})
     wrongly_accepted = []
     for i, attribute in enumerate(checked.values()):
         for text in texts:
+            if not exact and xsd.needs_exact(text.encode(), "UTF-8"):
+                continue  # checked against the exact schema
             element = etree.Element(f"e{i}")
             element.text = text
             if not schema.validate(element):
@@ -145,6 +160,14 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
             except ValueError:
                 wrongly_accepted.append((attribute, text))
     assert wrongly_accepted == []
+
+
+def test_a_document_that_could_hold_a_decimal_too_large_is_checked_exactly() -> None:
+    assert not xsd.needs_exact(b'<mujoco><body pos="' + b"9" * 38 + b' 0 0"/></mujoco>', "UTF-8")
+    assert xsd.needs_exact(b'<mujoco><body pos="' + b"9" * 39 + b' 0 0"/></mujoco>', "UTF-8")
+    assert xsd.needs_exact(b'<mujoco><body pos="&#57;"/></mujoco>', "UTF-8")  # spelled
+    assert xsd.needs_exact('<mujoco><body pos="1"/></mujoco>'.encode("utf-16"), "UTF-8")
+    assert xsd.needs_exact(b"<mujoco/>", "cp037")  # EBCDIC digits are other bytes
 
 
 def _all_specs():
