@@ -194,30 +194,42 @@ def _read_fast(
     """Read the document under `xml_root` into the new model `root` the fast way: checked
     whole by the XML Schema (the one that counts digits if `exact`, see
     `xsd.needs_exact`) and the indexer, its sections' contents built when first used
-    (see `Element._defer`). False, with `root` untouched, for a document the
-    element-by-element reader must read (to report an error, or to read what the fast
-    way does not handle); debug mode, which records where each element was read, reads
-    element by element too."""
+    (see `Element._defer`). False, with `root` and `xml_root` untouched, for a document
+    the element-by-element reader must read (to report an error, or to read what the
+    fast way does not handle: a repeated top-level `<default>`, whose later copies change
+    the classes read before them, see `default_sections`); debug mode, which records
+    where each element was read, reads element by element too."""
     if debugging.is_debug_mode():
         return False
     tags = [xml.tag for xml in xml_root]
-    if len(set(tags)) != len(tags) or not all(isinstance(tag, str) for tag in tags):
-        return False  # a section repeated, or an entity
+    if not all(isinstance(tag, str) for tag in tags):
+        return False  # an entity
+    repeated = len(set(tags)) != len(tags)
+    if repeated and tags.count("default") > 1:
+        return False
     if not xsd.accepts(xml_root, exact):
         return False
-    found = indexer.index(xml_root, root._spec.children, check_references)
+    found = indexer.index(xml_root, check_references)
     if found is None:
         return False
     names, referenced = found
     builder = _Builder(root, filename, escape_separators)
+    firsts: dict[str, etree._Element] = {}
     for xml_section in xml_root:
-        section = root._section(xml_section.tag)
+        tag = xml_section.tag
+        section = root._section(tag)
         attrib = dict(xml_section.attrib)
-        if xml_section.tag == "default":
+        if tag == "default":
             _main_class(attrib, xml_section, filename)
         builder._set_attributes(section, attrib, xml_section, merge=True)
-        if len(xml_section):
-            section._defer(xml_section)
+        first = firsts.setdefault(tag, xml_section)
+        if first is not xml_section:
+            # A repeated section, which MuJoCo reads as one: its children join the first
+            # copy's, in order (the indexer has checked them as one section's).
+            first.extend(list(xml_section))
+    for first in firsts.values():
+        if len(first):
+            root._section(first.tag)._defer(first)
     root.namescope.load(names)
     object.__setattr__(root, "_referenced", referenced)
     return True

@@ -13,14 +13,16 @@ import pytest
 from lxml import etree
 
 import mjcf
-from bench import synthetic
+from bench import real_models, synthetic
 from mjcf import parser, xsd
-from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
+from tests import dm_control_wheel
+from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA, ORIGINAL_MENAGERIE
 
 MODELS = (
     sorted(GYM_ASSETS.glob("*.xml"))
     + sorted(MUJOCO_TESTDATA.glob("*.xml"))
     + sorted(MENAGERIE.glob("*/*.xml"))
+    + sorted(ORIGINAL_MENAGERIE.glob("*/*.xml"))  # beside the repository in CI only
 )
 NAMESPACES = ("body", "joint", "geom", "site", "mesh", "texture", "material", "actuator",
               "sensor", "tendon", "default", "camera", "light", "equality", "exclude")  # fmt: skip
@@ -32,21 +34,29 @@ def element_by_element(monkeypatch):
     monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
 
 
-def _read_both(path: Path, monkeypatch) -> tuple[mjcf.RootElement, mjcf.RootElement]:
+def _read_both(
+    path: Path, monkeypatch, text: str | None = None
+) -> tuple[mjcf.RootElement, mjcf.RootElement]:
+    """The file at `path` (or `text`, read as if it were that file) read fast, then
+    element by element; asserts the fast way took it."""
+
+    def read() -> mjcf.RootElement:
+        if text is None:
+            return mjcf.from_path(path)
+        return mjcf.from_xml_string(text, model_dir=str(path.parent))
+
     taken = []
     fast_reader = parser._read_fast
     monkeypatch.setattr(parser, "_read_fast", lambda *a: taken.append(fast_reader(*a)) or taken[0])
-    fast = mjcf.from_path(path)
+    fast = read()
     monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
-    slow = mjcf.from_path(path)
+    slow = read()
     monkeypatch.undo()
     assert taken == [True], "the fast way should read every shipped model"
     return fast, slow
 
 
-@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
-def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch) -> None:
-    fast, slow = _read_both(path, monkeypatch)
+def _assert_same_model(fast: mjcf.RootElement, slow: mjcf.RootElement) -> None:
     for namespace in NAMESPACES:  # names first, with nothing built yet
         named = [e for e in slow.find_all(namespace) if e.identifier is not None]
         found = [fast.find(namespace, e.identifier) for e in named]
@@ -56,6 +66,90 @@ def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch
         assert [e.full_identifier for e in fast.find_all(namespace)] == names
     assert fast.to_xml_string() == slow.to_xml_string()
     assert fast.is_same_as(slow)
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
+def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch) -> None:
+    _assert_same_model(*_read_both(path, monkeypatch))
+
+
+def _walker(name: str) -> Path:
+    try:
+        return real_models.walkers()[name]
+    except dm_control_wheel.Unavailable as error:
+        pytest.skip(f"dm_control's walkers cannot be had: {error}")
+
+
+@pytest.mark.parametrize("name", sorted(real_models.WALKERS))
+def test_dm_control_walkers_read_fast_as_element_by_element(name: str, monkeypatch) -> None:
+    """rodent.xml among them, whose top-level <compiler> is repeated."""
+    _assert_same_model(*_read_both(_walker(name), monkeypatch))
+
+
+def _split_sections(path: Path) -> str:
+    """The file at `path` with every top-level section in two copies, as MuJoCo merges
+    them: the first with the section's attributes and the first half of its children,
+    the second, placed after every other section, with its later attributes again and
+    the other half."""
+    xml_root = etree.parse(str(path)).getroot()
+    for section in list(xml_root):
+        if not isinstance(section.tag, str) or section.tag == "default":
+            continue  # a repeated <default> is read element by element
+        children = list(section)
+        later = etree.SubElement(xml_root, section.tag)
+        for name, value in list(section.attrib.items())[len(section.attrib) // 2 :]:
+            later.set(name, value)
+        later.extend(children[len(children) // 2 :])
+    return etree.tostring(xml_root, encoding="unicode")
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
+def test_repeated_sections_read_fast_as_element_by_element(path: Path, monkeypatch) -> None:
+    text = _split_sections(path)
+    fast, slow = _read_both(path, monkeypatch, text)
+    assert fast.to_xml_string() == mjcf.from_path(path).to_xml_string()  # merged as MuJoCo does
+    _assert_same_model(fast, slow)
+
+
+def test_a_repeated_walker_compiles_as_mujoco_compiles_it(monkeypatch) -> None:
+    path = _walker("cmu_v2020")
+    text = _split_sections(path)
+    fast, slow = _read_both(path, monkeypatch, text)
+    _assert_same_model(fast, slow)
+    ours = mjcf.Physics.from_mjcf_model(fast).model
+    spec = mujoco.MjSpec.from_string(text)
+    spec.modelfiledir = str(path.parent)
+    theirs = spec.compile()
+    sizes = ("nbody", "njnt", "ngeom", "nu")
+    assert [getattr(ours, n) for n in sizes] == [getattr(theirs, n) for n in sizes]
+    assert ours.geom_size.tolist() == theirs.geom_size.tolist()
+
+
+REPEATED = {
+    "a later copy's attribute overrides": '<compiler angle="degree"/><compiler angle="radian"/>',
+    "once-only children in two copies merge": (
+        '<visual><global fovy="30"/></visual><visual><global azimuth="10" fovy="40"/></visual>'
+    ),
+    "two copies of <default>": (
+        '<default><geom rgba="1 0 0 1"/></default><default><joint damping="1"/></default>'
+    ),
+    "bodies in both copies, interleaved": (
+        '<worldbody><body name="a"/></worldbody><asset><texture name="t" builtin="flat" '
+        'width="8" height="8"/></asset><worldbody><body name="b"><geom size="1"/></body>'
+        "</worldbody>"
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(REPEATED))
+def test_repeated_sections_merge_as_element_by_element(case: str, monkeypatch) -> None:
+    xml = f"<mujoco>{REPEATED[case]}<worldbody><geom size='1'/></worldbody></mujoco>"
+    fast = mjcf.from_xml_string(xml)
+    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    slow = mjcf.from_xml_string(xml)
+    _assert_same_model(fast, slow)
+    compiled = mjcf.Physics.from_mjcf_model(fast).model
+    assert compiled.ngeom == mujoco.MjModel.from_xml_string(xml).ngeom
 
 
 def test_synthetic_creatures_read_fast_and_compile(tmp_path: Path, monkeypatch) -> None:
@@ -91,9 +185,23 @@ BAD = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(BAD))
+# The same errors across the copies of a repeated section.
+BAD_REPEATED = {
+    "a name in both copies": ('<body name="a"/></worldbody><worldbody><body name="a"/>', "used"),
+    "a reference to nothing in a later copy": (
+        '<body name="a"/></worldbody><worldbody><body name="b" childclass="nope"/>',
+        "nope",
+    ),
+    "an unknown attribute in a later copy": (
+        '</worldbody><compiler angle="radian"/><compiler colour="red"/><worldbody>',
+        "colour",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD) + sorted(BAD_REPEATED))
 def test_errors_are_raised_at_parse_time_as_element_by_element(case: str, monkeypatch) -> None:
-    body, match = BAD[case]
+    body, match = BAD[case] if case in BAD else BAD_REPEATED[case]
     xml = f"<mujoco><worldbody>{body}</worldbody></mujoco>"
     with pytest.raises(mjcf.Error, match=match) as fast:
         mjcf.from_xml_string(xml)
