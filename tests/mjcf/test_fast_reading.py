@@ -178,6 +178,14 @@ BAD = {
     "the world's name": ('<body name="world"/>', "already used"),
     "a decimal too large for a float": (f'<geom size="1" rgba="{"9" * 39} 0 0 1"/>', "too large"),
     "a decimal too large for a double": (f'<body name="a" pos="1{"0" * 400} 0 0"/>', "too large"),
+    "an exponent without digits": ('<body name="a" pos="1e+ 0 0"/>', "pos"),
+    "an exponent too large for a float": ('<geom size="1" rgba="1e39 0 0 1"/>', "too large"),
+    "a mantissa too large for a float": (f'<geom size="1" rgba="{"9" * 30}e9 0 0 1"/>', "large"),
+    "a gear that is not finite": (
+        '<body name="a"><joint name="j"/></body></worldbody><actuator>'
+        '<motor joint="j" gear="INF"/></actuator><worldbody>',
+        "gear",
+    ),
     "a decimal too large, spelled": (
         '<geom size="1" rgba="' + "&#57;" * 39 + ' 0 0 1"/>',
         "too large",
@@ -226,7 +234,10 @@ def _texts() -> list[str]:
 
 
 # Decimals too large for a C float or a double, and their neighbours that fit.
-_LONG = ["9" * 38, "9" * 39, "-" + "9" * 39, "1" * 400, "0." + "1" * 60, "3" + "4" * 38 + ".5"]
+_LONG = ["9" * 38, "9" * 39, "-" + "9" * 39, "1" * 400, "0." + "1" * 60, "3" + "4" * 38 + ".5",
+         "1e38", "3.3e38", "3.5e38", "1e39", "-1e39", "1e+39", "1e308", "1e309", "1e-400",
+         "9" * 29 + "e9", "9" * 30 + "e9", "1e09", "1.5e", "1e+", "1E-", "5.e", "5.E+3",
+         "-INF", "INF", "NaN", "1e5 1e", "1e1e1", "2e-5"]  # fmt: skip
 
 
 @pytest.mark.parametrize("exact", [False, True], ids=["fast", "exact"])
