@@ -214,22 +214,25 @@ def _read_fast(
         return False
     names, referenced = found
     builder = _Builder(root, filename, escape_separators)
+    sections = {section._spec.tag: section for section in root._children}
     firsts: dict[str, etree._Element] = {}
     for xml_section in xml_root:
         tag = xml_section.tag
-        section = root._section(tag)
-        attrib = dict(xml_section.attrib)
-        if tag == "default":
-            _main_class(attrib, xml_section, filename)
-        builder._set_attributes(section, attrib, xml_section, merge=True)
+        section = sections[tag]
+        spec = section._spec
+        if xml_section.attrib or tag == "default" or spec.required or spec.rules:
+            attrib = dict(xml_section.attrib)
+            if tag == "default":
+                _main_class(attrib, xml_section, filename)
+            builder._set_attributes(section, attrib, xml_section, merge=True)
         first = firsts.setdefault(tag, xml_section)
         if first is not xml_section:
             # A repeated section, which MuJoCo reads as one: its children join the first
             # copy's, in order (the indexer has checked them as one section's).
             first.extend(list(xml_section))
-    for first in firsts.values():
+    for tag, first in firsts.items():
         if len(first):
-            root._section(first.tag)._defer(first)
+            sections[tag]._defer(first)
     root.namescope.load(names)
     object.__setattr__(root, "_referenced", referenced)
     return True
