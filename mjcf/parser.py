@@ -12,7 +12,10 @@ A document is first checked whole, in C against an XML Schema generated from MuJ
 when first used (`Element._defer`): reading a model takes about as long as MuJoCo's own
 `MjSpec.from_file`. A document that check does not accept is read element by element,
 which raises the error naming the element (or reads what the fast way leaves to it).
-Attribute text is kept as read until used.
+So are the first documents a process reads, until it has read as many elements as it
+could have read fast in the time the XML Schema takes to make (about 8 ms, once): a
+script that reads one model does not pay for it. Attribute text is kept as read until
+used.
 
 The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
 never touches the network, and limits nesting depth.
@@ -34,6 +37,13 @@ from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec
 
 _MAX_INCLUDES = 1000
+# Making the XML Schema the fast way checks documents with (`mjcf.xsd`) costs about 8 ms of
+# CPU time, once a thread; reading element by element costs about 10 us an element more
+# than reading fast. Until a process has read this many elements element by element, it
+# goes on doing so; then it makes the schema: a process pays at most about twice the
+# cheaper of the two ways (the ski-rental rule), and one that reads one model pays none.
+_ELEMENTS_BEFORE_SCHEMA = 1000
+_elements_read_slowly = 0  # by this process, while no XML Schema was made
 
 
 def _xml_parser() -> etree.XMLParser:
@@ -198,8 +208,9 @@ def _read_fast(
     the element-by-element reader must read (to report an error, or to read what the
     fast way does not handle: a repeated top-level `<default>`, whose later copies change
     the classes read before them, see `default_sections`); debug mode, which records
-    where each element was read, reads element by element too."""
-    if debugging.is_debug_mode():
+    where each element was read, reads element by element too, as do the first documents
+    a process reads (see `_ELEMENTS_BEFORE_SCHEMA`)."""
+    if debugging.is_debug_mode() or not _schema_pays(xml_root, exact):
         return False
     tags = [xml.tag for xml in xml_root]
     if not all(isinstance(tag, str) for tag in tags):
@@ -236,6 +247,17 @@ def _read_fast(
     root.namescope.load(names)
     object.__setattr__(root, "_referenced", referenced)
     return True
+
+
+def _schema_pays(xml_root: etree._Element, exact: bool) -> bool:
+    """Whether the XML Schema the document under `xml_root` is checked with (see
+    `xsd.accepts`) exists, or it is time to make it (see `_ELEMENTS_BEFORE_SCHEMA`); if
+    not, its elements are counted as read element by element."""
+    global _elements_read_slowly
+    if xsd.is_made(exact) or _elements_read_slowly >= _ELEMENTS_BEFORE_SCHEMA:
+        return True
+    _elements_read_slowly += sum(1 for _ in xml_root.iter())
+    return False
 
 
 def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | None) -> None:

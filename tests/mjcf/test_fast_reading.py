@@ -5,7 +5,10 @@ raises, at parse time; the elements not built yet behave as built ones."""
 from __future__ import annotations
 
 import copy
+import os
 import pickle
+import subprocess
+import sys
 from pathlib import Path
 
 import mujoco
@@ -26,6 +29,12 @@ MODELS = (
 )
 NAMESPACES = ("body", "joint", "geom", "site", "mesh", "texture", "material", "actuator",
               "sensor", "tendon", "default", "camera", "light", "equality", "exclude")  # fmt: skip
+
+
+@pytest.fixture(autouse=True)
+def fast_from_the_first_document(monkeypatch):
+    """Read fast from the first document on (see `parser._ELEMENTS_BEFORE_SCHEMA`)."""
+    monkeypatch.setattr(parser, "_ELEMENTS_BEFORE_SCHEMA", 0)
 
 
 @pytest.fixture
@@ -293,6 +302,35 @@ def _all_specs():
     from mjcf import schema
 
     return schema.all_specs()
+
+
+_FIRST_READS = """
+import mjcf
+from mjcf import parser, xsd
+path = {path!r}
+first = mjcf.from_path(path).to_xml_string()
+assert not xsd.is_made(), "the first model is read element by element"
+reads = 1
+while not xsd.is_made():
+    assert mjcf.from_path(path).to_xml_string() == first
+    reads += 1
+print(reads, parser._elements_read_slowly, parser._ELEMENTS_BEFORE_SCHEMA)
+"""
+
+
+def test_a_process_reads_element_by_element_until_the_schema_pays() -> None:
+    """The first documents of a process are read element by element, the same model,
+    until they have cost what making the XML Schema costs; then it is made."""
+    path = GYM_ASSETS / "humanoid.xml"
+    elements = sum(1 for _ in etree.parse(str(path)).iter(etree.Element))
+    done = subprocess.run(
+        [sys.executable, "-c", _FIRST_READS.format(path=str(path))],
+        capture_output=True, text=True, check=True, env=os.environ,
+    )  # fmt: skip
+    reads, counted, threshold = map(int, done.stdout.split())
+    needed = -(-threshold // elements)  # reads to reach the count
+    assert needed > 1
+    assert (reads, counted) == (needed + 1, needed * elements)
 
 
 def _fresh() -> mjcf.RootElement:
