@@ -182,7 +182,7 @@ def read_file(path: str) -> bytes:
 def _read_at_most(descriptor: int, count: int, path: str) -> bytes:
     """At most `count` bytes from `descriptor`, to its end; in pieces of at most
     `_READ_PIECE` bytes past the first; raises mjcf.AssetError if reading fails."""
-    pieces = []
+    pieces: list[bytes] = []
     try:
         while count > 0:
             piece = os.read(descriptor, count if not pieces else min(count, _READ_PIECE))

@@ -320,23 +320,23 @@ def _check_rare(
     attribute selects; check values, rules and children that crash MuJoCo."""
     if action.broken:
         raise _Fallback
-    for attribute in action.loose:
-        text = xml.get(attribute)
+    for name in action.loose:
+        text = xml.get(name)
         if text:
             loose.update(text.split())
     if action.dynamic:
         _dynamic_references(xml, action.dynamic, references)
     for attribute in action.unchecked:
         try:
-            attribute.converter.check_text(xml.get(attribute.name))
+            attribute.converter.check_text(xml.get(attribute.name, ""))
         except values.InvalidValue:
             raise _Fallback from None
     if action.rules:
         attributes = xml.attrib
         if any(rule.broken_by(attributes) for rule in action.rules):
             raise _Fallback
-    for attribute, tag, child_attribute, _ in action.crashing:
-        if attribute is None or xml.get(attribute) is not None:
+    for needed, tag, child_attribute, _ in action.crashing:
+        if needed is None or xml.get(needed) is not None:
             for child in xml.iterchildren(tag):
                 if child_attribute is None or child.get(child_attribute) is not None:
                     raise _Fallback
