@@ -116,6 +116,7 @@ class _Action:
 
     __slots__ = (
         "broken",
+        "checks",
         "crashing",
         "dynamic",
         "identifier",
@@ -151,15 +152,15 @@ class _Action:
         self.broken = any(rule.broken_by(present) for rule in plan.rules if rule not in self.rules)
         self.crashing = tuple(item for item in plan.crashing if item[0] is None or item[0] in keys)
         self.single = plan.single
-        self.rare = bool(
+        self.checks = bool(  # see _check_rare
             self.broken
             or self.loose
             or self.dynamic
             or self.unchecked
             or self.rules
             or self.crashing
-            or self.single
         )
+        self.rare = self.checks or self.single
 
 
 class _ByParent:
@@ -177,13 +178,14 @@ class _ByParent:
         return plan
 
 
-class _SectionPlans(dict):
-    """{tag: the plan of that tag's elements anywhere in one top-level section (a
-    `_ByParent` for a tag with different specs; None for a tag read element by
-    element)}, each plan made when a document first has that tag."""
+class _SectionPlans:
+    """The plans of the elements of one top-level section: `known`, {tag: the plan of
+    that tag's elements anywhere in the section (a `_ByParent` for a tag with different
+    specs; None for a tag read element by element)}, each made (`make`) when a document
+    first has that tag. A plain dict, whose lookups cost the least."""
 
     def __init__(self, section: ElementSpec) -> None:
-        super().__init__()
+        self.known: dict[object, _Plan | _ByParent | None] = {}
         # {tag: {parent tag: spec}} from the section's part of the schema; None for a
         # tag with two specs under parents of one tag.
         self.specs: defaultdict[str, dict[str, ElementSpec] | None] = defaultdict(dict)
@@ -200,7 +202,8 @@ class _SectionPlans(dict):
                     seen.add(id(spec))
                     pending.append(spec)
 
-    def __missing__(self, tag: object) -> _Plan | _ByParent | None:
+    def make(self, tag: object) -> _Plan | _ByParent | None:
+        """The plan for `tag`, made now and known from then on."""
         by_parent = self.specs.get(tag) if isinstance(tag, str) else None  # not for entities
         plan: _Plan | _ByParent | None = None
         if by_parent:
@@ -209,7 +212,7 @@ class _SectionPlans(dict):
                 plan = _plan(next(iter(distinct.values())))
             else:
                 plan = _ByParent(by_parent)
-        self[tag] = plan
+        self.known[tag] = plan
         return plan
 
 
@@ -251,8 +254,12 @@ def index(
     try:
         for xml_section in xml_root:
             plans = _section_plans(xml_section.tag)
+            known = plans.known
             for xml in xml_section.iterdescendants():
-                plan = plans[xml.tag]
+                try:
+                    plan = known[xml.tag]
+                except KeyError:
+                    plan = plans.make(xml.tag)
                 if plan.__class__ is not _Plan:
                     if plan is None:
                         raise _Fallback
@@ -270,7 +277,8 @@ def index(
                         if name is not None:
                             implicit[plan.namespace].setdefault(name, xml)
                     if action.rare:  # few elements need any of these
-                        _check_rare(xml, action, loose, references)
+                        if action.checks:
+                            _check_rare(xml, action, loose, references)
                         if action.single:
                             parent = xml.getparent()
                             key = (first_copy.get(parent, parent), xml.tag)
