@@ -73,7 +73,9 @@ class _Plan:
 
     def __init__(self, spec: ElementSpec) -> None:
         self.spec = spec
-        self.namespace = spec.namespace
+        # The namespace of its names ('' for elements that have none, whose plans have no
+        # identifier either).
+        self.namespace = spec.namespace or ""
         self.identifier = spec.identifier if spec.namespace is not None else None
         self.implicit = spec.tag in NAMED_AFTER_FILE
         static: list[tuple[str, str]] = []
@@ -257,13 +259,15 @@ def index(
             known = plans.known
             for xml in xml_section.iterdescendants():
                 try:
-                    plan = known[xml.tag]
+                    found = known[xml.tag]
                 except KeyError:
-                    plan = plans.make(xml.tag)
-                if plan.__class__ is not _Plan:
-                    if plan is None:
-                        raise _Fallback
-                    plan = plan.of(xml)
+                    found = plans.make(xml.tag)
+                if isinstance(found, _Plan):
+                    plan = found
+                elif found is None:
+                    raise _Fallback
+                else:
+                    plan = found.of(xml)
                 if plan.direct:
                     identifier = plan.identifier
                     reference_items = plan.reference_items
