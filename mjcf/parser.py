@@ -215,9 +215,8 @@ def _read_fast(
     tags = [xml.tag for xml in xml_root]
     if not all(isinstance(tag, str) for tag in tags):
         return False  # an entity
-    repeated = len(set(tags)) != len(tags)
-    if repeated and tags.count("default") > 1:
-        return False
+    if tags.count("default") > 1:
+        return False  # see default_sections
     if not xsd.accepts(xml_root, exact):
         return False
     found = indexer.index(xml_root, check_references)
