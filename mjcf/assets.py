@@ -60,6 +60,7 @@ _file_cache: dict[str, tuple[int, int, bytes]] = {}
 # file is refused (mjcf.AssetError) rather than read until memory runs out. Raise it for
 # larger textures or height fields.
 FILE_SIZE_LIMIT = 1 << 30
+_READ_PIECE = 1 << 24  # bytes read at once from a file that grew while read
 
 
 class Asset:
@@ -161,20 +162,37 @@ def read_file(path: str) -> bytes:
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as error:
         raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
-    with os.fdopen(descriptor, "rb") as handle:
+    # Read with the descriptor alone: a file object around it (os.fdopen) costs as
+    # much as reading a model file of 10 kB does.
+    try:
         stat = os.fstat(descriptor)
         _check_stat(path, stat)
-        try:
-            # Its size and a byte (a read of the limit would allocate that much first);
-            # the rest, still bounded, only if it grew meanwhile.
-            data = handle.read(stat.st_size + 1)
-            if len(data) > stat.st_size:
-                data += handle.read(FILE_SIZE_LIMIT + 1 - len(data))
-        except OSError as error:
-            raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
+        # Its size and a byte (a read of the limit would allocate that much first);
+        # the rest, still bounded, only if it grew meanwhile.
+        data = _read_at_most(descriptor, stat.st_size + 1, path)
+        if len(data) > stat.st_size:
+            data += _read_at_most(descriptor, FILE_SIZE_LIMIT + 1 - len(data), path)
+    finally:
+        os.close(descriptor)
     if len(data) > FILE_SIZE_LIMIT:
         raise errors.AssetError(_too_large(path))
     return data
+
+
+def _read_at_most(descriptor: int, count: int, path: str) -> bytes:
+    """At most `count` bytes from `descriptor`, to its end; in pieces of at most
+    `_READ_PIECE` bytes past the first; raises mjcf.AssetError if reading fails."""
+    pieces: list[bytes] = []
+    try:
+        while count > 0:
+            piece = os.read(descriptor, count if not pieces else min(count, _READ_PIECE))
+            if not piece:
+                break
+            pieces.append(piece)
+            count -= len(piece)
+    except OSError as error:
+        raise errors.AssetError(f"cannot read file {path!r}: {error.strerror}") from None
+    return pieces[0] if len(pieces) == 1 else b"".join(pieces)
 
 
 def read_limited(handle: IO, name: object) -> bytes | str:

@@ -12,7 +12,10 @@ A document is first checked whole, in C against an XML Schema generated from MuJ
 when first used (`Element._defer`): reading a model takes about as long as MuJoCo's own
 `MjSpec.from_file`. A document that check does not accept is read element by element,
 which raises the error naming the element (or reads what the fast way leaves to it).
-Attribute text is kept as read until used.
+So are the first documents a process reads, until it has read as many elements as it
+could have read fast in the time the XML Schema takes to make (about 8 ms, once): a
+script that reads one model does not pay for it. Attribute text is kept as read until
+used.
 
 The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
 never touches the network, and limits nesting depth.
@@ -34,6 +37,13 @@ from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec
 
 _MAX_INCLUDES = 1000
+# Making the XML Schema the fast way checks documents with (`mjcf.xsd`) costs about 8 ms of
+# CPU time, once a thread; reading element by element costs about 10 us an element more
+# than reading fast. Until a process has read this many elements element by element, it
+# goes on doing so; then it makes the schema: a process pays at most about twice the
+# cheaper of the two ways (the ski-rental rule), and one that reads one model pays none.
+_ELEMENTS_BEFORE_SCHEMA = 1000
+_elements_read_slowly = 0  # by this process, while no XML Schema was made
 
 
 def _xml_parser() -> etree.XMLParser:
@@ -45,6 +55,10 @@ def _xml_parser() -> etree.XMLParser:
         remove_comments=True,
         remove_pis=True,
         huge_tree=False,
+        # Whitespace between elements and xml:id are no part of MJCF: kept, they cost
+        # about a tenth of the time to read a file.
+        remove_blank_text=True,
+        collect_ids=False,
     )
 
 
@@ -137,7 +151,7 @@ def _parse(
     filename: str | None,
     strict_paths: bool,
 ) -> RootElement:
-    xml_root = _read_xml(data, filename)
+    xml_root, exact = _read_xml(data, filename)
     if xml_root.tag != "mujoco":
         raise errors.ParseError(
             f"{_where(filename, xml_root)}: the root element of an MJCF model is <mujoco>, "
@@ -148,7 +162,9 @@ def _parse(
     if filename is not None:
         included.add(os.path.abspath(filename))
     confine = os.path.realpath(model_dir or os.getcwd()) if strict_paths else None
-    _expand_includes(xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine)
+    exact |= _expand_includes(
+        xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine
+    )
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
@@ -163,7 +179,7 @@ def _parse(
     mode = references.UNPINNED if resolve_references else references.BY_NAME
     object.__setattr__(root, "_references", mode)
     if not strict_paths and _read_fast(
-        root, xml_root, filename, escape_separators, resolve_references
+        root, xml_root, filename, escape_separators, resolve_references, exact
     ):
         return root
     builder = _Builder(root, filename, escape_separators)
@@ -183,36 +199,64 @@ def _read_fast(
     filename: str | None,
     escape_separators: bool,
     check_references: bool,
+    exact: bool,
 ) -> bool:
     """Read the document under `xml_root` into the new model `root` the fast way: checked
-    whole by the XML Schema and the indexer, its sections' contents built when first
-    used (see `Element._defer`). False, with `root` untouched, for a document the
-    element-by-element reader must read (to report an error, or to read what the fast
-    way does not handle); debug mode, which records where each element was read, reads
-    element by element too."""
-    if debugging.is_debug_mode():
+    whole by the XML Schema (the one that counts digits if `exact`, see
+    `xsd.needs_exact`) and the indexer, its sections' contents built when first used
+    (see `Element._defer`). False, with `root` and `xml_root` untouched, for a document
+    the element-by-element reader must read (to report an error, or to read what the
+    fast way does not handle: a repeated top-level `<default>`, whose later copies change
+    the classes read before them, see `default_sections`); debug mode, which records
+    where each element was read, reads element by element too, as do the first documents
+    a process reads (see `_ELEMENTS_BEFORE_SCHEMA`)."""
+    if debugging.is_debug_mode() or not _schema_pays(xml_root, exact):
         return False
     tags = [xml.tag for xml in xml_root]
-    if len(set(tags)) != len(tags) or not all(isinstance(tag, str) for tag in tags):
-        return False  # a section repeated, or an entity
-    if not xsd.accepts(xml_root):
+    if not all(isinstance(tag, str) for tag in tags):
+        return False  # an entity
+    if tags.count("default") > 1:
+        return False  # see default_sections
+    if not xsd.accepts(xml_root, exact):
         return False
-    found = indexer.index(xml_root, root._spec.children, check_references)
+    found = indexer.index(xml_root, check_references)
     if found is None:
         return False
     names, referenced = found
     builder = _Builder(root, filename, escape_separators)
+    sections = {section._spec.tag: section for section in root._children}
+    firsts: dict[str, etree._Element] = {}
     for xml_section in xml_root:
-        section = root._section(xml_section.tag)
-        attrib = dict(xml_section.attrib)
-        if xml_section.tag == "default":
-            _main_class(attrib, xml_section, filename)
-        builder._set_attributes(section, attrib, xml_section, merge=True)
-        if len(xml_section):
-            section._defer(xml_section)
+        tag = xml_section.tag
+        section = sections[tag]
+        spec = section._spec
+        if xml_section.attrib or tag == "default" or spec.required or spec.rules:
+            attrib = dict(xml_section.attrib)
+            if tag == "default":
+                _main_class(attrib, xml_section, filename)
+            builder._set_attributes(section, attrib, xml_section, merge=True)
+        first = firsts.setdefault(tag, xml_section)
+        if first is not xml_section:
+            # A repeated section, which MuJoCo reads as one: its children join the first
+            # copy's, in order (the indexer has checked them as one section's).
+            first.extend(list(xml_section))
+    for tag, first in firsts.items():
+        if len(first):
+            sections[tag]._defer(first)
     root.namescope.load(names)
     object.__setattr__(root, "_referenced", referenced)
     return True
+
+
+def _schema_pays(xml_root: etree._Element, exact: bool) -> bool:
+    """Whether the XML Schema the document under `xml_root` is checked with (see
+    `xsd.accepts`) exists, or it is time to make it (see `_ELEMENTS_BEFORE_SCHEMA`); if
+    not, its elements are counted as read element by element."""
+    global _elements_read_slowly
+    if xsd.is_made(exact) or _elements_read_slowly >= _ELEMENTS_BEFORE_SCHEMA:
+        return True
+    _elements_read_slowly += sum(1 for _ in xml_root.iter())
+    return False
 
 
 def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | None) -> None:
@@ -226,7 +270,10 @@ def _main_class(attrib: dict[str, str], xml: etree._Element, filename: str | Non
         )
 
 
-def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
+def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, bool]:
+    """The root of the XML document `data`, and whether its numbers need the XML Schema
+    that counts digits (`xsd.needs_exact`); raises mjcf.ParseError for malformed XML
+    and for a DTD."""
     if isinstance(data, str):
         data = data.encode("utf-8")
     try:
@@ -242,7 +289,7 @@ def _read_xml(data: str | bytes, filename: str | None) -> etree._Element:
             f"{filename or '<string>'}: MJCF does not use DTDs, and models that declare one "
             "(or entities) are refused"
         )
-    return tree
+    return tree, xsd.needs_exact(data, doctype.encoding)
 
 
 def _expand_includes(
@@ -252,11 +299,13 @@ def _expand_includes(
     assets: dict,
     included: set[str],
     confine: str | None,
-) -> None:
+) -> bool:
     """Replace every <include file=...> below `root` by the children of the included
     file's root, recursively, as MuJoCo does. Files are read depth first, then each
     <include> is replaced once the file it names is whole, innermost first: a chain of
-    a thousand nested files takes no Python recursion."""
+    a thousand nested files takes no Python recursion. Whether an included file's
+    numbers need the XML Schema that counts digits (see `_read_xml`)."""
+    exact = False
     found: list[tuple[etree._Element, etree._Element, str]] = []  # include, file root, where
     pending = [(root, filename)]
     while pending:
@@ -283,7 +332,8 @@ def _expand_includes(
             if len(included) > _MAX_INCLUDES:
                 raise errors.ParseError(f"{where}: more than {_MAX_INCLUDES} included files")
             included.add(key)
-            included_root = _read_xml(data, path or file_attr)
+            included_root, included_exact = _read_xml(data, path or file_attr)
+            exact |= included_exact
             found.append((include, included_root, f"{where}: included file {file_attr!r}"))
             pending.append((included_root, path or file_attr))
     for include, included_root, where in reversed(found):
@@ -295,6 +345,7 @@ def _expand_includes(
         parent.remove(include)
         for offset, child in enumerate(children):
             parent.insert(position + offset, child)
+    return exact
 
 
 def _include_source(

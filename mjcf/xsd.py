@@ -33,9 +33,28 @@ from mjcf.schema import AttributeSpec, ElementSpec
 _XS = "http://www.w3.org/2001/XMLSchema"
 
 
-def accepts(xml_root: etree._Element) -> bool:
-    """Whether the document under `xml_root` (a `<mujoco>`) passes the schema."""
-    return _schema().validate(xml_root)
+def accepts(xml_root: etree._Element, exact: bool = False) -> bool:
+    """Whether the document under `xml_root` (a `<mujoco>`) passes the schema: the one
+    that counts the digits of decimals if `exact` (see `needs_exact`)."""
+    return _schema(_EXACT if exact else _FAST).validate(xml_root)
+
+
+def is_made(exact: bool = False) -> bool:
+    """Whether this thread has made the schema `accepts` checks with (the exact one if
+    `exact`): the first check makes it, which takes about 8 ms."""
+    return getattr(_per_thread, _EXACT if exact else _FAST, None) is not None
+
+
+def needs_exact(data: bytes, encoding: str | None) -> bool:
+    """Whether MJCF text `data` (a file's bytes, in `encoding` as lxml read it) must be
+    checked against the schema that counts the digits of decimals: whether it could
+    hold a decimal too large for a C float (39 digits in a row, or a reference, which
+    could spell them: any '&'), or is in an encoding that spells digits otherwise than
+    ASCII does (UTF-16 ...)."""
+    if (encoding or "").upper() not in _ASCII_DIGITS or b"\0" in data:  # UTF-16, UTF-32
+        return True
+    digits = data.translate(_DIGITS_AND_AMPERSANDS)
+    return b"&" in digits or _LONG_RUN in digits
 
 
 def unchecked(spec: ElementSpec) -> tuple[AttributeSpec, ...]:
@@ -89,20 +108,22 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
 _per_thread = threading.local()  # lxml's validators are not for concurrent use
 
 
-def _schema() -> etree.XMLSchema:
-    found = getattr(_per_thread, "schema", None)
+def _schema(kind: str) -> etree.XMLSchema:
+    found = getattr(_per_thread, kind, None)
     if found is None:
-        found = _per_thread.schema = etree.XMLSchema(etree.fromstring(_text().encode()))
+        found = etree.XMLSchema(etree.fromstring(_text(kind).encode()))
+        setattr(_per_thread, kind, found)
     return found
 
 
 @functools.cache
-def _text() -> str:
-    return schema_text()
+def _text(kind: str) -> str:
+    return schema_text(exact=kind == _EXACT)
 
 
-def schema_text() -> str:
-    """The XML Schema, as text."""
+def schema_text(exact: bool = False) -> str:
+    """The XML Schema, as text: the one that counts the digits of decimals if `exact`
+    (see `needs_exact`)."""
     complex_names: dict[int, str] = {}
     pending: list[ElementSpec] = []
     simple_names: dict[tuple, str] = {}
@@ -143,7 +164,7 @@ def schema_text() -> str:
         out.append("</xs:complexType>")
     for kind, name in simple_names.items():
         out.append(_simple_type_text(name, kind))
-    out.append(_REALS)
+    out.append(_reals(_EXACT if exact else _FAST))
     out.append("</xs:schema>")
     return "".join(out)
 
@@ -152,21 +173,43 @@ def schema_text() -> str:
 # refuses, so a double must end as only well-formed ones do. Decimals (most values) are
 # tried first: that costs no pattern, which would double the time of the whole check.
 # Reals stay within what MuJoCo holds (a C double; a C float for some), with a margin:
-# decimals by their count of digits, others by their value.
-_REALS = "".join(
-    f'<xs:simpleType name="{name}"><xs:union memberTypes="{name}-decimal {name}-exponent"/>'
-    f'</xs:simpleType><xs:simpleType name="{name}-decimal"><xs:restriction base="xs:decimal">'
-    f'<xs:totalDigits value="{digits}"/></xs:restriction></xs:simpleType>'
-    f'<xs:simpleType name="{name}-exponent"><xs:restriction base="xs:double">'
-    f'<xs:minExclusive value="-{largest}"/><xs:maxExclusive value="{largest}"/>'
-    f'<xs:pattern value=".*[0-9{last}]"/></xs:restriction></xs:simpleType>'
-    for name, digits, largest, last in (
-        ("double", 300, "1.7e308", "NF"),
-        ("float", 38, "3.4e38", "NF"),
-        ("finite-double", 300, "1.7e308", ""),  # no INF, no NaN
-        ("finite-float", 38, "3.4e38", ""),
-    )
+# others by their value, decimals by their count of digits. A count of digits is a facet
+# that makes libxml2 compute every decimal's value, which doubled the time of the whole
+# check; so the schema documents are checked against (`_FAST`) takes any decimal, and a
+# document whose text could hold a decimal too large for a C float (39 digits in a row,
+# or a character reference, which could spell them) is checked against the schema that
+# counts them (`_EXACT`).
+_FAST, _EXACT = "fast", "exact"
+_DIGITS = {_FAST: None, _EXACT: {"double": 300, "float": 38}}
+_LONG_RUN = b"0" * 39  # digits in a row, after _DIGITS_AND_AMPERSANDS
+# Each digit as '0', '&' (which begins a character reference) as itself, the rest as ' '.
+_DIGITS_AND_AMPERSANDS = bytes(
+    48 if 48 <= byte <= 57 else byte if byte == 38 else 32 for byte in range(256)
 )
+# Encodings (as lxml names them) whose bytes for digits, '&' and '#' are ASCII's and mean
+# only those characters.
+_ASCII_DIGITS = frozenset({"UTF-8", "ASCII", "US-ASCII", "ISO-8859-1", "LATIN1", "WINDOWS-1252"})
+
+
+def _reals(kind: str) -> str:
+    digits = _DIGITS[kind]
+    out = []
+    for name, size, largest, last in (
+        ("double", "double", "1.7e308", "NF"),
+        ("float", "float", "3.4e38", "NF"),
+        ("finite-double", "double", "1.7e308", ""),  # no INF, no NaN
+        ("finite-float", "float", "3.4e38", ""),
+    ):
+        facet = f'<xs:totalDigits value="{digits[size]}"/>' if digits else ""
+        out.append(
+            f'<xs:simpleType name="{name}"><xs:union memberTypes="{name}-decimal '
+            f'{name}-exponent"/></xs:simpleType><xs:simpleType name="{name}-decimal">'
+            f'<xs:restriction base="xs:decimal">{facet}</xs:restriction></xs:simpleType>'
+            f'<xs:simpleType name="{name}-exponent"><xs:restriction base="xs:double">'
+            f'<xs:minExclusive value="-{largest}"/><xs:maxExclusive value="{largest}"/>'
+            f'<xs:pattern value=".*[0-9{last}]"/></xs:restriction></xs:simpleType>'
+        )
+    return "".join(out)
 
 
 def _simple_type_text(name: str, kind: tuple) -> str:

@@ -5,7 +5,10 @@ raises, at parse time; the elements not built yet behave as built ones."""
 from __future__ import annotations
 
 import copy
+import os
 import pickle
+import subprocess
+import sys
 from pathlib import Path
 
 import mujoco
@@ -13,17 +16,25 @@ import pytest
 from lxml import etree
 
 import mjcf
-from bench import synthetic
+from bench import real_models, synthetic
 from mjcf import parser, xsd
-from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
+from tests import dm_control_wheel
+from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA, ORIGINAL_MENAGERIE
 
 MODELS = (
     sorted(GYM_ASSETS.glob("*.xml"))
     + sorted(MUJOCO_TESTDATA.glob("*.xml"))
     + sorted(MENAGERIE.glob("*/*.xml"))
+    + sorted(ORIGINAL_MENAGERIE.glob("*/*.xml"))  # beside the repository in CI only
 )
 NAMESPACES = ("body", "joint", "geom", "site", "mesh", "texture", "material", "actuator",
               "sensor", "tendon", "default", "camera", "light", "equality", "exclude")  # fmt: skip
+
+
+@pytest.fixture(autouse=True)
+def fast_from_the_first_document(monkeypatch):
+    """Read fast from the first document on (see `parser._ELEMENTS_BEFORE_SCHEMA`)."""
+    monkeypatch.setattr(parser, "_ELEMENTS_BEFORE_SCHEMA", 0)
 
 
 @pytest.fixture
@@ -32,21 +43,29 @@ def element_by_element(monkeypatch):
     monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
 
 
-def _read_both(path: Path, monkeypatch) -> tuple[mjcf.RootElement, mjcf.RootElement]:
+def _read_both(
+    path: Path, monkeypatch, text: str | None = None
+) -> tuple[mjcf.RootElement, mjcf.RootElement]:
+    """The file at `path` (or `text`, read as if it were that file) read fast, then
+    element by element; asserts the fast way took it."""
+
+    def read() -> mjcf.RootElement:
+        if text is None:
+            return mjcf.from_path(path)
+        return mjcf.from_xml_string(text, model_dir=str(path.parent))
+
     taken = []
     fast_reader = parser._read_fast
     monkeypatch.setattr(parser, "_read_fast", lambda *a: taken.append(fast_reader(*a)) or taken[0])
-    fast = mjcf.from_path(path)
+    fast = read()
     monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
-    slow = mjcf.from_path(path)
+    slow = read()
     monkeypatch.undo()
     assert taken == [True], "the fast way should read every shipped model"
     return fast, slow
 
 
-@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
-def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch) -> None:
-    fast, slow = _read_both(path, monkeypatch)
+def _assert_same_model(fast: mjcf.RootElement, slow: mjcf.RootElement) -> None:
     for namespace in NAMESPACES:  # names first, with nothing built yet
         named = [e for e in slow.find_all(namespace) if e.identifier is not None]
         found = [fast.find(namespace, e.identifier) for e in named]
@@ -56,6 +75,90 @@ def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch
         assert [e.full_identifier for e in fast.find_all(namespace)] == names
     assert fast.to_xml_string() == slow.to_xml_string()
     assert fast.is_same_as(slow)
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
+def test_fast_reading_gives_the_element_by_element_model(path: Path, monkeypatch) -> None:
+    _assert_same_model(*_read_both(path, monkeypatch))
+
+
+def _walker(name: str) -> Path:
+    try:
+        return real_models.walkers()[name]
+    except dm_control_wheel.Unavailable as error:
+        pytest.skip(f"dm_control's walkers cannot be had: {error}")
+
+
+@pytest.mark.parametrize("name", sorted(real_models.WALKERS))
+def test_dm_control_walkers_read_fast_as_element_by_element(name: str, monkeypatch) -> None:
+    """rodent.xml among them, whose top-level <compiler> is repeated."""
+    _assert_same_model(*_read_both(_walker(name), monkeypatch))
+
+
+def _split_sections(path: Path) -> str:
+    """The file at `path` with every top-level section in two copies, as MuJoCo merges
+    them: the first with the section's attributes and the first half of its children,
+    the second, placed after every other section, with its later attributes again and
+    the other half."""
+    xml_root = etree.parse(str(path)).getroot()
+    for section in list(xml_root):
+        if not isinstance(section.tag, str) or section.tag == "default":
+            continue  # a repeated <default> is read element by element
+        children = list(section)
+        later = etree.SubElement(xml_root, section.tag)
+        for name, value in list(section.attrib.items())[len(section.attrib) // 2 :]:
+            later.set(name, value)
+        later.extend(children[len(children) // 2 :])
+    return etree.tostring(xml_root, encoding="unicode")
+
+
+@pytest.mark.parametrize("path", MODELS, ids=lambda p: p.name)
+def test_repeated_sections_read_fast_as_element_by_element(path: Path, monkeypatch) -> None:
+    text = _split_sections(path)
+    fast, slow = _read_both(path, monkeypatch, text)
+    assert fast.to_xml_string() == mjcf.from_path(path).to_xml_string()  # merged as MuJoCo does
+    _assert_same_model(fast, slow)
+
+
+def test_a_repeated_walker_compiles_as_mujoco_compiles_it(monkeypatch) -> None:
+    path = _walker("cmu_v2020")
+    text = _split_sections(path)
+    fast, slow = _read_both(path, monkeypatch, text)
+    _assert_same_model(fast, slow)
+    ours = mjcf.Physics.from_mjcf_model(fast).model
+    spec = mujoco.MjSpec.from_string(text)
+    spec.modelfiledir = str(path.parent)
+    theirs = spec.compile()
+    sizes = ("nbody", "njnt", "ngeom", "nu")
+    assert [getattr(ours, n) for n in sizes] == [getattr(theirs, n) for n in sizes]
+    assert ours.geom_size.tolist() == theirs.geom_size.tolist()
+
+
+REPEATED = {
+    "a later copy's attribute overrides": '<compiler angle="degree"/><compiler angle="radian"/>',
+    "once-only children in two copies merge": (
+        '<visual><global fovy="30"/></visual><visual><global azimuth="10" fovy="40"/></visual>'
+    ),
+    "two copies of <default>": (
+        '<default><geom rgba="1 0 0 1"/></default><default><joint damping="1"/></default>'
+    ),
+    "bodies in both copies, interleaved": (
+        '<worldbody><body name="a"/></worldbody><asset><texture name="t" builtin="flat" '
+        'width="8" height="8"/></asset><worldbody><body name="b"><geom size="1"/></body>'
+        "</worldbody>"
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(REPEATED))
+def test_repeated_sections_merge_as_element_by_element(case: str, monkeypatch) -> None:
+    xml = f"<mujoco>{REPEATED[case]}<worldbody><geom size='1'/></worldbody></mujoco>"
+    fast = mjcf.from_xml_string(xml)
+    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    slow = mjcf.from_xml_string(xml)
+    _assert_same_model(fast, slow)
+    compiled = mjcf.Physics.from_mjcf_model(fast).model
+    assert compiled.ngeom == mujoco.MjModel.from_xml_string(xml).ngeom
 
 
 def test_synthetic_creatures_read_fast_and_compile(tmp_path: Path, monkeypatch) -> None:
@@ -82,12 +185,40 @@ BAD = {
         "only one",
     ),
     "the world's name": ('<body name="world"/>', "already used"),
+    "a decimal too large for a float": (f'<geom size="1" rgba="{"9" * 39} 0 0 1"/>', "too large"),
+    "a decimal too large for a double": (f'<body name="a" pos="1{"0" * 400} 0 0"/>', "too large"),
+    "an exponent without digits": ('<body name="a" pos="1e+ 0 0"/>', "pos"),
+    "an exponent too large for a float": ('<geom size="1" rgba="1e39 0 0 1"/>', "too large"),
+    "a mantissa too large for a float": (f'<geom size="1" rgba="{"9" * 30}e9 0 0 1"/>', "large"),
+    "a gear that is not finite": (
+        '<body name="a"><joint name="j"/></body></worldbody><actuator>'
+        '<motor joint="j" gear="INF"/></actuator><worldbody>',
+        "gear",
+    ),
+    "a decimal too large, spelled": (
+        '<geom size="1" rgba="' + "&#57;" * 39 + ' 0 0 1"/>',
+        "too large",
+    ),
 }
 
 
-@pytest.mark.parametrize("case", sorted(BAD))
+# The same errors across the copies of a repeated section.
+BAD_REPEATED = {
+    "a name in both copies": ('<body name="a"/></worldbody><worldbody><body name="a"/>', "used"),
+    "a reference to nothing in a later copy": (
+        '<body name="a"/></worldbody><worldbody><body name="b" childclass="nope"/>',
+        "nope",
+    ),
+    "an unknown attribute in a later copy": (
+        '</worldbody><compiler angle="radian"/><compiler colour="red"/><worldbody>',
+        "colour",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD) + sorted(BAD_REPEATED))
 def test_errors_are_raised_at_parse_time_as_element_by_element(case: str, monkeypatch) -> None:
-    body, match = BAD[case]
+    body, match = BAD[case] if case in BAD else BAD_REPEATED[case]
     xml = f"<mujoco><worldbody>{body}</worldbody></mujoco>"
     with pytest.raises(mjcf.Error, match=match) as fast:
         mjcf.from_xml_string(xml)
@@ -111,10 +242,19 @@ def _texts() -> list[str]:
     return texts
 
 
-def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
+# Decimals too large for a C float or a double, and their neighbours that fit.
+_LONG = ["9" * 38, "9" * 39, "-" + "9" * 39, "1" * 400, "0." + "1" * 60, "3" + "4" * 38 + ".5",
+         "1e38", "3.3e38", "3.5e38", "1e39", "-1e39", "1e+39", "1e308", "1e309", "1e-400",
+         "9" * 29 + "e9", "9" * 30 + "e9", "1e09", "1.5e", "1e+", "1E-", "5.e", "5.E+3",
+         "-INF", "INF", "NaN", "1e5 1e", "1e1e1", "2e-5"]  # fmt: skip
+
+
+@pytest.mark.parametrize("exact", [False, True], ids=["fast", "exact"])
+def test_the_xml_schema_accepts_no_value_the_converters_refuse(exact: bool) -> None:
     """The schema's value types are a subset of what the converters accept, for every
     attribute it types: so a document it accepts is one reading element by element
-    accepts too."""
+    accepts too. The fast schema takes decimals of any length: a document holding one
+    too long for it is checked against the exact one (`xsd.needs_exact`)."""
     checked = {}
     for spec in _all_specs():
         for attribute in spec.attributes.values():
@@ -122,7 +262,7 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
             if kind is not None:
                 checked.setdefault(kind, attribute)
     assert len(checked) > 20
-    definitions = xsd._REALS + "".join(
+    definitions = xsd._reals(xsd._EXACT if exact else xsd._FAST) + "".join(
         xsd._simple_type_text(f"t{i}", k) for i, k in enumerate(checked)
     )
     elements = "".join(f'<xs:element name="e{i}" type="t{i}"/>' for i in range(len(checked)))
@@ -132,10 +272,13 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
             f"{definitions}{elements}</xs:schema>"
         )
     )
-    texts = _texts() + sorted({v for kind in checked if kind[0] == "keywords" for v in kind[1]})
+    texts = _texts() + _LONG + [" ".join(["1", word]) for word in _LONG]
+    texts += sorted({v for kind in checked if kind[0] == "keywords" for v in kind[1]})
     wrongly_accepted = []
     for i, attribute in enumerate(checked.values()):
         for text in texts:
+            if not exact and xsd.needs_exact(text.encode(), "UTF-8"):
+                continue  # checked against the exact schema
             element = etree.Element(f"e{i}")
             element.text = text
             if not schema.validate(element):
@@ -147,10 +290,47 @@ def test_the_xml_schema_accepts_no_value_the_converters_refuse() -> None:
     assert wrongly_accepted == []
 
 
+def test_a_document_that_could_hold_a_decimal_too_large_is_checked_exactly() -> None:
+    assert not xsd.needs_exact(b'<mujoco><body pos="' + b"9" * 38 + b' 0 0"/></mujoco>', "UTF-8")
+    assert xsd.needs_exact(b'<mujoco><body pos="' + b"9" * 39 + b' 0 0"/></mujoco>', "UTF-8")
+    assert xsd.needs_exact(b'<mujoco><body pos="&#57;"/></mujoco>', "UTF-8")  # spelled
+    assert xsd.needs_exact('<mujoco><body pos="1"/></mujoco>'.encode("utf-16"), "UTF-8")
+    assert xsd.needs_exact(b"<mujoco/>", "cp037")  # EBCDIC digits are other bytes
+
+
 def _all_specs():
     from mjcf import schema
 
     return schema.all_specs()
+
+
+_FIRST_READS = """
+import mjcf
+from mjcf import parser, xsd
+path = {path!r}
+first = mjcf.from_path(path).to_xml_string()
+assert not xsd.is_made(), "the first model is read element by element"
+reads = 1
+while not xsd.is_made():
+    assert mjcf.from_path(path).to_xml_string() == first
+    reads += 1
+print(reads, parser._elements_read_slowly, parser._ELEMENTS_BEFORE_SCHEMA)
+"""
+
+
+def test_a_process_reads_element_by_element_until_the_schema_pays() -> None:
+    """The first documents of a process are read element by element, the same model,
+    until they have cost what making the XML Schema costs; then it is made."""
+    path = GYM_ASSETS / "humanoid.xml"
+    elements = sum(1 for _ in etree.parse(str(path)).iter(etree.Element))
+    done = subprocess.run(
+        [sys.executable, "-c", _FIRST_READS.format(path=str(path))],
+        capture_output=True, text=True, check=True, env=os.environ,
+    )  # fmt: skip
+    reads, counted, threshold = map(int, done.stdout.split())
+    needed = -(-threshold // elements)  # reads to reach the count
+    assert needed > 1
+    assert (reads, counted) == (needed + 1, needed * elements)
 
 
 def _fresh() -> mjcf.RootElement:
