@@ -144,6 +144,8 @@ def _install_upcalls() -> None:
     _ABOVE.to_xml_string = serializer.to_xml_string
     _ABOVE.attribute_text = serializer.attribute_text
     _ABOVE.serialize = serializer.serialize
+    _ABOVE.file_name_of = serializer.file_name_of
+    _ABOVE.from_zip = from_zip
     _ABOVE.serialize_for_compile = serializer.serialize_for_compile
     _ABOVE.compile_composition = compiler.compile_composition
     _ABOVE.compile_model = Physics.from_mjcf_model

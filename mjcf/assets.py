@@ -39,7 +39,7 @@ from collections.abc import Iterable
 from stat import S_ISREG
 from typing import IO, TYPE_CHECKING
 
-from mjcf import errors
+from mjcf import errors, upcalls
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -110,9 +110,7 @@ class Asset:
             return hashed_file_name(self)
         owner = self._owner
         if owner is not None and owner._is_registered():
-            from mjcf import serializer  # cycle: serializer -> assets
-
-            written = serializer.file_name_of(owner.root.namescope.root.model, self)
+            written = upcalls.ABOVE.file_name_of(owner.root.namescope.root.model, self)
             if written is not None:
                 return written
         return default_file_name(self)

@@ -29,7 +29,17 @@ from typing import IO
 from lxml import etree
 
 from mjcf import assets as _assets
-from mjcf import bulk, debugging, default_sections, errors, indexer, naming, references, xsd
+from mjcf import (
+    bulk,
+    debugging,
+    default_sections,
+    errors,
+    indexer,
+    naming,
+    references,
+    upcalls,
+    xsd,
+)
 from mjcf import values as _values
 from mjcf.element import Element
 from mjcf.namescope import PREFIX_SEPARATOR
@@ -685,7 +695,5 @@ class _Builder:
 def __getattr__(name: str) -> object:
     """`mjcf.parser.from_zip`: reading a zip at dm_control's module path."""
     if name == "from_zip":
-        from mjcf.export import from_zip  # cycle: export -> parser
-
-        return from_zip
+        return upcalls.ABOVE.from_zip
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -21,6 +21,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from mjcf.assets import Asset
     from mjcf.composition import Composition
     from mjcf.element import Element
     from mjcf.physics import Physics
@@ -33,11 +34,12 @@ class Above:
     `identifier`: `mjcf.naming.identifier`; `find`, `find_all`: `mjcf.traversal`'s;
     `is_same_as`: `mjcf.sameness.is_same_as`; `attach`, `detach`, `remove`,
     `attached_models`: `mjcf.attachment`'s; `include_copy`, `deepcopy_element`:
-    `mjcf.copying`'s; `to_xml_string`, `attribute_text`, `serialize`,
-    `serialize_for_compile`: `mjcf.serializer`'s; `compile_composition`:
-    `mjcf.compiler.compile_composition`; `compile_model`: `mjcf.Physics.from_mjcf_model`;
-    and the classes `element_class` (`mjcf.Element`, for `mjcf.values`) and `root_class`
-    (`mjcf.RootElement`, for `mjcf.element.RootElement`, where dm_control has it).
+    `mjcf.copying`'s; `to_xml_string`, `attribute_text`, `serialize`, `file_name_of`,
+    `serialize_for_compile`: `mjcf.serializer`'s; `from_zip`: `mjcf.export.from_zip`;
+    `compile_composition`: `mjcf.compiler.compile_composition`; `compile_model`:
+    `mjcf.Physics.from_mjcf_model`; and the classes `element_class` (`mjcf.Element`, for
+    `mjcf.values`) and `root_class` (`mjcf.RootElement`, for `mjcf.element.RootElement`,
+    where dm_control has it).
     """
 
     identifier: Callable[[Element, RootElement | None], str | None]
@@ -53,6 +55,8 @@ class Above:
     to_xml_string: Callable[..., str]
     attribute_text: Callable[..., str]
     serialize: Callable[..., tuple[str, dict[str, bytes]]]
+    file_name_of: Callable[[RootElement, Asset], str | None]
+    from_zip: Callable[..., RootElement]
     serialize_for_compile: Callable[
         [RootElement], tuple[str, dict[str, bytes], Composition, list[Element | None]]
     ]

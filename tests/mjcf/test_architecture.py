@@ -102,12 +102,6 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_refuse_writes": ("binding.Binding", frozenset({"physics"}), frozenset()),
     "_writeback": ("binding.WriteThrough", frozenset({"named"}), frozenset({"named"})),
 }
-# Deferred imports in files another branch is rewriting (the reader's), each closing a
-# circle; they go once `mjcf.upcalls` carries them: (importer, imported) -> why.
-DEFERRED_ELSEWHERE = {
-    ("assets", "serializer"): "Asset.get_vfs_filename asks the writer for its file name",
-    ("parser", "export"): "mjcf.parser.from_zip, dm_control's path of export.from_zip",
-}
 _MUTATORS = frozenset(
     {"add", "append", "clear", "discard", "extend", "insert", "pop", "remove", "setdefault",
      "sort", "update"}
@@ -246,10 +240,10 @@ def test_imports_inside_functions_are_the_ones_a_cycle_forces() -> None:
 
 def _runtime_graph(deferred: bool) -> dict[str, frozenset[str]]:
     """mjcf's module imports of each other at run time: at module level, and with
-    `deferred` inside functions too (but those of `DEFERRED_ELSEWHERE`)."""
+    `deferred` inside functions too."""
     graph: dict[str, set[str]] = {module: set() for module in _modules()}
     for module, target, where, _, _ in _imports():
-        if not target or (module, target) in DEFERRED_ELSEWHERE:
+        if not target:
             continue
         if where == "top" or (deferred and where == "function"):
             graph[module].add(target)
@@ -302,12 +296,11 @@ def test_protocol_members_are_documented_by_their_class(name: str) -> None:
 
 
 def test_the_check_sees_what_it_should() -> None:
-    """The checks above find what they look for: a real cross-module access, a real
-    deferred import and an upward import would be reported."""
+    """The checks above find what they look for: a real cross-module access and an upward
+    import would be reported, and so would a circle."""
     uses = {(module, name) for module, name, _, _ in _private_uses()}
     assert {("serializer", "_text"), ("binding", "_stale"), ("copying", "_attrs")} <= uses
-    deferred = {(m, t) for m, t, where, _, _ in _imports() if where == "function"}
-    assert set(DEFERRED_ELSEWHERE) <= deferred and _reaches("serializer", "assets")
+    assert _reaches("serializer", "assets")
     graph = _runtime_graph(deferred=True)
     assert "attachment" in graph["copying"] and "element" in graph["root"]
     looped = {**graph, "element": graph["element"] | {"attachment"}}
