@@ -371,12 +371,17 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[ended] = True
         final_obs = np.full(self.num_envs, None, dtype=object)
-        for i in ended:
-            final_obs[i] = self._observations.row(i)
+        for i, row in zip(ended, self._final_observations(ended), strict=True):
+            final_obs[i] = row
         kept, moved = info_layout.split(info, mask)
         self._reset_envs(ended, [None] * len(ended), None)
         return {**kept, "final_obs": final_obs, "_final_obs": mask, "final_info": moved,
                 "_final_info": mask.copy()}  # fmt: skip
+
+    def _final_observations(self, ended: np.ndarray) -> list[Any]:
+        """The observations environments `ended` end their episodes with, before their
+        reset, each as its own Environment returns it."""
+        return [self._observations.row(i) for i in ended]
 
     # -- one control step (composer.stepping: its order and rules) ------------------------
 
