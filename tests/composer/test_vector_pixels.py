@@ -126,3 +126,19 @@ def test_the_vector_make_refuses_what_gym_make_refuses():
         gymnasium.make_vec(TEST_ID, frame_stack=2, **make)
     with pytest.raises(composer.TaskError, match="frame_stack must be a positive int"):
         gymnasium.make_vec(TEST_ID, pixels=True, frame_stack=0, **make)
+
+
+def test_stable_baselines3_trains_a_cnn_policy_on_pixel_vector_environments():
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import VecTransposeImage
+
+    from composer.sb3 import make_vec_env
+
+    venv = make_vec_env("tasks.cartpole:CartpoleSwingup", 2, time_limit=0.5, pixels=True,
+                        width=36, height=36, frame_stack=2)  # fmt: skip
+    model = PPO("CnnPolicy", venv, n_steps=16, batch_size=16, n_epochs=1, seed=0, device="cpu")
+    assert isinstance(model.get_env(), VecTransposeImage)  # SB3's own image pipeline
+    model.learn(total_timesteps=64)
+    assert model.num_timesteps >= 64
+    venv.close()
