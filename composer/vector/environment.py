@@ -63,7 +63,7 @@ from composer.vector import info_layout
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
-from composer.vector.rendering import RenderThreads
+from composer.vector.rendering import Ids, RenderThreads
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run
@@ -579,12 +579,12 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._materialize(i)
         return self._envs[i].updater.readers[channel]()
 
-    def _render_envs(self, ids: Sequence[int], channel: int) -> np.ndarray:
+    def _render_envs(self, ids: Ids, channel: int) -> np.ndarray:
         """Camera observable `channel` of environments `ids`, each drawn by its own reader
         on the render threads: (len(ids), *shape)."""
         return np.stack(self.draw(ids, lambda i: self._envs[i].updater.readers[channel]()))
 
-    def draw(self, ids: Sequence[int], draw: Callable[[int], Any]) -> list[Any]:
+    def draw(self, ids: Ids, draw: Callable[[int], Any]) -> list[Any]:
         """`draw(i)` for each environment i of `ids`, in order, on the render threads, with
         environment i's physics holding its simulation: a function drawing with
         `self.environments[i].physics` (its `render`), and nothing else of the

@@ -16,7 +16,7 @@ aggregators reduce every environment at once, callable ones run once per environ
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from composer.errors import BatchError
 from composer.observation import MJCFCamera, MJCFFeature, Observable, Updater
 from composer.observation.schedule import ALL, Rows, Schedule
 from composer.vector.physics import VectorPhysics
+from composer.vector.rendering import Ids
 
 
 def _feature_reader(item: MJCFFeature, physics: VectorPhysics) -> Callable[[], np.ndarray] | None:
@@ -73,7 +74,7 @@ class BatchObservations:
         physics: VectorPhysics,
         read_env: Callable[[int, int], np.ndarray],
         random_state: Callable[[int], np.random.RandomState],
-        render_envs: Callable[[Sequence[int], int], np.ndarray],
+        render_envs: Callable[[Ids, int], np.ndarray],
     ) -> None:
         """The pipeline of `updater` (the first environment's) for the `physics.num_envs`
         environments of `physics` (every one). `read_env(i, k)` reads observable k of

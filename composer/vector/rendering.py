@@ -32,6 +32,8 @@ import numpy as np
 from mjcf import rendering
 
 Draw = Callable[[int], np.ndarray]
+# Environments, by index: a sequence or an array of ints.
+Ids = Sequence[int] | np.ndarray
 
 
 class _Job:
@@ -72,7 +74,7 @@ class RenderThreads:
         self._threads: list[threading.Thread] = []
         self._stop: weakref.finalize | None = None
 
-    def draw(self, ids: Sequence[int], draw: Draw) -> list[np.ndarray]:
+    def draw(self, ids: Ids, draw: Draw) -> list[np.ndarray]:
         """`draw(i)` for each environment of `ids`, in that order, environment i drawn on
         thread i % count. Raises what a draw raises (the first environment's of those that
         raised), after every thread finished its share."""
@@ -92,7 +94,7 @@ class RenderThreads:
         return job.frames
 
     @staticmethod
-    def _in_caller(ids: Sequence[int], draw: Draw) -> list[np.ndarray]:
+    def _in_caller(ids: Ids, draw: Draw) -> list[np.ndarray]:
         try:
             return [draw(int(i)) for i in ids]
         finally:
