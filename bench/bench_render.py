@@ -22,7 +22,9 @@ a new OpenGL context and in one kept from a closed renderer, as a recompile's re
 environment (`gym.make_vec(..., vectorization_mode='vector_entry_point', pixels=True)`):
 its frames per second, wall-clock (what parallel drawing buys), against N x the floor's
 frame in the same run (N frames on one raw renderer), on the render threads (one per CPU)
-and on one thread; and a whole step (physics and frames) per second.
+and on one thread; the process CPU time per frame and the cores it kept busy (load from
+other processes shows there: wall-clock figures need an idle machine); and a whole step
+(physics and frames) per second.
 """
 
 from __future__ import annotations
@@ -231,17 +233,22 @@ def making_renderer(model: mujoco.MjModel, size: int, rounds: int) -> dict[str, 
     return {"new_gl_context": fresh, "kept_gl_context": reused}
 
 
-def best_wall_ms(draws: dict[str, Callable[[], Any]], rounds: int, calls: int) -> dict[str, float]:
-    """Best wall-clock milliseconds per call of each draw, rounds alternating."""
+def best_wall_ms(
+    draws: dict[str, Callable[[], Any]], rounds: int, calls: int
+) -> dict[str, tuple[float, float]]:
+    """Per call of each draw, rounds alternating: the best wall-clock milliseconds, and
+    the process CPU milliseconds of that round."""
     for draw in draws.values():
         draw()
-    best = dict.fromkeys(draws, float("inf"))
+    best = dict.fromkeys(draws, (float("inf"), 0.0))
     for _ in range(rounds):
         for label, draw in draws.items():
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             for _ in range(calls):
                 draw()
-            best[label] = min(best[label], (time.perf_counter() - start) / calls * 1e3)
+            wall = (time.perf_counter() - start) / calls * 1e3
+            if wall < best[label][0]:
+                best[label] = (wall, (time.process_time() - cpu) / calls * 1e3)
     return best
 
 
@@ -276,13 +283,14 @@ def vector(name: str, rounds: int, calls: int) -> dict[str, Any]:
         venv, draw = vector_frames(name, n, threads)
         serial_venv, serial_draw = vector_frames(name, n, 1)
         zero = np.zeros(venv.action_space.shape, venv.action_space.dtype)
-        found = best_wall_ms(
+        timed = best_wall_ms(
             {"floor": floor, "threads": draw, "one thread": serial_draw,
              "step": lambda venv=venv, zero=zero: venv.step(zero)},
             rounds, max(1, calls // n),
         )  # fmt: skip
         venv.close()
         serial_venv.close()
+        found = {label: wall for label, (wall, _) in timed.items()}
         floors = n * found["floor"]
         results[f"n{n}"] = {
             "floor_ms": found["floor"],
@@ -292,6 +300,9 @@ def vector(name: str, rounds: int, calls: int) -> dict[str, Any]:
             "vector_vs_n_floors": found["threads"] / floors,
             "one_thread_vs_n_floors": found["one thread"] / floors,
             "threads_vs_one_thread": found["threads"] / found["one thread"],
+            "cores_used": timed["threads"][1] / found["threads"],
+            "cpu_ms_per_frame": timed["threads"][1] / n,
+            "one_thread_cpu_ms_per_frame": timed["one thread"][1] / n,
             "step_fps": 1e3 * n / found["step"],
         }
     floor_renderer.close()
@@ -348,7 +359,9 @@ def print_vector(name: str, rounds: int, calls: int) -> dict[str, Any]:
         print(
             f"  N={n:<3} {row['fps']:6.0f} frames/s ({row['vector_vs_n_floors']:.2f} x N floors;"
             f" one thread {row['one_thread_fps']:6.0f}/s, {row['one_thread_vs_n_floors']:.2f});"
-            f" floor {row['floor_fps']:5.0f}/s; steps with frames {row['step_fps']:6.0f}/s"
+            f" floor {row['floor_fps']:5.0f}/s; steps with frames {row['step_fps']:6.0f}/s;"
+            f" CPU per frame {row['cpu_ms_per_frame']:.2f} ms on {row['cores_used']:.1f} cores"
+            f" ({row['one_thread_cpu_ms_per_frame']:.2f} ms on one thread)"
         )
     return found
 

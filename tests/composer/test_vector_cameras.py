@@ -26,10 +26,10 @@ class BatchedCameraSwing(BatchedSwing):
     """BatchedSwing (all batched) observed through the pendulum's camera too; with
     `colours`, each episode paints the rod the next colour (a recompile)."""
 
-    def __init__(self, colours: list[list[float]] | None = None, **options) -> None:
-        super().__init__(terminate_above=1.0, **options)
+    def __init__(self, colours: list[list[float]] | None = None, **images) -> None:
+        super().__init__(terminate_above=1.0)
         self.pendulum.observables.add_observable(
-            "front_image", observation.MJCFCamera(self.pendulum.camera, *SIZE)
+            "front_image", observation.MJCFCamera(self.pendulum.camera, *SIZE, **images)
         )
         self.pendulum.observables["front_image"].enabled = True
         self.rod = self.pendulum.mjcf_model.find("geom", "rod")
@@ -50,7 +50,7 @@ def runs_agree(factory, n, mode=AutoresetMode.NEXT_STEP, steps=40, seed=5, **opt
         autoreset_mode=mode,
     )
     got, expected = vector.reset(seed=seed), reference.reset(seed=seed)
-    assert got[0][KEY].dtype == np.uint8 and got[0][KEY].shape == (n, *SIZE, 3)
+    assert got[0][KEY].shape[:3] == (n, *SIZE)
     assert data_equivalence(got, expected, exact=True)
     rng = np.random.default_rng(seed)
     ended = 0
@@ -69,7 +69,16 @@ def test_frames_equal_single_environments_through_autoresets(mode):
     assert ended >= 4  # terminations and time limits, each reset drawn again
     assert vector.rendered == [KEY] and vector.per_environment == []
     frames = vector.step(np.zeros((4, 1), np.float32))[0][KEY]
+    assert frames.dtype == np.uint8 and frames.shape == (4, *SIZE, 3)
     assert len({frame.tobytes() for frame in frames}) == 4  # each its own state
+    vector.close()
+
+
+@pytest.mark.parametrize("image", ["depth", "segmentation"])
+def test_depth_and_segmentation_images_equal_single_environments(image):
+    _, vector = runs_agree(lambda: BatchedCameraSwing(**{image: True}), 3, steps=12)
+    frames = vector.reset(seed=0)[0][KEY]
+    assert frames.dtype == (np.float32 if image == "depth" else np.int32)
     vector.close()
 
 
