@@ -116,15 +116,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self.num_envs = num_envs
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.render_mode = render_mode
-        observations = dict(
+        options = dict(
             flatten_observations=flatten_observations,
             strip_singleton_obs_buffer_dim=strip_singleton_obs_buffer_dim,
             delayed_observation_padding=delayed_observation_padding,
-        )
-        renders = dict(render_height=render_height, render_width=render_width)
-        self._envs = self._make_envs(
-            task_factory, time_limit, seed, observations, renders, render_camera
-        )
+            render_height=render_height, render_width=render_width,
+        )  # fmt: skip
+        self._envs = self._make_envs(task_factory, time_limit, seed, options, render_camera)
         self._same_models = SameModels(num_envs)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
@@ -187,9 +185,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         task_factory: Callable[[], Task],
         time_limit: float | None,
         seed: int | None,
-        observations: dict[str, Any],
-        renders: dict[str, Any],
-        render_camera: int | str | None,
+        options: dict[str, Any],
+        camera: int | str | None,
     ) -> list[Environment]:
         envs: list[Environment] = []
         for i in range(self.num_envs):
@@ -208,11 +205,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 time_limit=math.inf if time_limit is None else time_limit,
                 random_state=None if seed is None else seed + i,
                 render_mode=self.render_mode,
-                render_camera=getattr(task, "render_camera", -1)
-                if render_camera is None
-                else render_camera,
-                **renders,
-                **observations,
+                render_camera=getattr(task, "render_camera", -1) if camera is None else camera,
+                **options,
             )
             if envs:
                 for label in ("observation_space", "action_space"):
@@ -596,15 +590,15 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
     # gymnasium 1.2 types the frames with an unbound TypeVar (RenderFrame); 1.4 does not.
     def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override, unused-ignore]
         """Every environment's frame for `render_mode`, in order (a tuple, as Gymnasium's
-        `VectorEnv.render` gives them), or None without one (see
-        `composer.Environment.render`)."""
+        `VectorEnv.render` gives them), drawn on the render threads, or None without one
+        (see `composer.Environment.render`)."""
         if self.render_mode is None:
             return None
         envs = self._envs
         return tuple(self.draw(range(self.num_envs), lambda i: cast(np.ndarray, envs[i].render())))
 
     def close_extras(self, **kwargs: Any) -> None:
-        """Free every environment's rendering resources."""
+        """Stop the render threads and free every environment's rendering resources."""
         # gymnasium 1.2's VectorEnv.__del__ closes an instance whose __init__ raised too.
         threads = getattr(self, "_render_threads", None)
         if threads is not None:
