@@ -64,6 +64,7 @@ from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
 from composer.vector.rendering import Ids, RenderThreads
+from mjcf import rendering
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run
@@ -314,7 +315,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         for i, seed in zip(ids, seeds, strict=True):
             env = self._envs[i]
             model = env.physics.model
-            env.reset(seed=seed, options=options)
+            with rendering.context_group(self._render_threads.group(i)):
+                env.reset(seed=seed, options=options)
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
             self._save(i)

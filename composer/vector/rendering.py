@@ -8,10 +8,13 @@ Environment i is always drawn on thread i % count, so each environment's rendere
 `mjcf.Physics`'s own, made for its own model: the single environment's code path) are only
 ever current in that thread and in the caller's; every thread, the caller's included,
 releases its OpenGL context before another may use those renderers
-(`mjcf.rendering.release_context`). MuJoCo releases the GIL while it draws, so the threads
-draw in parallel (on 2 cores a 64x64 frame's throughput is 1.95x one thread's). With one
-thread, or a backend whose contexts stay in one thread (anything but EGL), frames are drawn
-in the caller's thread, in order.
+(`mjcf.rendering.release_context`). The renderers of the environments of one thread share
+one OpenGL context (`mjcf.rendering.context_group(threads.group(i))`, which the caller
+wraps around whatever may make environment i's renderers, such as its reset): a renderer
+costs 7 ms to make instead of 150, and a thread draws without switching contexts. MuJoCo
+releases the GIL while it draws, so the threads draw in parallel (on 2 idle cores a 64x64
+frame's throughput is 1.95x one thread's). With one thread, or a backend whose contexts
+stay in one thread (anything but EGL), frames are drawn in the caller's thread, in order.
 
 Threads over processes: a process would need each environment's state shipped to it and
 its frame shipped back each step, and a model of its own to draw; threads share both, and
@@ -70,14 +73,20 @@ class RenderThreads:
     def __init__(self, count: int) -> None:
         """Up to `count` threads (at least 1)."""
         self.count = max(1, int(count))
+        self._groups = [object() for _ in range(self.count)]
         self._queues: list[queue.SimpleQueue[Any]] = []
         self._threads: list[threading.Thread] = []
         self._stop: weakref.finalize | None = None
+
+    def group(self, i: int) -> object:
+        """The context group (`mjcf.rendering.context_group`) of environment i's renderers."""
+        return self._groups[int(i) % self.count]
 
     def draw(self, ids: Ids, draw: Draw) -> list[np.ndarray]:
         """`draw(i)` for each environment of `ids`, in that order, environment i drawn on
         thread i % count. Raises what a draw raises (the first environment's of those that
         raised), after every thread finished its share."""
+        draw = self._in_group(draw)
         if self.count == 1 or len(ids) == 1 or not rendering.threaded():
             return self._in_caller(ids, draw)
         shares: dict[int, list[tuple[int, int]]] = {}
@@ -92,6 +101,15 @@ class RenderThreads:
         if job.error is not None:
             raise job.error
         return job.frames
+
+    def _in_group(self, draw: Draw) -> Draw:
+        """`draw`, with renderers it makes for environment i in i's context group."""
+
+        def grouped(i: int) -> np.ndarray:
+            with rendering.context_group(self.group(i)):
+                return draw(i)
+
+        return grouped
 
     @staticmethod
     def _in_caller(ids: Ids, draw: Draw) -> list[np.ndarray]:
