@@ -39,7 +39,7 @@ current after a frame: on EGL (`threaded()`) a thread calls `release_context()` 
 has drawn, so that another may use those renderers next. Renderers made inside
 `context_group(key)` share one OpenGL context, each with its own buffers and assets in it:
 on Mesa's software rasterizer a renderer then costs 7 ms to make instead of 150 and a
-fifth less memory, and a thread drawing many of them switches no context between frames.
+third less memory, and a thread drawing many of them switches no context between frames.
 
 Every context is checked before MuJoCo draws with it: MuJoCo aborts the whole process
 (`__cxa_guard_acquire detected recursive initialization`) at the second attempt to make its

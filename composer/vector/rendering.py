@@ -152,14 +152,19 @@ def _serve(work: queue.SimpleQueue[Any]) -> None:
         item = work.get()
         if item is None:
             return
-        job, share = item
-        try:
-            for position, i in share:
-                try:
-                    job.frames[position] = job.draw(i)
-                except BaseException as e:  # handed to the caller, who raises it
-                    job.failed(position, e)
-                    break
-        finally:
-            rendering.release_context()
-            job.finish()
+        _draw_share(*item)
+        del item  # holds the draw function, and through it its environments, until then
+
+
+def _draw_share(job: _Job, share: list[tuple[int, int]]) -> None:
+    """Draw `share`, (position, environment) pairs, of `job`."""
+    try:
+        for position, i in share:
+            try:
+                job.frames[position] = job.draw(i)
+            except BaseException as e:  # handed to the caller, who raises it
+                job.failed(position, e)
+                break
+    finally:
+        rendering.release_context()
+        job.finish()

@@ -4,7 +4,9 @@ on render threads whatever their number; a camera is not per-environment work.""
 
 from __future__ import annotations
 
+import gc
 import threading
+import weakref
 
 import numpy as np
 import pytest
@@ -139,3 +141,19 @@ def test_render_threads_draw_each_environment_on_its_own_thread_in_order():
     threads.close()
     assert len(threads.draw([0, 1], draw)) == 2  # started again
     threads.close()
+
+
+def test_an_unclosed_vector_environment_is_collected_and_its_render_threads_stop():
+    before = set(threading.enumerate())
+    vector = VectorEnvironment(BatchedCameraSwing, 3, nthread=2)
+    vector.reset(seed=0)
+    vector.step(np.zeros((3, 1), np.float32))  # drawn on the render threads
+    threads = [t for t in set(threading.enumerate()) - before if t.name.startswith("composer-")]
+    assert len(threads) == 2
+    collected = weakref.ref(vector)
+    del vector
+    gc.collect()
+    assert collected() is None
+    for thread in threads:
+        thread.join(timeout=60)  # a bound for a hang, not a timing
+        assert not thread.is_alive()
