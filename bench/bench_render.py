@@ -2,6 +2,7 @@
 
     python bench/bench_render.py                    # every task, 64x64, 84x84 and 480x640
     python bench/bench_render.py CartpoleSwingup    # some of them
+    python bench/bench_render.py vector             # the vector figure alone
 
 The floor is a plain plane and capsule without shadows (`<quality shadowsize="0"/>`) drawn
 by a raw `mujoco.Renderer` made in the same run at the same size. Ours is a frame as a user
@@ -16,12 +17,21 @@ take is not counted), the rounds of floor, ours and before alternating.
 `factors` prices each render setting and part of the scene on one task at 64x64: what it
 costs alone on top of our frame, in floors; and the time to make a renderer's contexts in
 a new OpenGL context and in one kept from a closed renderer, as a recompile's renderers get.
+
+`vector` draws the 64x64 frames of N = 1, 4, 16 CartpoleSwingups in one pixel vector
+environment (`gym.make_vec(..., vectorization_mode='vector_entry_point', pixels=True)`):
+its frames per second, wall-clock (what parallel drawing buys), against N x the floor's
+frame in the same run (N frames on one raw renderer), on the render threads (one per CPU)
+and on one thread; the process CPU time per frame and the cores it kept busy (load from
+other processes shows there: wall-clock figures need an idle machine); and a whole step
+(physics and frames) per second.
 """
 
 from __future__ import annotations
 
 import copy
 import importlib
+import os
 import sys
 import time
 from collections.abc import Callable
@@ -35,9 +45,11 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import tasks
+from composer.pixels import frame
 from mjcf import rendering
 
 SIZES = ((64, 64), (84, 84), (480, 640))
+VECTOR_COUNTS = (1, 4, 16)
 ROUNDS = 5
 FRAMES = 20
 FLOOR_XML = """
@@ -221,6 +233,82 @@ def making_renderer(model: mujoco.MjModel, size: int, rounds: int) -> dict[str, 
     return {"new_gl_context": fresh, "kept_gl_context": reused}
 
 
+def best_wall_ms(
+    draws: dict[str, Callable[[], Any]], rounds: int, calls: int
+) -> dict[str, tuple[float, float]]:
+    """Per call of each draw, rounds alternating: the best wall-clock milliseconds, and
+    the process CPU milliseconds of that round."""
+    for draw in draws.values():
+        draw()
+    best = dict.fromkeys(draws, (float("inf"), 0.0))
+    for _ in range(rounds):
+        for label, draw in draws.items():
+            start, cpu = time.perf_counter(), time.process_time()
+            for _ in range(calls):
+                draw()
+            wall = (time.perf_counter() - start) / calls * 1e3
+            if wall < best[label][0]:
+                best[label] = (wall, (time.process_time() - cpu) / calls * 1e3)
+    return best
+
+
+def vector_frames(name: str, n: int, nthread: int) -> tuple[Any, Callable[[], Any]]:
+    """A settled pixel vector environment of n `name`s at 64x64, and a function drawing
+    every environment's frame as its step does."""
+    venv = gymnasium.make_vec(
+        f"composer/{name}-v0", num_envs=n, vectorization_mode="vector_entry_point",
+        pixels=True, width=64, height=64, nthread=nthread,
+    )  # fmt: skip
+    venv.reset(seed=0)
+    zero = np.zeros(venv.action_space.shape, venv.action_space.dtype)
+    for _ in range(10):
+        venv.step(zero)
+    envs, ids = venv.environments, range(n)
+    camera = getattr(envs[0].task, "render_camera", -1)
+
+    def draw() -> list[np.ndarray]:
+        return venv.draw(ids, lambda i: frame(envs[i].physics, (64, 64), camera))
+
+    return venv, draw
+
+
+def vector(name: str, rounds: int, calls: int) -> dict[str, Any]:
+    """Frames per second of N pixel environments at 64x64 against N x the floor (see the
+    module docstring)."""
+    threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    floor_model, floor_data = floor_scene()
+    floor, floor_renderer = raw_draw(floor_model, floor_data, 64, 64)
+    results: dict[str, Any] = {"threads": threads}
+    for n in VECTOR_COUNTS:
+        venv, draw = vector_frames(name, n, threads)
+        serial_venv, serial_draw = vector_frames(name, n, 1)
+        zero = np.zeros(venv.action_space.shape, venv.action_space.dtype)
+        timed = best_wall_ms(
+            {"floor": floor, "threads": draw, "one thread": serial_draw,
+             "step": lambda venv=venv, zero=zero: venv.step(zero)},
+            rounds, max(1, calls // n),
+        )  # fmt: skip
+        venv.close()
+        serial_venv.close()
+        found = {label: wall for label, (wall, _) in timed.items()}
+        floors = n * found["floor"]
+        results[f"n{n}"] = {
+            "floor_ms": found["floor"],
+            "fps": 1e3 * n / found["threads"],
+            "one_thread_fps": 1e3 * n / found["one thread"],
+            "floor_fps": 1e3 / found["floor"],
+            "vector_vs_n_floors": found["threads"] / floors,
+            "one_thread_vs_n_floors": found["one thread"] / floors,
+            "threads_vs_one_thread": found["threads"] / found["one thread"],
+            "cores_used": timed["threads"][1] / found["threads"],
+            "cpu_ms_per_frame": timed["threads"][1] / n,
+            "one_thread_cpu_ms_per_frame": timed["one thread"][1] / n,
+            "step_fps": 1e3 * n / found["step"],
+        }
+    floor_renderer.close()
+    return results
+
+
 def main(*names: str, quick: bool = False) -> dict[str, Any]:
     """Measure and print the tasks `names` (all registered ones by default)."""
     names = names or tuple(env_id.split("/")[1].rsplit("-", 1)[0] for env_id in tasks.IDS)
@@ -255,8 +343,31 @@ def main(*names: str, quick: bool = False) -> dict[str, Any]:
         f"  making a renderer's contexts: {making['new_gl_context']:.0f} ms in a new OpenGL "
         f"context, {making['kept_gl_context']:.0f} ms in one kept from a closed renderer"
     )
+    results["vector"] = {name: print_vector(name, rounds, frames * 4)}
     return results
 
 
+def print_vector(name: str, rounds: int, calls: int) -> dict[str, Any]:
+    """Measure and print `vector`'s figure of task `name`."""
+    found = vector(name, rounds, calls)
+    print(
+        f"\n{name} pixel vector environment, 64x64, {found['threads']} render threads; "
+        "wall-clock, N x floor = N frames on one raw renderer of the floor:"
+    )
+    for n in VECTOR_COUNTS:
+        row = found[f"n{n}"]
+        print(
+            f"  N={n:<3} {row['fps']:6.0f} frames/s ({row['vector_vs_n_floors']:.2f} x N floors;"
+            f" one thread {row['one_thread_fps']:6.0f}/s, {row['one_thread_vs_n_floors']:.2f});"
+            f" floor {row['floor_fps']:5.0f}/s; steps with frames {row['step_fps']:6.0f}/s;"
+            f" CPU per frame {row['cpu_ms_per_frame']:.2f} ms on {row['cores_used']:.1f} cores"
+            f" ({row['one_thread_cpu_ms_per_frame']:.2f} ms on one thread)"
+        )
+    return found
+
+
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    if sys.argv[1:2] == ["vector"]:
+        print_vector("CartpoleSwingup", ROUNDS, FRAMES * 4)
+    else:
+        main(*sys.argv[1:])

@@ -24,6 +24,9 @@ by the physics' renderer of that size (`mjcf.rendering`: no shadows or multisamp
 128 pixels a side, unless the model's MJCF sets them); the same seed and actions give the
 same frames, bit for bit; a recompile of the scene (`initialize_episode_mjcf` changing the
 model) is drawn from the new model; each observation is a new array, safe to keep.
+`composer.vector.PixelVectorEnvironment` gives num_envs of these observations at once
+(`gym.make_vec(id, n, vectorization_mode='vector_entry_point', pixels=True)`), with the
+frame, stacking and checks of this module.
 """
 
 from __future__ import annotations
@@ -112,15 +115,14 @@ class PixelEnvironment(gymnasium.Env):
         frame. Returns (obs, info); raises what Environment.reset raises."""
         super().reset(seed=seed)
         state, info = self._env.reset(seed=seed, options=options)
-        self._frames[:] = np.tile(self._frame(), self._stack)
+        self._frames[:] = stacked(self._frame(), self._stack)
         return self._observation(state), info
 
     def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
         """Step the environment; the new frame enters the stack as its last three channels.
         Raises what Environment.step raises."""
         state, reward, terminated, truncated, info = self._env.step(action)
-        self._frames[..., :-3] = self._frames[..., 3:]
-        self._frames[..., -3:] = self._frame()
+        push(self._frames, self._frame())
         return self._observation(state), reward, terminated, truncated, info
 
     # Gymnasium 1.2's Env.render returns a type variable no override can name.
@@ -133,7 +135,7 @@ class PixelEnvironment(gymnasium.Env):
         self._env.close()
 
     def _frame(self) -> np.ndarray:
-        return self._env.physics.render(*self._size, camera_id=self._camera)
+        return frame(self._env.physics, self._size, self._camera)
 
     def _observation(self, state: Any) -> Any:
         pixels = self._frames.copy()
@@ -142,18 +144,42 @@ class PixelEnvironment(gymnasium.Env):
         return pixels
 
 
+class CameraError(errors.TaskError):
+    """A camera the model does not have, or not an id or name."""
+
+
+def frame(physics: Any, size: tuple[int, int], camera: int | str) -> np.ndarray:
+    """A pixel observation's frame: (height, width, 3) uint8 of `camera` in `physics` (an
+    `mjcf.Physics`), drawn by its renderer of `size` (height, width). Raises
+    mjcf.RenderError when nothing can render."""
+    return physics.render(*size, camera_id=camera)
+
+
+def stacked(first: np.ndarray, frame_stack: int) -> np.ndarray:
+    """A reset's stack: `first` ((..., 3) frames) in every one of `frame_stack` slots
+    along the channels."""
+    return np.tile(first, frame_stack)
+
+
+def push(stack: np.ndarray, new: np.ndarray) -> None:
+    """Enter `new` ((..., 3) frames) into `stack` ((..., 3 * k), in place) as its last
+    three channels; the oldest frame leaves."""
+    stack[..., :-3] = stack[..., 3:]
+    stack[..., -3:] = new
+
+
 def check_camera(model: Any, camera: int | str) -> None:
-    """Raise TaskError unless `model` (an MjModel) has `camera`: a name, or an id from -1
-    (the free camera) to ncam - 1."""
+    """Raise CameraError (a TaskError) unless `model` (an MjModel) has `camera`: a name,
+    or an id from -1 (the free camera) to ncam - 1."""
     names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_CAMERA, i) for i in range(model.ncam)]
     if isinstance(camera, str):
         if camera not in names:
-            raise errors.TaskError(f"the model has no camera named {camera!r}; it has {names}")
+            raise CameraError(f"the model has no camera named {camera!r}; it has {names}")
         return
     if isinstance(camera, bool) or not isinstance(camera, int | np.integer):
-        raise errors.TaskError(f"a camera is an id (int) or a name (str), got {camera!r}")
+        raise CameraError(f"a camera is an id (int) or a name (str), got {camera!r}")
     if not -1 <= camera < model.ncam:
-        raise errors.TaskError(
+        raise CameraError(
             f"camera id {camera} is out of range: the model has {model.ncam} camera(s) "
             f"{names}, and -1 is the free camera"
         )

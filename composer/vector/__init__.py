@@ -20,6 +20,9 @@ materialized MjData. The trajectories equal those of single `composer.Environmen
 the same seeds (`composer.vector.environment` says exactly what is promised).
 `gym.make_vec(id, num_envs, vectorization_mode='vector_entry_point')` builds one through
 `make_vector_environment`; `composer.sb3.VecEnvAdapter` serves one to stable-baselines3.
+Camera observables are drawn for every environment at once on render threads
+(`composer.vector.rendering`); `PixelVectorEnvironment` observes every environment through
+a camera, as `composer.PixelEnvironment` one (`make_vec(..., pixels=True)`).
 `BatchPhysics`, `BatchedTask`, `BatchGeneric` and `BatchError` are composer's, exported
 here too.
 """
@@ -30,6 +33,7 @@ from composer.observation import BatchGeneric
 from composer.vector.environment import VectorEnvironment
 from composer.vector.make import make_vector_environment
 from composer.vector.physics import BatchBinding, VectorPhysics
+from composer.vector.pixels import PixelVectorEnvironment
 
 __all__ = [
     "BatchBinding",
@@ -37,6 +41,7 @@ __all__ = [
     "BatchGeneric",
     "BatchPhysics",
     "BatchedTask",
+    "PixelVectorEnvironment",
     "VectorEnvironment",
     "VectorPhysics",
     "make_vector_environment",

@@ -5,6 +5,7 @@
     obs, reward, terminated, truncated, info = venv.step(venv.action_space.sample())
     obs['pendulum/orientation'].shape         # (64, 2): a leading environment axis
     frames = venv.render()                    # a frame each, with render_mode='rgb_array'
+    venv.rendered                             # camera observables, drawn on render threads
 
 What it promises:
 - Each environment is a `composer.Environment` of its own task (`task_factory()` is called
@@ -28,6 +29,10 @@ What it promises:
   and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
   info['final_obs'] and info['final_info']) or DISABLED (reset with
   `reset(options={'reset_mask': mask})`).
+- Camera observables (`MJCFCamera`) and `render()` draw each environment's frame with its
+  own physics' renderers, as that single environment does (the same frames, bit for bit),
+  on render threads that draw environments in parallel (`composer.vector.rendering`,
+  `nthread` threads); a reset's first frame is drawn by its environment's reset, in turn.
 - Divergence truncates that environment only, with its reward 0 and the message in
   info['physics_error'], and a `DivergenceWarning`; MuJoCo errors in a simulation (e.g.
   arena overflow) are reported the same way instead of raising.
@@ -58,6 +63,8 @@ from composer.vector import info_layout
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
+from composer.vector.rendering import Ids, RenderThreads
+from mjcf import rendering
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run
@@ -90,27 +97,33 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         max_episode_steps: int | None = None,
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
         render_mode: str | None = None,
+        render_height: int = 240,
+        render_width: int = 320,
+        render_camera: int | str | None = None,
         strip_singleton_obs_buffer_dim: bool = True,
         delayed_observation_padding: ObservationPadding = ObservationPadding.INITIAL_VALUE,
     ) -> None:
         """Build num_envs environments of `task_factory()` and one batch of their
         simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
         `seed` seeds environment i's random state with seed + i until a seeded reset;
-        `nthread` defaults to the CPUs this process may use; the observation options are
-        `composer.Environment`'s. Raises TaskError for a bad count, a factory that does not
-        make new Tasks, or environments whose spaces or MuJoCo data layouts differ; what
-        `composer.Environment` raises otherwise."""
+        `nthread` (physics and render threads) defaults to the CPUs this process may use;
+        the render options are `composer.Environment`'s (`render_camera` None: the task's
+        `render_camera`, else the free camera), and so are the observation options. Raises
+        TaskError for a bad count, a factory that does not make new Tasks, or environments
+        whose spaces or MuJoCo data layouts differ; what `composer.Environment` raises
+        otherwise."""
         if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
             raise errors.TaskError(f"num_envs must be a positive int, got {num_envs!r}")
         self.num_envs = num_envs
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.render_mode = render_mode
-        observations = dict(
+        options = dict(
             flatten_observations=flatten_observations,
             strip_singleton_obs_buffer_dim=strip_singleton_obs_buffer_dim,
             delayed_observation_padding=delayed_observation_padding,
-        )
-        self._envs = self._make_envs(task_factory, time_limit, seed, observations)
+            render_height=render_height, render_width=render_width,
+        )  # fmt: skip
+        self._envs = self._make_envs(task_factory, time_limit, seed, options, render_camera)
         self._same_models = SameModels(num_envs)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
@@ -129,8 +142,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
         if nthread is None:
             nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
+        self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
         self._build_batch(min(nthread, num_envs), persistent=True)
         self.per_environment = self._per_env_parts()
+        self.rendered = list(self._observations.rendered)
         if not self.per_environment and not first.physics.model.opt.enableflags & _SLEEP:
             # Nothing reads a materialized MjData per step: one MjData per thread suffices
             # (measured as fast as one per simulation, which continues each step from the
@@ -163,6 +178,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             self._simulations.physics(),
             self._read_env,
             lambda i: self._envs[i].random_state,
+            self._render_envs,
         )
 
     def _make_envs(
@@ -170,7 +186,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         task_factory: Callable[[], Task],
         time_limit: float | None,
         seed: int | None,
-        observations: dict[str, Any],
+        options: dict[str, Any],
+        camera: int | str | None,
     ) -> list[Environment]:
         envs: list[Environment] = []
         for i in range(self.num_envs):
@@ -189,8 +206,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 time_limit=math.inf if time_limit is None else time_limit,
                 random_state=None if seed is None else seed + i,
                 render_mode=self.render_mode,
-                render_camera=getattr(task, "render_camera", -1),
-                **observations,
+                render_camera=getattr(task, "render_camera", -1) if camera is None else camera,
+                **options,
             )
             if envs:
                 for label in ("observation_space", "action_space"):
@@ -298,7 +315,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         for i, seed in zip(ids, seeds, strict=True):
             env = self._envs[i]
             model = env.physics.model
-            env.reset(seed=seed, options=options)
+            with rendering.context_group(self._render_threads.group(i)):
+                env.reset(seed=seed, options=options)
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
             self._save(i)
@@ -349,12 +367,17 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[ended] = True
         final_obs = np.full(self.num_envs, None, dtype=object)
-        for i in ended:
-            final_obs[i] = self._observations.row(i)
+        for i, row in zip(ended, self._final_observations(ended), strict=True):
+            final_obs[i] = row
         kept, moved = info_layout.split(info, mask)
         self._reset_envs(ended, [None] * len(ended), None)
         return {**kept, "final_obs": final_obs, "_final_obs": mask, "final_info": moved,
                 "_final_info": mask.copy()}  # fmt: skip
+
+    def _final_observations(self, ended: np.ndarray) -> list[Any]:
+        """The observations environments `ended` end their episodes with, before their
+        reset, each as its own Environment returns it."""
+        return [self._observations.row(i) for i in ended]
 
     # -- one control step (composer.stepping: its order and rules) ------------------------
 
@@ -552,21 +575,35 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._materialize(i)
         return self._envs[i].updater.readers[channel]()
 
+    def _render_envs(self, ids: Ids, channel: int) -> np.ndarray:
+        """Camera observable `channel` of environments `ids`, each drawn by its own reader
+        on the render threads: (len(ids), *shape)."""
+        return np.stack(self.draw(ids, lambda i: self._envs[i].updater.readers[channel]()))
+
+    def draw(self, ids: Ids, draw: Callable[[int], Any]) -> list[Any]:
+        """`draw(i)` for each environment i of `ids`, in order, on the render threads, with
+        environment i's physics holding its simulation: a function drawing with
+        `self.environments[i].physics` (its `render`), and nothing else of the
+        environment, may run there. Raises what a draw raises."""
+        for i in ids:
+            self._materialize(i)
+        return self._render_threads.draw(ids, draw)
+
     # gymnasium 1.2 types the frames with an unbound TypeVar (RenderFrame); 1.4 does not.
     def render(self) -> tuple[np.ndarray, ...] | None:  # type: ignore[override, unused-ignore]
         """Every environment's frame for `render_mode`, in order (a tuple, as Gymnasium's
-        `VectorEnv.render` gives them), or None without one (see
-        `composer.Environment.render`)."""
+        `VectorEnv.render` gives them), drawn on the render threads, or None without one
+        (see `composer.Environment.render`)."""
         if self.render_mode is None:
             return None
-        frames = []
-        for i in range(self.num_envs):
-            self._materialize(i)
-            frames.append(cast(np.ndarray, self._envs[i].render()))  # a mode: a frame
-        return tuple(frames)
+        envs = self._envs
+        return tuple(self.draw(range(self.num_envs), lambda i: cast(np.ndarray, envs[i].render())))
 
     def close_extras(self, **kwargs: Any) -> None:
-        """Free every environment's rendering resources."""
+        """Stop the render threads and free every environment's rendering resources."""
         # gymnasium 1.2's VectorEnv.__del__ closes an instance whose __init__ raised too.
+        threads = getattr(self, "_render_threads", None)
+        if threads is not None:
+            threads.close()
         for env in getattr(self, "_envs", ()):
             env.close()

@@ -21,9 +21,10 @@ from collections.abc import Callable
 import numpy as np
 
 from composer.errors import BatchError
-from composer.observation import MJCFFeature, Observable, Updater
+from composer.observation import MJCFCamera, MJCFFeature, Observable, Updater
 from composer.observation.schedule import ALL, Rows, Schedule
 from composer.vector.physics import VectorPhysics
+from composer.vector.rendering import Ids
 
 
 def _feature_reader(item: MJCFFeature, physics: VectorPhysics) -> Callable[[], np.ndarray] | None:
@@ -73,21 +74,30 @@ class BatchObservations:
         physics: VectorPhysics,
         read_env: Callable[[int, int], np.ndarray],
         random_state: Callable[[int], np.random.RandomState],
+        render_envs: Callable[[Ids, int], np.ndarray],
     ) -> None:
         """The pipeline of `updater` (the first environment's) for the `physics.num_envs`
         environments of `physics` (every one). `read_env(i, k)` reads observable k of
-        environment i from its own physics; `random_state(i)` is environment i's. Raises
-        BatchError for a batch reader of the wrong shape."""
+        environment i from its own physics, `render_envs(ids, k)` camera observable k of
+        environments `ids` ((len(ids), *shape)); `random_state(i)` is environment i's.
+        Raises BatchError for a batch reader of the wrong shape."""
         self.num_envs = physics.num_envs
         self.schedule = Schedule(updater.channels, updater.substeps, self.num_envs, updater.flatten)
         self.period = self.schedule.period
+        channels = updater.channels
+        self._rendered = [isinstance(c.observable, MJCFCamera) for c in channels]
         self._reads = [
-            _batch_reader(c.name, c.observable, c.shape, physics) for c in updater.channels
+            None if rendered else _batch_reader(c.name, c.observable, c.shape, physics)
+            for c, rendered in zip(channels, self._rendered, strict=True)
         ]
+        self.rendered = [c.name for c, r in zip(channels, self._rendered, strict=True) if r]
         self.per_environment = [
-            c.name for c, read in zip(updater.channels, self._reads, strict=True) if read is None
+            c.name
+            for c, read, rendered in zip(channels, self._reads, self._rendered, strict=True)
+            if read is None and not rendered
         ]
         self._read_env = read_env
+        self._render_envs = render_envs
         self._random_state = random_state
 
     def _rows(self, ids: np.ndarray) -> Rows:
@@ -119,6 +129,8 @@ class BatchObservations:
         if batch is not None:
             return batch() if isinstance(rows, slice) else batch()[rows]
         ids = range(self.num_envs) if isinstance(rows, slice) else rows
+        if self._rendered[k]:
+            return self._render_envs(ids, k)
         return np.stack([np.asarray(self._read_env(i, k)) for i in ids])
 
     def finish(self, ids: np.ndarray, steps: np.ndarray) -> None:
