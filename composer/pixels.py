@@ -81,17 +81,13 @@ class PixelEnvironment(gymnasium.Env):
         self._camera = camera
         self._stack = int(frame_stack)
         self._proprioception = bool(proprioception)
-        shape = (*self._size, 3 * self._stack)
-        pixels = spaces.Box(0, 255, shape, dtype=np.uint8)
-        self.observation_space = (
-            spaces.Dict({"pixels": pixels, "proprioception": env.observation_space})
-            if self._proprioception
-            else pixels
+        self.observation_space = observation_space(
+            self._size, self._stack, env.observation_space if self._proprioception else None
         )
         self.action_space = env.action_space
         self.metadata = env.metadata
         self.render_mode = env.render_mode
-        self._frames = np.zeros(shape, dtype=np.uint8)
+        self._frames = np.zeros((*self._size, 3 * self._stack), dtype=np.uint8)
 
     @property
     def environment(self) -> Environment:
@@ -146,6 +142,17 @@ class PixelEnvironment(gymnasium.Env):
 
 class CameraError(errors.TaskError):
     """A camera the model does not have, or not an id or name."""
+
+
+def observation_space(
+    size: tuple[int, int], frame_stack: int, proprioception: spaces.Space | None
+) -> spaces.Box | spaces.Dict:
+    """The pixel observations' space: `frame_stack` RGB frames of `size` stacked along the
+    channels, alone or (with the task's `proprioception` space) in a Dict."""
+    pixels = spaces.Box(0, 255, (*size, 3 * frame_stack), dtype=np.uint8)
+    if proprioception is None:
+        return pixels
+    return spaces.Dict({"pixels": pixels, "proprioception": proprioception})
 
 
 def frame(physics: Any, size: tuple[int, int], camera: int | str) -> np.ndarray:

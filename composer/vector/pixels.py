@@ -22,12 +22,19 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-from gymnasium import spaces
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from composer import errors
-from composer.pixels import DEFAULT_SIZE, check_camera, check_positive, frame, push, stacked
+from composer.pixels import (
+    DEFAULT_SIZE,
+    check_camera,
+    check_positive,
+    frame,
+    observation_space,
+    push,
+    stacked,
+)
 from composer.task import Task
 from composer.vector.environment import VectorEnvironment
 
@@ -70,16 +77,12 @@ class PixelVectorEnvironment(VectorEnvironment):
         self._camera = camera
         self._stack = int(frame_stack)
         self._proprioception = bool(proprioception)
-        shape = (*self._size, 3 * self._stack)
-        pixels = spaces.Box(0, 255, shape, dtype=np.uint8)
         state_space = self.single_observation_space
-        self.single_observation_space = (
-            spaces.Dict({"pixels": pixels, "proprioception": state_space})
-            if self._proprioception
-            else pixels
+        self.single_observation_space = observation_space(
+            self._size, self._stack, state_space if self._proprioception else None
         )
         self.observation_space = batch_space(self.single_observation_space, num_envs)
-        self._frames = np.zeros((num_envs, *shape), dtype=np.uint8)
+        self._frames = np.zeros((num_envs, *self._size, 3 * self._stack), dtype=np.uint8)
 
     def reset(
         self, *, seed: Any = None, options: dict[str, Any] | None = None
