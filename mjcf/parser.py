@@ -24,7 +24,8 @@ never touches the network, and limits nesting depth.
 from __future__ import annotations
 
 import os
-from typing import IO
+from collections.abc import Mapping
+from typing import IO, Any
 
 from lxml import etree
 
@@ -44,7 +45,7 @@ from mjcf import values as _values
 from mjcf.element import Element, stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
-from mjcf.schema import AttributeSpec
+from mjcf.schema import AttributeSpec, ElementSpec
 
 _MAX_INCLUDES = 1000
 # Making the XML Schema the fast way checks documents with (`mjcf.xsd`) costs about 8 ms of
@@ -407,7 +408,9 @@ class _Builder:
         self.root = root
         self.filename = filename
         self.escape = escape_separators
-        self.with_references: list[Element] = []
+        # Elements that set references, with their specs and attributes (kept here: the
+        # checks after reading look at each of them twice).
+        self.with_references: list[tuple[Element, ElementSpec, Mapping[str, Any]]] = []
         self.generated_names = False  # <replicate>/<attach> make names we do not see
         # Elements written with a name mjcf generated ('//unnamed_geom_0'), which are
         # read back unnamed, and the elements whose references name one.
@@ -566,11 +569,12 @@ class _Builder:
                 object.__setattr__(
                     element, "_source", debugging.xml_site(xml.base or filename, xml.sourceline)
                 )
-            if xml.attrib:
-                attrib = dict(xml.attrib)
-                self._set_attributes(element, attrib, xml)  # which become its attributes
-                if spec.references and not spec.references.isdisjoint(attrib):
-                    self.with_references.append(element)
+            attrib = xml.attrib
+            if attrib:
+                attrs = dict(attrib)
+                self._set_attributes(element, attrs, xml)  # which become its attributes
+                if spec.references and not spec.references.isdisjoint(attrs):
+                    self.with_references.append((element, spec, attrs))
             elif spec.checked_on_write:
                 self._set_attributes(element, {}, xml)  # raises: something is missing
             parent._children.append(element)
@@ -615,8 +619,9 @@ class _Builder:
         if xml.attrib:
             self._set_attributes(element, dict(xml.attrib), xml, merge=True)
             spec = element.spec
-            if spec.references and not spec.references.isdisjoint(stored_attributes(element)):
-                self.with_references.append(element)
+            attrs = stored_attributes(element)
+            if spec.references and not spec.references.isdisjoint(attrs):
+                self.with_references.append((element, spec, attrs))
         if len(xml):
             self._add_children(element, xml)
 
@@ -624,9 +629,7 @@ class _Builder:
         """{namespace: the names the references read name} (those of default classes
         under `references.ANY_NAMESPACE` too), for `mjcf.references`."""
         found: dict[str, set[str]] = {references.ANY_NAMESPACE: set()}
-        for element in self.with_references:
-            attrs = stored_attributes(element)
-            spec = element.spec
+        for _, spec, attrs in self.with_references:
             loose = spec.key.startswith("default-")
             for name in spec.references.intersection(attrs):
                 value = attrs[name]
@@ -657,11 +660,9 @@ class _Builder:
             return
         scope = self.root.namescope
         dangling = []
-        for element in self.with_references:
-            spec = element.spec
+        for element, spec, attrs in self.with_references:
             if spec.key.startswith("default-"):
                 continue  # resolved where an element uses the class, as MuJoCo does
-            attrs = stored_attributes(element)
             for name in spec.references.intersection(attrs):
                 attribute = spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
