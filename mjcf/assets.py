@@ -109,7 +109,7 @@ class Asset:
         if filename_with_hash:
             return hashed_file_name(self)
         owner = self._owner
-        if owner is not None and owner._is_registered():
+        if owner is not None and not owner.is_removed:
             written = upcalls.ABOVE.file_name_of(owner.root.namescope.root.model, self)
             if written is not None:
                 return written
@@ -258,7 +258,7 @@ def file_path(element: Element, text: str) -> str:
     """Where MuJoCo looks for file `text` of `element` (strippath, meshdir/texturedir/
     assetdir, relative to the model's directory); raises mjcf.AssetError for a model
     without a directory."""
-    compiler = element.root._section("compiler")
+    compiler = element.root.compiler
     if compiler.strippath == "true":
         text = os.path.basename(text)
     directory_setting = _DIRECTORY.get(element.tag)
