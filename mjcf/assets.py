@@ -109,7 +109,7 @@ class Asset:
         if filename_with_hash:
             return hashed_file_name(self)
         owner = self._owner
-        if owner is not None and owner._is_registered():
+        if owner is not None and not owner.is_removed:
             written = upcalls.ABOVE.file_name_of(owner.root.namescope.root.model, self)
             if written is not None:
                 return written
@@ -258,13 +258,13 @@ def file_path(element: Element, text: str) -> str:
     """Where MuJoCo looks for file `text` of `element` (strippath, meshdir/texturedir/
     assetdir, relative to the model's directory); raises mjcf.AssetError for a model
     without a directory."""
-    compiler = element.root._section("compiler")
-    if compiler._attrs.get("strippath") == "true":
+    compiler = element.root.compiler
+    if compiler.strippath == "true":
         text = os.path.basename(text)
-    directory_setting = _DIRECTORY.get(element._spec.tag)
+    directory_setting = _DIRECTORY.get(element.tag)
     directory = ""
     if directory_setting is not None:
-        directory = compiler._attrs.get(directory_setting) or compiler._attrs.get("assetdir") or ""
+        directory = getattr(compiler, directory_setting) or compiler.assetdir or ""
     if os.path.isabs(text):
         path = text
     elif directory and os.path.isabs(directory):
@@ -316,7 +316,7 @@ def is_inside(path: str, folder: str) -> bool:
 def _cached_apart(element: Element) -> bool:
     """Whether `element` is a mesh from a file that sets values MuJoCo's mesh cache does
     not compare (see `NOT_IN_MESH_CACHE_KEY`)."""
-    return element._spec.tag == "mesh" and not NOT_IN_MESH_CACHE_KEY.isdisjoint(element._attrs)
+    return element.tag == "mesh" and not NOT_IN_MESH_CACHE_KEY.isdisjoint(element._attrs)
 
 
 def _asset_key(name: str) -> str:
@@ -358,7 +358,7 @@ class FileNamer:
         try:
             if self.by_path and _cached_apart(element):
                 return self._cache_name(element, asset)
-            if asset.path is not None and (self.by_path or element._spec.tag in _BY_PATH):
+            if asset.path is not None and (self.by_path or element.tag in _BY_PATH):
                 if self.by_path:  # MuJoCo reads it: as mjcf would
                     check_file(asset.path)
                     if not os.access(asset.path, os.R_OK):
@@ -388,7 +388,7 @@ class FileNamer:
         digest = hashlib.sha1((asset.path or "").encode())
         digest.update(asset.contents)
         for name in sorted(NOT_IN_MESH_CACHE_KEY.intersection(element._attrs)):
-            value = element._get_value(element._spec.attributes[name])
+            value = getattr(element, name)
             digest.update(
                 name.encode()
                 + b"="

@@ -52,9 +52,10 @@ class Element(ElementRules):
 
     Internal protocol: what the other mjcf modules may use of an element's private
     members; everything else is this module's (tests/mjcf/test_architecture.py holds every
-    module to it, and lists who may use each). `_spec`, `_parent`, `_attrs`, `_children`
-    and `_get_value(attribute)` are what the reading functions return, for the modules
-    this one imports and the reader's; `_source` is where debug mode saw it made; any
+    module to it, and lists who may use each). `_spec`, `_parent`, `_attrs` and
+    `_children` are what the reading functions return, for the modules this one imports
+    (which cannot import them) and the writer's per-element loop; `_source` is where
+    debug mode saw it made; any
     module asks `_single_child(tag)`,
     `_is_registered()`, `_implicit()` (named after its file, by MuJoCo),
     `_written_empty()` (written even without attributes and children: a once-only

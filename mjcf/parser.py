@@ -24,7 +24,8 @@ never touches the network, and limits nesting depth.
 from __future__ import annotations
 
 import os
-from typing import IO
+from collections.abc import Mapping
+from typing import IO, Any
 
 from lxml import etree
 
@@ -41,10 +42,10 @@ from mjcf import (
     xsd,
 )
 from mjcf import values as _values
-from mjcf.element import Element
+from mjcf.element import Element, stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
-from mjcf.schema import AttributeSpec
+from mjcf.schema import AttributeSpec, ElementSpec
 
 _MAX_INCLUDES = 1000
 # Making the XML Schema the fast way checks documents with (`mjcf.xsd`) costs about 8 ms of
@@ -234,12 +235,12 @@ def _read_fast(
         return False
     names, referenced = found
     builder = _Builder(root, filename, escape_separators)
-    sections = {section._spec.tag: section for section in root._children}
+    sections = {section.tag: section for section in tree_children(root)}
     firsts: dict[str, etree._Element] = {}
     for xml_section in xml_root:
         tag = xml_section.tag
         section = sections[tag]
-        spec = section._spec
+        spec = section.spec
         if xml_section.attrib or tag == "default" or spec.required or spec.rules:
             attrib = dict(xml_section.attrib)
             if tag == "default":
@@ -407,7 +408,9 @@ class _Builder:
         self.root = root
         self.filename = filename
         self.escape = escape_separators
-        self.with_references: list[Element] = []
+        # Elements that set references, with their specs and attributes (kept here: the
+        # checks after reading look at each of them twice).
+        self.with_references: list[tuple[Element, ElementSpec, Mapping[str, Any]]] = []
         self.generated_names = False  # <replicate>/<attach> make names we do not see
         # Elements written with a name mjcf generated ('//unnamed_geom_0'), which are
         # read back unnamed, and the elements whose references name one.
@@ -421,7 +424,7 @@ class _Builder:
                 raise errors.UnknownAttributeError(
                     f"{_where(self.filename, xml_root)}: <mujoco> has no attribute {name!r}"
                 )
-        sections = {section.tag: section for section in root._children}
+        sections = {section.tag: section for section in tree_children(root)}
         seen: set[str] = set()
         for xml_section in xml_root:
             tag = xml_section.tag
@@ -442,17 +445,17 @@ class _Builder:
                     section,
                     xml_section,
                     self._set_attributes,
-                    self._children,
+                    self._add_children,
                     lambda xml: _where(self.filename, xml),
                 )
             else:
-                self._children(section, xml_section)
+                self._add_children(section, xml_section)
             seen.add(tag)
 
     def _set_attributes(
         self, element: Element, attrib: dict, xml: etree._Element, merge: bool = False
     ) -> None:
-        spec = element._spec
+        spec = element.spec
         attributes = spec.attributes
         for name, text in list(attrib.items()):
             attribute = attributes.get(name)
@@ -464,29 +467,25 @@ class _Builder:
                     f"{_where(self.filename, xml)}: {element.path}: <{spec.tag}> has no attribute "
                     f"{name!r}" + _values.suggest(name, attributes)
                 )
-            kind = attribute.kind
-            if kind == "identifier" and not text and not attribute.required:
-                del attrib[name]  # MuJoCo reads an empty name as no name
-            elif (
-                kind == "identifier"
-                and text[:2] == "//"
-                and spec.namespace
-                and naming.GENERATED.fullmatch(text)
-            ):
-                self.unnamed[(spec.namespace, text)] = element
-                del attrib[name]
-            elif kind == "reference":
+            converter = attribute.converter
+            if converter.names:
+                if not text and not attribute.required:
+                    del attrib[name]  # MuJoCo reads an empty name as no name
+                elif text[:2] == "//" and spec.namespace and naming.GENERATED.fullmatch(text):
+                    self.unnamed[(spec.namespace, text)] = element
+                    del attrib[name]
+                else:
+                    attrib[name] = self._name_text(element, attribute, text, xml)
+            elif converter.refers:
                 refused = attribute.refused.get(text)
                 if refused is not None:
                     raise errors.AttributeValueError(
                         f"{_where(self.filename, xml)}: {element.path}: {name!r} {refused}"
                     )
                 attrib[name] = self._reference_text(element, attribute, text, xml)
-            elif kind == "identifier":
-                attrib[name] = self._name_text(element, attribute, text, xml)
             elif attribute.checks_text:
                 try:
-                    attribute.converter.check_text(text)
+                    converter.check_text(text)
                 except _values.InvalidValue as error:
                     raise errors.AttributeValueError(
                         f"{_where(self.filename, xml)}: {element.path}: {name!r} {error}"
@@ -496,7 +495,7 @@ class _Builder:
         else:
             object.__setattr__(element, "_attrs", attrib)
         if spec.required or spec.rules:
-            problem = spec.unmet(element._attrs)
+            problem = spec.unmet(stored_attributes(element))
             if problem is not None:
                 raise errors.AttributeValueError(
                     f"{_where(self.filename, xml)}: {element.path}: {problem}"
@@ -530,8 +529,8 @@ class _Builder:
             text = text.replace(PREFIX_SEPARATOR, "\\" + PREFIX_SEPARATOR)
         return text
 
-    def _children(self, parent: Element, xml_parent: etree._Element | list) -> None:
-        specs = parent._spec.children
+    def _add_children(self, parent: Element, xml_parent: etree._Element | list) -> None:
+        specs = parent.spec.children
         root = self.root
         make = Element._make
         filename = self.filename
@@ -547,7 +546,7 @@ class _Builder:
             spec = specs.get(tag)
             if spec is None:
                 raise errors.SchemaError(
-                    f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> cannot have a "
+                    f"{_where(filename, xml)}: {parent.path}: <{parent.tag}> cannot have a "
                     f"<{tag}> child" + _values.suggest_child(tag, specs)
                 )
             if tag == "replicate" or tag == "attach":
@@ -557,7 +556,7 @@ class _Builder:
                     singles = set()
                 elif tag in singles:
                     raise errors.SchemaError(
-                        f"{_where(filename, xml)}: {parent.path}: <{parent._spec.tag}> may have "
+                        f"{_where(filename, xml)}: {parent.path}: <{parent.tag}> may have "
                         f"only one <{tag}>"
                     )
                 singles.add(tag)
@@ -572,9 +571,10 @@ class _Builder:
                 )
             attrib = xml.attrib
             if attrib:
-                self._set_attributes(element, dict(attrib), xml)
-                if spec.references and not spec.references.isdisjoint(element._attrs):
-                    self.with_references.append(element)
+                attrs = dict(attrib)
+                self._set_attributes(element, attrs, xml)  # which become its attributes
+                if spec.references and not spec.references.isdisjoint(attrs):
+                    self.with_references.append((element, spec, attrs))
             elif spec.checked_on_write:
                 self._set_attributes(element, {}, xml)  # raises: something is missing
             parent._children.append(element)
@@ -584,10 +584,10 @@ class _Builder:
                 except errors.NameClashError as error:
                     raise errors.NameClashError(f"{_where(filename, xml)}: {error}") from None
             if len(xml):
-                self._children(element, xml)
+                self._add_children(element, xml)
                 if spec.crashing_children:
-                    children = [(c._spec.tag, c._attrs) for c in element._children]
-                    crash = spec.crash(element._attrs, children)
+                    children = [(c.tag, stored_attributes(c)) for c in tree_children(element)]
+                    crash = spec.crash(stored_attributes(element), children)
                     if crash is not None:
                         raise errors.SchemaError(
                             f"{_where(filename, xml)}: {element.path}: {crash}"
@@ -597,9 +597,10 @@ class _Builder:
         """References that name an element by the name mjcf generated for it point at
         that element, which is read back unnamed."""
         for element in self.to_unnamed:
-            attrs = element._attrs
-            for name in element._spec.references.intersection(attrs):
-                attribute = element._spec.attributes[name]
+            attrs = element._attrs  # names replaced by elements below: the builder's to change
+            spec = element.spec
+            for name in spec.references.intersection(attrs):
+                attribute = spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 text = attrs[name]
                 if namespace is None or not isinstance(text, str):
@@ -617,24 +618,24 @@ class _Builder:
         top-level `<default>` is merged by `default_sections`)."""
         if xml.attrib:
             self._set_attributes(element, dict(xml.attrib), xml, merge=True)
-            spec = element._spec
-            if spec.references and not spec.references.isdisjoint(element._attrs):
-                self.with_references.append(element)
+            spec = element.spec
+            attrs = stored_attributes(element)
+            if spec.references and not spec.references.isdisjoint(attrs):
+                self.with_references.append((element, spec, attrs))
         if len(xml):
-            self._children(element, xml)
+            self._add_children(element, xml)
 
     def referenced(self) -> dict[str, frozenset[str]]:
         """{namespace: the names the references read name} (those of default classes
         under `references.ANY_NAMESPACE` too), for `mjcf.references`."""
         found: dict[str, set[str]] = {references.ANY_NAMESPACE: set()}
-        for element in self.with_references:
-            attrs = element._attrs
-            loose = element._spec.key.startswith("default-")
-            for name in element._spec.references.intersection(attrs):
+        for _, spec, attrs in self.with_references:
+            loose = spec.key.startswith("default-")
+            for name in spec.references.intersection(attrs):
                 value = attrs[name]
                 if not isinstance(value, str):
                     continue
-                attribute = element._spec.attributes[name]
+                attribute = spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 words = value.split() if attribute.is_list else [value]
                 if namespace is not None:
@@ -647,8 +648,9 @@ class _Builder:
         """Raise mjcf.AssetError for a file attribute naming a file outside the model's
         folder (strict paths)."""
         for element in self.root.iter():
-            for name in element._spec.file_attributes.intersection(element._attrs):
-                value = element._attrs[name]
+            attrs = stored_attributes(element)
+            for name in element.spec.file_attributes.intersection(attrs):
+                value = attrs[name]
                 if value not in self.root.assets:
                     _assets.file_path(element, value)
 
@@ -658,12 +660,11 @@ class _Builder:
             return
         scope = self.root.namescope
         dangling = []
-        for element in self.with_references:
-            if element._spec.key.startswith("default-"):
+        for element, spec, attrs in self.with_references:
+            if spec.key.startswith("default-"):
                 continue  # resolved where an element uses the class, as MuJoCo does
-            attrs = element._attrs
-            for name in element._spec.references.intersection(attrs):
-                attribute = element._spec.attributes[name]
+            for name in spec.references.intersection(attrs):
+                attribute = spec.attributes[name]
                 namespace = attribute.reference_namespace(attrs)
                 if namespace is None:
                     continue

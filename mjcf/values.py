@@ -158,6 +158,7 @@ class _Converter:
     names = False  # holds the element's name ('identifier'): setting it renames the element
     refers = False  # holds references to elements by name ('reference')
     files = False  # names a file ('file'), read into an `mjcf.Asset`
+    keywords = False  # holds one of a list of words, or several ('keyword')
     numbers = False  # holds numbers ('int', 'real'): compared and defaulted as numbers
     reals = False  # holds real numbers, rewritten to an output's precision ('real')
     takes_blank = True  # reads blank text as not set, unless the schema says otherwise
@@ -441,6 +442,7 @@ class _Keyword(_Converter):
     """One keyword (or a list of distinct keywords), compared as MuJoCo compares
     them (some attributes ignore case; a few also take the keyword's number)."""
 
+    keywords = True
     takes_blank = False
     unset_is_empty = False
 

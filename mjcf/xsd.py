@@ -75,7 +75,8 @@ def _unchecked(spec: ElementSpec) -> tuple[AttributeSpec, ...]:
 def _simple_type(attribute: AttributeSpec) -> tuple | None:
     """What the schema checks an attribute's value with: ('keywords', words) or
     ('numbers', item type, least, most); None for any text."""
-    if attribute.kind == "keyword":
+    converter = attribute.converter
+    if converter.keywords:
         if attribute.is_list:  # distinct words, some in order or alone: left to converters
             return None
         words = attribute.values
@@ -84,7 +85,7 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
             words += tuple(str(number) for number in range(low, high + 1))
         return ("keywords", words)
     if (
-        attribute.kind in ("int", "real")
+        converter.numbers
         and attribute.min >= 1
         and not attribute.multiple_of
         and not attribute.gaps
@@ -96,12 +97,7 @@ def _simple_type(attribute: AttributeSpec) -> tuple | None:
         item = "float" if attribute.float32 else "double"
         if attribute.finite is not None:
             item = "finite-" + item
-        return (
-            "numbers",
-            "xs:int" if attribute.kind == "int" else item,
-            attribute.min,
-            attribute.max,
-        )
+        return ("numbers", item if converter.reals else "xs:int", attribute.min, attribute.max)
     return None
 
 

@@ -28,6 +28,9 @@ from tests.composer.test_import_graph import _circles
 PACKAGE = Path(mjcf.__file__).parent
 
 ANY = None  # every mjcf module
+# The modules that make elements and fill them (`_make`, `_attrs`, `_children`, `_register`):
+# the reading functions are read-only views, and the public setters would check again, for
+# every element, what a builder has checked (the parser: the whole document at once).
 TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
@@ -35,33 +38,27 @@ SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
 # Who keeps a model's references state: the module of the rules, and the readers and
 # copiers that make models.
 REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
-# The reader's modules, which another branch is rewriting: they still read elements through
-# the private members the others read through `spec`, `stored_attributes` ... (Element's
-# reading protocol).
-READER = frozenset({"parser", "indexer", "xsd", "assets"})
 # Element's bases and the tree modules below it, which `mjcf.element` imports: they cannot
 # import its reading functions, and are part of what an element is.
 BELOW_ELEMENT = frozenset({"element_names", "element_rules", "element_list", "references"})
 # The writer's per-element loop reads the slots: the reading protocol's calls there cost a
 # fifth of a write (bench parse: write_ms).
 WRITER = frozenset({"serializer"})
+# `mjcf.element` imports `mjcf.assets` (to read file attributes into Assets), which so cannot
+# import the reading functions: it reads which of a mesh's attributes are set in `_attrs`.
+IMPORTED_BY_ELEMENT = frozenset({"assets"})
 # The internal protocols: private member -> (the class that documents it, the modules that
 # may use it, the modules that may change it: assign it, or mutate what it holds).
 PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
-    "_spec": ("element.Element", READER | WRITER, frozenset()),
-    "_parent": ("element.Element", BELOW_ELEMENT | READER, frozenset()),
+    "_spec": ("element.Element", WRITER, frozenset()),
+    "_parent": ("element.Element", BELOW_ELEMENT, frozenset()),
     "_attrs": (
         "element.Element",
-        TREE_BUILDERS | BELOW_ELEMENT | READER | WRITER,
+        TREE_BUILDERS | BELOW_ELEMENT | WRITER | IMPORTED_BY_ELEMENT,
         TREE_BUILDERS | {"references"},
     ),
-    "_children": (
-        "element.Element",
-        TREE_BUILDERS | BELOW_ELEMENT | READER | WRITER,
-        TREE_BUILDERS,
-    ),
+    "_children": ("element.Element", TREE_BUILDERS | BELOW_ELEMENT | WRITER, TREE_BUILDERS),
     "_source": ("element.Element", ANY, frozenset({"parser", "copying"})),
-    "_get_value": ("element.Element", READER, frozenset()),
     "_single_child": ("element.Element", ANY, frozenset()),
     "_is_registered": ("element_names.ElementNames", ANY, frozenset()),
     "_implicit": ("element_names.ElementNames", ANY, frozenset()),
