@@ -22,7 +22,7 @@ for `attach` and for copies alike, and `detach` undoes it; nothing else writes i
 from __future__ import annotations
 
 from mjcf import errors, schema, settings
-from mjcf.element import Element, stored_attributes, tree_children, value_of
+from mjcf.element import Element, count_change, stored_attributes, tree_children, value_of
 from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec, ElementSpec
 
@@ -110,7 +110,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         raise errors.AttachmentError(
             f"{place.path}: models attach to a site, body, frame or worldbody, not <{place.tag}>"
         )
-    if not place._is_registered():
+    if place.is_removed:
         raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
     if child._frame is not None:
         raise errors.AttachmentError(
@@ -145,7 +145,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     settings.absorb_capacities(place.root, child)
     link(frame, child)
     body._children.append(frame)
-    place._modified()
+    count_change(place)
     return frame
 
 
@@ -170,7 +170,7 @@ def detach(child: RootElement) -> None:
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
-    frame._modified()
+    count_change(frame)
 
 
 def remove(element: Element, affect_attachments: bool) -> None:
@@ -195,7 +195,7 @@ def remove(element: Element, affect_attachments: bool) -> None:
         )
     for frame in frames:
         frame.detach()
-    element._cut()._modified()
+    count_change(element._cut())
 
 
 def clear_section(section: Element, affect_attachments: bool) -> None:
@@ -215,12 +215,12 @@ def clear_section(section: Element, affect_attachments: bool) -> None:
     for each in (*attached, model) if affect_attachments else (model,):
         emptied = each._section(tag)
         for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
-            if frame._is_registered():
+            if not frame.is_removed:
                 detach(frame._attached)
         for child in list(tree_children(emptied)):
             child._cut()
         emptied._attrs.clear()
-        emptied._modified()
+        count_change(emptied)
 
 
 def frame_of(model: RootElement) -> AttachmentFrame | None:

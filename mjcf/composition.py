@@ -417,7 +417,7 @@ class Composition:
         self, element: Element, attribute: AttributeSpec, target: Element
     ) -> str:
         """The written name of a referenced element object."""
-        if not target._is_registered():
+        if target.is_removed:
             raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
             )

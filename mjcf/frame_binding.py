@@ -323,7 +323,7 @@ def _compiled_from(compiled: Compiled, element: Element) -> bool:
         compiled.composition.context(element.root)
     except errors.InvalidReferenceError:
         return False
-    return element._is_registered() or element is element.root.worldbody
+    return not element.is_removed or element is element.root.worldbody
 
 
 def _placement(element: Element, output: RootElement) -> tuple[Element, list[Element]]:

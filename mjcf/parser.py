@@ -42,7 +42,7 @@ from mjcf import (
     xsd,
 )
 from mjcf import values as _values
-from mjcf.element import Element, stored_attributes, tree_children
+from mjcf.element import Element, single_child, stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec, ElementSpec
@@ -560,7 +560,7 @@ class _Builder:
                         f"only one <{tag}>"
                     )
                 singles.add(tag)
-                existing = parent._single_child(tag)
+                existing = single_child(parent, tag)
                 if existing is not None:  # from an earlier copy of a repeated section
                     self._merge(existing, xml)
                     continue

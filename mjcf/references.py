@@ -127,7 +127,7 @@ def _pin_forward(model: RootElement) -> None:
     (`_forward`) hold the elements they name now."""
     if model._forward and model._references != BY_NAME:
         for element in list(model._forward):
-            if element._is_registered():
+            if not element.is_removed:
                 _pin(element)
             else:
                 model._forward.discard(element)

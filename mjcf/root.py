@@ -18,7 +18,7 @@ import copy
 from typing import TYPE_CHECKING, Any
 
 from mjcf import errors, references, schema
-from mjcf.element import Element
+from mjcf.element import Element, count_change
 from mjcf.namescope import NameScope, check_model_name
 from mjcf.upcalls import ABOVE
 
@@ -133,7 +133,7 @@ class RootElement(Element):
             parent.remove_child(scope)
             self._attrs["model"] = new
             parent.add_child(scope)
-            parent.model._modified()
+            count_change(parent.model)
         else:
             self._attrs["model"] = new
         self._modified()

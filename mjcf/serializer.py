@@ -23,7 +23,7 @@ import numpy as np
 
 from mjcf import assets as _assets
 from mjcf import attachment, bulk, composition, defaults, errors
-from mjcf.element import stored_attributes, tree_children, value_of
+from mjcf.element import stored_attributes, tree_children, value_of, written_empty
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -335,7 +335,7 @@ class _Writer:
         if len(self.parts) == mark and not element.spec.repeated:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
-            if stored_attributes(element) or element._written_empty():
+            if stored_attributes(element) or written_empty(element):
                 self._emit(opening[: opening.rindex(">")] + "/>" + self._newline(), element)
             return
         self._emit(f"{self._indent(depth)}</{element.spec.tag}>{self._newline()}")
@@ -427,7 +427,7 @@ class _Writer:
                     object.__setattr__(element, "_text", (version, text))
                 return text
             if spec.checked_on_write and (
-                attrs or tree_children(element) or element._written_empty()
+                attrs or tree_children(element) or written_empty(element)
             ):
                 check_required(element)
             cacheable = override is None and not special
@@ -452,7 +452,7 @@ class _Writer:
             children = element._children
             indent = indents[depth]
             if not children:
-                if text or element._written_empty():
+                if text or written_empty(element):
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return
@@ -465,7 +465,7 @@ class _Writer:
             if len(parts) == start + 1:
                 parts.pop()
                 owners.pop()
-                if text or element._written_empty():
+                if text or written_empty(element):
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return
