@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from mjcf import errors, schema, settings
 from mjcf.element import Element, count_change, stored_attributes, tree_children, value_of
-from mjcf.root import RootElement
+from mjcf.root import RootElement, section_of
 from mjcf.schema import AttributeSpec, ElementSpec
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
@@ -213,7 +213,7 @@ def clear_section(section: Element, affect_attachments: bool) -> None:
         )
     tag = section.spec.tag
     for each in (*attached, model) if affect_attachments else (model,):
-        emptied = each._section(tag)
+        emptied = section_of(each, tag)
         for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
             if not frame.is_removed:
                 detach(frame._attached)

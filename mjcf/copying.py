@@ -38,7 +38,7 @@ from mjcf.element import (
     written_empty,
 )
 from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
-from mjcf.root import RootElement
+from mjcf.root import RootElement, own_version
 from mjcf.settings import same as _same
 
 _E = TypeVar("_E", bound=Element)
@@ -279,15 +279,13 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     sections = {section.spec.tag: section for section in tree_children(new)}
     for section in tree_children(root):
         _clone_into(section, sections[section.spec.tag], memo, cloned)
-    object.__setattr__(new, "_references", root._references)
-    object.__setattr__(new, "_referenced", root._referenced)
-    object.__setattr__(new, "_forward", {memo[id(e)] for e in root._forward if id(e) in memo})
+    references.copy_state(root, new, memo)
     for element in new.iter():
         if element.parent is not None:
             element._register()
     for frame in attachment.frames(root):  # in the order they were attached
         attachment.link(memo[id(frame)], _copy_model(frame.attached_model, memo, cloned))
-    object.__setattr__(new, "_version", root._version)
+    object.__setattr__(new, "_version", own_version(root))
     return new
 
 

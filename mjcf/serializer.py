@@ -24,6 +24,7 @@ import numpy as np
 from mjcf import assets as _assets
 from mjcf import attachment, bulk, composition, defaults, errors
 from mjcf.element import stored_attributes, tree_children, value_of, written_empty
+from mjcf.root import own_version, section_of
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -245,7 +246,7 @@ class _Writer:
                     self.children(self.composed.written_assets(context), 2, context)
             elif tag != "worldbody":
                 for context in self.composed.attached_contexts():
-                    self.children(tree_children(context.model._section(tag)), 2, context)
+                    self.children(tree_children(section_of(context.model, tag)), 2, context)
             self._close(section, 1, mark)
 
     def _default_body(self, default: Element, context: composition.ModelContext) -> None:
@@ -388,7 +389,7 @@ class _Writer:
         frame_spec = _FRAME_SPEC
         generated_name, rewrite = self.composed.generated_name, context.rewrite
         as_stored = context.names_only and not self.reformat
-        version = (context.model._version, context.token, self.precision, self.zero_threshold)
+        version = (own_version(context.model), context.token, self.precision, self.zero_threshold)
 
         def text_of(element: Element, depth: int, override: dict | None) -> str | None:
             """The attribute text of `element`'s tag; None for an attachment frame, which
