@@ -112,10 +112,11 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         )
     if place.is_removed:
         raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
-    if child._frame is not None:
+    holder = child.parent_model
+    if holder is not None:
         raise errors.AttachmentError(
             f"model {child.model!r} is already attached elsewhere (to model "
-            f"{child._frame.root.model!r}); detach it first, or attach a copy "
+            f"{holder.model!r}); detach it first, or attach a copy "
             "(copy.deepcopy(model))"
         )
     model: RootElement | None = place.root
@@ -163,7 +164,7 @@ def link(frame: AttachmentFrame, child: RootElement) -> None:
 def detach(child: RootElement) -> None:
     """Detach model `child` from the model it is attached to; raises
     mjcf.AttachmentError if it is not attached."""
-    frame = child._frame
+    frame = frame_of(child)
     if frame is None:
         raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
     frame._cut()
@@ -252,4 +253,4 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     if scope is None:
         named = root.namescope.lookup("attachment_frame", identifier)
         return named if isinstance(named, AttachmentFrame) else None
-    return scope.model._frame
+    return frame_of(scope.model)

@@ -144,7 +144,7 @@ class FrameBinding:
         physics = self._physics
         if physics._stale & POS_BEHIND:
             physics._refresh()
-        data, holders = physics._data, self._holders
+        data, holders = physics.data, self._holders
         if name == "xpos":
             world = data.xpos[holders] + np.einsum(
                 "nij,nj->ni", data.xmat[holders].reshape(-1, 3, 3), pos

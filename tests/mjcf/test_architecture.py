@@ -87,8 +87,6 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
     "_references": ("root.RootElement", REFERENCES, frozenset()),
     "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
-    "_model": ("physics.Physics", SIMULATION, frozenset()),
-    "_data": ("physics.Physics", SIMULATION, frozenset()),
     "_stale": ("physics.Physics", SIMULATION, frozenset({"binding"})),
     "_refresh": ("physics.Physics", SIMULATION, frozenset()),
     "_compute_on_demand": ("physics.Physics", SIMULATION, frozenset()),
