@@ -57,9 +57,8 @@ class Element(ElementRules):
     module to it, and lists who may use each). `_spec`, `_parent`, `_attrs` and
     `_children` are what the reading functions return, for the modules this one imports
     (which cannot import them) and the writer's per-element loop; `_source` is where
-    debug mode saw it made (`created_at`), set by the parser and copies; any module asks
-    `_implicit()` (named after its file, by MuJoCo). The tree builders count an element
-    made by reading `parent.<tag>` as put there with `_keep()`.
+    debug mode saw it made (`created_at`), set by the parser and copies. The tree
+    builders count an element made by reading `parent.<tag>` as put there with `_keep()`.
     Only the modules that build or rewrite
     trees (parser, copying, default_sections, defaults, attachment, root) make elements
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values

@@ -63,7 +63,7 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
         frozenset({"parser", "copying"}),
         frozenset({"parser", "copying"}),
     ),
-    "_implicit": ("element_names.ElementNames", ANY, frozenset()),
+    "_implicit": ("element_names.ElementNames", TREE_BUILDERS, frozenset()),
     "_keep": ("element.Element", TREE_BUILDERS, frozenset()),
     "_make": ("element.Element", TREE_BUILDERS, frozenset()),
     "_register": ("element_names.ElementNames", TREE_BUILDERS | {"element"}, frozenset()),
