@@ -380,7 +380,7 @@ class _Writer:
         the common case) the text is built in one pass; elsewhere (scoped names,
         converted values) `attributes` builds it. Either way the tag is self-closing when
         nothing is inside, and an empty once-only element is left out where that changes
-        nothing (`Element._written_empty`)."""
+        nothing (`mjcf.element.written_empty`)."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes

@@ -34,6 +34,9 @@ ANY = None  # every mjcf module
 TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
+# The modules that read and write a physics' state for bindings and named access: every read
+# tests `_stale` and calls `_refresh()` inline, the per-read path (bench bind), where a call
+# more would cost; they read the raw MjModel and MjData through `model` and `data`.
 SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
 # A model's references state is `mjcf.references`' own, kept on the model (one reach, the
 # state's only reader); the reader and copies set it up through that module's functions.
