@@ -22,8 +22,8 @@ for `attach` and for copies alike, and `detach` undoes it; nothing else writes i
 from __future__ import annotations
 
 from mjcf import errors, schema, settings
-from mjcf.element import Element, stored_attributes, tree_children, value_of
-from mjcf.root import RootElement
+from mjcf.element import Element, count_change, stored_attributes, tree_children, value_of
+from mjcf.root import RootElement, section_of
 from mjcf.schema import AttributeSpec, ElementSpec
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")
@@ -110,12 +110,13 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
         raise errors.AttachmentError(
             f"{place.path}: models attach to a site, body, frame or worldbody, not <{place.tag}>"
         )
-    if not place._is_registered():
+    if place.is_removed:
         raise errors.AttachmentError(f"{place.path}: cannot attach to a removed element")
-    if child._frame is not None:
+    holder = child.parent_model
+    if holder is not None:
         raise errors.AttachmentError(
             f"model {child.model!r} is already attached elsewhere (to model "
-            f"{child._frame.root.model!r}); detach it first, or attach a copy "
+            f"{holder.model!r}); detach it first, or attach a copy "
             "(copy.deepcopy(model))"
         )
     model: RootElement | None = place.root
@@ -145,7 +146,7 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     settings.absorb_capacities(place.root, child)
     link(frame, child)
     body._children.append(frame)
-    place._modified()
+    count_change(place)
     return frame
 
 
@@ -163,14 +164,14 @@ def link(frame: AttachmentFrame, child: RootElement) -> None:
 def detach(child: RootElement) -> None:
     """Detach model `child` from the model it is attached to; raises
     mjcf.AttachmentError if it is not attached."""
-    frame = child._frame
+    frame = frame_of(child)
     if frame is None:
         raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
     frame._cut()
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
-    frame._modified()
+    count_change(frame)
 
 
 def remove(element: Element, affect_attachments: bool) -> None:
@@ -195,7 +196,7 @@ def remove(element: Element, affect_attachments: bool) -> None:
         )
     for frame in frames:
         frame.detach()
-    element._cut()._modified()
+    count_change(element._cut())
 
 
 def clear_section(section: Element, affect_attachments: bool) -> None:
@@ -213,14 +214,14 @@ def clear_section(section: Element, affect_attachments: bool) -> None:
         )
     tag = section.spec.tag
     for each in (*attached, model) if affect_attachments else (model,):
-        emptied = each._section(tag)
+        emptied = section_of(each, tag)
         for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
-            if frame._is_registered():
+            if not frame.is_removed:
                 detach(frame._attached)
         for child in list(tree_children(emptied)):
             child._cut()
         emptied._attrs.clear()
-        emptied._modified()
+        count_change(emptied)
 
 
 def frame_of(model: RootElement) -> AttachmentFrame | None:
@@ -252,4 +253,4 @@ def find_frame(root: RootElement, identifier: str) -> AttachmentFrame | None:
     if scope is None:
         named = root.namescope.lookup("attachment_frame", identifier)
         return named if isinstance(named, AttachmentFrame) else None
-    return scope.model._frame
+    return frame_of(scope.model)

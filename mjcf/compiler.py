@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import mujoco
 
 from mjcf import attachment, errors, keyframes, naming, serializer
+from mjcf.element import created_at
 from mjcf.namescope import unescape
 
 if TYPE_CHECKING:
@@ -49,7 +50,7 @@ class Compiled(NamedTuple):
             context = composition.context(element.root)
         except errors.InvalidReferenceError as error:
             raise errors.BindingError(f"{element.path}: {error}") from None
-        if not element._is_registered():
+        if element.is_removed:
             raise errors.BindingError(f"{element.path}: the element was removed from its model")
         first = composition.shared.get(element)
         if first is not None:  # compiled as another model's asset (see mjcf.sharing)
@@ -168,6 +169,7 @@ def _explain(message: str, lines: list[Element | None]) -> str:
     if element is None:
         return message
     where = f"\n  in {element.path}"
-    if element._source is not None:
-        where += f" (created at {element._source})"
+    site = created_at(element)
+    if site is not None:
+        where += f" (created at {site})"
     return message.rstrip() + where

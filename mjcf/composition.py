@@ -35,6 +35,7 @@ from mjcf import attachment, defaults, errors, keyframes, naming, settings, shar
 from mjcf.element import stored_attributes, tree_children, value_of
 from mjcf.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
+from mjcf.root import own_version, section_of
 from mjcf.values import format_number
 
 if TYPE_CHECKING:
@@ -254,7 +255,7 @@ def composition_of(
     for the last output of the same kind while no model changed, else a new one. Copies'
     meshes and textures are written once unless not `share_assets` (`mjcf.sharing`)."""
     models = [root, *attachment.attached_models(root)]
-    versions = [(model, model._version) for model in models]
+    versions = [(model, own_version(model)) for model in models]
     cached = root._composed
     kind = (for_compile, share_assets)
     found = cached.get(kind) if cached else None
@@ -417,7 +418,7 @@ class Composition:
         self, element: Element, attribute: AttributeSpec, target: Element
     ) -> str:
         """The written name of a referenced element object."""
-        if not target._is_registered():
+        if target.is_removed:
             raise errors.InvalidReferenceError(
                 f"{element.path}: {attribute.name!r} refers to a removed element: {target.path}"
             )
@@ -464,7 +465,7 @@ class Composition:
     def written_assets(self, context: ModelContext) -> Sequence[Element]:
         """The children of `context`'s model's `<asset>` that this output writes: all
         but those written as another model's (see mjcf.sharing)."""
-        children = tree_children(context.model._section("asset"))
+        children = tree_children(section_of(context.model, "asset"))
         if not self.shared or context.is_output:
             return children
         written = self._written_assets.get(context)

@@ -27,9 +27,18 @@ import numpy as np
 from mjcf import assets, attachment, bulk, errors, references
 from mjcf import values as _values
 from mjcf.assets import Asset
-from mjcf.element import Element, stored_attributes, tree_children, value_of
+from mjcf.element import (
+    Element,
+    count_change,
+    created_at,
+    single_child,
+    stored_attributes,
+    tree_children,
+    value_of,
+    written_empty,
+)
 from mjcf.namescope import NAMED_AFTER_FILE, name_from_file
-from mjcf.root import RootElement
+from mjcf.root import RootElement, own_version
 from mjcf.settings import same as _same
 
 _E = TypeVar("_E", bound=Element)
@@ -56,7 +65,7 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
     clones: dict[int, Element] = {}
     for destination, origin, attributes, children in plan:
         destination._attrs.update(attributes)
-        if origin._written_empty():  # put there in the source: so it is in the copy
+        if written_empty(origin):  # put there in the source: so it is in the copy
             destination._keep()
         for child in children:
             clone = _clone(child, destination, clones)
@@ -69,7 +78,7 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
             scope.remove(namespace, old, destination)
         scope.add(namespace, new, destination, implicit=destination._implicit())
     _relink_references(clones, source.root)
-    target._modified()
+    count_change(target)
 
 
 def _contains(ancestor: Element, element: Element) -> bool:
@@ -107,7 +116,7 @@ def _plan_merge(target: Element, source: Element, override: bool, plan: list) ->
             else:  # overriding: the element of that name takes the copy's values
                 _plan_merge(existing, child, override, plan)
             continue
-        existing = target._single_child(child.spec.tag)
+        existing = single_child(target, child.spec.tag)
         if existing is None:
             children.append(child)
         else:
@@ -248,7 +257,7 @@ def deepcopy_element(element: _E, memo: dict[int, Any]) -> _E:
     if found is not None:
         return found
     cloned: list[tuple[Element, Element]] = []
-    if element._is_registered() or element is element.root:
+    if not element.is_removed:
         _copy_model(element.root, memo, cloned)
     else:  # a removed element: a removed copy, in a copy of its model
         root_copy = deepcopy_element(element.root, memo)
@@ -266,27 +275,26 @@ def _copy_model(root: RootElement, memo: dict[int, Any], cloned: list) -> RootEl
     new = type(root)(model_dir=root.model_dir, assets=root.assets)
     memo[id(root)] = new
     new._attrs.update(stored_attributes(root))
-    object.__setattr__(new, "_source", root._source)
+    object.__setattr__(new, "_source", created_at(root))
     sections = {section.spec.tag: section for section in tree_children(new)}
     for section in tree_children(root):
         _clone_into(section, sections[section.spec.tag], memo, cloned)
-    object.__setattr__(new, "_references", root._references)
-    object.__setattr__(new, "_referenced", root._referenced)
-    object.__setattr__(new, "_forward", {memo[id(e)] for e in root._forward if id(e) in memo})
+    references.copy_state(root, new, memo)
     for element in new.iter():
         if element.parent is not None:
             element._register()
     for frame in attachment.frames(root):  # in the order they were attached
         attachment.link(memo[id(frame)], _copy_model(frame.attached_model, memo, cloned))
-    object.__setattr__(new, "_version", root._version)
+    object.__setattr__(new, "_version", own_version(root))
     return new
 
 
 def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: list) -> None:
     """Copy the attributes and subtree of `source` into the new element `target`."""
     memo[id(source)] = target
-    if source._source is not None:
-        object.__setattr__(target, "_source", source._source)
+    source_site = created_at(source)
+    if source_site is not None:
+        object.__setattr__(target, "_source", source_site)
     source_attrs = stored_attributes(source)
     if source_attrs:
         attrs = target._attrs

@@ -35,7 +35,7 @@ from lxml import etree
 from mjcf import errors, schema
 from mjcf import values as _values
 from mjcf.defaults import LateDefault, overlay
-from mjcf.element import Element, stored_attributes, tree_children, value_of
+from mjcf.element import Element, single_child, stored_attributes, tree_children, value_of
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
@@ -64,7 +64,7 @@ def merge_section(
             classes.append(xml)
             continue
         if xml.tag in _ACTUATOR_TAGS:
-            late = earlier or main._single_child(xml.tag) is not None
+            late = earlier or single_child(main, xml.tag) is not None
             kind = LateDefault if late else Element
             main._children.append(_read(main, xml, read_attributes, where, kind))
             continue
@@ -95,7 +95,7 @@ def _read(
 def _merge(main: Element, setting: Element) -> None:
     """Set `setting`'s attributes on the global default of its tag, numbers overlaying
     the numbers already there as MuJoCo reads them."""
-    existing = main._single_child(setting.spec.tag)
+    existing = single_child(main, setting.spec.tag)
     if existing is None:
         main._children.append(setting)
         return
@@ -117,8 +117,8 @@ def _pin(
     """Give `default_class` (defined before `setting` changes the global defaults) the
     values it copied of the attributes `setting` changes."""
     tag = setting.spec.tag
-    before = main._single_child(tag)
-    own = default_class._single_child(tag)
+    before = single_child(main, tag)
+    own = single_child(default_class, tag)
     pins: dict[str, Any] = {}
     for name, text in stored_attributes(setting).items():
         attribute = setting.spec.attributes[name]

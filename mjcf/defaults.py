@@ -27,7 +27,14 @@ import numpy as np
 
 from mjcf import attachment, errors, schema, traversal
 from mjcf import values as _values
-from mjcf.element import Element, stored_attributes, tree_children, value_of
+from mjcf.element import (
+    Element,
+    count_change,
+    stored_attributes,
+    tree_children,
+    value_of,
+    written_empty,
+)
 
 if TYPE_CHECKING:
     from mjcf.root import RootElement
@@ -173,7 +180,7 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
             else:
                 own = value_of(target, target.spec.attributes[name])
                 target._attrs[name] = _values.track(overlay(name, value, own), target)
-        target._modified()
+        count_change(target)
     if whole_model and names is None:
         for model in models:
             _remove_classes(model)
@@ -190,7 +197,7 @@ def _remove_classes(model: RootElement) -> None:
         child._unregister_subtree()
     model.default._children.clear()
     model.default._attrs.clear()
-    model._modified()
+    count_change(model)
 
 
 def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str]:
@@ -220,7 +227,7 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
             elif tag in _ACTUATOR_TAGS and child_tag in _ACTUATOR_TAGS:
                 source = child
                 _reset_shortcut(values, child_tag, tag)
-                if tag == "general" and child.spec.matters_empty and child._written_empty():
+                if tag == "general" and child.spec.matters_empty and written_empty(child):
                     raise errors.AttributeValueError(
                         f"{element.path}: its default class has a <{child_tag}>, which "
                         f"sets the actuator type a <{element.tag}> takes; commit_defaults "

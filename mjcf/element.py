@@ -44,23 +44,21 @@ class Element(ElementRules):
     model's scope is kept by `ElementNames`, the rules between its values by
     `ElementRules`.
 
-    Reading protocol: mjcf's modules read an element through `spec`, `parent` and `root`
-    and this module's functions `stored_attributes` (attribute name -> stored value: text
-    as read, or the converted value), `tree_children` and `value_of(element, attribute)`,
-    read-only and typed so; not through members, since an element's public names are its
-    MJCF attributes'.
+    Reading protocol: mjcf's modules read an element through `spec`, `parent`, `root` and
+    `is_removed` and this module's functions `stored_attributes` (attribute name -> stored
+    value: text as read, or the converted value), `tree_children`,
+    `value_of(element, attribute)`, `single_child(element, tag)`, `written_empty` and
+    `created_at`, read-only and typed so, and tell it of a change made in place with
+    `count_change`; not through members, since an element's public names are its MJCF
+    attributes'.
 
     Internal protocol: what the other mjcf modules may use of an element's private
     members; everything else is this module's (tests/mjcf/test_architecture.py holds every
     module to it, and lists who may use each). `_spec`, `_parent`, `_attrs` and
     `_children` are what the reading functions return, for the modules this one imports
     (which cannot import them) and the writer's per-element loop; `_source` is where
-    debug mode saw it made; any
-    module asks `_single_child(tag)`,
-    `_is_registered()`, `_implicit()` (named after its file, by MuJoCo),
-    `_written_empty()` (written even without attributes and children: a once-only
-    element made by reading `parent.<tag>` is not) and `_modified()` (count an in-place
-    change). The tree builders count such an element as put there with `_keep()`.
+    debug mode saw it made (`created_at`), set by the parser and copies. The tree
+    builders count an element made by reading `parent.<tag>` as put there with `_keep()`.
     Only the modules that build or rewrite
     trees (parser, copying, default_sections, defaults, attachment, root) make elements
     with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
@@ -623,6 +621,35 @@ def value_of(element: Element, attribute: AttributeSpec) -> Any:
     """The value of `element`'s attribute `attribute` as `getattr(element, name)` returns
     it (None if unset), converting and resolving text as read once (see `mjcf.values`)."""
     return element._get_value(attribute)
+
+
+def single_child(element: Element, tag: str) -> Element | None:
+    """The child of `element` with once-only `tag` in its own model's tree, or None if it
+    has none (unlike `get_children`, never made here)."""
+    return element._single_child(tag)
+
+
+def written_empty(element: Element) -> bool:
+    """Whether `element` is written even with no attributes and no children: one that
+    may repeat is, and one absent until added; another once-only one only if its presence
+    changes the model and it was put there, not made by reading `parent.<tag>` (see
+    `ElementSpec.matters_empty`)."""
+    return element._written_empty()
+
+
+def created_at(element: Element) -> debugging.SourceLocation | None:
+    """Where `element` was made (the Python line, or the file and line it was read from)
+    if debug mode was on then, else None (see `mjcf.debugging`)."""
+    return element._source
+
+
+# -- changing the tree: what mjcf's modules tell an element --------------------------------
+
+
+def count_change(element: Element) -> None:
+    """Count a change of `element`'s model made in place (not through the element's own
+    setters, which count theirs), so that its version grows (see `RootElement.version`)."""
+    element._modified()
 
 
 def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:

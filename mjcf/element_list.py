@@ -80,6 +80,6 @@ def children(element: Element, tag: str | None = None) -> list[Element]:
     if element.parent is not root or element.spec.tag in _OWN_SECTIONS:
         return found
     for model in ABOVE.attached_models(root):
-        section = model._section(element.spec.tag)
+        section = model.get_children(element.spec.tag)
         found.extend(c for c in section._children if tag is None or c.spec.tag == tag)
     return found

@@ -29,9 +29,9 @@ class ElementNames(ModelOperations):
 
     Internal protocol: the tree builders (see `Element`) record a new element's name with
     `_register()` (which raises mjcf.NameClashError if another element has it) and forget
-    a subtree's names with `_unregister_subtree()`; any module asks `_is_registered()`
-    (the element is in its model's tree) and `_implicit()` (named after its file, by
-    MuJoCo)."""
+    a subtree's names with `_unregister_subtree()`, and ask `_implicit()` (named after its
+    file, by MuJoCo) to give a copy's name the same standing. Whether an element is in its
+    model's tree is `Element.is_removed`."""
 
     __slots__ = ()
 

@@ -144,7 +144,7 @@ class FrameBinding:
         physics = self._physics
         if physics._stale & POS_BEHIND:
             physics._refresh()
-        data, holders = physics._data, self._holders
+        data, holders = physics.data, self._holders
         if name == "xpos":
             world = data.xpos[holders] + np.einsum(
                 "nij,nj->ni", data.xmat[holders].reshape(-1, 3, 3), pos
@@ -323,7 +323,7 @@ def _compiled_from(compiled: Compiled, element: Element) -> bool:
         compiled.composition.context(element.root)
     except errors.InvalidReferenceError:
         return False
-    return element._is_registered() or element is element.root.worldbody
+    return not element.is_removed or element is element.root.worldbody
 
 
 def _placement(element: Element, output: RootElement) -> tuple[Element, list[Element]]:

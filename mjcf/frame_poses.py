@@ -66,8 +66,8 @@ _FREE = int(mujoco.mjtJoint.mjJNT_FREE)
 def of(physics: Physics) -> FramePoses:
     """The frame poses of `physics`' current model, made when first needed."""
     poses = physics._frame_poses
-    if poses is None or poses.model is not physics._model:
-        poses = physics._frame_poses = FramePoses(physics._model)
+    if poses is None or poses.model is not physics.model:
+        poses = physics._frame_poses = FramePoses(physics.model)
     return poses
 
 

@@ -163,7 +163,7 @@ class FieldIndexer:
 
     def _raw(self) -> np.ndarray:
         physics = self._physics
-        source = physics._model if self._field.struct == "model" else physics._data
+        source = physics.model if self._field.struct == "model" else physics.data
         return getattr(source, self._field.name)
 
     def _refresh(self) -> None:
@@ -337,7 +337,7 @@ class StructView:
         return sorted({*super().__dir__(), *fields.indexed_fields(self._struct)})
 
     def _unknown(self, name: str) -> str:
-        raw = self._physics._model if self._struct == "model" else self._physics._data
+        raw = self._physics.model if self._struct == "model" else self._physics.data
         label = "MjModel" if self._struct == "model" else "MjData"
         if isinstance(getattr(raw, name, None), np.ndarray):
             return (

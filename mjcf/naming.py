@@ -35,6 +35,7 @@ from mjcf import attachment
 from mjcf.element import stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR, WORLD
 from mjcf.namescope import unescape as _unescape
+from mjcf.root import own_version
 
 if TYPE_CHECKING:
     from mjcf.attachment import AttachmentFrame
@@ -178,7 +179,7 @@ def _numbers(root: RootElement) -> dict[Element, int]:
     names they were written with, so it numbers its unnamed elements alike: writing,
     reading and writing again gives the same text."""
     models = attachment.attached_models(root)
-    key = (root._version, tuple((id(model), model._version) for model in models))
+    key = (own_version(root), tuple((id(model), own_version(model)) for model in models))
     cached = root._numbering
     if cached is not None and cached[0] == key:
         return cached[1]

@@ -42,7 +42,7 @@ from mjcf import (
     xsd,
 )
 from mjcf import values as _values
-from mjcf.element import Element, stored_attributes, tree_children
+from mjcf.element import Element, single_child, stored_attributes, tree_children
 from mjcf.namescope import PREFIX_SEPARATOR
 from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec, ElementSpec
@@ -186,9 +186,7 @@ def _parse(
         name = name.replace(PREFIX_SEPARATOR, "-")
     root = RootElement(model=name or None, model_dir=model_dir, assets=assets)
     object.__setattr__(root, "_confine_to", confine)
-    # References read stay text until a name changes (see mjcf.references).
-    mode = references.UNPINNED if resolve_references else references.BY_NAME
-    object.__setattr__(root, "_references", mode)
+    references.start_reading(root, resolve_references)
     if not strict_paths and _read_fast(
         root, xml_root, filename, escape_separators, resolve_references, exact
     ):
@@ -196,7 +194,7 @@ def _parse(
     builder = _Builder(root, filename, escape_separators)
     builder.build(xml_root)
     builder.link_unnamed()
-    object.__setattr__(root, "_referenced", builder.referenced())
+    references.record_read_names(root, builder.referenced())
     if resolve_references:
         builder.check_references()
     if strict_paths:
@@ -255,7 +253,7 @@ def _read_fast(
         if len(first):
             sections[tag]._defer(first)
     root.namescope.load(names)
-    object.__setattr__(root, "_referenced", referenced)
+    references.record_read_names(root, referenced)
     return True
 
 
@@ -560,7 +558,7 @@ class _Builder:
                         f"only one <{tag}>"
                     )
                 singles.add(tag)
-                existing = parent._single_child(tag)
+                existing = single_child(parent, tag)
                 if existing is not None:  # from an earlier copy of a repeated section
                     self._merge(existing, xml)
                     continue

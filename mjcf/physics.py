@@ -112,8 +112,8 @@ class Physics(StateAccess):
     state accessors (`get_state`, `set_control`, `position` ...) are `StateAccess`'s.
 
     Internal protocol, for bindings, named access and validity checks (the only mjcf modules
-    that use it; tests/mjcf/test_architecture.py holds them to it): they read `_model`,
-    `_data` and `_stale` (the bits of `mjcf.binding`), set bits of `_stale` after a write,
+    that use it; tests/mjcf/test_architecture.py holds them to it): besides `model` and
+    `data`, they read `_stale` (the bits of `mjcf.binding`), set bits of it after a write,
     call `_refresh()` before a read `_stale` says is behind, `_compute_on_demand(field)`
     for a field MuJoCo computes only for sensors, `_update_constants(undo, what)` after
     writing an input of mj_setConst, and `_raise_if_invalid()`. A binding adds itself to

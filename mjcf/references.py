@@ -24,10 +24,9 @@ names an element is replaced by that element (`before_name_change`, which the na
 scope calls). A model read with `resolve_references=False` keeps text as text, as
 dm_control does, until `resolve_references()`.
 
-Internal protocol: `RootElement._references` is this module's state of a model
-(`PINNED`, `UNPINNED` or `BY_NAME`) and `RootElement._forward` the elements of the model
-holding text references that named no element when set; only this module and the tree
-builders that copy models (`mjcf.copying`) change them.
+Internal protocol: `RootElement._references` holds this module's state of a model, a
+`ModelReferences`, which only this module reads and changes; the reader and copies set it
+up through `start_reading`, `record_read_names` and `copy_state`.
 """
 
 from __future__ import annotations
@@ -37,16 +36,59 @@ from typing import TYPE_CHECKING, Any
 from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from mjcf.element import Element
     from mjcf.root import RootElement
     from mjcf.schema import AttributeSpec
 
-# States of a model's references (`RootElement._references`).
-PINNED = 0  # every reference naming an element holds it, but those in `_forward`
+# How a model keeps its references (`ModelReferences.mode`).
+PINNED = 0  # every reference naming an element holds it, but those in `forward`
 UNPINNED = 1  # references read from a file are text still (see the module docstring)
 BY_NAME = 2  # read with resolve_references=False: text stays text
 _MAIN_CLASS = "main"
-ANY_NAMESPACE = "*"  # `_referenced`'s key of names referenced from default classes
+ANY_NAMESPACE = "*"  # `referenced`'s key of names referenced from default classes
+
+
+class ModelReferences:
+    """This module's state of one model's references: `mode` (`PINNED`, `UNPINNED` or
+    `BY_NAME`), `referenced` (the names references read from the model's file name, by
+    namespace, `ANY_NAMESPACE` for those of default classes; None: any name) and `forward`
+    (the elements of the model holding text references that named no element when set)."""
+
+    __slots__ = ("forward", "mode", "referenced")
+
+    def __init__(self) -> None:
+        self.mode = PINNED
+        self.referenced: dict[str, frozenset[str]] | None = None
+        self.forward: set[Element] = set()
+
+
+def _state(model: RootElement) -> ModelReferences:
+    return model._references
+
+
+def start_reading(model: RootElement, resolve_references: bool) -> None:
+    """The new, empty `model` is about to be read from a file: the references read are
+    kept as text, until a name changes if `resolve_references`, else until
+    `resolve_references()` (see the module docstring)."""
+    _state(model).mode = UNPINNED if resolve_references else BY_NAME
+
+
+def record_read_names(model: RootElement, referenced: dict[str, frozenset[str]]) -> None:
+    """Record the names that the references read from `model`'s file name, by namespace
+    (`ANY_NAMESPACE`: from default classes, of any namespace): a change of another name
+    leaves the references read as text."""
+    _state(model).referenced = referenced
+
+
+def copy_state(source: RootElement, copy: RootElement, copies: Mapping[int, Element]) -> None:
+    """Give `copy`, a new copy of model `source`, the state of `source`'s references;
+    `copies` maps `id(element)` of `source`'s elements to their copies."""
+    state, copied = _state(source), _state(copy)
+    copied.mode = state.mode
+    copied.referenced = state.referenced
+    copied.forward = {copies[id(e)] for e in state.forward if id(e) in copies}
 
 
 def stored(element: Element, attribute: AttributeSpec, value: Any) -> Any:
@@ -54,14 +96,15 @@ def stored(element: Element, attribute: AttributeSpec, value: Any) -> Any:
     an element, or a list of them) through the API: names resolved to the elements
     that have them now, unless the model keeps references by name."""
     root = element.root
-    if root._references == BY_NAME or not _has_text(value):
+    state = _state(root)
+    if state.mode == BY_NAME or not _has_text(value):
         return value
     namespace = attribute.reference_namespace(element._attrs)
     if namespace is None:
         return value
     resolved, unresolved = _resolve(root, namespace, attribute, value)
     if unresolved:
-        root._forward.add(element)
+        state.forward.add(element)
     return resolved
 
 
@@ -70,7 +113,8 @@ def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
     the element (or elements) it names, which it then holds, or the text if it names
     none or the model keeps references by name."""
     root = element.root
-    if root._references == BY_NAME or not value:
+    state = _state(root)
+    if state.mode == BY_NAME or not value:
         return value
     namespace = attribute.reference_namespace(element._attrs)
     if namespace is None:
@@ -79,9 +123,9 @@ def read(element: Element, attribute: AttributeSpec, value: str) -> Any:
     if resolved is not value:
         element._attrs[attribute.name] = resolved
         if unresolved:  # a list naming some elements, and some not yet
-            root._forward.add(element)
+            state.forward.add(element)
         else:
-            root._forward.discard(element)
+            state.forward.discard(element)
     return resolved
 
 
@@ -91,8 +135,8 @@ def before_name_change(model: RootElement, namespace: str | None, name: str | No
     `model` and in the models it is attached into (whose scoped names reach into it), is
     replaced by the element it names first. References read from a file name elements
     of their own model only ('/' is no part of them), and only the names the reader
-    recorded (`_referenced`), so a name none of them names leaves the model unbuilt."""
-    if model._references == UNPINNED and _read_reference(model, namespace, name):
+    recorded (`referenced`), so a name none of them names leaves the model unbuilt."""
+    if _state(model).mode == UNPINNED and _read_reference(model, namespace, name):
         pin_model(model)
     current: RootElement | None = model
     while current is not None:
@@ -105,7 +149,7 @@ def _read_reference(model: RootElement, namespace: str | None, name: str | None)
     names an attached model's element)."""
     if namespace is None or name is None:
         return False
-    referenced = model._referenced
+    referenced = _state(model).referenced
     if referenced is None:
         return True
     return name in referenced.get(namespace, ()) or name in referenced.get(ANY_NAMESPACE, ())
@@ -114,8 +158,9 @@ def _read_reference(model: RootElement, namespace: str | None, name: str | None)
 def pin_model(model: RootElement) -> None:
     """Make every text reference of `model` that names an element hold that element
     now, as reading it would (nothing for a model that keeps references by name)."""
-    if model._references == UNPINNED:
-        model._references = PINNED
+    state = _state(model)
+    if state.mode == UNPINNED:
+        state.mode = PINNED
         for element in model.iter():
             _pin(element)
     else:
@@ -124,13 +169,14 @@ def pin_model(model: RootElement) -> None:
 
 def _pin_forward(model: RootElement) -> None:
     """Make the text references set through the API that named no element when set
-    (`_forward`) hold the elements they name now."""
-    if model._forward and model._references != BY_NAME:
-        for element in list(model._forward):
-            if element._is_registered():
+    (`forward`) hold the elements they name now."""
+    state = _state(model)
+    if state.forward and state.mode != BY_NAME:
+        for element in list(state.forward):
+            if not element.is_removed:
                 _pin(element)
             else:
-                model._forward.discard(element)
+                state.forward.discard(element)
 
 
 def resolve_all(element: Element) -> None:
@@ -141,7 +187,7 @@ def resolve_all(element: Element) -> None:
     if element is element.root:
         models = [element.root, *ABOVE.attached_models(element.root)]
         for model in models:
-            model._references = PINNED
+            _state(model).mode = PINNED
             for item in model.iter():
                 _pin(item)
         return
@@ -151,7 +197,7 @@ def resolve_all(element: Element) -> None:
 
 def _pin(element: Element) -> None:
     """Replace the text references of `element` that name an element by that element;
-    remember `element` in its model's `_forward` if some name none."""
+    remember `element` in its model's `forward` if some name none."""
     attrs = element._attrs
     spec = element.spec
     if not spec.references or spec.references.isdisjoint(attrs):
@@ -169,10 +215,11 @@ def _pin(element: Element) -> None:
         resolved, missing = _resolve(root, namespace, attribute, value)
         attrs[name] = resolved
         unresolved = unresolved or missing
+    forward = _state(root).forward
     if unresolved:
-        root._forward.add(element)
+        forward.add(element)
     else:
-        root._forward.discard(element)
+        forward.discard(element)
 
 
 def _has_text(value: Any) -> bool:

@@ -18,7 +18,7 @@ import copy
 from typing import TYPE_CHECKING, Any
 
 from mjcf import errors, references, schema
-from mjcf.element import Element
+from mjcf.element import Element, count_change
 from mjcf.namescope import NameScope, check_model_name
 from mjcf.upcalls import ABOVE
 
@@ -34,8 +34,12 @@ class RootElement(Element):
     it is attached to another model); `model_dir` is where its relative file names
     are found; `assets` maps file names to contents for files that are not on disk.
 
-    Internal protocol, besides Element's: any mjcf module reads `_section(tag)` (a
-    top-level section) and `_version` (see `version`); `mjcf.namescope` asks
+    Reading protocol, besides Element's: mjcf's modules read a model's sections with
+    `section_of(model, tag)` and its own count of changes with `own_version(model)`,
+    functions of this module (a model's public names are its MJCF children's).
+
+    Internal protocol, besides Element's: `_version` is set by `mjcf.element` (a change)
+    and by copies (`mjcf.copying`); `mjcf.namescope` asks
     `_resolve(xml)` for an element not built yet (see `Element._defer`), and `_early`
     holds the elements built before their siblings, for `mjcf.element`; `_frame`
     (where this model is attached) and `_attachments` (the frames of the models
@@ -43,9 +47,9 @@ class RootElement(Element):
     `_numbering` is `mjcf.naming`'s cache of generated names; `_composed` is
     `mjcf.composition`'s cache of the last composition of each kind of output;
     `_confine_to` (the folder `strict_paths` confines files to) is set by the parser and
-    read by `mjcf.assets`; `_references`, `_referenced` and `_forward` are
-    `mjcf.references`' state of the model's references, which `mjcf.namescope` asks to
-    follow a name change with `_before_name_change(namespace, name)`.
+    read by `mjcf.assets`; `_references` is `mjcf.references`' state of the model's
+    references (a `references.ModelReferences`), which `mjcf.namescope` asks to follow a
+    name change with `_before_name_change(namespace, name)`.
     """
 
     __slots__ = (
@@ -54,12 +58,10 @@ class RootElement(Element):
         "_composed",
         "_confine_to",
         "_early",
-        "_forward",
         "_frame",
         "_model_dir",
         "_namescope",
         "_numbering",
-        "_referenced",
         "_references",
         "_version",
     )
@@ -73,9 +75,7 @@ class RootElement(Element):
     _numbering: tuple[tuple, dict[Element, int]] | None
     _composed: dict[tuple[bool, bool], Any] | None
     _early: dict[Any, Element]
-    _references: int
-    _referenced: dict[str, frozenset[str]] | None
-    _forward: set[Element]
+    _references: references.ModelReferences
     _version: int
 
     def __init__(
@@ -105,9 +105,7 @@ class RootElement(Element):
         # {lxml element: element built from it before its siblings} (see Element._defer).
         setter(self, "_early", {})
         # How references are kept, and those naming no element yet (see mjcf.references).
-        setter(self, "_references", references.PINNED)
-        setter(self, "_referenced", None)
-        setter(self, "_forward", set())
+        setter(self, "_references", references.ModelReferences())
         setter(self, "_version", 0)
         if model is not None:  # an unnamed model is written without a name, as it was read
             self._attrs["model"] = check_model_name(model)
@@ -133,7 +131,7 @@ class RootElement(Element):
             parent.remove_child(scope)
             self._attrs["model"] = new
             parent.add_child(scope)
-            parent.model._modified()
+            count_change(parent.model)
         else:
             self._attrs["model"] = new
         self._modified()
@@ -241,3 +239,18 @@ class RootElement(Element):
 
     def __repr__(self) -> str:
         return f"MJCF RootElement: model {self.model!r}"
+
+
+# -- reading a model: what mjcf's modules read of any model, besides an element's ----------
+
+
+def section_of(model: RootElement, tag: str) -> Element:
+    """The top-level section `tag` of `model` itself (not those of models attached to it);
+    raises mjcf.SchemaError for a tag that names no section."""
+    return model._section(tag)
+
+
+def own_version(model: RootElement) -> int:
+    """The number of changes of `model` itself, not counting those of the models attached
+    to it (see `RootElement.version`, which does)."""
+    return model._version

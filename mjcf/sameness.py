@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from mjcf import attachment
-from mjcf.element import Element, stored_attributes, tree_children, value_of
+from mjcf.element import Element, stored_attributes, tree_children, value_of, written_empty
 from mjcf.root import RootElement
 
 if TYPE_CHECKING:
@@ -120,7 +120,7 @@ def _same_children(element: Element, other: Element) -> bool:
 def _by_tag(element: Element) -> dict[str, list[Element]]:
     groups: dict[str, list[Element]] = {}
     for child in tree_children(element):
-        if not stored_attributes(child) and not tree_children(child) and not child._written_empty():
+        if not stored_attributes(child) and not tree_children(child) and not written_empty(child):
             continue
         groups.setdefault(child.spec.tag, []).append(child)
     return groups

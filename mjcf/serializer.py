@@ -23,7 +23,8 @@ import numpy as np
 
 from mjcf import assets as _assets
 from mjcf import attachment, bulk, composition, defaults, errors
-from mjcf.element import stored_attributes, tree_children, value_of
+from mjcf.element import stored_attributes, tree_children, value_of, written_empty
+from mjcf.root import own_version, section_of
 from mjcf.values import escape
 
 if TYPE_CHECKING:
@@ -245,7 +246,7 @@ class _Writer:
                     self.children(self.composed.written_assets(context), 2, context)
             elif tag != "worldbody":
                 for context in self.composed.attached_contexts():
-                    self.children(tree_children(context.model._section(tag)), 2, context)
+                    self.children(tree_children(section_of(context.model, tag)), 2, context)
             self._close(section, 1, mark)
 
     def _default_body(self, default: Element, context: composition.ModelContext) -> None:
@@ -335,7 +336,7 @@ class _Writer:
         if len(self.parts) == mark and not element.spec.repeated:
             opening = self.parts[-1]
             self._unemit()  # nothing inside: leave the section out, or close it at once
-            if stored_attributes(element) or element._written_empty():
+            if stored_attributes(element) or written_empty(element):
                 self._emit(opening[: opening.rindex(">")] + "/>" + self._newline(), element)
             return
         self._emit(f"{self._indent(depth)}</{element.spec.tag}>{self._newline()}")
@@ -379,7 +380,7 @@ class _Writer:
         the common case) the text is built in one pass; elsewhere (scoped names,
         converted values) `attributes` builds it. Either way the tag is self-closing when
         nothing is inside, and an empty once-only element is left out where that changes
-        nothing (`Element._written_empty`)."""
+        nothing (`mjcf.element.written_empty`)."""
         parts, owners = self.parts, self.owners
         indents, newline = self._indents, self._newline_text
         escaped_value, escaped_attributes = self._escaped_value, self._escaped_attributes
@@ -388,7 +389,7 @@ class _Writer:
         frame_spec = _FRAME_SPEC
         generated_name, rewrite = self.composed.generated_name, context.rewrite
         as_stored = context.names_only and not self.reformat
-        version = (context.model._version, context.token, self.precision, self.zero_threshold)
+        version = (own_version(context.model), context.token, self.precision, self.zero_threshold)
 
         def text_of(element: Element, depth: int, override: dict | None) -> str | None:
             """The attribute text of `element`'s tag; None for an attachment frame, which
@@ -427,7 +428,7 @@ class _Writer:
                     object.__setattr__(element, "_text", (version, text))
                 return text
             if spec.checked_on_write and (
-                attrs or tree_children(element) or element._written_empty()
+                attrs or tree_children(element) or written_empty(element)
             ):
                 check_required(element)
             cacheable = override is None and not special
@@ -452,7 +453,7 @@ class _Writer:
             children = element._children
             indent = indents[depth]
             if not children:
-                if text or element._written_empty():
+                if text or written_empty(element):
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return
@@ -465,7 +466,7 @@ class _Writer:
             if len(parts) == start + 1:
                 parts.pop()
                 owners.pop()
-                if text or element._written_empty():
+                if text or written_empty(element):
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")
                     owners.append(element)
                 return

@@ -38,6 +38,7 @@ import numpy as np
 
 from mjcf import errors, schema
 from mjcf.element import stored_attributes, tree_children, value_of
+from mjcf.root import section_of
 from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> M
         skip = FILE_SETTINGS if tag == "compiler" else frozenset()
         if tag == "compiler" and model is not root:
             skip = skip | CONVERTED_SETTINGS | OUTPUT_SETTINGS
-        _merge_into(result, model._section(tag), model, skip)
+        _merge_into(result, section_of(model, tag), model, skip)
     if tag == "compiler" and len(models) > 1:
         limits = {setting(model, "autolimits") for model in models}
         if len(limits) > 1:
@@ -123,8 +124,8 @@ def check_compatible(parent: RootElement, child: RootElement, inertia: bool = Tr
         inertia_setting([parent, child])
     for tag in ("option", "size", "visual", "statistic"):
         merged = MergedSettings()
-        _merge_into(merged, parent._section(tag), parent, frozenset())
-        _merge_into(merged, child._section(tag), child, frozenset())
+        _merge_into(merged, section_of(parent, tag), parent, frozenset())
+        _merge_into(merged, section_of(child, tag), child, frozenset())
 
 
 def _merge_into(
@@ -175,7 +176,7 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
     (`memory` then in bytes: '1M' over '10000' is '1048576')."""
     needed: dict[str, tuple[object, int | None]] = {}
     for model in (child, *ABOVE.attached_models(child)):
-        size = model._section("size")
+        size = section_of(model, "size")
         for name in stored_attributes(size):
             value = value_of(size, size.spec.attributes[name])
             capacity = _capacity(name, value)
@@ -184,7 +185,7 @@ def absorb_capacities(parent: RootElement, child: RootElement) -> None:
                 capacity is not None and held[1] is not None and capacity > held[1]
             ):
                 needed[name] = (value, capacity)
-    size = parent._section("size")
+    size = section_of(parent, "size")
     changes: dict[str, object] = {}
     for name, (value, capacity) in needed.items():
         mine = value_of(size, size.spec.attributes[name])
@@ -226,14 +227,14 @@ def same(attribute: AttributeSpec, a: object, b: object) -> bool:
 
 def _explicit_setting(model: RootElement, name: str) -> Any:
     """A compiler setting `model` sets itself, or None."""
-    compiler = model._section("compiler")
+    compiler = section_of(model, "compiler")
     return value_of(compiler, compiler.spec.attributes[name])
 
 
 def setting(model: RootElement, name: str) -> Any:
     """A compiler setting of `model`: its explicit value, or MuJoCo's default (of the
     setting's own type)."""
-    compiler = model._section("compiler")
+    compiler = section_of(model, "compiler")
     attribute = compiler.spec.attributes[name]
     value = value_of(compiler, attribute)
     if value is None and attribute.default is not None:

@@ -39,6 +39,7 @@ import numpy as np
 
 from mjcf import assets, defaults, errors
 from mjcf.element import stored_attributes, tree_children
+from mjcf.root import section_of
 
 if TYPE_CHECKING:
     from mjcf.element import Element
@@ -57,7 +58,7 @@ def shared_assets(models: list[RootElement]) -> dict[Element, Element]:
     shared: dict[Element, Element] = {}
     for model in models:
         seen: dict[tuple, int] = {}
-        for element in tree_children(model._section("asset")):
+        for element in tree_children(section_of(model, "asset")):
             if element.spec.tag not in SHARED_TAGS:
                 continue
             key = _compiled_key(element)

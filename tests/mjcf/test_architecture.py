@@ -34,10 +34,13 @@ ANY = None  # every mjcf module
 TREE_BUILDERS = frozenset(
     {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
 )
+# The modules that read and write a physics' state for bindings and named access: every read
+# tests `_stale` and calls `_refresh()` inline, the per-read path (bench bind), where a call
+# more would cost; they read the raw MjModel and MjData through `model` and `data`.
 SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
-# Who keeps a model's references state: the module of the rules, and the readers and
-# copiers that make models.
-REFERENCE_KEEPERS = frozenset({"references", "parser", "copying"})
+# A model's references state is `mjcf.references`' own, kept on the model (one reach, the
+# state's only reader); the reader and copies set it up through that module's functions.
+REFERENCES = frozenset({"references"})
 # Element's bases and the tree modules below it, which `mjcf.element` imports: they cannot
 # import its reading functions, and are part of what an element is.
 BELOW_ELEMENT = frozenset({"element_names", "element_rules", "element_list", "references"})
@@ -58,12 +61,12 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
         TREE_BUILDERS | {"references"},
     ),
     "_children": ("element.Element", TREE_BUILDERS | BELOW_ELEMENT | WRITER, TREE_BUILDERS),
-    "_source": ("element.Element", ANY, frozenset({"parser", "copying"})),
-    "_single_child": ("element.Element", ANY, frozenset()),
-    "_is_registered": ("element_names.ElementNames", ANY, frozenset()),
-    "_implicit": ("element_names.ElementNames", ANY, frozenset()),
-    "_modified": ("element.Element", ANY, frozenset()),
-    "_written_empty": ("element.Element", ANY, frozenset()),
+    "_source": (
+        "element.Element",
+        frozenset({"parser", "copying"}),
+        frozenset({"parser", "copying"}),
+    ),
+    "_implicit": ("element_names.ElementNames", TREE_BUILDERS, frozenset()),
     "_keep": ("element.Element", TREE_BUILDERS, frozenset()),
     "_make": ("element.Element", TREE_BUILDERS, frozenset()),
     "_register": ("element_names.ElementNames", TREE_BUILDERS | {"element"}, frozenset()),
@@ -75,19 +78,18 @@ PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
     "_resolve": ("root.RootElement", frozenset({"namescope"}), frozenset()),
     "_early": ("root.RootElement", frozenset({"element"}), frozenset({"element"})),
     "_child_built_from": ("element.Element", frozenset({"root"}), frozenset()),
-    "_section": ("root.RootElement", ANY, frozenset()),
-    "_version": ("root.RootElement", ANY, frozenset({"element", "copying"})),
+    "_version": (
+        "root.RootElement",
+        frozenset({"element", "copying"}),
+        frozenset({"element", "copying"}),
+    ),
     "_frame": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
     "_attachments": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
     "_numbering": ("root.RootElement", frozenset({"naming"}), frozenset({"naming"})),
     "_composed": ("root.RootElement", frozenset({"composition"}), frozenset({"composition"})),
     "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
-    "_references": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
-    "_forward": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
-    "_referenced": ("root.RootElement", REFERENCE_KEEPERS, REFERENCE_KEEPERS),
+    "_references": ("root.RootElement", REFERENCES, frozenset()),
     "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
-    "_model": ("physics.Physics", SIMULATION, frozenset()),
-    "_data": ("physics.Physics", SIMULATION, frozenset()),
     "_stale": ("physics.Physics", SIMULATION, frozenset({"binding"})),
     "_refresh": ("physics.Physics", SIMULATION, frozenset()),
     "_compute_on_demand": ("physics.Physics", SIMULATION, frozenset()),
