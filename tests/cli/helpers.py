@@ -22,9 +22,11 @@ def environment(**extra: str) -> dict[str, str]:
 
 
 def composer(
-    *args: str, cwd: Path, env: dict[str, str] | None = None, timeout: float = 120
+    *args: str, cwd: Path, env: dict[str, str] | None = None, timeout: float = 300
 ) -> subprocess.CompletedProcess[str]:
-    """`python -m composer ARGS` in `cwd`; its exit status and output."""
+    """`python -m composer ARGS` in `cwd`; its exit status and output. The timeout only
+    catches a command that never ends: a 5 s `composer eval` took over 120 s once, on a
+    machine whose other processes left the suite a small share of its 2 cores."""
     return subprocess.run(
         [sys.executable, "-m", "composer", *args], cwd=cwd, env=env or environment(),
         capture_output=True, text=True, timeout=timeout, check=False,
