@@ -160,7 +160,8 @@ def _finish(
         f"trained {progress.timesteps:,} steps in {describe.duration(progress.wall_time)} "
         f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
     )
-    print(f"watch it: composer run {info.name} --policy {out} --video {info.name}.mp4")
+    print(f"watch it: composer run {catalog.command_line(info)} --policy {out} "
+          f"--video {info.name}.mp4")  # fmt: skip
 
 
 def _record(info: TaskInfo, trainer: Trainer, path: Path) -> Path:

@@ -41,9 +41,10 @@ from stable_baselines3.common.vec_env import (
 from composer import sb3
 from composer.cli import catalog, describe, output, progress, recipes
 from composer.cli.engines import base
+from composer.cli.engines.sb3 import encoder
 from composer.cli.engines.sb3.files import NAME, NORMALIZATION, Checkpoint, NormalizedPolicy
 from composer.cli.engines.sb3.policy import ALGORITHMS
-from composer.cli.errors import MissingExtraError, OutputError
+from composer.cli.errors import CliError, MissingExtraError, OutputError
 from composer.registration import TaskInfo, make_environment
 
 # -- environments and models -------------------------------------------------------------
@@ -108,7 +109,9 @@ def algo_kwargs(recipe: recipes.Recipe) -> dict[str, Any]:
         "learning_rate": recipe.learning_rate,
         "batch_size": recipe.batch_size,
         "gamma": recipe.gamma,
-        "policy_kwargs": {"net_arch": list(recipe.net)},
+        "policy_kwargs": (
+            encoder.policy_kwargs(recipe) if recipe.pixels else {"net_arch": list(recipe.net)}
+        ),
     }
     if recipe.algo == "ppo":
         return {**common, "n_steps": recipe.n_steps, "n_epochs": recipe.n_epochs,
@@ -127,16 +130,26 @@ def new_model(
     recipe: recipes.Recipe, venv: VecEnv, seed: int, tensorboard: str | None = None
 ) -> BaseAlgorithm:
     """A fresh model of `recipe`'s algorithm on `venv`, on the CPU, logging to TensorBoard
-    in the folder `tensorboard` if given."""
-    return ALGORITHMS[recipe.algo](
-        "MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tensorboard,
-        **algo_kwargs(recipe),
+    in the folder `tensorboard` if given; a pixel recipe's with its encoder (`encoder`),
+    whose settings the model keeps as plain JSON for its policy file."""
+    model = ALGORITHMS[recipe.algo](
+        "CnnPolicy" if recipe.pixels else "MlpPolicy", venv, seed=seed, device="cpu",
+        tensorboard_log=tensorboard, **algo_kwargs(recipe),
     )  # fmt: skip
+    if recipe.pixels:
+        setattr(model, encoder.SETTINGS_KEY, encoder.settings(recipe))
+    return model
 
 
 def require(args: argparse.Namespace) -> None:
-    """Raise now, before training, if `--tensorboard DIR` cannot work: MissingExtraError
-    without TensorBoard, OutputError when DIR cannot be written."""
+    """Raise now, before training, if `--tensorboard DIR` cannot work (MissingExtraError
+    without TensorBoard, OutputError when DIR cannot be written), or `--vec batched` is
+    given for frames (CliError: the batch has no camera observations)."""
+    if args.vec == "batched" and catalog.observes_pixels(args.info):
+        raise CliError(
+            f"{args.info.name} is observed through its camera, and --vec batched steps "
+            "environments without frames: give --vec dummy or --vec subproc"
+        )
     if args.tensorboard is None:
         return
     try:
