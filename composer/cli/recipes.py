@@ -23,9 +23,9 @@ with `pixels=True`: see `catalog.observes_pixels`) trains with its pixel recipes
 (`pixels=True`), the first of them its default, else GENERIC_PIXELS. A pixel recipe's
 network is a small convolutional encoder (`conv`: (channels, kernel, stride) per layer,
 ReLU after each, then a linear layer of `features` units; `composer.cli.engines.sb3.encoder`)
-under the `net` heads; frames are scaled to [0, 1] by the policy, so a pixel recipe does not
-`normalize`, and its environments are stepped one by one ('dummy' or 'subproc': the batch
-has no camera observations).
+under the `net` heads; frames are scaled to [0, 1] by the policy, so a pixel recipe's
+`normalize` scales rewards only, and its environments are stepped one by one ('dummy' or
+'subproc': the batch has no camera observations).
 
 A recipe is written as stable-baselines3 reads it (per-environment rollout length, replay
 size ...); each engine translates it (`composer.cli.engines`). Where an engine was measured
@@ -73,7 +73,8 @@ class Recipe:
     gamma: float = 0.99
     vec: str = "dummy"
     # Observations and rewards scaled by running statistics (VecNormalize); the observation
-    # statistics are saved inside the policy .zip, so `run` and `eval` apply them too.
+    # statistics are saved inside the policy .zip, so `run` and `eval` apply them too. A
+    # pixel recipe's frames are scaled by its policy: it normalizes rewards only.
     normalize: bool = False
     # PPO: steps per environment per update, epochs over them, entropy bonus.
     n_steps: int = 256
@@ -153,13 +154,12 @@ def register(task: Callable[..., Any], *recipes: Recipe) -> None:
                     f"register({_name(task)}): the {recipe.algo} recipe's changes for "
                     f"engine {engine!r} name fields a Recipe does not have: {unknown}"
                 )
-        if recipe.pixels and (recipe.normalize or recipe.vec == "batched"):
+        if recipe.pixels and recipe.vec == "batched":
             raise RecipeError(
-                f"register({_name(task)}): the {recipe.algo} pixel recipe cannot "
-                + ("normalize (its policy scales frames to [0, 1])" if recipe.normalize else
-                   "step its environments as one batch (vec='batched' has no frames); "
-                   "give vec='dummy' or 'subproc'")
-            )  # fmt: skip
+                f"register({_name(task)}): the {recipe.algo} pixel recipe cannot step its "
+                "environments as one batch (vec='batched' has no frames); give vec='dummy' "
+                "or 'subproc'"
+            )
         if recipe.pixels and (not recipe.conv or recipe.features < 1):
             raise RecipeError(
                 f"register({_name(task)}): the {recipe.algo} pixel recipe needs conv layers "

@@ -70,7 +70,8 @@ def vec_env(
 ) -> VecEnv:
     """`recipe.n_envs` environments of `info`'s task, stepped as `recipe.vec` says, with
     episode statistics (VecMonitor) and seeds seed, seed + 1, ...; normalized when the
-    recipe says so, with the statistics saved at `normalization` if given."""
+    recipe says so (a pixel recipe's rewards only), with the statistics saved at
+    `normalization` if given."""
     kwargs = catalog.environment_kwargs(info)
     if recipe.vec == "batched":
         venv: VecEnv = sb3.make_vec_env(info.task, recipe.n_envs, **kwargs)
@@ -85,14 +86,16 @@ def vec_env(
         return venv
     if normalization is not None:
         return VecNormalize.load(str(normalization), venv)
-    return VecNormalize(venv, gamma=recipe.gamma)
+    # Frames are scaled by the policy itself: a pixel recipe normalizes rewards only.
+    return VecNormalize(venv, gamma=recipe.gamma, norm_obs=not recipe.pixels)
 
 
 def keep_normalization(model: BaseAlgorithm) -> None:
     """Copy the training environments' observation statistics into the model (as
-    NORMALIZATION, saved in its .zip) for the policies served from it."""
+    NORMALIZATION, saved in its .zip) for the policies served from it; none when only
+    rewards are normalized."""
     normalize = model.get_vec_normalize_env()
-    if normalize is not None:
+    if normalize is not None and normalize.norm_obs:
         statistics = normalize.obs_rms
         assert isinstance(statistics, RunningMeanStd), "observations are one vector"
         setattr(model, NORMALIZATION, {
