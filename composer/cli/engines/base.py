@@ -349,8 +349,8 @@ def check_spaces(source: object, policy: Any, env: gymnasium.Env) -> None:
         if theirs.shape == ours.shape or _channels_first(ours.shape) == theirs.shape:
             continue
         hint = "was it trained on another task?"
-        if label == "observations" and len(theirs.shape) != len(ours.shape):
-            frames = len(theirs.shape) == 3
+        if label == "observations" and len(theirs.shape or ()) != len(ours.shape or ()):
+            frames = len(theirs.shape or ()) == 3
             hint = "it was trained " + ("from pixels: give --pixels" if frames else
                                         "on the task's state: leave out --pixels")  # fmt: skip
         raise PolicyError(

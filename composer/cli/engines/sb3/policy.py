@@ -104,7 +104,7 @@ def plain_policy(
         kwargs = {k: v for k, v in kwargs.items() if k not in _ENCODER_PICKLES}
     settings = _plain(file, {"policy_kwargs": kwargs}, "policy_kwargs", {})
     observation_space = env.observation_space
-    if pixel_encoder is not None:
+    if pixel_encoder is not None and isinstance(observation_space, gymnasium.spaces.Box):
         # Trained on VecTransposeImage's channels-first frames; `predict` transposes.
         observation_space = VecTransposeImage.transpose_space(observation_space)
         settings.update(features_extractor_class=encoder.PixelEncoder,
