@@ -22,7 +22,8 @@ checks this on the real source.
 
     foundation:  errors arguments output progress video plot recipes catalog rollout describe
     contract:    engines.base
-    engines:     engines.sb3.files engines.sb3.policy engines.sb3.training engines.sb3
+    engines:     engines.sb3.files engines.sb3.encoder engines.sb3.policy engines.sb3.training
+                 engines.sb3
                  engines.ray.files engines.ray.policy engines.ray.algorithm
                  engines.ray.instance engines.ray.training engines.ray
     registry:    engines

@@ -3,14 +3,21 @@
     infos = catalog.tasks()                  # {'Reach': TaskInfo(...), ...}, after `import tasks`
     info = catalog.find('reach')             # by name, any case, or by id 'composer/Reach-v0'
     env = catalog.make(info, render_mode='rgb_array')   # observations flattened by default
+    info = catalog.with_pixels(info)         # `--pixels`: observed through its camera
 
 `find` raises UnknownTaskError with a did-you-mean and the known names. Extra modules that
 register tasks (a user's own) are imported with `catalog.import_modules(['mypkg.tasks'])`,
 from the current folder first, as `python -m` finds them.
+
+`--pixels` (of `train`, `run` and `eval`) observes a task through its camera, as its pixel
+recipes were measured: `with_pixels(info)` is the task as
+`gym.make(id, pixels=True, width=64, height=64, frame_stack=3)` makes it (PIXELS; see
+`composer.pixels`), named NAME-pixels (its runs' default folder: runs/NAME-pixels-ALGO).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import importlib
 import os
@@ -21,11 +28,16 @@ from typing import Any
 from composer import registration
 from composer.cli.errors import CliError, UnknownTaskError
 from composer.environment import Environment
+from composer.pixels import PixelEnvironment
 
 SHIPPED = "tasks"
 # Shadow map size for CLI frames: MuJoCo's default 4096 costs about 5x per frame on software
 # OpenGL (Mesa llvmpipe, the usual headless EGL) and looks the same at 320x240.
 SHADOW_SIZE = 1024
+# `--pixels`: 64x64 frames of the task's camera (small enough for a CNN on a CPU), the latest
+# three stacked so a policy sees motion.
+PIXELS = {"pixels": True, "width": 64, "height": 64, "frame_stack": 3}
+PIXELS_SUFFIX = "-pixels"
 
 
 def import_modules(modules: Iterable[str]) -> None:
@@ -81,12 +93,37 @@ def find(name: str) -> registration.TaskInfo:
     raise UnknownTaskError(f"unknown task {name!r}{hint} Known tasks: {', '.join(known)}")
 
 
+def with_pixels(info: registration.TaskInfo) -> registration.TaskInfo:
+    """`info`'s task observed through its camera as `--pixels` says (PIXELS over its
+    defaults), named NAME-pixels."""
+    if observes_pixels(info):
+        return info
+    return dataclasses.replace(
+        info, name=info.name + PIXELS_SUFFIX, default_kwargs={**info.default_kwargs, **PIXELS}
+    )
+
+
+def command_line(info: registration.TaskInfo) -> str:
+    """How a command names `info`'s task: 'CartpoleSwingup', or 'CartpoleSwingup --pixels'
+    for `with_pixels`' variant."""
+    base = info.name.removesuffix(PIXELS_SUFFIX)
+    if base != info.name and observes_pixels(info):
+        return f"{base} --pixels"
+    return info.name
+
+
+def observes_pixels(info: registration.TaskInfo) -> bool:
+    """Whether `info`'s environment is observed through a camera (`pixels=True`)."""
+    return bool(info.default_kwargs.get("pixels"))
+
+
 def make(
     info: registration.TaskInfo, *, flatten: bool = True, render_mode: str | None = None
-) -> Environment:
+) -> Environment | PixelEnvironment:
     """Build `info`'s environment with its registered defaults, observations flattened into
-    one vector unless `flatten` is False (what stable-baselines3's MlpPolicy takes); with a
-    render mode, its shadow map is at most SHADOW_SIZE pixels."""
+    one vector unless `flatten` is False (what stable-baselines3's MlpPolicy takes); a
+    PixelEnvironment when `observes_pixels(info)`. With a render mode, its shadow map is at
+    most SHADOW_SIZE pixels."""
     env = registration.make_environment(info.task, **environment_kwargs(info, flatten, render_mode))
     if render_mode is not None:
         quality = env.physics.model.vis.quality

@@ -77,6 +77,7 @@ def parser(imports: Sequence[str] = ()) -> argparse.ArgumentParser:
     formats = " or ".join(video.VIDEO_FORMATS)  # the ones `video.target` accepts
     run.add_argument("--video", help=f"write the episodes to this {formats} file")
     run.add_argument("--seed", type=int, default=0, help="seed of episode 1 (default: 0)")
+    _pixels(run)
 
     view = _command(commands, "view", "watch a policy in MuJoCo's interactive viewer")
     _task(view)
@@ -100,6 +101,7 @@ def parser(imports: Sequence[str] = ()) -> argparse.ArgumentParser:
         help=f"seed of episode 1 (default: {rollout.EVAL_SEED}, as in training's evaluations: "
         "with as many --episodes, eval repeats the last one)",
     )  # fmt: skip
+    _pixels(evaluate)
     return top
 
 
@@ -129,6 +131,7 @@ def _train_command(commands: argparse._SubParsersAction, imports: Sequence[str])
         "--eval-episodes", type=positive_int, default=10, help="per evaluation (default: 10)"
     )
     train.add_argument("--no-video", action="store_true", help="skip the trained policy's video")
+    _pixels(train)
     summaries = [
         engine.summary + (" (default)" if engine.name == engines.DEFAULT else "")
         for engine in every
@@ -155,6 +158,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         catalog.import_modules(args.imports)
         if "task" in args:  # found before the command's module imports torch: fails fast
             args.info = catalog.find(args.task)
+            if getattr(args, "pixels", False):
+                args.info = catalog.with_pixels(args.info)
         command = importlib.import_module(COMMANDS[args.command])
         return command.run(args)
     except (errors.Error, mjcf.RenderError) as e:
@@ -206,9 +211,13 @@ def recipe_table(imports: Sequence[str] = ()) -> str:
         except registration.RegistrationError:  # `composer list` says why it is unavailable
             continue
         for r in own:
-            net = "x".join(map(str, r.net))
-            rows.append((name, r.algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
+            task = f"{name} --pixels" if r.pixels else name
+            net = ("cnn+" if r.pixels else "") + "x".join(map(str, r.net))
+            rows.append((task, r.algo, f"{r.timesteps:,}", str(r.n_envs), r.vec, net,
                          f"{r.learning_rate:g}", str(r.batch_size), f"{r.gamma:g}"))  # fmt: skip
+            if r.pixels:
+                layers = ", ".join(f"{c} {k}x{k} stride {s}" for c, k, s in r.conv)
+                changes.append(f"{task} {r.algo}: cnn = conv {layers}, {r.features} features")
             changes += [
                 f"--engine {engine}: {name} {r.algo} with "
                 + ", ".join(f"{field}={value}" for field, value in changed.items())
@@ -237,6 +246,16 @@ def _imports(words: Sequence[str]) -> list[str]:
         elif not word.startswith("-") and (index == 0 or words[index - 1] != "--import"):
             break
     return found
+
+
+def _pixels(command: argparse.ArgumentParser) -> None:
+    size = f"{catalog.PIXELS['width']}x{catalog.PIXELS['height']}"
+    command.add_argument(
+        "--pixels", action="store_true",
+        help=f"observe the task through its camera: {size} frames, the latest "
+        f"{catalog.PIXELS['frame_stack']} stacked (gym.make(id, pixels=True, ...)); a policy "
+        "trained with --pixels needs it",
+    )  # fmt: skip
 
 
 def _trust_policy(command: argparse.ArgumentParser) -> None:

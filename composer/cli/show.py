@@ -36,6 +36,7 @@ from gymnasium.spaces import flatdim
 from composer.cli import catalog, output, rollout, video
 from composer.entity import Entity
 from composer.environment import Environment
+from composer.pixels import PixelEnvironment
 
 NO_BREAK = "\N{NO-BREAK SPACE}"
 
@@ -74,7 +75,7 @@ def _values(count: int) -> str:
     return f"{count} value{'s' if count != 1 else ''}"
 
 
-def _timesteps(env: Environment, time_limit: float | None) -> str:
+def _timesteps(env: Environment | PixelEnvironment, time_limit: float | None) -> str:
     task = env.task
     text = (
         f"physics {task.physics_timestep:g} s, control {task.control_timestep:g} s "
@@ -86,7 +87,7 @@ def _timesteps(env: Environment, time_limit: float | None) -> str:
     return f"{text}; time limit {time_limit:g} s ({steps} steps)"
 
 
-def scene_lines(env: Environment) -> Iterator[str]:
+def scene_lines(env: Environment | PixelEnvironment) -> Iterator[str]:
     """Lines describing each entity and the bodies, joints and actuators it owns."""
     root = env.task.root_entity
     scopes = {entity: entity.scope_in(root) for entity in root.iter_entities()}

@@ -4,6 +4,7 @@ on this machine (the default) or with RLlib on Ray (`--engine ray`, docs/ray.md)
     $ composer train                      # Reach, with its recipe (see `composer train --help`)
     $ composer train CartpoleSwingup --algo ppo --timesteps 200000 --n-envs 8 --out runs/cp
     $ composer train CartpoleSwingup --engine ray --workers 2
+    $ composer train CartpoleSwingup --pixels     # from 64x64 camera frames (docs/training)
 
 Writes into the output folder (default runs/TASK-ALGO, with Ray runs/TASK-ALGO-ray) the
 policy (`policy.zip`, with Ray the folder `policy/`; for `composer run` and `composer
@@ -16,7 +17,9 @@ checkpoint and exits with status 130; the same command then resumes it, up to
 it on to a larger `--timesteps`) or `--fresh` (replace it) says what to do, and one holding
 another engine's run is refused (`composer.cli.run_folder` keeps these rules).
 Evaluations (deterministic actions, fixed seeds) run every `--eval-every` timesteps, a
-tenth of the run by default; each saves a checkpoint.
+tenth of the run by default; each saves a checkpoint. `--pixels` observes the task through
+its camera (`catalog.with_pixels`) and trains with its pixel recipe, into
+runs/TASK-pixels-ALGO; `composer run` and `composer eval` take `--pixels` for its policy.
 
 This module is the command, one for every engine: it sees them only through their contract
 (`composer.cli.engines`): the chosen engine's checks, trainer and policy name. An option of
@@ -160,7 +163,8 @@ def _finish(
         f"trained {progress.timesteps:,} steps in {describe.duration(progress.wall_time)} "
         f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
     )
-    print(f"watch it: composer run {info.name} --policy {out} --video {info.name}.mp4")
+    print(f"watch it: composer run {catalog.command_line(info)} --policy {out} "
+          f"--video {info.name}.mp4")  # fmt: skip
 
 
 def _record(info: TaskInfo, trainer: Trainer, path: Path) -> Path:

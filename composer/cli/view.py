@@ -29,6 +29,7 @@ import mujoco
 from composer.cli import catalog, describe, engines, rollout
 from composer.cli.errors import CliError
 from composer.environment import Environment
+from composer.pixels import PixelEnvironment
 
 
 class DisplayError(CliError):
@@ -73,7 +74,7 @@ def open_viewer_module() -> Any:
 
 
 def watch(
-    env: Environment,
+    env: Environment | PixelEnvironment,
     policy: rollout.Policy,
     viewer: Any,
     seed: int = 0,
@@ -116,7 +117,7 @@ class _Window:
     threads: set[threading.Thread]
 
     @classmethod
-    def open(cls, env: Environment, viewer: Any) -> _Window:
+    def open(cls, env: Environment | PixelEnvironment, viewer: Any) -> _Window:
         """A passive viewer of `env`'s model and data, at the task's render camera if it
         names one; raises DisplayError where the viewer cannot run (macOS outside mjpython)."""
         physics = env.physics

@@ -18,8 +18,8 @@ from tests.cli.policies import ray_policy_folder, trained
 from tests.cli.test_cli_architecture import cli_modules
 
 # The modules that run stable-baselines3 (and torch), imported only to load its policies
-# or to train with it.
-SB3_RUNNERS = {"engines.sb3.policy", "engines.sb3.training"}
+# or to train with it (the pixel recipes' encoder is a torch module).
+SB3_RUNNERS = {"engines.sb3.encoder", "engines.sb3.policy", "engines.sb3.training"}
 
 
 @pytest.mark.parametrize(

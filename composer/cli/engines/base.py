@@ -340,16 +340,30 @@ class Engine(abc.ABC, Generic[CheckpointType]):
 
 def check_spaces(source: object, policy: Any, env: gymnasium.Env) -> None:
     """Raise PolicyError unless `policy`'s observation and action spaces have the shapes of
-    `env`'s; `source` names where the policy came from."""
+    `env`'s (frames channels first or last alike: stable-baselines3 trains on them turned
+    around); `source` names where the policy came from."""
     for label, theirs, ours in (
         ("observations", policy.observation_space, env.observation_space),
         ("actions", policy.action_space, env.action_space),
     ):
-        if theirs.shape != ours.shape:
-            raise PolicyError(
-                f"{source} was trained with {label} of shape {theirs.shape}, but this task "
-                f"has {ours.shape}: was it trained on another task?"
-            )
+        if theirs.shape == ours.shape or _channels_first(ours.shape) == theirs.shape:
+            continue
+        hint = "was it trained on another task?"
+        if label == "observations" and len(theirs.shape or ()) != len(ours.shape or ()):
+            frames = len(theirs.shape or ()) == 3
+            hint = "it was trained " + ("from pixels: give --pixels" if frames else
+                                        "on the task's state: leave out --pixels")  # fmt: skip
+        raise PolicyError(
+            f"{source} was trained with {label} of shape {theirs.shape}, but this task "
+            f"has {ours.shape}: {hint}"
+        )
+
+
+def _channels_first(shape: tuple[int, ...] | None) -> tuple[int, ...] | None:
+    """A frame's shape (height, width, channels) as (channels, height, width)."""
+    if shape is None or len(shape) != 3:
+        return None
+    return (shape[2], shape[0], shape[1])
 
 
 # -- a training session --------------------------------------------------------------------

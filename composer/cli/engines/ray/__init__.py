@@ -23,9 +23,10 @@ from typing import TYPE_CHECKING
 
 import gymnasium
 
-from composer.cli import arguments
+from composer.cli import arguments, catalog
 from composer.cli.engines import base
 from composer.cli.engines.ray import files
+from composer.cli.errors import CliError
 from composer.registration import TaskInfo
 
 if TYPE_CHECKING:
@@ -67,8 +68,17 @@ class RayEngine(base.Engine[files.Checkpoint]):
         return hints
 
     def prepare(self, args: argparse.Namespace) -> None:
-        """Ray's RLlib and torch importable, in token mode for a cluster that has one."""
+        """Ray's RLlib and torch importable, in token mode for a cluster that has one; a
+        task observed through its camera is refused (CliError): the env runners' batch
+        (`composer.VectorEnvironment`) has no camera observations yet."""
         from composer.cli.engines.ray import instance
+
+        if catalog.observes_pixels(args.info):
+            raise CliError(
+                f"--engine ray cannot train {args.info.name} yet: its env runners step their "
+                "environments as one composer.VectorEnvironment, which has no camera "
+                "observations; train from pixels with --engine sb3 (docs/training)"
+            )
 
         instance.authenticate(args.address)  # before Ray is imported
         files.require_ray()

@@ -8,7 +8,8 @@ A stable-baselines3 .zip holds `data` (JSON, where every value that is not plain
 pickled Python object: classes, schedules, spaces, buffers), `policy.pth` (the network's
 weights) and the optimizer's state. `stable_baselines3.PPO.load` unpickles all of it, and
 unpickling runs whatever code the file's author put there. Here only plain data is read:
-the network's settings (`policy_kwargs`, which `composer train` writes as plain JSON), the
+the network's settings (`policy_kwargs`, which `composer train` writes as plain JSON; a pixel
+recipe's encoder by its plain settings, `encoder.SETTINGS_KEY`, its class being ours), the
 shapes of the spaces, the observation statistics (`observation_normalization`), and the
 weights through `torch.load(weights_only=True)`, which loads tensors and refuses anything
 else. The policy is built on the environment's own spaces, so `predict` is the model's: the
@@ -35,9 +36,10 @@ import numpy as np
 import stable_baselines3
 import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
+from stable_baselines3.common.vec_env import VecTransposeImage
 
 from composer.cli.engines import base
-from composer.cli.engines.sb3 import files
+from composer.cli.engines.sb3 import encoder, files
 from composer.cli.engines.sb3.files import NORMALIZATION, NormalizedPolicy
 from composer.cli.errors import PolicyError, UntrustedPolicyError
 
@@ -47,6 +49,9 @@ ALGORITHMS: dict[str, type[BaseAlgorithm]] = {
 }
 # How stable-baselines3 marks a value of `data` that it pickled.
 _PICKLED = ":serialized:"
+# What of a pixel policy's `policy_kwargs` is pickled: the encoder's class, and the whole
+# dict (beside its JSON-readable items) because of it.
+_ENCODER_PICKLES = (_PICKLED, ":type:", "features_extractor_class")
 
 torch.set_num_threads(base.TORCH_THREADS)
 
@@ -83,7 +88,6 @@ def plain_policy(
     except pickle.UnpicklingError as e:  # torch refused: not only tensors
         reason = "its policy.pth holds more than tensors"
         raise UntrustedPolicyError(_untrusted(file, reason)) from e
-    settings = _plain(file, data, "policy_kwargs", {})
     for key in ("observation_space", "action_space"):
         if not isinstance(data.get(key), dict) or "_shape" not in data[key]:
             raise PolicyError(f"{file} does not say the shape of its {key.replace('_', ' ')}")
@@ -92,14 +96,28 @@ def plain_policy(
         for key in ("observation_space", "action_space")
     })  # fmt: skip
     base.check_spaces(file, saved, env)
-    policy_class = algorithm.policy_aliases[
-        "MultiInputPolicy"
-        if isinstance(env.observation_space, gymnasium.spaces.Dict)
-        else "MlpPolicy"
-    ]
+    pixel_encoder = _plain(file, data, encoder.SETTINGS_KEY, None)
+    kwargs = data.get("policy_kwargs", {})
+    if pixel_encoder is not None and isinstance(kwargs, dict):
+        # stable-baselines3 pickles the whole dict for its class (ours, which the plain
+        # settings name) and writes the rest beside it as JSON: that is read, not unpickled.
+        kwargs = {k: v for k, v in kwargs.items() if k not in _ENCODER_PICKLES}
+    settings = _plain(file, {"policy_kwargs": kwargs}, "policy_kwargs", {})
+    observation_space = env.observation_space
+    if pixel_encoder is not None and isinstance(observation_space, gymnasium.spaces.Box):
+        # Trained on VecTransposeImage's channels-first frames; `predict` transposes.
+        observation_space = VecTransposeImage.transpose_space(observation_space)
+        settings.update(features_extractor_class=encoder.PixelEncoder,
+                        features_extractor_kwargs=pixel_encoder)  # fmt: skip
+        alias = "CnnPolicy"
+    elif isinstance(observation_space, gymnasium.spaces.Dict):
+        alias = "MultiInputPolicy"
+    else:
+        alias = "MlpPolicy"
+    policy_class = algorithm.policy_aliases[alias]
     settings.setdefault("use_sde", bool(_plain(file, data, "use_sde", False)))
     try:
-        policy = policy_class(env.observation_space, env.action_space, _no_learning, **settings)
+        policy = policy_class(observation_space, env.action_space, _no_learning, **settings)
         policy.load_state_dict(weights)
     except (TypeError, ValueError, RuntimeError) as e:  # settings or weights of another net
         raise PolicyError(f"cannot build the policy in {file}: {e}") from e

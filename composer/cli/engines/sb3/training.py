@@ -41,9 +41,10 @@ from stable_baselines3.common.vec_env import (
 from composer import sb3
 from composer.cli import catalog, describe, output, progress, recipes
 from composer.cli.engines import base
+from composer.cli.engines.sb3 import encoder
 from composer.cli.engines.sb3.files import NAME, NORMALIZATION, Checkpoint, NormalizedPolicy
 from composer.cli.engines.sb3.policy import ALGORITHMS
-from composer.cli.errors import MissingExtraError, OutputError
+from composer.cli.errors import CliError, MissingExtraError, OutputError
 from composer.registration import TaskInfo, make_environment
 
 # -- environments and models -------------------------------------------------------------
@@ -69,7 +70,8 @@ def vec_env(
 ) -> VecEnv:
     """`recipe.n_envs` environments of `info`'s task, stepped as `recipe.vec` says, with
     episode statistics (VecMonitor) and seeds seed, seed + 1, ...; normalized when the
-    recipe says so, with the statistics saved at `normalization` if given."""
+    recipe says so (a pixel recipe's rewards only), with the statistics saved at
+    `normalization` if given."""
     kwargs = catalog.environment_kwargs(info)
     if recipe.vec == "batched":
         venv: VecEnv = sb3.make_vec_env(info.task, recipe.n_envs, **kwargs)
@@ -84,14 +86,16 @@ def vec_env(
         return venv
     if normalization is not None:
         return VecNormalize.load(str(normalization), venv)
-    return VecNormalize(venv, gamma=recipe.gamma)
+    # Frames are scaled by the policy itself: a pixel recipe normalizes rewards only.
+    return VecNormalize(venv, gamma=recipe.gamma, norm_obs=not recipe.pixels)
 
 
 def keep_normalization(model: BaseAlgorithm) -> None:
     """Copy the training environments' observation statistics into the model (as
-    NORMALIZATION, saved in its .zip) for the policies served from it."""
+    NORMALIZATION, saved in its .zip) for the policies served from it; none when only
+    rewards are normalized."""
     normalize = model.get_vec_normalize_env()
-    if normalize is not None:
+    if normalize is not None and normalize.norm_obs:
         statistics = normalize.obs_rms
         assert isinstance(statistics, RunningMeanStd), "observations are one vector"
         setattr(model, NORMALIZATION, {
@@ -108,7 +112,9 @@ def algo_kwargs(recipe: recipes.Recipe) -> dict[str, Any]:
         "learning_rate": recipe.learning_rate,
         "batch_size": recipe.batch_size,
         "gamma": recipe.gamma,
-        "policy_kwargs": {"net_arch": list(recipe.net)},
+        "policy_kwargs": (
+            encoder.policy_kwargs(recipe) if recipe.pixels else {"net_arch": list(recipe.net)}
+        ),
     }
     if recipe.algo == "ppo":
         return {**common, "n_steps": recipe.n_steps, "n_epochs": recipe.n_epochs,
@@ -127,16 +133,26 @@ def new_model(
     recipe: recipes.Recipe, venv: VecEnv, seed: int, tensorboard: str | None = None
 ) -> BaseAlgorithm:
     """A fresh model of `recipe`'s algorithm on `venv`, on the CPU, logging to TensorBoard
-    in the folder `tensorboard` if given."""
-    return ALGORITHMS[recipe.algo](
-        "MlpPolicy", venv, seed=seed, device="cpu", tensorboard_log=tensorboard,
-        **algo_kwargs(recipe),
+    in the folder `tensorboard` if given; a pixel recipe's with its encoder (`encoder`),
+    whose settings the model keeps as plain JSON for its policy file."""
+    model = ALGORITHMS[recipe.algo](
+        "CnnPolicy" if recipe.pixels else "MlpPolicy", venv, seed=seed, device="cpu",
+        tensorboard_log=tensorboard, **algo_kwargs(recipe),
     )  # fmt: skip
+    if recipe.pixels:
+        setattr(model, encoder.SETTINGS_KEY, encoder.settings(recipe))
+    return model
 
 
 def require(args: argparse.Namespace) -> None:
-    """Raise now, before training, if `--tensorboard DIR` cannot work: MissingExtraError
-    without TensorBoard, OutputError when DIR cannot be written."""
+    """Raise now, before training, if `--tensorboard DIR` cannot work (MissingExtraError
+    without TensorBoard, OutputError when DIR cannot be written), or `--vec batched` is
+    given for frames (CliError: the batch has no camera observations)."""
+    if args.vec == "batched" and catalog.observes_pixels(args.info):
+        raise CliError(
+            f"{args.info.name} is observed through its camera, and --vec batched steps "
+            "environments without frames: give --vec dummy or --vec subproc"
+        )
     if args.tensorboard is None:
         return
     try:
