@@ -18,23 +18,9 @@ import numpy as np
 
 from composer.variation import base
 from composer.variation.variation_values import evaluate
+from mjcf.frame_poses import multiply  # the Hamilton product, over leading axes
 
 IDENTITY_QUATERNION = np.array([1.0, 0.0, 0.0, 0.0])
-
-
-def _multiply(first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """The Hamilton product first * second of quaternions (..., 4)."""
-    w1, x1, y1, z1 = np.moveaxis(np.asarray(first, dtype=np.float64), -1, 0)
-    w2, x2, y2, z2 = np.moveaxis(np.asarray(second, dtype=np.float64), -1, 0)
-    return np.stack(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ],
-        axis=-1,
-    )
 
 
 def _rotate(quaternion: np.ndarray, vector: np.ndarray) -> np.ndarray:
@@ -42,7 +28,7 @@ def _rotate(quaternion: np.ndarray, vector: np.ndarray) -> np.ndarray:
     for a quaternion that is not unit also scales by its squared norm."""
     pure = np.concatenate([[0.0], np.asarray(vector, dtype=np.float64)])
     conjugate = np.asarray(quaternion, dtype=np.float64) * [1.0, -1.0, -1.0, -1.0]
-    return _multiply(_multiply(quaternion, pure), conjugate)[1:]
+    return multiply(multiply(quaternion, pure), conjugate)[1:]
 
 
 def _from_axis_angle(axis_angle: np.ndarray) -> np.ndarray:
@@ -115,7 +101,7 @@ class QuaternionPreMultiply(base.Variation):
         """The product of a new `quat` and the base quaternion."""
         quat = evaluate(self._quat, initial_value, current_value, random_state)
         base_quat = current_value if self._cumulative else initial_value
-        return _multiply(np.asarray(quat), np.asarray(base_quat))
+        return multiply(np.asarray(quat), np.asarray(base_quat))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, QuaternionPreMultiply):
