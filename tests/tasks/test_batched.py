@@ -9,7 +9,6 @@ from __future__ import annotations
 import gymnasium
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 import composer
@@ -18,6 +17,7 @@ from composer.batched import BATCHABLE
 from composer.observation import Observable
 from tasks.push import TARGET_WINDOW
 from tasks.rewards import squared_norms, tolerance
+from tests.vector_runs import assert_same_runs
 
 NUM_ENVS = 4
 TIME_LIMIT = 0.4  # s: 8 to 16 steps, so a run goes through several autoresets
@@ -47,28 +47,12 @@ def make_pair(name: str, **options) -> tuple[VectorEnv, VectorEnv]:
     return vector, reference
 
 
-def assert_same_runs(vector: VectorEnv, reference: VectorEnv, seed: int = 5) -> int:
-    """Both reset with `seed` and stepped with the same random actions give the same
-    observations, rewards, terminations, truncations and infos; returns the episodes
-    that ended."""
-    got, expected = vector.reset(seed=seed), reference.reset(seed=seed)
-    assert data_equivalence(got, expected, exact=True)
-    rng = np.random.default_rng(seed)
-    ended = 0
-    for t in range(STEPS):
-        actions = rng.uniform(-1, 1, vector.action_space.shape).astype(np.float32)
-        got, expected = vector.step(actions), reference.step(actions)
-        assert data_equivalence(got, expected, exact=True), (t, got, expected)
-        ended += int(np.sum(got[2] | got[3]))
-    return ended
-
-
 @pytest.mark.parametrize("name", list(CASES))
 def test_shipped_task_runs_fully_batched_as_single_environments_would(name):
     vector, reference = make_pair(name)
     assert vector.per_environment == []
     assert vector.single_observation_space == reference.single_observation_space
-    assert assert_same_runs(vector, reference) >= NUM_ENVS * 2
+    assert assert_same_runs(vector, reference, steps=STEPS, seed=5) >= NUM_ENVS * 2
     vector.close()
     reference.close()
 
@@ -79,7 +63,7 @@ def test_flattened_same_step_runs_as_training_uses_them_equal_single_environment
         name, flatten_observations=True, autoreset_mode=AutoresetMode.SAME_STEP
     )
     assert vector.per_environment == []
-    assert assert_same_runs(vector, reference) >= NUM_ENVS * 2
+    assert assert_same_runs(vector, reference, steps=STEPS, seed=5) >= NUM_ENVS * 2
     vector.close()
     reference.close()
 
