@@ -15,8 +15,10 @@ What it promises:
   at construction) compiles and runs `after_compile`, then resets the physics and runs
   `initialize_episode`. A step runs the task's `before_step(physics, action, ...)` (which
   applies the action), the entities' `before_step`, then per physics step `before_substep`,
-  `physics.step()`, `after_substep`, then `after_step`; then observations, reward,
-  termination are read. Each hook runs on the task, then on every entity (`composer.hooks`).
+  `physics.step()`, `after_substep`, then `after_step`; then observations are sampled
+  (those due after the last physics step only now, so they show what `after_step`
+  changed, as in dm_control), and reward and termination are read. Each hook runs on
+  the task, then on every entity (`composer.hooks`).
 - `terminated` comes from `task.should_terminate_episode`; `truncated` is set when the time
   limit is reached (after ceil(time_limit / control_timestep) steps) or when MuJoCo reported
   an invalid state (bad qacc, NaN): then `info['physics_error']` holds the message, the
@@ -345,13 +347,15 @@ class Environment(gymnasium.Env):
         self._action = action
         self._first = first = self._physics_steps
         updater = self._updater
-        stepping.physics_steps(
+        last_due = stepping.physics_steps(
             self._substeps, updater.offsets(self._steps), physics.step, self._sample,
             self._substep_hooks,
         )  # fmt: skip
         methods.finish(batch)
         if self._finishes_each:
             methods.finish_each(task, self._hooks, physics, random_state)
+        if last_due:
+            self._sample(self._substeps)
         self._steps += 1
         last = self._physics_steps = first + self._substeps
         observation = updater.observation(last)

@@ -5,7 +5,9 @@
     actions = ActionRule(action_space)                   # per compile
     action = actions.clipped(actions.shaped(action))     # float64, finite, within bounds
     methods = TaskStep(task)                             # which form of each method runs
-    physics_steps(substeps, offsets, advance, sample)    # the physics steps, sampling
+    due = physics_steps(substeps, offsets, advance, sample)  # physics steps, sampling
+    ...                                                  # the after_step hooks
+    if due: sample(substeps)                             # the last step's samples
     message = invalid_state(physics)                     # None, or why MuJoCo gave up
     info = diverged(message, stacklevel=2)               # warns; the truncated step's info
 
@@ -22,8 +24,11 @@ A control step, in either environment (each runs it for its environments):
    single form per environment: `TaskStep`), then the entities' `before_step` hooks run.
 3. The physics steps (`physics_steps`): with substep hooks, one at a time between the
    task's and entities' `before_substep` and everyone's `after_substep`; observables are
-   sampled after the physics steps their schedule asks for.
-4. The task's `after_step`, then the entities' `after_step` hooks.
+   sampled after the physics steps their schedule asks for, but the last.
+4. The task's `after_step`, then the entities' `after_step` hooks; then the observables
+   due after the last physics step are sampled, so an observation agrees with what those
+   hooks changed (dm_control's order: a task whose `after_step` advances a goal shows the
+   new goal in the same step's observation).
 5. If MuJoCo reported an invalid state (`invalid_state`), the episode is truncated: reward
    0, not terminated, `info['physics_error']`, a DivergenceWarning (`diverged`). Otherwise
    the reward, termination, discount and info entries are read (`TaskStep.outcome`), and
@@ -157,26 +162,33 @@ def physics_steps(
     advance: Callable[[int], None],
     sample: Callable[[int], None],
     substep_hooks: Callable[[bool], None] | None = None,
-) -> None:
+) -> bool:
     """Run one control step's `substeps` physics steps: `advance(k)` runs k of them, and
-    `sample(offset)` samples what is due after physics step `offset` (1..substeps) of the
-    control step, for each of `offsets` (ascending). With `substep_hooks`, the steps run
-    one at a time, `substep_hooks(True)` before each and `substep_hooks(False)` after it,
-    sampling after every one."""
+    `sample(offset)` samples what is due after physics step `offset` (1..substeps - 1) of
+    the control step, for each of `offsets` (ascending). With `substep_hooks`, the steps
+    run one at a time, `substep_hooks(True)` before each and `substep_hooks(False)` after
+    it, sampling after every one but the last. Returns whether something is due after the
+    last physics step: the caller samples it, `sample(substeps)`, once the `after_step`
+    hooks have run."""
+    last_due = len(offsets) > 0 and offsets[-1] == substeps
     if substep_hooks is not None:
         for offset in range(1, substeps + 1):
             substep_hooks(True)
             advance(1)
             substep_hooks(False)
-            sample(offset)
-        return
+            if offset < substeps:
+                sample(offset)
+        return last_due
     done = 0
     for offset in offsets:
+        if offset == substeps:
+            break
         advance(offset - done)
         sample(offset)
         done = offset
     if done < substeps:
         advance(substeps - done)
+    return last_due
 
 
 def substep_hooks(

@@ -35,6 +35,7 @@ from __future__ import annotations
 import contextlib
 import copy as copy_module
 import functools
+import logging
 import os
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -79,6 +80,7 @@ _FWDINV = int(mujoco.mjtEnableBit.mjENBL_FWDINV)
 # comparison.
 _RECOMPUTES_QACC = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | _FWDINV
 _VEL = int(mujoco.mjtStage.mjSTAGE_VEL)
+_LOG = logging.getLogger(__name__)
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
 _TRANSIENT = (
@@ -123,6 +125,8 @@ class Physics(StateAccess):
     """
 
     legacy_step: bool = True
+    # dm_control's name: False while `suppress_physics_errors()` logs instead of raising.
+    _warnings_cause_exception: bool = True
     _frame_poses: frame_poses.FramePoses | None = None
     _live_bindings: weakref.WeakSet[binding_module.Binding]
 
@@ -503,7 +507,24 @@ class Physics(StateAccess):
 
     def _raise_if_invalid(self) -> None:
         checked = self._stale == self._qacc_checked  # as the step left it: MuJoCo saw qacc
-        validity.raise_if_invalid(self._model, self._data, self._warnings, checked)
+        try:
+            validity.raise_if_invalid(self._model, self._data, self._warnings, checked)
+        except errors.PhysicsError as e:
+            if self._warnings_cause_exception:
+                raise
+            _LOG.warning("%s", e)
+
+    @contextlib.contextmanager
+    def suppress_physics_errors(self) -> Iterator[Physics]:
+        """Within the block, an invalid state is logged (the `mjcf.physics` logger) instead
+        of raising PhysicsError (dm_control's context manager, which its observation
+        updater reads observables in)."""
+        previous = self._warnings_cause_exception
+        self._warnings_cause_exception = False
+        try:
+            yield self
+        finally:
+            self._warnings_cause_exception = previous
 
     @contextlib.contextmanager
     def check_divergence(self) -> Iterator[Physics]:

@@ -394,8 +394,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         every = ids is self._every
         physics = self._simulations.physics(None if every else ids)
         self._before_step(physics, ids, actions)
-        failures = self._advance(ids, actions)
+        failures, last_due = self._advance(ids, actions)
         self._after_step(physics, ids)
+        if last_due:
+            self._sample_last(ids)
         steps = self._steps
         if every:
             steps += 1
@@ -430,14 +432,19 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
                 self._save(i)
 
-    def _advance(self, ids: np.ndarray, actions: np.ndarray) -> dict[int, str]:
-        """Run the control step's physics steps, sampling observables when due. Returns
-        the MuJoCo error message of each simulation that raised one."""
-        failures: dict[int, str] = {}
+    def _phases(self, ids: np.ndarray) -> tuple[np.ndarray, int | np.ndarray]:
+        """Physics steps before this control step of environments `ids`, and their phases
+        of the observation schedule (one for all, or one each)."""
         steps = self._steps if ids is self._every else self._steps[ids]
-        first = steps * self._substeps
         period = self._observations.period
-        phases = steps % period if period > 1 else 0
+        return steps * self._substeps, steps % period if period > 1 else 0
+
+    def _advance(self, ids: np.ndarray, actions: np.ndarray) -> tuple[dict[int, str], bool]:
+        """Run the control step's physics steps, sampling observables when due but after
+        the last step. Returns the MuJoCo error message of each simulation that raised
+        one, and whether observables are due after the last step (`_sample_last`)."""
+        failures: dict[int, str] = {}
+        first, phases = self._phases(ids)
         sample = self._observations.sample
         around = None
         if self._hooks[0].has_substep_hooks:
@@ -445,14 +452,20 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             def around(before: bool) -> None:
                 self._substep_hooks(ids, actions, before)
 
-        stepping.physics_steps(
+        last_due = stepping.physics_steps(
             self._substeps,
             self._observations.offsets(phases),
             lambda nstep: self._run(ids, nstep, failures),
             lambda offset: sample(ids, phases, offset, first),
             around,
         )
-        return failures
+        return failures, last_due
+
+    def _sample_last(self, ids: np.ndarray) -> None:
+        """Sample what is due after the last physics step of environments `ids`, once
+        their `after_step` hooks have run (`composer.stepping`)."""
+        first, phases = self._phases(ids)
+        self._observations.sample(ids, phases, self._substeps, first)
 
     def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
         for k, i in enumerate(ids):

@@ -247,6 +247,19 @@ def test_check_invalid_state_as_call_and_context(tmp_path, monkeypatch) -> None:
     physics.check_invalid_state()
 
 
+def test_suppress_physics_errors_logs_an_invalid_state_instead(caplog) -> None:
+    physics = mjcf.Physics.from_xml_path(gym_model("ant"))
+    physics.named.data.qvel[:] = 1e12
+    physics.step()
+    with physics.suppress_physics_errors() as inside:
+        assert inside is physics
+        with caplog.at_level("WARNING", logger="mjcf.physics"):
+            physics.check_invalid_state()
+    assert "BADQVEL" in caplog.text
+    with pytest.raises(mjcf.PhysicsError, match="BADQVEL"):  # raises again after the block
+        physics.check_invalid_state()
+
+
 def test_free_releases_the_simulation() -> None:
     physics = mjcf.Physics.from_xml_path(gym_model("ant"))
     joints = physics._binding(Obj.mjOBJ_JOINT, [1, 2])
