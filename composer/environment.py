@@ -27,10 +27,11 @@ What it promises:
   called `corruptor(value, random_state=...)`) is from one `numpy.random.RandomState`
   (dm_control's API) drawing from the same bit generator as `env.np_random`, never from
   numpy's global one; `reset(seed=s)` reseeds both, so the same seed and actions give
-  bit-identical episodes. `random_state` at construction (an int, a RandomState or a
-  Generator) is used until a seeded reset. With `fixed_initial_state=True` every episode
-  starts from the random state the environment had at construction or at its last
-  seeded reset, so its initial state is the same.
+  bit-identical episodes (a task's `random_state_for_seed(s)` may give its own instead,
+  as the Control Suite's tasks give dm_control's `RandomState(s)`). `random_state` at
+  construction (an int, a RandomState or a Generator) is used until a seeded reset. With
+  `fixed_initial_state=True` every episode starts from the random state the environment
+  had at construction or at its last seeded reset, so its initial state is the same.
 - dm_control's options: `max_reset_attempts` retries a reset whose hooks raised
   `composer.EpisodeInitializationError` (the last one propagates); `n_sub_steps` overrides
   the task's physics steps per control step; `raise_exception_on_physics_error=True`
@@ -234,7 +235,7 @@ class Environment(gymnasium.Env):
         physics.reset()
         self._updater = Updater(
             task.enabled_observables(), physics, self._substeps, self._flatten, self._strip,
-            self._padding,
+            self._padding, keep_order=task.keep_observation_order,
         )  # fmt: skip
         self._action_space = task.action_space(physics)
         self._actions = stepping.ActionRule(self._action_space)
@@ -276,8 +277,11 @@ class Environment(gymnasium.Env):
         raised it."""
         super().reset(seed=seed)
         if seed is not None:
-            self._random_state = np.random.RandomState(self.np_random.bit_generator)
-            self._fixed_state = self._random_state.get_state(legacy=False)
+            own = self._task.random_state_for_seed(seed)
+            if own is None:
+                own = np.random.RandomState(self.np_random.bit_generator)
+            self._random_state = own
+            self._fixed_state = own.get_state(legacy=False)
         self._episode_over = True
         for attempt in range(1, self._max_reset_attempts + 1):
             try:

@@ -41,6 +41,7 @@ import functools
 import importlib
 import inspect
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from typing import Any, Literal, overload
 
@@ -66,6 +67,10 @@ class RegistrationError(errors.TaskError):
     """A task could not be registered, found, or built from the keywords given."""
 
 
+class RegistrationWarning(UserWarning):
+    """An id another package had registered now makes a composer task."""
+
+
 @dataclasses.dataclass(frozen=True)
 class TaskInfo:
     """What `register` recorded about one Gymnasium id."""
@@ -81,20 +86,38 @@ _REGISTERED: dict[str, TaskInfo] = {}
 
 
 def register(
-    name: str, task: str, description: str, *, version: int = 0, **default_kwargs: Any
+    name: str,
+    task: str,
+    description: str,
+    *,
+    version: int = 0,
+    namespace: str = NAMESPACE,
+    **default_kwargs: Any,
 ) -> str:
     """Register `task` (an import path, 'package.module:TaskClass') as the Gymnasium id
-    `composer/{name}-v{version}` and return the id; `default_kwargs` are `gym.make`'s
-    defaults (task keywords and `time_limit`, `flatten_observations`, `render_mode`).
-    Registering an id that exists is a no-op. Raises RegistrationError when `task` is not
-    a 'module:attribute' string (a string keeps the spec picklable)."""
+    `{namespace}/{name}-v{version}` ('composer/...' by default) and return the id;
+    `default_kwargs` are `gym.make`'s defaults (task keywords and `time_limit`,
+    `flatten_observations`, `render_mode`). Registering an id of ours again is a no-op; an
+    id another package registered (Shimmy's `dm_control/...` ids) is replaced with a
+    RegistrationWarning naming it. Raises RegistrationError when `task` is not a
+    'module:attribute' string (a string keeps the spec picklable)."""
     if not isinstance(task, str) or ":" not in task:
         raise RegistrationError(
             f"register({name!r}): task must be an import path 'package.module:TaskClass', "
             f"got {task!r}"
         )
-    env_id = f"{NAMESPACE}/{name}-v{version}"
-    if env_id not in gymnasium.registry:
+    env_id = f"{namespace}/{name}-v{version}"
+    existing = gymnasium.registry.get(env_id)
+    if existing is not None and existing.entry_point != ENTRY_POINT:
+        warnings.warn(
+            f"{env_id} was registered by {existing.entry_point!r} (another package, e.g. "
+            f"Shimmy's dm_control environments); it now makes composer's task {task}",
+            RegistrationWarning,
+            stacklevel=2,
+        )
+        del gymnasium.registry[env_id]
+        existing = None
+    if existing is None:
         gymnasium.register(
             id=env_id,
             entry_point=ENTRY_POINT,

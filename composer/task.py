@@ -57,6 +57,17 @@ class Task(hooks.EpisodeHooks):
 
     _control_timestep: float | None = None
     _served_batch: BatchOfOne | None = None
+    #: Whether observations keep the order of `observables` (task observables first, in
+    #: the order `task_observables` gives them) in flattened observations, as dm_control's
+    #: `flat_observation` concatenates its observation dict; False: sorted by name.
+    keep_observation_order: bool = False
+
+    def random_state_for_seed(self, seed: int) -> np.random.RandomState | None:
+        """The random state an environment's `reset(seed=seed)` hands this task's hooks,
+        or None (the default) for the environment's own: one drawing from Gymnasium's
+        `np_random`. A task that must start as dm_control's suite task seeded with
+        `random=seed` (as Shimmy serves it) returns `np.random.RandomState(seed)`."""
+        return None
 
     @property
     def root_entity(self) -> Entity:
