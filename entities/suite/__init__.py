@@ -1,0 +1,15 @@
+"""entities.suite: the robots of dm_control's Control Suite, built with our own API.
+
+    from entities.suite import Cartpole
+    arena.attach(Cartpole(num_poles=2))
+
+Each domain's robot as the suite's own model file describes it (its numbers, its names, its
+physics options and materials), so that attached to its world (`arenas.suite`) it compiles
+to the MjModel dm_control's file compiles to, array for array (`tasks.suite` serves the
+tasks; tests/tasks/suite compares both).
+"""
+
+from entities.suite.cartpole import Cartpole
+from entities.suite.materials import MATERIALS, add_materials
+
+__all__ = ["MATERIALS", "Cartpole", "add_materials"]

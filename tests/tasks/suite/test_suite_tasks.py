@@ -1,0 +1,135 @@
+"""Every Control Suite task here against dm_control's own (issue 38): the same MjModel, and
+from the same seed and the same 1,000 actions the same observations, rewards, discounts and
+episode ends, to 1e-9 (`tests/tasks/suite/oracle.py` runs dm_control's suite code, from
+its published wheel, on our mjcf.Physics). Then what a Gymnasium user relies on: the ids,
+`check_env`, flattening in dm_control's key order, vector environments equal to single
+ones, and clear errors."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import composer
+import tasks  # noqa: F401  (registers the ids)
+from composer import registration
+from tasks import suite
+from tests.tasks.suite import oracle
+from tests.vector_runs import assert_same_runs
+
+ALL = [pytest.param(domain, task, id=f"{domain}-{task}") for domain, task in suite.ALL_TASKS]
+STEPS = 1000
+
+
+def _seed(domain: str, task: str) -> int:
+    """A seed of its own for each task (stable across runs)."""
+    return sum(map(ord, f"{domain}/{task}")) % 1000
+
+
+@pytest.mark.parametrize(("domain", "task"), ALL)
+def test_the_model_is_dm_control_s_array_for_array(domain, task):
+    ours = suite.load(domain, task)
+    theirs = oracle.reference(domain, task, seed=0)
+    oracle.assert_same_model(ours.physics.model, theirs.physics.model)
+
+
+@pytest.mark.parametrize(("domain", "task"), ALL)
+def test_an_episode_is_dm_control_s_step_for_step(domain, task):
+    seed = _seed(domain, task)
+    ours = suite.load(domain, task)
+    theirs = oracle.reference(domain, task, seed=seed)
+    assert ours.control_timestep == pytest.approx(theirs.control_timestep(), abs=1e-12)
+    oracle.compare_episode(ours, theirs, seed=seed, steps=STEPS)
+
+
+@pytest.mark.parametrize(("domain", "task"), ALL)
+def test_flattened_observations_follow_dm_control_s_key_order(domain, task):
+    seed = _seed(domain, task)
+    ours = suite.load(domain, task, environment_kwargs={"flat_observation": True})
+    flat = {"flat_observation": True}
+    theirs = oracle.reference(domain, task, seed=seed, environment_kwargs=flat)
+    flat, _ = ours.reset(seed=seed)
+    np.testing.assert_allclose(flat, theirs.reset().observation["observations"], atol=1e-12)
+    assert ours.observation_space.shape == flat.shape
+
+
+@pytest.mark.parametrize("env_id", suite.IDS)
+def test_every_id_passes_gymnasium_s_checks(env_id):
+    with warnings.catch_warnings():
+        # dm_control's observation specs are unbounded, and so are these Boxes, as Shimmy's.
+        warnings.filterwarnings("ignore", ".*A Box observation space (minimum|maximum) value")
+        env = gymnasium.make(env_id)
+        check_env(env.unwrapped)
+    observation, _ = env.reset(seed=1)
+    domain, task = env_id.removeprefix("dm_control/").removesuffix("-v0").split("-")
+    assert list(observation) == list(oracle.reference(domain, task, seed=1).reset().observation)
+    env.close()
+
+
+def test_the_lists_are_dm_control_s():
+    module = oracle.suite_module("cartpole")  # the package's own lists need every domain
+    assert set(module.SUITE) == set(suite.TASKS_BY_DOMAIN["cartpole"])
+    assert set(module.SUITE.tagged("benchmarking")) == {
+        task for domain, task in suite.BENCHMARKING if domain == "cartpole"
+    }
+    assert all(env_id.startswith("dm_control/") for env_id in suite.IDS)
+
+
+def test_the_vector_environment_equals_single_ones():
+    env_id = "dm_control/cartpole-swingup-v0"
+    vector = gymnasium.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point")
+    reference = gymnasium.make_vec(env_id, num_envs=3, vectorization_mode="sync")
+    assert_same_runs(vector, reference, steps=30, seed=4)
+    assert vector.unwrapped.per_environment == []  # the suite's step is batched throughout
+    vector.close()
+    reference.close()
+
+
+def test_reset_seed_is_dm_control_s_random_argument():
+    env = suite.load("cartpole", "balance")
+    first, _ = env.reset(seed=11)
+    again, _ = env.reset(seed=11)
+    np.testing.assert_array_equal(first["position"], again["position"])
+    theirs = oracle.reference("cartpole", "balance", seed=11).reset().observation
+    np.testing.assert_array_equal(first["position"], theirs["position"])
+
+
+def test_unknown_domains_tasks_and_keywords_are_named():
+    with pytest.raises(composer.TaskError, match=r"no domain 'cartpol'.*'cartpole'"):
+        suite.load("cartpol", "swingup")
+    with pytest.raises(composer.TaskError, match=r"no task 'swing'.*'swingup'"):
+        suite.load("cartpole", "swing")
+    with pytest.raises(composer.TaskError, match="n_sub_steps"):
+        suite.load("cartpole", "swingup", environment_kwargs={"n_sub_steps": 2})
+    with pytest.raises(registration.RegistrationError, match="num_pole"):
+        gymnasium.make("dm_control/cartpole-swingup-v0", num_pole=2)
+
+
+def test_bad_actions_are_refused_before_the_step():
+    env = gymnasium.make("dm_control/cartpole-swingup-v0")
+    env.reset(seed=0)
+    with pytest.raises(composer.EpisodeError, match="shape"):
+        env.step(np.zeros(2))
+    with pytest.raises(composer.EpisodeError, match="non-finite"):
+        env.step(np.array([np.nan]))
+    env.close()
+
+
+def test_another_package_s_id_is_replaced_with_a_warning():
+    env_id = "dm_control/cartpole-swingup-v0"
+    spec = gymnasium.registry[env_id]
+    del gymnasium.registry[env_id]
+    gymnasium.register(env_id, entry_point="shimmy.dm_control_compatibility:x")
+    try:
+        with pytest.warns(registration.RegistrationWarning, match="shimmy"):
+            registration.register(
+                "cartpole-swingup", "tasks.suite.cartpole:Balance", "", namespace="dm_control",
+                swing_up=True,
+            )  # fmt: skip
+        assert gymnasium.registry[env_id].entry_point == registration.ENTRY_POINT
+    finally:
+        gymnasium.registry[env_id] = spec
