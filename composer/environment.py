@@ -20,9 +20,13 @@ What it promises:
   changed, as in dm_control), and reward and termination are read. Each hook runs on
   the task, then on every entity (`composer.hooks`).
 - `terminated` comes from `task.should_terminate_episode`; `truncated` is set when the time
-  limit is reached (after ceil(time_limit / control_timestep) steps) or when MuJoCo reported
-  an invalid state (bad qacc, NaN): then `info['physics_error']` holds the message, the
-  reward is 0.0, a `DivergenceWarning` is emitted, and the next `reset()` starts afresh.
+  limit is reached (after ceil(time_limit / control_timestep) control steps) or when MuJoCo
+  reported an invalid state (bad qacc, NaN): then `info['physics_error']` holds the
+  message, the reward is 0.0, a `DivergenceWarning` is emitted, and the next `reset()`
+  starts afresh.
+- `action_repeat=k` makes each `step()` k control steps with the same action (the frame
+  skip of pixel-based RL): rewards summed, discounts multiplied, the last observation;
+  an episode that ends within them ends the step.
 - Randomness: every draw the framework makes or hands on (hooks, initializers, corruptors,
   called `corruptor(value, random_state=...)`) is from one `numpy.random.RandomState`
   (dm_control's API) drawing from the same bit generator as `env.np_random`, never from
@@ -111,6 +115,7 @@ class Environment(gymnasium.Env):
         legacy_step: bool = True,
         *,
         flatten_observations: bool = False,
+        action_repeat: int = 1,
         render_mode: str | None = None,
         render_height: int = 240,
         render_width: int = 320,
@@ -127,6 +132,7 @@ class Environment(gymnasium.Env):
         if not (isinstance(time_limit, int | float) and time_limit > 0):
             raise errors.TaskError(f"time_limit must be a positive number, got {time_limit!r}")
         _check_count("max_reset_attempts", max_reset_attempts)
+        _check_count("action_repeat", action_repeat)
         if n_sub_steps is not None:
             _check_count("n_sub_steps", n_sub_steps)
             warnings.warn(
@@ -152,6 +158,7 @@ class Environment(gymnasium.Env):
         self._fixed_initial_state = fixed_initial_state
         self._extra_hooks: dict[str, list[Callable[..., Any]]] = {n: [] for n in HOOK_NAMES}
         self._flatten = flatten_observations
+        self._action_repeat = int(action_repeat)
         self.render_mode = render_mode
         self._render_size = (int(render_height), int(render_width))
         self._render_camera = render_camera
@@ -161,7 +168,10 @@ class Environment(gymnasium.Env):
         self._mjcf_compiled_for_episode = False
         self.observation_space = self._updater.observation_space
         self.action_space = self._action_space
-        self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_timestep}
+        self.metadata = {
+            **self.metadata,
+            "render_fps": 1.0 / (self.control_timestep * self._action_repeat),
+        }
         self._fixed_state = self.random_state.get_state(legacy=False)
         self._episode_over = True
 
@@ -335,14 +345,36 @@ class Environment(gymnasium.Env):
         self, action: Any
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, float, bool, bool, dict[str, Any]]:
         """Advance one control step with `action` (`composer.stepping` says what a step
-        is). Returns (obs, reward, terminated, truncated, info). Raises EpisodeError before
-        reset, after the episode ended, or for an action of the wrong shape or not finite."""
+        is), or `action_repeat` of them with the same action, the rewards summed, the
+        discounts multiplied, ending early with the episode. Returns (obs, reward,
+        terminated, truncated, info): the last control step's, but for reward and
+        info['discount']. Raises EpisodeError before reset, after the episode ended, or for
+        an action of the wrong shape or not finite."""
         if self._episode_over:
             raise errors.EpisodeError(
                 "step() called before reset() or after the episode ended; call reset()"
             )
         rule = self._actions
         action = rule.clipped(rule.shaped(action))
+        result = self._control_step(action)
+        if self._action_repeat == 1:
+            return result
+        observation, total, terminated, truncated, info = result
+        discount = info.get("discount", 0.0)
+        for _ in range(1, self._action_repeat):
+            if terminated or truncated:
+                break
+            observation, reward, terminated, truncated, info = self._control_step(action)
+            total += reward
+            discount *= info.get("discount", 0.0)
+        if "discount" in info:
+            info["discount"] = discount
+        return observation, total, terminated, truncated, info
+
+    def _control_step(
+        self, action: np.ndarray
+    ) -> tuple[dict[str, np.ndarray] | np.ndarray, float, bool, bool, dict[str, Any]]:
+        """One control step with a checked `action` (see `step`)."""
         physics, random_state, methods = self._physics, self.random_state, self._methods
         task, batch = self._task, self._batch
         methods.apply(batch, action[None])
@@ -368,7 +400,7 @@ class Environment(gymnasium.Env):
             self._episode_over = True
             if self._raise_on_physics_error:
                 physics.check_invalid_state()  # raises mjcf.PhysicsError with the message
-            return observation, 0.0, False, True, stepping.diverged(message, stacklevel=2)
+            return observation, 0.0, False, True, stepping.diverged(message, stacklevel=3)
         reward, terminated, info = methods.outcome_of_one(batch, task, physics)
         truncated = self._steps >= self._step_limit
         self._episode_over = terminated or truncated
