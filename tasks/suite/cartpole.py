@@ -48,7 +48,6 @@ class Balance(SuiteTask):
         self._arena.attach(self.cartpole)
         self._swing_up = bool(swing_up)
         self._sparse = bool(sparse)
-        self.render_camera = f"{self.cartpole.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
         self._observables: dict[str, observation.Observable] = {
             "position": observation.BatchGeneric(self._bounded_position),
