@@ -64,6 +64,13 @@ class EpisodeError(Error):
     episode ended, or with an action of the wrong shape."""
 
 
+class OverrideError(Error, NotImplementedError):
+    """A subclass of `composer.Environment` overrides one of dm_control's internal methods
+    in a way this environment cannot keep (`composer.dm_internals`); the message names the
+    method and what to do instead. Raised when the environment is made, or for what a
+    method returns, when it returns it."""
+
+
 class VariationError(Error, ValueError):
     """A variation or variator was given values it cannot use."""
 
