@@ -19,8 +19,8 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import tolerance
 from entities.suite import Cartpole
-from tasks.rewards import tolerance
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 
