@@ -47,14 +47,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mjcf import errors
+from mjcf import errors, schema
 from mjcf import values as _values
 from mjcf.element import (
     Element,
     change_class,
     count_change,
-    single_child,
     stored_attributes,
+    tree_children,
     value_of,
 )
 from mjcf.root import section_of
@@ -63,7 +63,7 @@ from mjcf.upcalls import ABOVE
 
 if TYPE_CHECKING:
     from mjcf.root import RootElement
-    from mjcf.schema import AttributeSpec
+    from mjcf.schema import AttributeSpec, ElementSpec
 
 SECTIONS = ("compiler", "option", "size", "statistic", "visual")
 MIN, MAX, OR = "min", "max", "or"
@@ -150,18 +150,34 @@ class SharedSettings(Element):
             count_change(top)
 
 
+# (path, tag) of the once-only children of each settings section: ('visual.map', 'map').
+_ONCE_ONLY = {
+    tag: tuple(
+        (f"{tag}.{child}", child)
+        for child, spec in schema.MUJOCO.child(tag).children.items()
+        if not spec.repeated
+    )
+    for tag in SECTIONS
+}
+
+
 def settings_elements(model: RootElement, make: bool = True) -> Iterator[tuple[str, Element]]:
     """(path, element) of each settings element of `model`: its five sections and their
     once-only children ('visual.map'), those absent made if `make`, else left out."""
+    sections = {section.spec.tag: section for section in tree_children(model)}
     for tag in SECTIONS:
-        section = section_of(model, tag)
+        section = sections[tag]
         yield tag, section
-        for child_tag, spec in section.spec.children.items():
-            if spec.repeated:
-                continue
-            child = section.get_children(child_tag) if make else single_child(section, child_tag)
+        once_only = _ONCE_ONLY[tag]
+        if not once_only:
+            continue
+        present = {child.spec.tag: child for child in tree_children(section)}
+        for path, child_tag in once_only:
+            child = present.get(child_tag)
+            if child is None and make:
+                child = section.get_children(child_tag)
             if child is not None:
-                yield f"{tag}.{child_tag}", child
+                yield path, child
 
 
 class SettingsMerge:
@@ -308,7 +324,8 @@ def _path_text(path: str) -> str:
     return "/".join(f"<{tag}>" for tag in path.split("."))
 
 
-def _spec_at(model: RootElement, path: str) -> Any:
+def _spec_at(model: RootElement, path: str) -> ElementSpec:
+    """The schema of the settings element at `path` ('visual.map') of `model`."""
     spec = section_of(model, path.split(".")[0]).spec
     for tag in path.split(".")[1:]:
         spec = spec.children[tag]

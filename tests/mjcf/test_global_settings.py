@@ -421,6 +421,7 @@ def test_emptying_a_shared_settings_element_empties_it_for_every_model() -> None
 # Run with dm_control's mjcf and with ours: each scenario returns what it reads.
 _SCENARIOS = textwrap.dedent(
     """
+    import mujoco
     import numpy as np
 
     OWN = set(OWN_COMPILER_SETTINGS)
@@ -444,6 +445,21 @@ _SCENARIOS = textwrap.dedent(
                 if got:
                     found[path] = got
         return found
+
+    def compiled(model):
+        # What MuJoCo compiles from the model's XML: its settings, and body masses.
+        m = mujoco.MjModel.from_xml_string(model.to_xml_string(), model.get_assets())
+        settings = {name: text(getattr(m.opt, name)) for name in (
+            "timestep", "integrator", "iterations", "noslip_iterations", "cone", "solver",
+            "gravity", "disableflags", "noslip_tolerance", "tolerance")}
+        settings.update(ambient=text(m.vis.headlight.ambient), znear=text(m.vis.map.znear),
+                        zfar=text(m.vis.map.zfar), nkey=m.nkey, nconmax=m.nconmax,
+                        narena=m.narena)
+        names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, i) for i in range(m.nbody)]
+        # dm_control's attachment frames are bodies ('ant/'), ours frames: left out
+        settings["masses"] = {n: float(mass) for n, mass in zip(names, m.body_mass)
+                              if n and not n.endswith("/")}
+        return settings
 
     def robot(name):
         model = mjcf.from_path(GYM + name + ".xml")
@@ -483,7 +499,8 @@ _SCENARIOS = textwrap.dedent(
         arena.option.timestep = 0.01
         walker.option.flag.gravity = "disable"
         hopper.size.nconmax = 7
-        return {"arena": values(arena), "hopper": values(hopper), "walker": values(walker)}
+        return {"arena": values(arena), "hopper": values(hopper), "walker": values(walker),
+                "compiled": compiled(arena)}
 
     def every_rule():
         parent, child = mjcf.RootElement(model="p"), mjcf.RootElement(model="c")
@@ -503,7 +520,7 @@ _SCENARIOS = textwrap.dedent(
         other.size.set_attributes(memory="2M")
         parent.attach(child)
         parent.attach(other)
-        return {"parent": values(parent), "child": values(child)}
+        return {"parent": values(parent), "child": values(child), "compiled": compiled(parent)}
 
     def conflicts():
         arena, pusher, reacher = base_arena(), robot("pusher"), robot("reacher")
@@ -516,7 +533,7 @@ _SCENARIOS = textwrap.dedent(
         arena.attach(ant)
         ant.detach()
         ant.option.timestep = 0.03
-        return {"arena": values(arena), "ant": values(ant)}
+        return {"arena": values(arena), "ant": values(ant), "compiled": compiled(arena)}
 
     def nested_top_down():
         arena, base, arm = base_arena(), mjcf.RootElement(model="base"), robot("reacher")
@@ -524,7 +541,8 @@ _SCENARIOS = textwrap.dedent(
         arena.attach(base)
         mount.attach(arm)
         arm.option.timestep = 0.0005
-        return {"arena": values(arena), "base": values(base), "arm": values(arm)}
+        return {"arena": values(arena), "base": values(base), "arm": values(arm),
+                "compiled": compiled(arena)}
 
     RESULTS = {name: scenario() for name, scenario in [
         ("robots_on_the_arena", robots_on_the_arena),
