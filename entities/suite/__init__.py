@@ -11,6 +11,7 @@ tasks; tests/tasks/suite compares both).
 
 from entities.suite.cartpole import Cartpole
 from entities.suite.cheetah import Cheetah
+from entities.suite.hopper import Hopper
 from entities.suite.materials import MATERIALS, add_materials
 
-__all__ = ["MATERIALS", "Cartpole", "Cheetah", "add_materials"]
+__all__ = ["MATERIALS", "Cartpole", "Cheetah", "Hopper", "add_materials"]

@@ -46,6 +46,30 @@ def test_an_episode_is_dm_control_s_step_for_step(domain, task):
     oracle.compare_episode(ours, theirs, seed=seed, steps=STEPS)
 
 
+# Tasks whose reward a random policy leaves at 0 nearly throughout (it falls at once): their
+# reward is compared on states near the upright pose, with random velocities and controls.
+NEAR_UPRIGHT = [pytest.param(*name.split("-"), id=name) for name in ("hopper-stand", "hopper-hop")]
+
+
+@pytest.mark.parametrize(("domain", "task"), NEAR_UPRIGHT)
+def test_the_reward_near_upright_is_dm_control_s(domain, task):
+    ours = suite.load(domain, task)
+    theirs = oracle.reference(domain, task, seed=0)
+    ours.reset(seed=0)
+    theirs.reset()
+    model, random = ours.physics.model, np.random.RandomState(5)
+    rewards = []
+    for _ in range(20):
+        qpos = model.qpos0 + 0.1 * random.randn(model.nq)
+        qvel, ctrl = random.uniform(-4, 4, model.nv), random.uniform(-1, 1, model.nu)
+        for physics in (ours.physics, theirs.physics):
+            physics.data.qpos[:], physics.data.qvel[:], physics.data.ctrl[:] = qpos, qvel, ctrl
+            physics.forward()
+        rewards.append(ours.task.get_reward(ours.physics))
+        assert rewards[-1] == theirs.task.get_reward(theirs.physics)
+    assert len(set(rewards) - {0.0, 1.0}) >= 5  # the formula varies over these states
+
+
 @pytest.mark.parametrize(("domain", "task"), ALL)
 def test_flattened_observations_follow_dm_control_s_key_order(domain, task):
     seed = _seed(domain, task)
@@ -81,7 +105,11 @@ def test_the_lists_are_dm_control_s(domain):
 
 
 # One task of each domain whose step differs from the others' (its reward, observables).
-VECTOR_IDS = ["dm_control/cartpole-swingup-v0", "dm_control/cheetah-run-v0"]
+VECTOR_IDS = [
+    "dm_control/cartpole-swingup-v0",
+    "dm_control/cheetah-run-v0",
+    "dm_control/hopper-stand-v0",
+]
 
 
 @pytest.mark.parametrize("env_id", VECTOR_IDS)
