@@ -109,6 +109,7 @@ VECTOR_IDS = [
     "dm_control/cartpole-swingup-v0",
     "dm_control/cheetah-run-v0",
     "dm_control/hopper-stand-v0",
+    "dm_control/walker-walk-v0",
 ]
 
 
