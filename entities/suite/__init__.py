@@ -11,8 +11,9 @@ tasks; tests/tasks/suite compares both).
 
 from entities.suite.cartpole import Cartpole
 from entities.suite.cheetah import Cheetah
+from entities.suite.fish import Fish
 from entities.suite.hopper import Hopper
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.walker import Walker
 
-__all__ = ["MATERIALS", "Cartpole", "Cheetah", "Hopper", "Walker", "add_materials"]
+__all__ = ["MATERIALS", "Cartpole", "Cheetah", "Fish", "Hopper", "Walker", "add_materials"]

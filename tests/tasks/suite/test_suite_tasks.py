@@ -70,6 +70,29 @@ def test_the_reward_near_upright_is_dm_control_s(domain, task):
     assert len(set(rewards) - {0.0, 1.0}) >= 5  # the formula varies over these states
 
 
+def test_the_fish_s_reward_near_the_target_is_dm_control_s():
+    # A random policy's fish never comes near the target: its in_target term stays below
+    # 1e-9. Here the target is placed near the mouth, in both simulations alike.
+    ours, theirs = suite.load("fish", "swim"), oracle.reference("fish", "swim", seed=0)
+    ours.reset(seed=0)
+    theirs.reset()
+    target = ours.physics.bind(ours.task.fish.target)
+    random, rewards = np.random.RandomState(2), []
+    for _ in range(20):
+        mouth = ours.physics.bind(ours.task.fish.mouth).xpos.copy()
+        place = mouth + random.uniform(-0.15, 0.15, 3)
+        target.pos = place
+        theirs.physics.named.model.geom_pos["target"] = place
+        theirs.physics.forward()
+        rewards.append(ours.task.get_reward(ours.physics))
+        assert rewards[-1] == theirs.task.get_reward(theirs.physics)
+        np.testing.assert_array_equal(
+            ours.task.task_observables["target"].batch_function(ours.batch_physics)[0],
+            theirs.task.get_observation(theirs.physics)["target"],
+        )
+    assert min(rewards) < 0.2 and max(rewards) > 0.8  # in_target spans its range
+
+
 @pytest.mark.parametrize(("domain", "task"), ALL)
 def test_flattened_observations_follow_dm_control_s_key_order(domain, task):
     seed = _seed(domain, task)
@@ -108,6 +131,7 @@ def test_the_lists_are_dm_control_s(domain):
 VECTOR_IDS = [
     "dm_control/cartpole-swingup-v0",
     "dm_control/cheetah-run-v0",
+    "dm_control/fish-swim-v0",
     "dm_control/hopper-stand-v0",
     "dm_control/walker-walk-v0",
 ]
