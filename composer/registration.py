@@ -27,11 +27,12 @@ What it promises: a registered spec holds only strings and plain values (the tas
 import path, `'tasks.reach:Reach'`), so it pickles into `AsyncVectorEnv` workers and
 stable-baselines3's `SubprocVecEnv`. Keyword arguments of `gym.make` go to the task's
 constructor, except ENVIRONMENT_OPTIONS (`time_limit`, `flatten_observations`,
-`render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`, `frame_stack`,
-`proprioception`), which go to `composer.Environment` and `composer.pixels`; a keyword
-neither accepts raises `RegistrationError` naming the task and listing what it accepts, as
-do both `camera_id` and `camera_name`, or a camera the scene does not have. Registering an
-id again is a no-op.
+`action_repeat`, `render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`,
+`frame_stack`, `proprioception`), which go to `composer.Environment` and
+`composer.pixels`; a keyword neither accepts raises `RegistrationError` naming the task
+and listing what it accepts, as do both `camera_id` and `camera_name`, or a camera the
+scene does not have. Registering an id of ours again is a no-op; one another package
+registered (Shimmy's `dm_control/...`) is replaced with a `RegistrationWarning`.
 """
 
 from __future__ import annotations
@@ -56,8 +57,8 @@ NAMESPACE = "composer"
 ENTRY_POINT = "composer.registration:make_environment"
 VECTOR_ENTRY_POINT = "composer.vector:make_vector_environment"
 ENVIRONMENT_OPTIONS = (
-    "time_limit", "flatten_observations", "render_mode", "width", "height", "camera_id",
-    "camera_name", "pixels", "frame_stack", "proprioception",
+    "time_limit", "flatten_observations", "action_repeat", "render_mode", "width", "height",
+    "camera_id", "camera_name", "pixels", "frame_stack", "proprioception",
 )  # fmt: skip
 # The size of render() frames when `width` and `height` are not given (Environment's).
 RENDER_SIZE = (240, 320)
@@ -205,6 +206,7 @@ def make_environment(
     *,
     time_limit: float | None = None,
     flatten_observations: bool = False,
+    action_repeat: int = 1,
     render_mode: str | None = None,
     width: int | None = None,
     height: int | None = None,
@@ -249,6 +251,7 @@ def make_environment(
         built,
         time_limit=math.inf if time_limit is None else time_limit,
         flatten_observations=flatten_observations or (pixels and proprioception),
+        action_repeat=action_repeat,
         render_mode=render_mode,
         render_height=render_size[0],
         render_width=render_size[1],

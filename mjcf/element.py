@@ -598,6 +598,11 @@ class _OnDemand(Element):
         return False
 
 
+# dm_control's name for the class of every element, which code uses as a type
+# (`mjcf.element._ElementImpl`, e.g. `MjcfElement = mjcf.element._ElementImpl`).
+_ElementImpl = Element
+
+
 # -- reading the tree: what mjcf's modules read of any element ------------------------------
 # With the properties `spec`, `parent` and `root`, these are how mjcf's other modules read an
 # element; the element's attribute names are MJCF's, so they are functions, not members.

@@ -8,7 +8,8 @@
             self.use_control_timestep(control_timestep, default=None)  # one physics step
 
 What a suite task promises, as dm_control's does: the action is every actuator's control in
-model order (written as given, within the action space); observations are the task's own,
+model order (written as given, within the action space: float64, the actuators' control
+ranges, as dm_control's `action_spec` and Shimmy's Box); observations are the task's own,
 under dm_control's keys, in dm_control's order (also when flattened:
 `keep_observation_order`); an episode is truncated at the domain's time limit with discount
 1 and never terminates unless the task says so (`get_termination`, dm_control's hook:
@@ -19,7 +20,9 @@ None, or the discount the episode ends with); `reset(seed=s)` draws the initial 
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
+from gymnasium import spaces
 
 import composer
 import mjcf
@@ -29,10 +32,22 @@ class SuiteTask(composer.Task):
     """A Control Suite task (see the module docstring)."""
 
     keep_observation_order = True
+    #: The camera `render()` and `pixels=True` use: the model's first, as DrQ-v2 and CURL
+    #: observe the suite (dm_control's `physics.render()` default).
+    render_camera: int | str = 0
 
     def random_state_for_seed(self, seed: int) -> np.random.RandomState:
         """dm_control's `random=seed`: `numpy.random.RandomState(seed)`."""
         return np.random.RandomState(seed)
+
+    def action_space(self, physics: mjcf.Physics) -> spaces.Box:
+        """dm_control's action spec as a Box, as Shimmy serves it: float64, each actuator's
+        ctrlrange, +-mjMAXVAL (1e10) where an actuator is not control-limited."""
+        model = physics.model
+        limited = model.actuator_ctrllimited.astype(bool)
+        low = np.where(limited, model.actuator_ctrlrange[:, 0], -mujoco.mjMAXVAL)
+        high = np.where(limited, model.actuator_ctrlrange[:, 1], mujoco.mjMAXVAL)
+        return spaces.Box(low, high, dtype=np.float64)
 
     def use_control_timestep(self, control_timestep: float | None, default: float | None) -> None:
         """Set the control timestep: `control_timestep`, else the domain's `default`, else

@@ -19,8 +19,8 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import tolerance
 from entities.suite import Cartpole
-from tasks.rewards import tolerance
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 
@@ -48,7 +48,6 @@ class Balance(SuiteTask):
         self._arena.attach(self.cartpole)
         self._swing_up = bool(swing_up)
         self._sparse = bool(sparse)
-        self.render_camera = f"{self.cartpole.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
         self._observables: dict[str, observation.Observable] = {
             "position": observation.BatchGeneric(self._bounded_position),

@@ -191,3 +191,26 @@ def test_another_package_s_id_is_replaced_with_a_warning():
         assert gymnasium.registry[env_id].entry_point == registration.ENTRY_POINT
     finally:
         gymnasium.registry[env_id] = spec
+
+
+@pytest.mark.parametrize(("domain", "task"), ALL)
+def test_the_dm_env_bridge_serves_dm_control_s_specs(domain, task):
+    dm_env_bridge = pytest.importorskip("composer.dm_env_bridge")
+    ours = dm_env_bridge.DmEnvAdapter(suite.load(domain, task), seed=0)
+    theirs = oracle.reference(domain, task, seed=0)
+    mine, reference_spec = ours.action_spec(), theirs.action_spec()
+    assert (mine.shape, mine.dtype) == (reference_spec.shape, reference_spec.dtype)
+    np.testing.assert_array_equal(mine.minimum, reference_spec.minimum)
+    np.testing.assert_array_equal(mine.maximum, reference_spec.maximum)
+    observed, expected = ours.observation_spec(), theirs.observation_spec()
+    assert list(observed) == list(expected)  # dm_control's order
+    for key, spec in expected.items():
+        assert (observed[key].shape, observed[key].dtype) == (spec.shape, spec.dtype), key
+
+
+def test_pixels_are_84_pixel_frames_of_the_first_camera():
+    env = gymnasium.make("dm_control/cartpole-swingup-v0", pixels=True)
+    frame, _ = env.reset(seed=0)
+    assert frame.shape == (84, 84, 3) and frame.dtype == np.uint8
+    np.testing.assert_array_equal(frame, env.unwrapped.physics.render(84, 84, camera_id=0))
+    env.close()
