@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole, cheetah, fish, hopper, walker
+from tasks.suite import cartpole, cheetah, fish, hopper, swimmer, walker
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -43,6 +43,7 @@ __all__ = [
     "fish",
     "hopper",
     "load",
+    "swimmer",
     "tagged",
     "walker",
 ]

@@ -17,8 +17,8 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import Tolerance
 from entities.suite import Cheetah
-from tasks.rewards import Tolerance
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 
@@ -38,7 +38,6 @@ class Run(SuiteTask):
             floor_name="ground", floor_size=(100, 0.8, 0.5), floor_pos=(98, 0, 0)
         )
         self._arena.attach(self.cheetah)
-        self.render_camera = f"{self.cheetah.name}/side"
         self.use_control_timestep(control_timestep, default=None)
         self._speed = Tolerance(
             bounds=(_RUN_SPEED, float("inf")), margin=_RUN_SPEED, value_at_margin=0,

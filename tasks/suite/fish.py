@@ -22,8 +22,9 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import Tolerance
 from entities.suite import Fish
-from tasks.rewards import Tolerance, squared_norms
+from tasks.rewards import squared_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 
@@ -43,7 +44,6 @@ class _FishTask(SuiteTask):
             floor_name="ground", floor_size=(0.5, 0.5, 0.1), skybox_first=False
         )
         self._arena.attach(self.fish)
-        self.render_camera = f"{self.fish.name}/tracking_top"
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._observables: dict[str, observation.Observable] = {
             "joint_angles": observation.BatchGeneric(

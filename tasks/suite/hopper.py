@@ -19,8 +19,8 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import Tolerance
 from entities.suite import Hopper
-from tasks.rewards import Tolerance
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
 
@@ -41,7 +41,6 @@ class PlanarHopper(SuiteTask):
         self._arena = SuiteArena(floor_size=(50, 1, 0.2), floor_pos=(48, 0, 0))
         self._arena.attach(self.hopper)
         self._hopping = bool(hopping)
-        self.render_camera = f"{self.hopper.name}/cam0"
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._standing = Tolerance(bounds=(_STAND_HEIGHT, 2.0))
         self._hop = Tolerance(

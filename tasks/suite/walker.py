@@ -20,9 +20,9 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
+from composer.utils.rewards import Tolerance
 from entities.suite import Walker
 from entities.suite.walker import FLOOR_FRICTION
-from tasks.rewards import Tolerance
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
 
@@ -49,7 +49,6 @@ class PlanarWalker(SuiteTask):
         )  # fmt: skip
         self._arena.attach(self.walker)
         self._move_speed = float(move_speed)
-        self.render_camera = f"{self.walker.name}/side"
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._standing = Tolerance(bounds=(_STAND_HEIGHT, float("inf")), margin=_STAND_HEIGHT / 2)
         self._moving = None

@@ -133,6 +133,7 @@ VECTOR_IDS = [
     "dm_control/cheetah-run-v0",
     "dm_control/fish-swim-v0",
     "dm_control/hopper-stand-v0",
+    "dm_control/swimmer-swimmer6-v0",
     "dm_control/walker-walk-v0",
 ]
 
@@ -165,6 +166,13 @@ def test_unknown_domains_tasks_and_keywords_are_named():
         suite.load("cartpole", "swingup", environment_kwargs={"n_sub_steps": 2})
     with pytest.raises(registration.RegistrationError, match="num_pole"):
         gymnasium.make("dm_control/cartpole-swingup-v0", num_pole=2)
+
+
+def test_bad_task_keywords_are_named():
+    with pytest.raises(composer.EntityError, match="n_links must be an int >= 3, got 2"):
+        gymnasium.make("dm_control/swimmer-swimmer6-v0", n_links=2)
+    with pytest.raises(composer.TaskError, match="move_speed must be a number >= 0, got -1"):
+        suite.load("walker", "walk", task_kwargs={"move_speed": -1})
 
 
 def test_bad_actions_are_refused_before_the_step():
