@@ -127,6 +127,14 @@ def test_the_lists_are_dm_control_s(domain):
     assert all(env_id.startswith("dm_control/") for env_id in suite.IDS)
 
 
+@pytest.mark.parametrize("n_links", [3, 8])
+def test_a_swimmer_of_any_length_is_dm_control_s_model(n_links):
+    # dm_control's code writes the swimmer's model for any length (`swimmer(n_links)`).
+    ours = suite.load("swimmer", "swimmer6", task_kwargs={"n_links": n_links})
+    theirs = oracle.reference_model("swimmer", n_joints=n_links)
+    oracle.assert_same_model(ours.physics.model, theirs)
+
+
 # One task of each domain whose step differs from the others' (its reward, observables).
 VECTOR_IDS = [
     "dm_control/cartpole-swingup-v0",
