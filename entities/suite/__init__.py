@@ -10,6 +10,7 @@ tasks; tests/tasks/suite compares both).
 """
 
 from entities.suite.cartpole import Cartpole
+from entities.suite.humanoid import Humanoid
 from entities.suite.materials import MATERIALS, add_materials
 
-__all__ = ["MATERIALS", "Cartpole", "add_materials"]
+__all__ = ["MATERIALS", "Cartpole", "Humanoid", "add_materials"]

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole
+from tasks.suite import cartpole, humanoid
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -39,6 +39,7 @@ __all__ = [
     "SuiteEntry",
     "cartpole",
     "find",
+    "humanoid",
     "load",
     "tagged",
 ]

@@ -133,3 +133,20 @@ def test_another_package_s_id_is_replaced_with_a_warning():
         assert gymnasium.registry[env_id].entry_point == registration.ENTRY_POINT
     finally:
         gymnasium.registry[env_id] = spec
+
+
+@pytest.mark.parametrize("env_id", ["dm_control/humanoid-walk-v0"])
+def test_a_walking_domain_s_vector_environment_equals_single_ones(env_id):
+    # Free-floating robots whose episodes start by redrawing until nothing touches: each
+    # environment draws its own, and the batched step still needs no per-environment call.
+    vector = gymnasium.make_vec(env_id, num_envs=2, vectorization_mode="vector_entry_point")
+    reference = gymnasium.make_vec(env_id, num_envs=2, vectorization_mode="sync")
+    assert_same_runs(vector, reference, steps=20, seed=5)
+    assert vector.unwrapped.per_environment == []
+    vector.close()
+    reference.close()
+
+
+def test_a_negative_speed_is_refused():
+    with pytest.raises(composer.TaskError, match="move_speed must be >= 0"):
+        gymnasium.make("dm_control/humanoid-walk-v0", move_speed=-1.0)
