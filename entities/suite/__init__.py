@@ -12,5 +12,6 @@ tasks; tests/tasks/suite compares both).
 from entities.suite.cartpole import Cartpole
 from entities.suite.humanoid import Humanoid
 from entities.suite.materials import MATERIALS, add_materials
+from entities.suite.quadruped import Quadruped
 
-__all__ = ["MATERIALS", "Cartpole", "Humanoid", "add_materials"]
+__all__ = ["MATERIALS", "Cartpole", "Humanoid", "Quadruped", "add_materials"]
