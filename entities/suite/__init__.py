@@ -11,7 +11,8 @@ tasks; tests/tasks/suite compares both).
 
 from entities.suite.cartpole import Cartpole
 from entities.suite.humanoid import Humanoid
+from entities.suite.humanoid_cmu import HumanoidCMU
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.quadruped import Quadruped
 
-__all__ = ["MATERIALS", "Cartpole", "Humanoid", "Quadruped", "add_materials"]
+__all__ = ["MATERIALS", "Cartpole", "Humanoid", "HumanoidCMU", "Quadruped", "add_materials"]
