@@ -6,6 +6,7 @@
 Each domain's task builds its world from `SuiteArena` with the numbers of the domain's file.
 """
 
+from arenas.suite.quadruped import QuadrupedArena
 from arenas.suite.world import SuiteArena
 
-__all__ = ["SuiteArena"]
+__all__ = ["QuadrupedArena", "SuiteArena"]

@@ -13,7 +13,10 @@ from entities.suite.cartpole import Cartpole
 from entities.suite.cheetah import Cheetah
 from entities.suite.fish import Fish
 from entities.suite.hopper import Hopper
+from entities.suite.humanoid import Humanoid
+from entities.suite.humanoid_cmu import HumanoidCMU
 from entities.suite.materials import MATERIALS, add_materials
+from entities.suite.quadruped import Quadruped
 from entities.suite.swimmer import Swimmer
 from entities.suite.walker import Walker
 
@@ -23,6 +26,9 @@ __all__ = [
     "Cheetah",
     "Fish",
     "Hopper",
+    "Humanoid",
+    "HumanoidCMU",
+    "Quadruped",
     "Swimmer",
     "Walker",
     "add_materials",

@@ -16,7 +16,17 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole, cheetah, fish, hopper, swimmer, walker
+from tasks.suite import (
+    cartpole,
+    cheetah,
+    fish,
+    hopper,
+    humanoid,
+    humanoid_cmu,
+    quadruped,
+    swimmer,
+    walker,
+)
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -42,7 +52,10 @@ __all__ = [
     "find",
     "fish",
     "hopper",
+    "humanoid",
+    "humanoid_cmu",
     "load",
+    "quadruped",
     "swimmer",
     "tagged",
     "walker",

@@ -3,7 +3,8 @@ only: the oracle, `tests/tasks/suite/oracle.py`, rewrites the suite's imports to
 
 dm_control's own `mujoco` package wraps MuJoCo through ctypes and does not run on MuJoCo 4;
 the suite needs little of it: a Physics class to subclass (with `from_xml_string`, `named`,
-`model`, `data`, `control()`, `velocity()`, `reset_context()` ...: ours has them), the
+`model`, `data`, `control()`, `velocity()`, `reset_context()` ...: ours has them, and the
+hook and attribute dm_control's adds, `_reload_from_data` and `contexts`), the
 actuators' `action_spec`, and `wrapper.mjbindings` for MuJoCo's enums and functions, which
 the `mujoco` bindings provide under the same names (`.ptr` of our model and data is the
 object itself, `mjcf.raw_access`).
@@ -12,6 +13,7 @@ object itself, `mjcf.raw_access`).
 from __future__ import annotations
 
 import types
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -21,7 +23,20 @@ import mjcf
 
 
 class Physics(mjcf.Physics):
-    """dm_control's `mujoco.Physics`: ours."""
+    """dm_control's `mujoco.Physics`: ours, with the two seams suite domains use: the
+    `_reload_from_data` hook, run when the physics is made (the quadruped sets up its
+    caches there; the suite never reloads one), and `contexts`, the render contexts, which
+    do not exist here (the quadruped's escape re-uploads its heightfield only when they
+    do)."""
+
+    contexts = None
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
+        super().__init__(model, data)
+        self._reload_from_data(data)
+
+    def _reload_from_data(self, data: Any) -> None:
+        """dm_control's hook after a new model or data; nothing here."""
 
 
 def action_spec(physics: mjcf.Physics) -> specs.BoundedArray:

@@ -109,6 +109,8 @@ def test_every_id_passes_gymnasium_s_checks(env_id):
     with warnings.catch_warnings():
         # dm_control's observation specs are unbounded, and so are these Boxes, as Shimmy's.
         warnings.filterwarnings("ignore", ".*A Box observation space (minimum|maximum) value")
+        # The quadruped's actuators have dm_control's ranges: [-1, 1.1], [-0.8, 0.8].
+        warnings.filterwarnings("ignore", ".*symmetric and normalized space")
         env = gymnasium.make(env_id)
         check_env(env.unwrapped)
     observation, _ = env.reset(seed=1)
@@ -230,3 +232,49 @@ def test_pixels_are_84_pixel_frames_of_the_first_camera():
     assert frame.shape == (84, 84, 3) and frame.dtype == np.uint8
     np.testing.assert_array_equal(frame, env.unwrapped.physics.render(84, 84, camera_id=0))
     env.close()
+
+
+@pytest.mark.parametrize(
+    "env_id",
+    [
+        "dm_control/humanoid-walk-v0",
+        "dm_control/quadruped-escape-v0",
+        "dm_control/quadruped-fetch-v0",
+    ],
+)
+def test_a_free_robot_s_vector_environment_equals_single_ones(env_id):
+    # Free robots whose episodes start by searching for a pose without contacts, each
+    # environment its own (escape: on a terrain of its own, so their models differ), and
+    # the batched step still needs no per-environment call.
+    vector = gymnasium.make_vec(env_id, num_envs=2, vectorization_mode="vector_entry_point")
+    reference = gymnasium.make_vec(env_id, num_envs=2, vectorization_mode="sync")
+    assert_same_runs(vector, reference, steps=20, seed=5)
+    assert vector.unwrapped.per_environment == []
+    vector.close()
+    reference.close()
+
+
+def test_a_speed_out_of_range_is_refused():
+    with pytest.raises(composer.TaskError, match="move_speed must be >= 0"):
+        gymnasium.make("dm_control/humanoid-walk-v0", move_speed=-1.0)
+    with pytest.raises(composer.TaskError, match="desired_speed must be > 0"):
+        gymnasium.make("dm_control/quadruped-walk-v0", desired_speed=0.0)
+
+
+def test_the_escape_terrain_is_dm_control_s_and_drawn_anew_each_episode():
+    env = suite.load("quadruped", "escape")
+    frames = {}
+    for seed in (3, 4):
+        env.reset(seed=seed)
+        theirs = oracle.reference("quadruped", "escape", seed=seed)
+        theirs.reset()
+        np.testing.assert_array_equal(
+            env.physics.model.hfield_data, theirs.physics.model.hfield_data
+        )
+        frames[seed] = env.physics.render(48, 48, camera_id="global")
+    fresh = suite.load("quadruped", "escape")
+    fresh.reset(seed=4)
+    # A renderer holds the heightfield it was made with: the second episode's frame shows
+    # the second terrain, not the first one's.
+    np.testing.assert_array_equal(frames[4], fresh.physics.render(48, 48, camera_id="global"))
+    assert not np.array_equal(frames[3], frames[4])
