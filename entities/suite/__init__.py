@@ -10,6 +10,15 @@ tasks; tests/tasks/suite compares both).
 """
 
 from entities.suite.cartpole import Cartpole
+from entities.suite.manipulator import Manipulator
 from entities.suite.materials import MATERIALS, add_materials
+from entities.suite.planar_arm import PlanarArm, add_planar_arm
 
-__all__ = ["MATERIALS", "Cartpole", "add_materials"]
+__all__ = [
+    "MATERIALS",
+    "Cartpole",
+    "Manipulator",
+    "PlanarArm",
+    "add_materials",
+    "add_planar_arm",
+]
