@@ -13,12 +13,14 @@ from entities.suite.cartpole import Cartpole
 from entities.suite.manipulator import Manipulator
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.planar_arm import PlanarArm, add_planar_arm
+from entities.suite.stacker import Stacker
 
 __all__ = [
     "MATERIALS",
     "Cartpole",
     "Manipulator",
     "PlanarArm",
+    "Stacker",
     "add_materials",
     "add_planar_arm",
 ]
