@@ -10,12 +10,14 @@ tasks; tests/tasks/suite compares both).
 """
 
 from entities.suite.cartpole import Cartpole
+from entities.suite.lqr import LQR
 from entities.suite.manipulator import Manipulator
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.planar_arm import PlanarArm, add_planar_arm
 from entities.suite.stacker import Stacker
 
 __all__ = [
+    "LQR",
     "MATERIALS",
     "Cartpole",
     "Manipulator",

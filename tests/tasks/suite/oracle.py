@@ -161,11 +161,13 @@ def compare_episode(ours: Any, theirs: Any, seed: int, steps: int, atol: float =
 
 def random_actions(theirs: Any, seed: int, steps: int) -> np.ndarray:
     """`steps` actions uniform within the bounds of dm_control's environment `theirs`, drawn
-    from RandomState(seed): (steps, action size)."""
+    from RandomState(seed): (steps, action size). Within [-1, 1] where an actuator is
+    unbounded (lqr's): forces of up to 1e10 N would only blow the system up, which
+    dm_control answers with a PhysicsError and ours with a truncation."""
     spec = theirs.action_spec()
-    return np.random.RandomState(seed).uniform(
-        spec.minimum, spec.maximum, size=(steps, *spec.shape)
-    )
+    low = np.where(spec.minimum <= -mujoco.mjMAXVAL, -1.0, spec.minimum)
+    high = np.where(spec.maximum >= mujoco.mjMAXVAL, 1.0, spec.maximum)
+    return np.random.RandomState(seed).uniform(low, high, size=(steps, *spec.shape))
 
 
 def compare_steps(ours: Any, theirs: Any, actions: np.ndarray, atol: float = 1e-9) -> np.ndarray:

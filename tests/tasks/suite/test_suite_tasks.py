@@ -30,10 +30,17 @@ def _seed(domain: str, task: str) -> int:
     return sum(map(ord, f"{domain}/{task}")) % 1000
 
 
+# Domains whose model dm_control draws from the task's seed (lqr's springs), which ours
+# draws at a seeded reset: their models are compared after one.
+DRAWN_MODELS = {"lqr"}
+
+
 @pytest.mark.parametrize(("domain", "task"), ALL)
 def test_the_model_is_dm_control_s_array_for_array(domain, task):
     ours = suite.load(domain, task)
     theirs = oracle.reference(domain, task, seed=0)
+    if domain in DRAWN_MODELS:
+        ours.reset(seed=0)
     oracle.assert_same_model(ours.physics.model, theirs.physics.model)
 
 
@@ -62,6 +69,8 @@ def test_every_id_passes_gymnasium_s_checks(env_id):
     with warnings.catch_warnings():
         # dm_control's observation specs are unbounded, and so are these Boxes, as Shimmy's.
         warnings.filterwarnings("ignore", ".*A Box observation space (minimum|maximum) value")
+        # lqr's motors are unbounded in dm_control's action spec, and so in its Box.
+        warnings.filterwarnings("ignore", ".*we recommend using a symmetric and normalized")
         env = gymnasium.make(env_id)
         check_env(env.unwrapped)
     observation, _ = env.reset(seed=1)
