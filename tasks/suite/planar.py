@@ -28,7 +28,10 @@ def bounded_joint_positions(
 ) -> np.ndarray:
     """The sine and cosine of each hinge's angle: (n, joints, 2)."""
     angles = physics.bind(joints).qpos
-    return np.stack((np.sin(angles), np.cos(angles)), axis=-1)
+    bounded = np.empty((*angles.shape, 2))
+    np.sin(angles, out=bounded[..., 0])
+    np.cos(angles, out=bounded[..., 1])
+    return bounded
 
 
 def body_2d_poses(
@@ -37,10 +40,10 @@ def body_2d_poses(
     """Each body's x and z, then (with `orientation`) its quaternion's w and y:
     (n, bodies, 4), or (n, bodies, 2) without orientation."""
     bound = physics.bind(bodies)
-    positions = bound.xpos[:, :, [0, 2]]
+    positions = bound.xpos[:, :, ::2]  # x and z
     if not orientation:
         return positions
-    return np.concatenate((positions, bound.xquat[:, :, [0, 2]]), axis=-1)
+    return np.concatenate((positions, bound.xquat[:, :, ::2]), axis=-1)  # then w and y
 
 
 def site_distances(
