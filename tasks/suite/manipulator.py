@@ -57,7 +57,7 @@ class Bring(SuiteTask):
         self._arena = PlanarArena(contact_solref=CONTACT_SOLREF)
         self.manipulator = Manipulator(use_peg=use_peg, insert=insert)
         self._arena.attach(self.manipulator)
-        self._use_peg, self._insert = bool(use_peg), bool(insert)
+        self._use_peg = bool(use_peg)
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._is_close = Tolerance(bounds=(0, _CLOSE), margin=_CLOSE * 2)
         arm, robot = self.manipulator.arm, self.manipulator
