@@ -15,12 +15,17 @@ from entities.suite.fish import Fish
 from entities.suite.hopper import Hopper
 from entities.suite.humanoid import Humanoid
 from entities.suite.humanoid_cmu import HumanoidCMU
+from entities.suite.lqr import LQR
+from entities.suite.manipulator import Manipulator
 from entities.suite.materials import MATERIALS, add_materials
+from entities.suite.planar_arm import PlanarArm, add_planar_arm
 from entities.suite.quadruped import Quadruped
+from entities.suite.stacker import Stacker
 from entities.suite.swimmer import Swimmer
 from entities.suite.walker import Walker
 
 __all__ = [
+    "LQR",
     "MATERIALS",
     "Cartpole",
     "Cheetah",
@@ -28,8 +33,12 @@ __all__ = [
     "Hopper",
     "Humanoid",
     "HumanoidCMU",
+    "Manipulator",
+    "PlanarArm",
     "Quadruped",
+    "Stacker",
     "Swimmer",
     "Walker",
     "add_materials",
+    "add_planar_arm",
 ]

@@ -20,14 +20,26 @@ import numpy as np
 from dm_env import specs
 
 import mjcf
+from mjcf.binding import ACC_BEHIND
 
 
 class Physics(mjcf.Physics):
-    """dm_control's `mujoco.Physics`: ours, with the two seams suite domains use: the
-    `_reload_from_data` hook, run when the physics is made (the quadruped sets up its
-    caches there; the suite never reloads one), and `contexts`, the render contexts, which
-    do not exist here (the quadruped's escape re-uploads its heightfield only when they
-    do)."""
+    """dm_control's `mujoco.Physics`: ours, with the two seams suite domains use, and one
+    change.
+
+    The seams: the `_reload_from_data` hook, run when the physics is made (the quadruped
+    sets up its caches there; the suite never reloads one), and `contexts`, the render
+    contexts, which do not exist here (the quadruped's escape re-uploads its heightfield
+    only when they do).
+
+    The change: on dm_control, reading MjData raw (`physics.data.sensordata`) and by name
+    (`physics.named.data.sensordata`) gives the same values, both one physics step old for
+    acceleration-dependent fields after a step (touch sensors, contact forces). Ours
+    computes those afresh for named reads and bindings (`mjcf.Physics.step`), as our tasks
+    read them; so that dm_control's code sees one physics whichever way it reads (stacker
+    reads its touch sensors raw, manipulator by name), a raw read of `data` right after a
+    step brings them up to date as a named read would. The trajectory is unaffected: the
+    next step recomputes that stage anyway. docs/suite.md lists this difference."""
 
     contexts = None
 
@@ -37,6 +49,14 @@ class Physics(mjcf.Physics):
 
     def _reload_from_data(self, data: Any) -> None:
         """dm_control's hook after a new model or data; nothing here."""
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """The raw MjData, its acceleration stage first brought up to date if a step (or
+        `after_reset`) left only that behind."""
+        if self._stale == ACC_BEHIND:
+            self._refresh()
+        return self._data
 
 
 def action_spec(physics: mjcf.Physics) -> specs.BoundedArray:

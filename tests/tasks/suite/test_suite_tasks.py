@@ -30,10 +30,17 @@ def _seed(domain: str, task: str) -> int:
     return sum(map(ord, f"{domain}/{task}")) % 1000
 
 
+# Domains whose model dm_control draws from the task's seed (lqr's springs), which ours
+# draws at a seeded reset: their models are compared after one.
+DRAWN_MODELS = {"lqr"}
+
+
 @pytest.mark.parametrize(("domain", "task"), ALL)
 def test_the_model_is_dm_control_s_array_for_array(domain, task):
     ours = suite.load(domain, task)
     theirs = oracle.reference(domain, task, seed=0)
+    if domain in DRAWN_MODELS:
+        ours.reset(seed=0)
     oracle.assert_same_model(ours.physics.model, theirs.physics.model)
 
 
@@ -109,8 +116,9 @@ def test_every_id_passes_gymnasium_s_checks(env_id):
     with warnings.catch_warnings():
         # dm_control's observation specs are unbounded, and so are these Boxes, as Shimmy's.
         warnings.filterwarnings("ignore", ".*A Box observation space (minimum|maximum) value")
-        # The quadruped's actuators have dm_control's ranges: [-1, 1.1], [-0.8, 0.8].
-        warnings.filterwarnings("ignore", ".*symmetric and normalized space")
+        # Asymmetric or unbounded action ranges, as dm_control's specs have them: the
+        # quadruped's [-1, 1.1] and [-0.8, 0.8], lqr's unbounded motors.
+        warnings.filterwarnings("ignore", ".*symmetric and normalized")
         env = gymnasium.make(env_id)
         check_env(env.unwrapped)
     observation, _ = env.reset(seed=1)
