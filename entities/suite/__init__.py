@@ -11,5 +11,11 @@ tasks; tests/tasks/suite compares both).
 
 from entities.suite.cartpole import Cartpole
 from entities.suite.materials import MATERIALS, add_materials
+from entities.suite.pendulum import Pendulum
 
-__all__ = ["MATERIALS", "Cartpole", "add_materials"]
+__all__ = [
+    "MATERIALS",
+    "Cartpole",
+    "Pendulum",
+    "add_materials",
+]
