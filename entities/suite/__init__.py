@@ -9,12 +9,14 @@ to the MjModel dm_control's file compiles to, array for array (`tasks.suite` ser
 tasks; tests/tasks/suite compares both).
 """
 
+from entities.suite.acrobot import Acrobot
 from entities.suite.cartpole import Cartpole
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.pendulum import Pendulum
 
 __all__ = [
     "MATERIALS",
+    "Acrobot",
     "Cartpole",
     "Pendulum",
     "add_materials",

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole, pendulum
+from tasks.suite import acrobot, cartpole, pendulum
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -37,6 +37,7 @@ __all__ = [
     "TASKS",
     "TASKS_BY_DOMAIN",
     "SuiteEntry",
+    "acrobot",
     "cartpole",
     "find",
     "load",

@@ -128,6 +128,7 @@ def _move_onto(kind, target, place):
 _EARNING = {
     "cartpole": _write(("data.qpos", "slider", 0.0), ("data.qpos", "hinge_1", 0.0)),
     "pendulum": _write(("data.qpos", "hinge", 0.0)),
+    "acrobot": _write(("data.qpos", "shoulder", 0.0), ("data.qpos", "elbow", 0.0)),
 }  # fmt: skip
 EARNING = [
     pytest.param(domain, task, id=f"{domain}-{task}")
@@ -150,7 +151,7 @@ def test_rewards_where_earned_are_dm_control_s(domain, task):
     assert rewards[0] > 0.5  # earned at first, compared as the state moves on
 
 
-VECTOR = ["cartpole-swingup", "pendulum-swingup"]  # fmt: skip
+VECTOR = ["cartpole-swingup", "pendulum-swingup", "acrobot-swingup"]  # fmt: skip
 
 
 @pytest.mark.parametrize("name", VECTOR)
