@@ -8,9 +8,9 @@ Every domain of dm_control's suite includes the same three files: a gradient sky
 random white marks, the visual settings (headlight, near clip plane, shadow map size) and
 the materials; the checkered `grid` texture and material of the last are the world's, the
 robot's materials travel with the robot (`entities.suite.materials`). The floor is a plane
-named `floor` of the domain's size and place. The arena sets no physics option: those are
-the robot's (its model's `<option>`), so the composed model compiles to what the domain's
-own file compiles to.
+of the domain's name (`floor`, or `ground` as some files say), size and place. The arena
+sets no physics option: those are the robot's (its model's `<option>`), so the composed
+model compiles to what the domain's own file compiles to.
 """
 
 from __future__ import annotations
@@ -31,10 +31,11 @@ class SuiteArena(composer.Arena):
         floor_pos: Sequence[float] = (0.0, 0.0, 0.0),
         grid_repeat: Sequence[float] = (1.0, 1.0),
         grid_reflectance: float = 0.2,
+        floor_name: str = "floor",
     ) -> None:
-        """Make the world model named `name`, with a floor plane of `floor_size` (None: no
-        floor) at `floor_pos`, its grid material repeated `grid_repeat` times per unit
-        (`texuniform`) with `grid_reflectance`."""
+        """Make the world model named `name`, with a floor plane named `floor_name` of
+        `floor_size` (None: no floor) at `floor_pos`, its grid material repeated
+        `grid_repeat` times per unit (`texuniform`) with `grid_reflectance`."""
         root = self._mjcf_root = mjcf.RootElement(model=name)
         root.asset.add(
             "texture", name="skybox", type="skybox", builtin="gradient", rgb1=[0.4, 0.6, 0.8],
@@ -56,8 +57,8 @@ class SuiteArena(composer.Arena):
         self.floor = None
         if floor_size is not None:
             self.floor = root.worldbody.add(
-                "geom", name="floor", type="plane", pos=list(floor_pos), size=list(floor_size),
-                material=self.grid,
+                "geom", name=floor_name, type="plane", pos=list(floor_pos),
+                size=list(floor_size), material=self.grid,
             )  # fmt: skip
 
     def add_light(self, **attributes: object) -> mjcf.Element:

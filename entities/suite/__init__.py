@@ -13,11 +13,15 @@ from entities.suite.acrobot import Acrobot
 from entities.suite.cartpole import Cartpole
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.pendulum import Pendulum
+from entities.suite.point_mass import PointMass
+from entities.suite.walls import add_walls
 
 __all__ = [
     "MATERIALS",
     "Acrobot",
     "Cartpole",
     "Pendulum",
+    "PointMass",
     "add_materials",
+    "add_walls",
 ]

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import acrobot, cartpole, pendulum
+from tasks.suite import acrobot, cartpole, pendulum, point_mass
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -42,5 +42,6 @@ __all__ = [
     "find",
     "load",
     "pendulum",
+    "point_mass",
     "tagged",
 ]

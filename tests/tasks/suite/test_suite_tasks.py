@@ -129,6 +129,7 @@ _EARNING = {
     "cartpole": _write(("data.qpos", "slider", 0.0), ("data.qpos", "hinge_1", 0.0)),
     "pendulum": _write(("data.qpos", "hinge", 0.0)),
     "acrobot": _write(("data.qpos", "shoulder", 0.0), ("data.qpos", "elbow", 0.0)),
+    "point_mass": _write(("data.qpos", "root_x", 0.0), ("data.qpos", "root_y", 0.0)),
 }  # fmt: skip
 EARNING = [
     pytest.param(domain, task, id=f"{domain}-{task}")
@@ -151,7 +152,7 @@ def test_rewards_where_earned_are_dm_control_s(domain, task):
     assert rewards[0] > 0.5  # earned at first, compared as the state moves on
 
 
-VECTOR = ["cartpole-swingup", "pendulum-swingup", "acrobot-swingup"]  # fmt: skip
+VECTOR = ["cartpole-swingup", "pendulum-swingup", "acrobot-swingup", "point_mass-hard"]  # fmt: skip
 
 
 @pytest.mark.parametrize("name", VECTOR)
