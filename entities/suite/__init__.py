@@ -14,6 +14,7 @@ from entities.suite.cartpole import Cartpole
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.pendulum import Pendulum
 from entities.suite.point_mass import PointMass
+from entities.suite.reacher import Reacher
 from entities.suite.walls import add_walls
 
 __all__ = [
@@ -22,6 +23,7 @@ __all__ = [
     "Cartpole",
     "Pendulum",
     "PointMass",
+    "Reacher",
     "add_materials",
     "add_walls",
 ]

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import acrobot, cartpole, pendulum, point_mass
+from tasks.suite import acrobot, cartpole, pendulum, point_mass, reacher
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -43,5 +43,6 @@ __all__ = [
     "load",
     "pendulum",
     "point_mass",
+    "reacher",
     "tagged",
 ]

@@ -130,6 +130,7 @@ _EARNING = {
     "pendulum": _write(("data.qpos", "hinge", 0.0)),
     "acrobot": _write(("data.qpos", "shoulder", 0.0), ("data.qpos", "elbow", 0.0)),
     "point_mass": _write(("data.qpos", "root_x", 0.0), ("data.qpos", "root_y", 0.0)),
+    "reacher": _move_onto("geom", "target", "finger"),
 }  # fmt: skip
 EARNING = [
     pytest.param(domain, task, id=f"{domain}-{task}")
@@ -152,7 +153,13 @@ def test_rewards_where_earned_are_dm_control_s(domain, task):
     assert rewards[0] > 0.5  # earned at first, compared as the state moves on
 
 
-VECTOR = ["cartpole-swingup", "pendulum-swingup", "acrobot-swingup", "point_mass-hard"]  # fmt: skip
+VECTOR = [
+    "cartpole-swingup",
+    "pendulum-swingup",
+    "acrobot-swingup",
+    "point_mass-hard",
+    "reacher-hard",
+]
 
 
 @pytest.mark.parametrize("name", VECTOR)
@@ -184,6 +191,11 @@ def test_unknown_domains_tasks_and_keywords_are_named():
         suite.load("cartpole", "swingup", environment_kwargs={"n_sub_steps": 2})
     with pytest.raises(registration.RegistrationError, match="num_pole"):
         gymnasium.make("dm_control/cartpole-swingup-v0", num_pole=2)
+
+
+def test_a_bad_reacher_target_size_is_named():
+    with pytest.raises(composer.TaskError, match="target_size must be a positive number"):
+        suite.load("reacher", "easy", task_kwargs={"target_size": -0.05})
 
 
 def test_bad_actions_are_refused_before_the_step():
