@@ -8,14 +8,16 @@ Every domain of dm_control's suite includes the same three files: a gradient sky
 random white marks, the visual settings (headlight, near clip plane, shadow map size) and
 the materials; the checkered `grid` texture and material of the last are the world's, the
 robot's materials travel with the robot (`entities.suite.materials`). The floor is a plane
-of the domain's name (`floor`, or `ground` as some files say), size and place. The arena
-sets no physics option: those are the robot's (its model's `<option>`), so the composed
-model compiles to what the domain's own file compiles to.
+of the domain's name (`floor`, or `ground` as some files say), size and place, with the
+attributes the domain's top-level defaults give it (`floor_attributes`: finger's solref
+...). The arena sets no physics option: those are the robot's (its model's `<option>`),
+so the composed model compiles to what the domain's own file compiles to.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import composer
 import mjcf
@@ -32,10 +34,13 @@ class SuiteArena(composer.Arena):
         grid_repeat: Sequence[float] = (1.0, 1.0),
         grid_reflectance: float = 0.2,
         floor_name: str = "floor",
+        floor_attributes: Mapping[str, Any] | None = None,
     ) -> None:
         """Make the world model named `name`, with a floor plane named `floor_name` of
-        `floor_size` (None: no floor) at `floor_pos`, its grid material repeated
-        `grid_repeat` times per unit (`texuniform`) with `grid_reflectance`."""
+        `floor_size` (None: no floor) at `floor_pos`, with `floor_attributes` besides (as
+        MJCF's `<geom>` takes them), its grid material repeated `grid_repeat` times per
+        unit (`texuniform`) with `grid_reflectance`. Raises mjcf errors for attributes
+        MJCF's geom has not or values that do not fit them."""
         root = self._mjcf_root = mjcf.RootElement(model=name)
         root.asset.add(
             "texture", name="skybox", type="skybox", builtin="gradient", rgb1=[0.4, 0.6, 0.8],
@@ -58,7 +63,7 @@ class SuiteArena(composer.Arena):
         if floor_size is not None:
             self.floor = root.worldbody.add(
                 "geom", name=floor_name, type="plane", pos=list(floor_pos),
-                size=list(floor_size), material=self.grid,
+                size=list(floor_size), material=self.grid, **dict(floor_attributes or {}),
             )  # fmt: skip
 
     def add_light(self, **attributes: object) -> mjcf.Element:

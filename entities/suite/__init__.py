@@ -11,6 +11,7 @@ tasks; tests/tasks/suite compares both).
 
 from entities.suite.acrobot import Acrobot
 from entities.suite.cartpole import Cartpole
+from entities.suite.finger import Finger
 from entities.suite.materials import MATERIALS, add_materials
 from entities.suite.pendulum import Pendulum
 from entities.suite.point_mass import PointMass
@@ -21,6 +22,7 @@ __all__ = [
     "MATERIALS",
     "Acrobot",
     "Cartpole",
+    "Finger",
     "Pendulum",
     "PointMass",
     "Reacher",

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import acrobot, cartpole, pendulum, point_mass, reacher
+from tasks.suite import acrobot, cartpole, finger, pendulum, point_mass, reacher
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -40,6 +40,7 @@ __all__ = [
     "acrobot",
     "cartpole",
     "find",
+    "finger",
     "load",
     "pendulum",
     "point_mass",

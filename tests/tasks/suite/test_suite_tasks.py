@@ -131,6 +131,8 @@ _EARNING = {
     "acrobot": _write(("data.qpos", "shoulder", 0.0), ("data.qpos", "elbow", 0.0)),
     "point_mass": _write(("data.qpos", "root_x", 0.0), ("data.qpos", "root_y", 0.0)),
     "reacher": _move_onto("geom", "target", "finger"),
+    "finger-spin": _write(("data.qvel", "hinge", -30.0)),
+    "finger": _move_onto("site", "target", "tip"),
 }  # fmt: skip
 EARNING = [
     pytest.param(domain, task, id=f"{domain}-{task}")
@@ -159,6 +161,8 @@ VECTOR = [
     "acrobot-swingup",
     "point_mass-hard",
     "reacher-hard",
+    "finger-spin",
+    "finger-turn_hard",
 ]
 
 
@@ -196,6 +200,11 @@ def test_unknown_domains_tasks_and_keywords_are_named():
 def test_a_bad_reacher_target_size_is_named():
     with pytest.raises(composer.TaskError, match="target_size must be a positive number"):
         suite.load("reacher", "easy", task_kwargs={"target_size": -0.05})
+
+
+def test_a_bad_finger_target_radius_is_named():
+    with pytest.raises(composer.TaskError, match="target_radius must be a positive number"):
+        gymnasium.make("dm_control/finger-turn_easy-v0", target_radius="big")
 
 
 def test_bad_actions_are_refused_before_the_step():
