@@ -10,6 +10,7 @@ tasks; tests/tasks/suite compares both).
 """
 
 from entities.suite.acrobot import Acrobot
+from entities.suite.ball_in_cup import BallInCup
 from entities.suite.cartpole import Cartpole
 from entities.suite.finger import Finger
 from entities.suite.materials import MATERIALS, add_materials
@@ -21,6 +22,7 @@ from entities.suite.walls import add_walls
 __all__ = [
     "MATERIALS",
     "Acrobot",
+    "BallInCup",
     "Cartpole",
     "Finger",
     "Pendulum",

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import acrobot, cartpole, finger, pendulum, point_mass, reacher
+from tasks.suite import acrobot, ball_in_cup, cartpole, finger, pendulum, point_mass, reacher
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -38,6 +38,7 @@ __all__ = [
     "TASKS_BY_DOMAIN",
     "SuiteEntry",
     "acrobot",
+    "ball_in_cup",
     "cartpole",
     "find",
     "finger",

@@ -133,6 +133,11 @@ _EARNING = {
     "reacher": _move_onto("geom", "target", "finger"),
     "finger-spin": _write(("data.qvel", "hinge", -30.0)),
     "finger": _move_onto("site", "target", "tip"),
+    "ball_in_cup": _write(
+        *(("data.qpos", joint, 0.0) for joint in ("cup_x", "cup_z", "ball_x")),
+        ("data.qpos", "ball_z", 0.35),  # the ball's centre on the cup's inside's
+        ("data.qvel", "ball_x", 0.0), ("data.qvel", "ball_z", 0.0),
+    ),
 }  # fmt: skip
 EARNING = [
     pytest.param(domain, task, id=f"{domain}-{task}")
@@ -163,6 +168,7 @@ VECTOR = [
     "reacher-hard",
     "finger-spin",
     "finger-turn_hard",
+    "ball_in_cup-catch",
 ]
 
 
