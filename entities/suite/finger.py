@@ -7,13 +7,13 @@
 
 The numbers are the suite's (`finger.xml`): a finger of a 17 cm and a 16 cm capsule on
 hinges limited to +-110 degrees (the proximal one's reference at -90), damped at 2.5, its
-motors of gear 30 and 15; a spinner of two 4 cm capsules on a free hinge with friction
-loss 0.1 and damping 0.5, a `tip` site 13 cm from its axis; no gravity, soft contacts
-(solimp 0 0.9 0.01, solref 0.02 1, which the world's floor shares), an elliptic friction
-cone, 200 solver iterations, Euler at 10 ms. Two touch sensors sit at the fingertip. Every
-observation the suite's tasks make is a sensor (in the file's order, `sensors`), so that
-they can be finite-differenced. The world's `target` site marks where the tip should go.
-The cameras `cam0` and `cam1` look at it from the front.
+motors of gear 30 and 15; a spinner of two capsules of 4 cm radius on an unactuated hinge
+with friction loss 0.1 and damping 0.5, a `tip` site 13 cm from its axis; no gravity,
+soft contacts (solimp 0 0.9 0.01, solref 0.02 1, which the world's floor shares), an
+elliptic friction cone, 200 solver iterations, Euler at 10 ms. Two touch sensors sit at
+the fingertip. Every observation the suite's tasks make is a sensor (in the file's order,
+`sensors`), so that they can be finite-differenced. The world's `target` site marks where
+the tip should go. The cameras `cam0` and `cam1` look at it from the front.
 """
 
 from __future__ import annotations

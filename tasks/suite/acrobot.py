@@ -8,7 +8,7 @@ Observations: `orientations` (each link's sin, then each link's cos of its angle
 upright, as the x-z and z-z entries of its orientation), `velocity` (both joints').
 Reward in [0, 1]: 1 while the tip is within the target's 0.2 m radius (4 m up, where the
 links point straight up); dense, falling off outside it with the distance (gaussian, 0.1
-at 1 m); sparse, 0 outside. Each episode starts with both joints at angles uniform in
+at 1 m beyond it); sparse, 0 outside. Each episode starts with both joints at angles uniform in
 [-pi, pi); 1,000 steps of 10 ms.
 """
 

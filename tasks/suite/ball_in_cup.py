@@ -5,8 +5,8 @@
 Observations: `position` and `velocity` (the cup's x and z, then the ball's, and their
 rates). Reward: 1 while the ball is wholly inside the cup (its centre within the cup's
 inner box, shrunk by the ball's radius, in x and z), else 0. Each episode starts with the
-ball at x uniform in [-0.2, 0.2) and z in [0.2, 0.5) m, drawn again while it touches the
-cup; 1,000 steps of 20 ms (ten physics steps each).
+ball at x uniform in [-0.2, 0.2) and z in [0.2, 0.5) m, drawn again while it touches
+anything; 1,000 steps of 20 ms (ten physics steps each).
 """
 
 from __future__ import annotations

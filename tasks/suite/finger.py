@@ -10,11 +10,11 @@ from the spinner's axis to its tip), `velocity` (the three joints'), `touch` (lo
 of the two fingertip touch sensors); the turn tasks add `target_position` (the x and z
 from the spinner's axis to the target) and `dist_to_target` (from the tip to the target's
 surface, negative inside). Reward: spin, 1 while the spinner turns at 15 rad/s or faster
-(the negative way about its axis, clockwise as the cameras see it); turn, 1 while the
-tip is inside the target. Each episode starts at random joint angles without contacts
-(`randomizers`, drawn again while any contact is found, up to 1,000 times); spin hides
-the target and the tip and damps the spinner at 0.03 instead of 0.5; turn puts the target
-at an angle uniform in [-pi, pi) on the circle the tip can reach. 1,000 steps of 20 ms.
+the negative way about its hinge's axis; turn, 1 while the tip is inside the target.
+Each episode starts at random joint angles without contacts (`randomizers`, drawn again
+while any contact is found, up to 1,000 times); spin hides the target and the tip and
+damps the spinner at 0.03 instead of 0.5; turn puts the target at an angle uniform in
+[-pi, pi) on the circle the tip can reach. 1,000 steps of 20 ms.
 """
 
 from __future__ import annotations
