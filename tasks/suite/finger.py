@@ -19,6 +19,8 @@ damps the spinner at 0.03 instead of 0.5; turn puts the target at an angle unifo
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 import composer
@@ -61,10 +63,10 @@ class _FingerTask(SuiteTask):
         self._observables: dict[str, observation.Observable] = {
             "position": observation.BatchGeneric(self._bounded_position),
             "velocity": observation.BatchGeneric(
-                lambda physics: physics.bind(self.finger.joint_velocities).sensordata
+                lambda physics: physics.field("sensordata")[:, self._velocities]
             ),
             "touch": observation.BatchGeneric(
-                lambda physics: np.log1p(physics.bind(self.finger.touches).sensordata)
+                lambda physics: np.log1p(physics.field("sensordata")[:, self._touches])
             ),
         }
 
@@ -82,15 +84,31 @@ class _FingerTask(SuiteTask):
         for item in self._observables.values():
             item.enabled = True
 
-    def _relative_xz(self, physics: composer.BatchPhysics, sensor: mjcf.Element) -> np.ndarray:
-        """x and z of framepos `sensor` from the spinner's axis, (n, 2)."""
-        spinner = physics.bind(self.finger.spinner_position).sensordata[:, _XZ]
-        return physics.bind(sensor).sensordata[:, _XZ] - spinner
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Find each observation's columns of `sensordata` (read whole, once per
+        observation): the x and z columns of the frame positions."""
+        finger = self.finger
+
+        def columns(sensors: tuple[mjcf.Element, ...], axes: list[int] | None = None) -> Any:
+            first = physics.bind(list(sensors)).adr
+            return first if axes is None else first[:, None] + axes
+
+        self._angles = columns(finger.joint_positions)
+        self._velocities = columns(finger.joint_velocities)
+        self._touches = columns(finger.touches)
+        self._tip, self._target, self._spinner = columns(
+            (finger.tip_position, finger.target_position, finger.spinner_position), _XZ
+        )
+
+    def _from_axis(self, sensordata: np.ndarray, xz: np.ndarray) -> np.ndarray:
+        """The x and z of `sensordata`'s columns `xz` (a frame position's) from the
+        spinner's axis, (n, 2)."""
+        return sensordata[:, xz] - sensordata[:, self._spinner]
 
     def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Both finger joints' angles, then the tip's x and z from the axis: (n, 4)."""
-        angles = physics.bind(self.finger.joint_positions).sensordata
-        return np.hstack((angles, self._relative_xz(physics, self.finger.tip_position)))
+        sensordata = physics.field("sensordata")
+        return np.hstack((sensordata[:, self._angles], self._from_axis(sensordata, self._tip)))
 
     def _set_random_joint_angles(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -127,7 +145,7 @@ class Spin(_FingerTask):
 
     def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
         """1 where the spinner turns at -15 rad/s or faster, else 0; shape (n,)."""
-        velocity = physics.bind(self.finger.joint_velocities[2]).sensordata[:, 0]
+        velocity = physics.bind(self.finger.joint_velocities[2]).sensordata[:, 0]  # hinge's
         return (velocity <= -_SPIN_VELOCITY).astype(np.float64)
 
 
@@ -149,15 +167,16 @@ class Turn(_FingerTask):
         super().__init__(control_timestep)
         self._target_radius = float(target_radius)
         self._observables["target_position"] = observation.BatchGeneric(
-            lambda physics: self._relative_xz(physics, self.finger.target_position)
+            lambda physics: self._from_axis(physics.field("sensordata"), self._target)
         )
         self._observables["dist_to_target"] = observation.BatchGeneric(self._dist_to_target)
         self._enable_observables()
 
     def _dist_to_target(self, physics: composer.BatchPhysics) -> np.ndarray:
         """From the tip to the target's surface (the task's radius), negative inside: (n,)."""
-        target = self._relative_xz(physics, self.finger.target_position)
-        to_target = target - self._relative_xz(physics, self.finger.tip_position)
+        sensordata = physics.field("sensordata")
+        target = self._from_axis(sensordata, self._target)
+        to_target = target - self._from_axis(sensordata, self._tip)
         return np.sqrt(squared_norms(to_target)) - self._target_radius
 
     def initialize_episode(
