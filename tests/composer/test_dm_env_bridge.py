@@ -226,4 +226,4 @@ def test_without_dm_env_composer_works_and_the_bridge_says_how_to_install_it():
         """
     )
     assert result.returncode == 0, result.stderr
-    assert "pip install 'mujoco-composer[dm]'" in result.stdout
+    assert "pip install -e '.[dm]' from a checkout (or: pip install dm-env)" in result.stdout
