@@ -114,7 +114,7 @@ def _train(
     verb = f"resuming at {progress.timesteps:,} steps:" if folder.resumes else "training"
     print(f"{verb} {args.info.name} with {trainer.algorithm} to {trainer.end():,} steps on "
           f"{trainer.where} -> {folder.out}")  # fmt: skip
-    for line in plan(trainer, session):
+    for line in _plan(trainer, session):
         print("  " + line)
     print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
     with StopOnInterrupt() as stop:
@@ -134,7 +134,7 @@ def _train(
     return 0
 
 
-def plan(trainer: Trainer, session: Session) -> list[str]:
+def _plan(trainer: Trainer, session: Session) -> list[str]:
     """What the announcement says after its first line: why the run ends past the
     recipe's timesteps (its algorithm collects whole batches), and when it evaluates."""
     lines = []
@@ -148,8 +148,9 @@ def plan(trainer: Trainer, session: Session) -> list[str]:
     evaluations = session.evaluations_until(end, done, collection.check_every)
     episodes = describe.count(session.eval_episodes, "episode")
     if evaluations:
-        lines.append(f"evaluating every {session.eval_every:,} steps ({evaluations} "
-                     f"times, {episodes} each), then once more after training")  # fmt: skip
+        times = describe.count(evaluations, "time")
+        lines.append(f"evaluating every {session.eval_every:,} steps ({times}, {episodes} "
+                     "each), then once more after training")  # fmt: skip
     else:
         lines.append(f"evaluating once, after training ({episodes})")
     return lines

@@ -131,31 +131,31 @@ def test_a_ray_run_keeps_the_folder_rules_resumes_on_other_workers_and_is_replac
     rules, resuming it on one runner, and replacing it with --fresh."""
     cluster = ("--address", ray_cluster.address)
     first = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "2",
-                     "--timesteps", "8000", "--eval-episodes", "1", "--out", "run",
-                     "--no-video", cwd=tmp_path, env=ray_cluster.environment(),
+                     "--envs-per-worker", "4", "--timesteps", "2000", "--eval-episodes", "1",
+                     "--out", "run", "--no-video", cwd=tmp_path, env=ray_cluster.environment(),
                      timeout=TIMEOUT)  # fmt: skip
     assert first.returncode == 0, first.stderr
-    assert "on 2 env runners x 16 environments -> run\n" in first.stdout
+    assert "to 2,048 steps on 2 env runners x 4 environments -> run\n" in first.stdout
     assert re.search(r"^env runners: 2 on 127\.0\.0\.1 \(pids \d+, \d+\)$", first.stdout, re.M)
     out = tmp_path / "run"
 
     # The rules of the output folder are the stable-baselines3 engine's, checked before
     # Ray starts: a finished run is kept unless --resume or --fresh says what to do, ...
     files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
-    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "12000", "--out", "run",
+    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "3000", "--out", "run",
                      cwd=tmp_path)  # fmt: skip
     line = assert_one_line_error(again, "run holds a finished run: CartpoleSwingup with PPO, "
-                                 "8,192 steps")  # fmt: skip
+                                 "2,048 steps")  # fmt: skip
     assert line.endswith(FINISHED_CHOICES)
-    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "8192", "--resume",
+    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "2048", "--resume",
                        "run", cwd=tmp_path)  # fmt: skip
-    assert_one_line_error(smaller, "the run in run has 8,192 steps already",
+    assert_one_line_error(smaller, "the run in run has 2,048 steps already",
                           "give --timesteps above that")  # fmt: skip
     # ... the stable-baselines3 engine neither resumes nor replaces it ...
     for flag in ("--resume", "--fresh"):
         sb3 = composer("train", "CartpoleSwingup", "--out", "run", flag, cwd=tmp_path)
         assert_one_line_error(sb3, "run holds a run of --engine ray (CartpoleSwingup with PPO, "
-                              "8,192 steps", "--engine sb3 can neither resume nor replace it; "
+                              "2,048 steps", "--engine sb3 can neither resume nor replace it; "
                               "give --engine ray, or --out DIR")  # fmt: skip
     shutil.copytree(out / "policy", tmp_path / "policy-only" / "policy")
     sb3 = composer("train", "CartpoleSwingup", "--out", "policy-only", cwd=tmp_path)
@@ -168,22 +168,22 @@ def test_a_ray_run_keeps_the_folder_rules_resumes_on_other_workers_and_is_replac
     assert_one_line_error(unreachable, f"cannot reach the Ray cluster at 127.0.0.1:{port}")
     assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
 
-    # Resumed on one env runner, the run keeps its recipe: its batch stays 4,096.
+    # Resumed on one env runner, the run keeps its recipe: its batch stays 1,024 (2 x 4 x 128).
     resumed = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "1",
-                       "--timesteps", "12000", "--resume", "--out", "run", "--no-video",
+                       "--timesteps", "3000", "--resume", "--out", "run", "--no-video",
                        cwd=tmp_path, env=ray_cluster.environment(), timeout=TIMEOUT)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
     assert (
-        "resuming at 8,192 steps: CartpoleSwingup with RLlib PPO to 12,288 steps on 1 env "
-        "runner x 16 environments -> run\n  12,000 steps rounded up to whole iterations of "
-        "RLlib's train batch (4,096 steps each)\n"
+        "resuming at 2,048 steps: CartpoleSwingup with RLlib PPO to 3,072 steps on 1 env "
+        "runner x 4 environments -> run\n  3,000 steps rounded up to whole iterations of "
+        "RLlib's train batch (1,024 steps each)\n"
     ) in resumed.stdout
     metrics = json.loads((out / "metrics.json").read_text())
-    assert metrics["timesteps"] == 12288 and metrics["workers"] == 1
-    assert [e["timesteps"] for e in metrics["evaluations"]] == [4096, 8192, 12288]
-    # Resumed environments start new episodes: 16 of 256 steps each, 1 episode each (and
-    # 32 of the first session's).
-    assert sum(row[2] for row in metrics["train_curve"]) == 32 + 16
+    assert metrics["timesteps"] == 3072 and metrics["workers"] == 1
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048, 3072]
+    # Resumed environments start new episodes: 4 of 256 steps each, 1 episode each (and 8
+    # of the first session's).
+    assert sum(row[2] for row in metrics["train_curve"]) == 8 + 4
     (saved,) = (p.name for p in (out / "checkpoint").iterdir() if p.is_dir())
 
     # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
@@ -289,12 +289,13 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
     several = {LOOPBACK_ONLY: "1"}
     env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token, **several)
     temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
+    head, worker = tmp_path / "head.log", tmp_path / "worker.log"
     nodes = [start_node("--head", "--port", str(port), "--include-dashboard", "false",
-                        "--temp-dir", temp, env=env, cpus=1)]  # fmt: skip
+                        "--temp-dir", temp, env=env, log=head, cpus=1)]  # fmt: skip
     try:
-        wait_started(nodes[0])
-        nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, cpus=1))
-        wait_started(nodes[1])
+        wait_started(nodes[0], head)
+        nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, log=worker, cpus=1))
+        wait_started(nodes[1], worker)
         # The token alone, as a user copies it: the command joins in token mode itself.
         result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
                           "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
@@ -303,7 +304,7 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
                           timeout=TIMEOUT)  # fmt: skip
     finally:
         for node in reversed(nodes):
-            stop_node(node)
+            stop_node(node.pid)
         shutil.rmtree(temp, ignore_errors=True)
     assert result.returncode == 0, result.stderr
     assert "on 2 env runners x 2 environments" in result.stdout  # the cluster's two CPUs
