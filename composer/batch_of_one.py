@@ -10,7 +10,7 @@ A single `composer.Environment` runs a task's batched methods (`composer.batched
 its view (made at each compile, with its task and random state; the task's own single
 forms run their batched forms with it too), so one environment computes what a
 `VectorEnvironment` computes for each of its environments, bit for bit. It reads and
-writes through the physics' own bindings (cached, fresh as `mjcf.binding` promises), adding
+writes through the physics' own bindings (cached, fresh as `mjcf.sim.binding` promises), adding
 the leading axis of one row: reads are new arrays (state fields as mjtNum, as MuJoCo's batch
 holds them), writes take (1, ...) rows or anything that broadcasts to them.
 
@@ -32,7 +32,7 @@ import numpy as np
 
 import mjcf
 from composer import batched, errors
-from mjcf import fields, tracking
+from mjcf.sim import fields, tracking
 
 if TYPE_CHECKING:
     from composer.task import Task
@@ -110,7 +110,7 @@ class _Binding(batched.Binding):
         if self._strict and not model:
             batched.check_source(spec.name)
         # A read copies the physics' rows: at once for a plain view, through np.array for
-        # a copy that writes itself back (mjcf.binding.WriteThrough) or a dtype to change.
+        # a copy that writes itself back (mjcf.sim.binding.WriteThrough) or a dtype to change.
         dtype = _MJTNUM if state else None
         plain = type(value) is np.ndarray and (dtype is None or value.dtype == dtype)
         writable = state or not self._strict
@@ -196,7 +196,7 @@ class BatchOfOne(batched.BatchPhysics):
         found = self._bindings.get(key)
         if found is None:
             binding = self._physics.bind(key)  # raises BindingError for foreign elements
-            if binding is mjcf.binding.EMPTY:
+            if binding is mjcf.sim.binding.EMPTY:
                 found = batched.EmptyBinding(self)
             else:
                 found = batched.binding_class(_Binding, binding.kind)(binding, self._strict)

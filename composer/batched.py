@@ -52,7 +52,7 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import errors
-from mjcf import fields, tracking
+from mjcf.sim import fields, tracking
 
 if TYPE_CHECKING:
     from composer.task import Task

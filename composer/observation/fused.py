@@ -29,7 +29,7 @@ import numpy as np
 import mjcf
 from composer import batched
 from composer.observation.observable import FieldRows, Observable
-from mjcf import fields, tracking
+from mjcf.sim import fields, tracking
 
 # What a value is made of: the field's value, or the cos or sin of it.
 _RAW, _COS, _SIN = 0, 1, 2

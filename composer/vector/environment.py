@@ -64,7 +64,7 @@ from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.physics import Simulations, VectorPhysics
 from composer.vector.rendering import Ids, RenderThreads
-from mjcf import rendering
+from mjcf.sim import rendering
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run

@@ -37,7 +37,7 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import batched
-from mjcf import fields, tracking
+from mjcf.sim import fields, tracking
 
 _ACC = tracking.Stage.ACCELERATION
 
@@ -202,7 +202,7 @@ class Simulations:
         found = self._bound.get(key)
         if found is None:
             template = self.template.bind(key)
-            if template is mjcf.binding.EMPTY:
+            if template is mjcf.sim.binding.EMPTY:
                 found = (None, {})
             else:
                 found = (batched.binding_class(BatchBinding, template.kind), {})

@@ -8,8 +8,8 @@ Environment i is always drawn on thread i % count, so each environment's rendere
 `mjcf.Physics`'s own, made for its own model: the single environment's code path) are only
 ever current in that thread and in the caller's; every thread, the caller's included,
 releases its OpenGL context before another may use those renderers
-(`mjcf.rendering.release_context`). The renderers of the environments of one thread share
-one OpenGL context (`mjcf.rendering.context_group(threads.group(i))`, which the caller
+(`mjcf.sim.rendering.release_context`). The renderers of the environments of one thread share
+one OpenGL context (`mjcf.sim.rendering.context_group(threads.group(i))`, which the caller
 wraps around whatever may make environment i's renderers, such as its reset): a renderer
 costs 7 ms to make instead of 150, and a thread draws without switching contexts. MuJoCo
 releases the GIL while it draws, so the threads draw in parallel (on 2 idle cores a 64x64
@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from mjcf import rendering
+from mjcf.sim import rendering
 
 Draw = Callable[[int], np.ndarray]
 # Environments, by index: a sequence or an array of ints.
@@ -79,7 +79,7 @@ class RenderThreads:
         self._stop: weakref.finalize | None = None
 
     def group(self, i: int) -> object:
-        """The context group (`mjcf.rendering.context_group`) of environment i's renderers."""
+        """The context group (`mjcf.sim.rendering.context_group`) of environment i's renderers."""
         return self._groups[int(i) % self.count]
 
     def draw(self, ids: Ids, draw: Draw) -> list[np.ndarray]:

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf import values as _values
 from mjcf.schema import _refusals
+from mjcf.schema import values as _values
 
 __all__ = [
     "DATA_FILE",
@@ -359,7 +359,7 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
             stacklevel=3,
         )
     specs = {key: ElementSpec(key, value) for key, value in data["elements"].items()}
-    _refusals.apply(specs)
+    _refusals.apply(specs, Rule)
     for key, value in data["elements"].items():
         spec = specs[key]
         for child_key in value["children"]:

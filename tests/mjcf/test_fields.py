@@ -1,4 +1,4 @@
-"""mjcf.fields covers every indexed MjModel/MjData field of the installed mujoco, correctly.
+"""mjcf.sim.fields covers every indexed MjModel/MjData field of the installed mujoco, correctly.
 
 The model below has at least one object of every kind, so that iterating the installed
 fields exercises every kind and every address scheme; the checks compare against MuJoCo's own
@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 from mujoco.introspect import structs
 
-from mjcf import errors, fields, tracking
+from mjcf import errors
 from mjcf.physics import Physics
+from mjcf.sim import fields, tracking
 from tests.conftest import MUJOCO_TESTDATA
 
 Obj = mujoco.mjtObj
@@ -197,7 +198,7 @@ def test_every_first_extent_is_classified(every_kind):
     for _, name, extent in installed_array_fields(every_kind.model, every_kind.data):
         seen.add(extent)
         assert extent in kind_sizes | addressed | UNINDEXED_EXTENTS, (
-            f"{name} has first axis {extent}: index it in mjcf/fields.py or list it in "
+            f"{name} has first axis {extent}: index it in mjcf/sim/fields.py or list it in "
             "UNINDEXED_EXTENTS with the reason"
         )
     assert not UNINDEXED_EXTENTS - seen, "stale UNINDEXED_EXTENTS entries"
@@ -379,7 +380,7 @@ def test_names_of_unnamed_objects_are_empty():
     assert names[0] == "floor" and "" in names
 
 
-# -- what writes make stale (mjcf.tracking), and column names ----------------------------------
+# -- what writes make stale (mjcf.sim.tracking), and column names ----------------------------------
 
 
 def test_state_fields_are_mujocos_state_components() -> None:

@@ -12,7 +12,7 @@ import mujoco
 import pytest
 
 import mjcf
-from mjcf import parser
+from mjcf.io import parser
 from mjcf.schema import _refusals
 from tests.conftest import MENAGERIE
 

@@ -6,7 +6,7 @@ the suite needs little of it: a Physics class to subclass (with `from_xml_string
 `model`, `data`, `control()`, `velocity()`, `reset_context()` ...: ours has them), the
 actuators' `action_spec`, and `wrapper.mjbindings` for MuJoCo's enums and functions, which
 the `mujoco` bindings provide under the same names (`.ptr` of our model and data is the
-object itself, `mjcf.raw_access`).
+object itself, `mjcf.sim.raw_access`).
 """
 
 from __future__ import annotations

@@ -1,0 +1,361 @@
+"""Settings sections of composed models: how the `<compiler>`, `<option>`, `<size>`,
+`<visual>` and `<statistic>` of several models become the one a composed document has.
+
+    settings.check_compatible(scene, arm)     # at attach: raises mjcf.AttachmentError
+    settings.merged([scene, arm], 'option')   # the merged section, when writing
+
+Compiler settings are each model's own, as in MuJoCo's own attachment, so a composed
+model compiles every model's elements as that model alone would:
+
+- `angle` and `eulerseq` are converted element by element (see `mjcf.compose.composition`);
+- `autolimits` is written "true" when models differ (a model with "false" states
+  every limit, so "true" reads it the same);
+- `inertiafromgeom` takes a value under which every body of every model gets its
+  inertia the same way as alone ("true" and "auto" agree for a model without
+  `<inertial>`), else it is an `AttachmentError`;
+- an attached model's `settotalmass` becomes its densities, masses and inertias scaled
+  by what it would scale them by alone (`unscaled_mass` compiles it once to know);
+- settings that do not change an attached model's compiled values (`usethread`,
+  `passthrough` ...) are the output model's; files are resolved per model, so
+  `meshdir`, `texturedir`, `assetdir` and `strippath` are never written; every other
+  compiler setting that two models both set must agree, and one that a single model
+  sets is the composed model's (`boundmass` of a scene bounds its robots' masses too).
+
+`option`, `visual` and `statistic` values merge attribute by attribute, a conflict
+between two explicit values being an `AttachmentError`; `size` values are capacities
+and merge to the largest (`memory` compared in bytes: '1M' is larger than '1000K').
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+
+from mjcf import errors, schema
+from mjcf.tree import above
+from mjcf.tree.element import stored_attributes, tree_children
+from mjcf.tree.element_list import attached_models
+from mjcf.tree.element_values import value_of
+from mjcf.tree.root import section_of
+
+if TYPE_CHECKING:
+    from mjcf.schema import AttributeSpec
+    from mjcf.tree.element import Element
+    from mjcf.tree.root import RootElement
+
+# Compiler settings that locate files: assets are resolved per model and written with
+# final names, so these never reach the output.
+FILE_SETTINGS = frozenset({"meshdir", "texturedir", "assetdir", "strippath"})
+# Compiler settings converted per model instead of required to agree.
+CONVERTED_SETTINGS = frozenset(
+    {"angle", "eulerseq", "autolimits", "inertiafromgeom", "settotalmass"}
+)
+# Compiler settings of the output model that apply to the models attached to it too,
+# and never change their compiled values (or do so as MuJoCo's own attachment does).
+OUTPUT_SETTINGS = frozenset(
+    {"usethread", "saveinertial", "savecompiled", "savecanonical", "conflict", "passthrough"}
+)
+_INERTIA_SETTINGS = ("true", "auto", "false")
+# Elements whose mass `settotalmass` scaling cannot be expressed by their attributes.
+_UNSCALABLE = frozenset({"flexcomp", "composite", "flex", "attach"})
+
+
+class MergedSettings:
+    """The attributes and once-only children of a settings section, merged over the
+    models of one output."""
+
+    __slots__ = ("attributes", "children", "sources")
+
+    def __init__(self) -> None:
+        self.attributes: dict[str, str] = {}
+        self.children: dict[str, MergedSettings] = {}
+        self.sources: dict[str, tuple[RootElement, object]] = {}
+
+
+def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> MergedSettings:
+    """Section `tag` merged over `models` (the output model first; `inertia` is their
+    `inertia_setting` if known); raises mjcf.AttachmentError when two models set one
+    value differently."""
+    root = models[0]
+    result = MergedSettings()
+    for model in models:
+        skip = FILE_SETTINGS if tag == "compiler" else frozenset()
+        if tag == "compiler" and model is not root:
+            skip = skip | CONVERTED_SETTINGS | OUTPUT_SETTINGS
+        _merge_into(result, section_of(model, tag), model, skip)
+    if tag == "compiler" and len(models) > 1:
+        limits = {setting(model, "autolimits") for model in models}
+        if len(limits) > 1:
+            result.attributes["autolimits"] = "true"
+        if inertia is None:
+            inertia = inertia_setting(models)
+        if inertia != setting(root, "inertiafromgeom"):
+            result.attributes["inertiafromgeom"] = inertia
+    return result
+
+
+def check_compatible(parent: RootElement, child: RootElement, inertia: bool = True) -> None:
+    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: both
+    models set a compiler setting that is not converted to different values, their
+    inertia settings cannot be reconciled (checked unless `inertia` is false), or a
+    setting both models give explicitly differs. A setting one model leaves unset never
+    conflicts: the composed model has the other's, as for `<option>`."""
+    for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
+        if name in FILE_SETTINGS or name in CONVERTED_SETTINGS or name in OUTPUT_SETTINGS:
+            continue
+        mine, theirs = _explicit_setting(parent, name), _explicit_setting(child, name)
+        if mine is not None and theirs is not None and not same(attribute, mine, theirs):
+            raise errors.AttachmentError(
+                f"Conflicting values for attribute `{name}`: model {child.model!r} cannot be "
+                f"attached to model {parent.model!r}: their <compiler {name}> differ "
+                f"({theirs!r} vs {mine!r}); set the same value on both, or on one of them only"
+            )
+    total = setting(parent, "settotalmass")
+    if parent.parent_model is None and total is not None and total > 0:
+        raise errors.AttachmentError(
+            f"model {child.model!r} cannot be attached to model {parent.model!r}: its "
+            f"<compiler settotalmass={total!r}> would scale the masses of attached models "
+            "too; remove it (MuJoCo deprecates it), or scale the masses of its own bodies"
+        )
+    if inertia:
+        inertia_setting([parent, child])
+    for tag in ("option", "size", "visual", "statistic"):
+        merged = MergedSettings()
+        _merge_into(merged, section_of(parent, tag), parent, frozenset())
+        _merge_into(merged, section_of(child, tag), child, frozenset())
+
+
+def _merge_into(
+    merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
+) -> None:
+    tag = section.spec.tag
+    for name in stored_attributes(section):
+        if name in skip:
+            continue
+        attribute = section.spec.attributes[name]
+        value = stored_attributes(section)[name]
+        text = value if type(value) is str else attribute.converter.to_text(value)
+        previous = merged.sources.get(name)
+        if previous is None:
+            merged.attributes[name] = text
+            merged.sources[name] = (model, value_of(section, attribute))
+            continue
+        other_model, other_value = previous
+        value = value_of(section, attribute)
+        if same(attribute, other_value, value):
+            continue
+        if tag == "size":
+            mine, theirs = _capacity(name, value), _capacity(name, other_value)
+            if mine is not None and theirs is not None:
+                if mine > theirs:  # capacities: the largest serves every model
+                    merged.attributes[name] = text
+                    merged.sources[name] = (model, value)
+                continue
+        raise errors.AttachmentError(
+            f"Conflicting values for attribute `{name}`: models {other_model.model!r} and "
+            f"{model.model!r} set <{tag} {name}> differently ({merged.attributes[name]!r} vs "
+            f"{text!r}); a composed model has one value: set the same value on both, or on "
+            "neither"
+        )
+    for child in tree_children(section):
+        if child.spec.repeated:
+            continue
+        target = merged.children.get(child.spec.tag)
+        if target is None:
+            target = merged.children[child.spec.tag] = MergedSettings()
+        _merge_into(target, child, model, frozenset())
+
+
+def absorb_capacities(parent: RootElement, child: RootElement) -> None:
+    """Raise the `<size>` capacities of `parent` to those `child` (and the models
+    attached to it) need, as dm_control does when it attaches `child`: a capacity
+    `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
+    (`memory` then in bytes: '1M' over '10000' is '1048576')."""
+    needed: dict[str, tuple[object, int | None]] = {}
+    for model in (child, *attached_models(child)):
+        size = section_of(model, "size")
+        for name in stored_attributes(size):
+            value = value_of(size, size.spec.attributes[name])
+            capacity = _capacity(name, value)
+            held = needed.get(name)
+            if held is None or (
+                capacity is not None and held[1] is not None and capacity > held[1]
+            ):
+                needed[name] = (value, capacity)
+    size = section_of(parent, "size")
+    changes: dict[str, object] = {}
+    for name, (value, capacity) in needed.items():
+        mine = value_of(size, size.spec.attributes[name])
+        if mine is None:
+            changes[name] = value
+            continue
+        own = _capacity(name, mine)
+        if capacity is not None and own is not None and capacity > own:
+            changes[name] = str(capacity) if name == "memory" else value
+    if changes:
+        size.set_attributes(**changes)
+
+
+_BYTE_SUFFIXES = {"k": 10, "m": 20, "g": 30, "t": 40, "p": 50, "e": 60}
+
+
+def _capacity(name: str, value: object) -> int | None:
+    """A `<size>` value as a number to compare (bytes for `memory`, '2M' or '-1'), or
+    None if it is not one."""
+    if isinstance(value, int | np.integer) and not isinstance(value, bool):
+        return int(value)
+    if name != "memory" or not isinstance(value, str):
+        return None
+    text = value.strip().lower()
+    shift = _BYTE_SUFFIXES.get(text[-1:], 0)
+    digits = text[:-1] if shift else text
+    try:
+        return int(digits) << shift if int(digits) >= 0 else int(digits)
+    except ValueError:
+        return None
+
+
+def same(attribute: AttributeSpec, a: object, b: object) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a_array, b_array = np.asarray(a), np.asarray(b)
+        return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
+    return a == b
+
+
+def _explicit_setting(model: RootElement, name: str) -> Any:
+    """A compiler setting `model` sets itself, or None."""
+    compiler = section_of(model, "compiler")
+    return value_of(compiler, compiler.spec.attributes[name])
+
+
+def setting(model: RootElement, name: str) -> Any:
+    """A compiler setting of `model`: its explicit value, or MuJoCo's default (of the
+    setting's own type)."""
+    compiler = section_of(model, "compiler")
+    attribute = compiler.spec.attributes[name]
+    value = value_of(compiler, attribute)
+    if value is None and attribute.default is not None:
+        try:
+            value = attribute.converter.from_text(attribute.default)
+        except ValueError:
+            value = attribute.default
+    return value
+
+
+def _inertia_sources(model: RootElement) -> list[tuple[bool, bool]]:
+    """(has an <inertial>, has geoms) of every body of `model` (its own bodies)."""
+    found = []
+    for element in model.worldbody.iter():
+        if element.spec.tag != "body":
+            continue
+        inertial = geoms = False
+        stack = list(tree_children(element))
+        while stack:
+            child = stack.pop()
+            tag = child.spec.tag
+            if tag == "inertial":
+                inertial = True
+            elif tag == "geom":
+                geoms = True
+            elif tag in ("frame", "replicate"):  # not attachment frames: another model
+                stack.extend(tree_children(child))
+        found.append((inertial, geoms))
+    return found
+
+
+def _inertia_outcome(value: str, inertial: bool, geoms: bool) -> str:
+    """Where a body's inertia comes from under `<compiler inertiafromgeom=value>`."""
+    if value == "true" or (value == "auto" and not inertial):
+        return "geoms" if geoms else "none"
+    return "inertial" if inertial else "none"
+
+
+def inertia_setting(models: list[RootElement]) -> str:
+    """An `inertiafromgeom` under which every body of `models` gets its inertia as in
+    its own model (the first model's setting if it can be); raises
+    mjcf.AttachmentError if there is none."""
+    own_settings = [setting(model, "inertiafromgeom") for model in models]
+    if len(set(own_settings)) == 1:
+        return own_settings[0]
+    allowed = set(_INERTIA_SETTINGS)
+    for model, own in zip(models, own_settings, strict=True):
+        bodies = set(_inertia_sources(model))
+        allowed &= {
+            candidate
+            for candidate in _INERTIA_SETTINGS
+            if all(
+                _inertia_outcome(candidate, *body) == _inertia_outcome(own, *body)
+                for body in bodies
+            )
+        }
+    if not allowed:
+        described = ", ".join(
+            f"{model.model!r}: {value!r}" for model, value in zip(models, own_settings, strict=True)
+        )
+        raise errors.AttachmentError(
+            f"models with different <compiler inertiafromgeom> ({described}) cannot be "
+            "composed: some bodies have an <inertial> that one setting uses and another "
+            "ignores; set the same value on the models, or give their bodies the same kind "
+            "of inertia"
+        )
+    for preferred in (own_settings[0], "auto", "true", "false"):
+        if preferred in allowed:
+            return preferred
+    raise AssertionError("unreachable")
+
+
+_unscaled_masses: dict[bytes, float] = {}
+
+
+def unscaled_mass(model: RootElement) -> float:
+    """The total body mass of `model` (with the models attached to it) compiled alone
+    without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
+    element attributes."""
+    for element in model.iter():
+        if element.spec.tag in _UNSCALABLE:
+            raise errors.AttachmentError(
+                f"{element.path}: model {model.model!r} has <compiler settotalmass>, and "
+                f"the mass of a <{element.tag}> cannot be scaled to match it when the "
+                "model is attached; scale its masses instead of using settotalmass"
+            )
+    xml, assets, _, _ = above.serialize_for_compile(model)
+    key = _compile_key(xml, assets)
+    total = _unscaled_masses.get(key)
+    if total is None:
+        try:
+            spec = mujoco.MjSpec.from_string(xml, assets=assets)
+            spec.compiler.settotalmass = -1
+            compiled = spec.compile()
+        except ValueError as error:
+            raise errors.CompileError(
+                f"model {model.model!r} (compiled alone to apply its settotalmass): {error}"
+            ) from None
+        total = float(compiled.body_mass[1:].sum())
+        if len(_unscaled_masses) > 256:
+            _unscaled_masses.clear()
+        _unscaled_masses[key] = total
+    if total <= 0:
+        raise errors.AttachmentError(
+            f"model {model.model!r} sets <compiler settotalmass> but has no mass to scale"
+        )
+    return total
+
+
+def _compile_key(xml: str, assets: dict[str, bytes]) -> bytes:
+    """A digest of what compiling `xml` with `assets` reads: the text, the assets, and
+    the size and time of the files on disk it names."""
+    digest = hashlib.sha1(xml.encode())
+    for name in sorted(assets):
+        digest.update(name.encode() + hashlib.sha1(assets[name]).digest())
+    for path in sorted(set(re.findall(r' file\w*="([^"]+)"', xml))):
+        try:
+            stat = os.stat(path)
+        except OSError:
+            continue
+        digest.update(f"{path}:{stat.st_mtime_ns}:{stat.st_size}".encode())
+    return digest.digest()
