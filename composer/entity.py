@@ -46,8 +46,8 @@ import numpy as np
 import mjcf
 from composer import errors, hooks
 from composer.define import observable
-from composer.observables import FreePropObservableMixin, Observables
 from composer.observation import MJCFFeature
+from composer.observation.entity_observables import FreePropObservableMixin, Observables
 
 __all__ = [
     "Entity",

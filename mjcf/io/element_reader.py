@@ -196,7 +196,7 @@ class ElementReader:
         specs = parent.spec.children
         root = self.root
         make = builder.new_element
-        children = builder.children_to_fill(parent)
+        placed = builder.children_to_fill(parent)
         filename = self.filename
         singles: set[str] | None = None  # tags of this XML parent that may appear once
         for xml in xml_parent:
@@ -242,7 +242,7 @@ class ElementReader:
                     self.with_references.append((element, spec, attrs))
             elif spec.checked_on_write:
                 self.set_attributes(element, {}, xml)  # raises: something is missing
-            children.append(element)
+            placed.append(element)
             if spec.namespace is not None:
                 try:
                     builder.register(element)

@@ -35,7 +35,7 @@ reads of derived quantities catch up with them first:
   `mj_setConst` at once: sameframe flags, bounding volumes, subtree masses and the like are
   recomputed, so `xpos` after `forward()` uses the new pose and contacts use the new size. A
   body compiled as "simple" whose inertial frame is moved off its body frame loses the flag,
-  as a recompile would give it (see `mjcf.sim.model_constants`). A value MuJoCo cannot accept is
+  as a recompile would give it (see `mjcf.sim.set_const`). A value MuJoCo cannot accept is
   undone and raises BindingError.
 - Fields MuJoCo computes only when a sensor asks (cacc, cfrc_int, cfrc_ext, subtree_linvel,
   subtree_angmom) are computed when read.
@@ -63,13 +63,13 @@ import mujoco
 import numpy as np
 
 from mjcf import errors
-from mjcf.sim import fields, tracking
+from mjcf.sim import fields, staleness
 
 if TYPE_CHECKING:
     from mjcf.sim.physics import Physics
 
 Key = int | slice | tuple | np.ndarray
-Effect = tracking.Effect
+Effect = staleness.Effect
 
 # Bits of `BoundPhysics._stale` (kept by the physics; defined here, where reads and writes
 # test them).
@@ -78,8 +78,8 @@ POS_BEHIND = 2  # the position/velocity stages were computed for another state
 LAGGING = 4  # a plain mj_step left the stages one step behind, as the caller asked
 WRITTEN = 8  # state or model written through a binding since the last forward/step
 # What a read of each stage must find unset, and what a write of each effect sets.
-READ_MASK = {tracking.Stage.NONE: 0, tracking.Stage.POSITION: POS_BEHIND,
-             tracking.Stage.ACCELERATION: POS_BEHIND | ACC_BEHIND}  # fmt: skip
+READ_MASK = {staleness.Stage.NONE: 0, staleness.Stage.POSITION: POS_BEHIND,
+             staleness.Stage.ACCELERATION: POS_BEHIND | ACC_BEHIND}  # fmt: skip
 WRITE_BITS = {
     Effect.DERIVED: 0,
     Effect.STEP_INPUT: WRITTEN | ACC_BEHIND,
@@ -111,7 +111,7 @@ class Target:
         self.key = key
         self.fancy = isinstance(key, np.ndarray)
         self.field = field
-        self.effect = tracking.write_effect(field)
+        self.effect = staleness.write_effect(field)
         self.mask = mask
         self.describe = describe  # a callable naming the field and rows, for messages
         self.refusal: str | None = None  # why these rows may not be written, if not
@@ -203,7 +203,7 @@ def bring_up_to_date(physics: BoundPhysics, mask: int) -> None:
 
 
 def compute_on_demand(physics: BoundPhysics, field: str) -> None:
-    """Have `physics` compute `field` (one of `tracking.ON_DEMAND`) from now on."""
+    """Have `physics` compute `field` (one of `staleness.ON_DEMAND`) from now on."""
     physics._compute_on_demand(field)
 
 
@@ -420,7 +420,7 @@ class Binding:
             array = getattr(source, field.name)
             key = self._key(field, array.ndim > 1)
             mask = READ_MASK[self._stage(field)]
-            if field.name in tracking.ON_DEMAND:
+            if field.name in staleness.ON_DEMAND:
                 physics._compute_on_demand(field.name)
             target = Target(physics, array, key, field, mask, functools.partial(self._label, name))
             target.refusal = self._refusal
@@ -446,12 +446,12 @@ class Binding:
             self._cache[name] = entry
         return entry
 
-    def _stage(self, field: fields.Field) -> tracking.Stage:
+    def _stage(self, field: fields.Field) -> staleness.Stage:
         if field.name == "sensordata":  # one buffer, each sensor computed at its own stage
-            return tracking.sensor_stage(self._model, self._ids)
-        if field.name in tracking.ON_DEMAND:
-            return tracking.Stage.ACCELERATION  # recomputed with that stage (see _refresh)
-        return tracking.field_stage(field)
+            return staleness.sensor_stage(self._model, self._ids)
+        if field.name in staleness.ON_DEMAND:
+            return staleness.Stage.ACCELERATION  # recomputed with that stage (see _refresh)
+        return staleness.field_stage(field)
 
     def _key(self, field: fields.Field, wide: bool) -> Key:
         """The index into `field`'s first axis for the bound ids (cached per address scheme

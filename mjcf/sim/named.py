@@ -34,7 +34,7 @@ import numpy as np
 
 from mjcf import errors
 from mjcf.sim import binding as binding_module
-from mjcf.sim import fields, tracking
+from mjcf.sim import fields, staleness
 
 if TYPE_CHECKING:
     from mjcf.sim.physics import Physics
@@ -179,12 +179,12 @@ class FieldIndexer:
         if self._mask is None:
             field, model = self._field, self._physics._model
             if field.name == "sensordata":
-                stage = tracking.sensor_stage(model, np.arange(model.nsensor))
-            elif field.name in tracking.ON_DEMAND:
+                stage = staleness.sensor_stage(model, np.arange(model.nsensor))
+            elif field.name in staleness.ON_DEMAND:
                 binding_module.compute_on_demand(self._physics, field.name)
-                stage = tracking.Stage.ACCELERATION
+                stage = staleness.Stage.ACCELERATION
             else:
-                stage = tracking.field_stage(field)
+                stage = staleness.field_stage(field)
             self._mask = binding_module.READ_MASK[stage]
         return self._mask
 
@@ -255,7 +255,7 @@ class FieldIndexer:
         resolved = self._resolve(key)
         try:
             target = self._target(resolved, key)
-            if target.effect not in (tracking.Effect.MODEL, tracking.Effect.MODEL_CONSTANT):
+            if target.effect not in (staleness.Effect.MODEL, staleness.Effect.MODEL_CONSTANT):
                 return array[resolved]  # plain numpy, as bindings' MjData fields
             out = array.view(binding_module.WriteThrough)[resolved]
         except IndexError as e:

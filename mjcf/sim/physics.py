@@ -51,12 +51,12 @@ from mjcf.sim import (
     fields,
     frame_binding,
     frame_poses,
-    model_constants,
     mujoco_log,
     named,
     raw_access,
     rendering,
-    tracking,
+    set_const,
+    staleness,
     tree_binding,
     validity,
 )
@@ -422,7 +422,7 @@ class Physics(StateAccess):
     def _compute_on_demand(self, field: str) -> None:
         """A binding reads `field`, which MuJoCo computes only for sensors that need it:
         compute it after every forward pass from now on (and now, if the data is fresh)."""
-        compute = getattr(mujoco, tracking.ON_DEMAND[field][1])
+        compute = getattr(mujoco, staleness.ON_DEMAND[field][1])
         if compute not in self._on_demand:
             self._on_demand = (*self._on_demand, compute)
             if not self._stale & (POS_BEHIND | ACC_BEHIND):
@@ -430,11 +430,11 @@ class Physics(StateAccess):
 
     def _update_constants(self, undo: Any, what: str) -> None:
         """A model field mj_setConst reads was written: recompute the model constants
-        derived from it (see `mjcf.sim.model_constants`). If MuJoCo refuses the new value,
+        derived from it (see `mjcf.sim.set_const`). If MuJoCo refuses the new value,
         call `undo`, restore the constants and raise BindingError."""
         if self._scratch is None:
             self._scratch = mujoco.MjData(self._model)
-        model_constants.update(self._model, self._scratch, undo, what)
+        set_const.update(self._model, self._scratch, undo, what)
 
     def reset(self, keyframe: int | str | None = None) -> None:
         """Reset the state to qpos0, or to a keyframe (index or name), then forward.

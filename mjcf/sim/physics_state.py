@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from mjcf import errors
-from mjcf.sim import tracking
+from mjcf.sim import staleness
 from mjcf.sim.binding import WRITE_BITS, BoundPhysics
 
 if TYPE_CHECKING:
@@ -29,8 +29,8 @@ if TYPE_CHECKING:
 # get_state(): dm_control's physics state (qpos, qvel, act, plugin state), plus MuJoCo 4's
 # history and plastic state when a model has them, in mj_getState's order.
 _PHYSICS_STATE = mujoco.mjtState.mjSTATE_PHYSICS | mujoco.mjtState.mjSTATE_PLUGIN
-STATE_WRITE = WRITE_BITS[tracking.Effect.STATE]
-_INPUT_WRITE = WRITE_BITS[tracking.Effect.STEP_INPUT]
+STATE_WRITE = WRITE_BITS[staleness.Effect.STATE]
+_INPUT_WRITE = WRITE_BITS[staleness.Effect.STEP_INPUT]
 
 
 class StateAccess(BoundPhysics):

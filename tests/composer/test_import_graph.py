@@ -11,9 +11,13 @@ source (tests/imports.py), so that neither drifts silently:
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from tests import imports
+from tests.conftest import REPO
 
 LAYERS = [["mjcf"], ["composer"], ["entities", "arenas"], ["tasks"]]
 LEFT_OUT = ("composer.cli",)
@@ -63,10 +67,39 @@ def test_the_check_sees_what_it_should():
     assert "composer.observation.schedule" in graph["composer.vector.observations"]
     assert "composer.dm_env_specs" in graph["composer.task"]  # an import in a function
     assert "composer.dm_env_specs" not in _graph(deferred=False)["composer.task"]
-    assert "composer.stepping" not in _graph(deferred=True)["composer.batch_of_one"]
+    assert "composer.stepping" not in _graph(deferred=True)["composer.batch.single"]
     looped = {**graph, "composer.errors": graph["composer.errors"] | {"composer.task"}}
     assert ["composer.errors", "composer.task"] in [
         [m for m in circle if m in ("composer.errors", "composer.task")]
         for circle in imports.circles(looped)
     ]
     assert not any(name.startswith("composer.cli") for name in graph)
+
+
+_LOADED = """
+import sys
+import composer
+print(' '.join(sorted(m for m in sys.modules if m.split('.')[0] in
+      ('composer', 'mjcf', 'ray', 'stable_baselines3', 'dm_env', 'torch'))))
+"""
+
+
+def test_import_composer_loads_what_an_environment_needs():
+    """`import composer` loads Entity, Task, Environment and what they need; the vector and
+    pixel environments, variations, the shipped initializers and registration load when
+    first used, and the CLI, Ray, stable-baselines3 and the dm_env bridge only when
+    imported. The on-demand names still work."""
+    loaded = subprocess.run(
+        [sys.executable, "-c", _LOADED], cwd=REPO, capture_output=True, text=True, check=True
+    ).stdout.split()
+    assert {"composer.environment", "composer.task", "composer.entity", "mjcf"} <= set(loaded)
+    later = ("composer.vector", "composer.pixels", "composer.variation", "composer.registration",
+             "composer.initializers.prop_initializer", "composer.cli", "composer.sb3",
+             "composer.rllib", "composer.dm_env_bridge", "ray", "stable_baselines3", "dm_env",
+             "torch")  # fmt: skip
+    assert [m for m in loaded if m.startswith(later)] == []
+    import composer
+
+    assert composer.VectorEnvironment is composer.vector.VectorEnvironment
+    assert composer.initializers.PropPlacer.__module__ == "composer.initializers.prop_initializer"
+    assert {"VectorEnvironment", "PixelEnvironment", "variation"} <= set(dir(composer))

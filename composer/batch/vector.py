@@ -8,7 +8,7 @@
     physics.ids, physics.tasks, physics.random_states    # who the n rows are
 
 The `composer.BatchPhysics` a VectorEnvironment passes to batched methods (the contract is
-`composer.batched`'s). Each covers a fixed set of environments (`ids`, ascending):
+`composer.batch`'s). Each covers a fixed set of environments (`ids`, ascending):
 `Simulations.physics(ids)` gives the one of the environments of a call, and
 `Simulations.physics()` the one of every environment, kept with its bindings; all share
 the `Simulations`, which knows what of the batch is fresh.
@@ -36,10 +36,10 @@ import numpy as np
 from mujoco import batch as mujoco_batch
 
 import mjcf
-from composer import batched
-from mjcf.sim import fields, tracking
+from composer.batch import protocol
+from mjcf.sim import fields, staleness
 
-_ACC = tracking.Stage.ACCELERATION
+_ACC = staleness.Stage.ACCELERATION
 
 if TYPE_CHECKING:
     from composer.environment import Environment
@@ -59,8 +59,8 @@ class _Field:
         model_name: str,
         rows: np.ndarray,
         shape: tuple,
-        stage: tracking.Stage,
-        effect: tracking.Effect,
+        stage: staleness.Stage,
+        effect: staleness.Effect,
     ) -> None:
         self.source = source  # (num_envs, ...) batch array; None for an MjModel field
         self.model_name = model_name
@@ -73,7 +73,7 @@ class _Field:
         self.writable = source is not None and source.flags.writeable
 
 
-class BatchBinding(batched.Binding):
+class BatchBinding(protocol.Binding):
     """Fields of bound elements in the environments of a VectorPhysics, (n, ...) each.
     Raises mjcf.BindingError for a field the elements' kind does not have."""
 
@@ -156,14 +156,14 @@ class Simulations:
         self._pos_stale[ids] = True
         self._acc_stale[ids] = True
 
-    def _wrote(self, ids: np.ndarray | None, effect: tracking.Effect) -> None:
+    def _wrote(self, ids: np.ndarray | None, effect: staleness.Effect) -> None:
         """Batched methods wrote the state rows of simulations `ids` (None: all)."""
         written = slice(None) if ids is None else ids
         self._acc_stale[written] = True
-        if effect != tracking.Effect.STEP_INPUT:
+        if effect != staleness.Effect.STEP_INPUT:
             self._pos_stale[written] = True
 
-    def _refresh(self, ids: np.ndarray, stage: tracking.Stage) -> None:
+    def _refresh(self, ids: np.ndarray, stage: staleness.Stage) -> None:
         """Recompute the derived fields of simulations `ids` that lag for `stage`."""
         stale = self._pos_stale[ids]
         if stage == _ACC:
@@ -185,9 +185,9 @@ class Simulations:
         source = self._sources.get(name)
         if source is not None:
             return source
-        batched.check_source(name)
+        protocol.check_source(name)
         source = self._sources[name] = self.batch.bind(name)
-        if name not in batched.STATE_FIELDS:
+        if name not in protocol.STATE_FIELDS:
             # MuJoCo's batch copies an output out at each call from its first bind on:
             # until the next call it holds nothing, whatever the stages say.
             self._pos_stale[:] = True
@@ -205,7 +205,7 @@ class Simulations:
             if template is mjcf.sim.binding.EMPTY:
                 found = (None, {})
             else:
-                found = (batched.binding_class(BatchBinding, template.kind), {})
+                found = (protocol.binding_class(BatchBinding, template.kind), {})
             self._bound[key] = found
         return found
 
@@ -219,14 +219,14 @@ class Simulations:
         rows, _ = fields.row_index(model, spec.address, ids)
         source = self._source(spec.name) if spec.struct == "data" else None
         if spec.name == "sensordata":
-            stage = tracking.sensor_stage(model, ids)
+            stage = staleness.sensor_stage(model, ids)
         else:
-            stage = tracking.field_stage(spec)
-        effect = tracking.write_effect(spec)
+            stage = staleness.field_stage(spec)
+        effect = staleness.write_effect(spec)
         return _Field(source, spec.name, rows, np.shape(value), stage, effect)
 
 
-class VectorPhysics(batched.BatchPhysics):
+class VectorPhysics(protocol.BatchPhysics):
     """Numpy access to the simulations of some environments of a VectorEnvironment (see
     the module docstring); made by `Simulations.physics`."""
 
@@ -236,8 +236,8 @@ class VectorPhysics(batched.BatchPhysics):
         self._ids = ids
         self._every = np.arange(simulations.nsim) if ids is None else ids
         self._count = len(self._every)
-        self._bindings: dict[Any, batched.Binding | batched.EmptyBinding] = {}
-        self._stages: dict[str, tracking.Stage] = {}  # of the fields `field` read
+        self._bindings: dict[Any, protocol.Binding | protocol.EmptyBinding] = {}
+        self._stages: dict[str, staleness.Stage] = {}  # of the fields `field` read
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -270,7 +270,7 @@ class VectorPhysics(batched.BatchPhysics):
 
     # -- access --------------------------------------------------------------------------
 
-    def bind(self, elements: Any) -> batched.Binding | batched.EmptyBinding:
+    def bind(self, elements: Any) -> protocol.Binding | protocol.EmptyBinding:
         """The fields of `elements` (one element or an iterable of one kind, of the first
         environment's model, as `mjcf.Physics.bind` takes them), cached; no elements give
         fields of shape (n, 0). Raises mjcf.BindingError as `mjcf.Physics.bind`."""
@@ -278,7 +278,7 @@ class VectorPhysics(batched.BatchPhysics):
         found = self._bindings.get(key)
         if found is None:
             cls, fields = self.simulations._binding(key)
-            found = batched.EmptyBinding(self) if cls is None else cls(self, key, fields)
+            found = protocol.EmptyBinding(self) if cls is None else cls(self, key, fields)
             self._bindings[key] = found
         return found
 
@@ -288,10 +288,10 @@ class VectorPhysics(batched.BatchPhysics):
         source = simulations._source(name)
         stage = self._stages.get(name)
         if stage is None:
-            stage = tracking.read_stage(name)
+            stage = staleness.read_stage(name)
             if name == "sensordata":
                 model = simulations.template.model
-                stage = tracking.sensor_stage(model, np.arange(model.nsensor))
+                stage = staleness.sensor_stage(model, np.arange(model.nsensor))
             self._stages[name] = stage
         if stage:
             simulations._refresh(self._every, stage)
@@ -320,9 +320,9 @@ class VectorPhysics(batched.BatchPhysics):
         assign, mjcf.BindingError for values that do not fit."""
         source = found.source
         if not found.writable or source is None:  # no source: not writable
-            raise batched.not_writable(name, model_field=source is None)
+            raise protocol.not_writable(name, model_field=source is None)
         n = self.num_envs
-        rows = batched.rows_to_write(value, n, found.shape, name)
+        rows = protocol.rows_to_write(value, n, found.shape, name)
         rows = rows.reshape(n, len(found.rows), *source.shape[2:])
         if self._ids is None:
             source[:, found.rows] = rows
@@ -333,9 +333,9 @@ class VectorPhysics(batched.BatchPhysics):
     def set_control(self, controls: Any) -> None:
         """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
         ctrl = self.simulations._source("ctrl")
-        rows = batched.rows_to_write(controls, self._count, ctrl.shape[1:], "ctrl")
+        rows = protocol.rows_to_write(controls, self._count, ctrl.shape[1:], "ctrl")
         if self._ids is None:
             ctrl[...] = rows
         else:
             ctrl[self._ids] = rows
-        self.simulations._wrote(self._ids, tracking.Effect.STEP_INPUT)
+        self.simulations._wrote(self._ids, staleness.Effect.STEP_INPUT)

@@ -52,7 +52,7 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import errors
-from mjcf.sim import fields, tracking
+from mjcf.sim import fields, staleness
 
 if TYPE_CHECKING:
     from composer.task import Task
@@ -216,13 +216,13 @@ def first_row(values: np.ndarray) -> Any:
 
 # -- what a batch gives: the rules both kinds of BatchPhysics keep -------------------------
 
-STATE_FIELDS = tracking.STATE_FIELDS  # the MjData fields a batch holds as state, writable
+STATE_FIELDS = staleness.STATE_FIELDS  # the MjData fields a batch holds as state, writable
 _MJTNUM = np.dtype(mujoco.MJTNUM_DTYPE)
 
 
 def check_source(name: str) -> None:
     """Raise BatchError if MuJoCo's batch does not hold MjData field `name`."""
-    if name in tracking.ON_DEMAND:
+    if name in staleness.ON_DEMAND:
         raise errors.BatchError(
             f"MjData field {name!r} is computed by MuJoCo only for sensors that need it, "
             "so the batch does not hold it; it is read per environment"

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 from composer import errors
 from composer.caching import cached_property
-from composer.observation import Observable
+from composer.observation.observable import Observable
 
 if TYPE_CHECKING:
     from composer.entity import Entity

@@ -1,12 +1,12 @@
 """What a write through a binding or named access makes stale, and what a read needs fresh.
 
-    from mjcf.sim import fields, tracking
-    tracking.write_effect(fields.indexed_field("qpos"))              # Effect.STATE
-    tracking.write_effect(fields.indexed_field("ctrl"))              # Effect.STEP_INPUT
-    tracking.write_effect(fields.indexed_field("geom_size", "model"))  # Effect.MODEL_CONSTANT
-    tracking.read_stage("xpos")                                      # Stage.POSITION
-    tracking.read_stage("qacc")                                      # Stage.ACCELERATION
-    tracking.sensor_stage(model, sensor_ids)                         # what those sensors need
+    from mjcf.sim import fields, staleness
+    staleness.write_effect(fields.indexed_field("qpos"))              # Effect.STATE
+    staleness.write_effect(fields.indexed_field("ctrl"))              # Effect.STEP_INPUT
+    staleness.write_effect(fields.indexed_field("geom_size", "model"))  # Effect.MODEL_CONSTANT
+    staleness.read_stage("xpos")                                      # Stage.POSITION
+    staleness.read_stage("qacc")                                      # Stage.ACCELERATION
+    staleness.sensor_stage(model, sensor_ids)                         # what those sensors need
 
 The rules `mjcf.Physics` keeps with these facts are in `mjcf.sim.binding`'s docstring. Nothing
 here is a hand-kept list of fields, but for the few model fields only rendering reads

@@ -6,7 +6,7 @@
     view.bind(motor).ctrl = [[0.5]]                  # writes through physics.bind(motor)
     task.get_reward_batch(view)[0]                   # the reward of this one environment
 
-A single `composer.Environment` runs a task's batched methods (`composer.batched`) with
+A single `composer.Environment` runs a task's batched methods (`composer.batch`) with
 its view (made at each compile, with its task and random state; the task's own single
 forms run their batched forms with it too), so one environment computes what a
 `VectorEnvironment` computes for each of its environments, bit for bit. It reads and
@@ -15,7 +15,7 @@ the leading axis of one row: reads are new arrays (state fields as mjtNum, as Mu
 holds them), writes take (1, ...) rows or anything that broadcasts to them.
 
 A strict view (the default) gives exactly what MuJoCo's batch gives a `VectorEnvironment`
-(`composer.batched.check_source`): the same fields readable, the same state fields
+(`composer.protocol.check_source`): the same fields readable, the same state fields
 writable, the same BatchErrors otherwise, so a batched method that runs here runs
 vectorized. Observables are read through a permissive one (`strict=False`, every field
 `mjcf.Physics` reads), since a VectorEnvironment reads the ones its batch cannot serve per
@@ -31,8 +31,9 @@ import mujoco
 import numpy as np
 
 import mjcf
-from composer import batched, errors
-from mjcf.sim import fields, tracking
+from composer import errors
+from composer.batch import protocol
+from mjcf.sim import fields, staleness
 
 if TYPE_CHECKING:
     from composer.task import Task
@@ -58,7 +59,7 @@ class _Field:
         self.model = model
 
 
-class _Binding(batched.Binding):
+class _Binding(protocol.Binding):
     """Fields of bound elements with a leading axis of one row (see the module docstring)."""
 
     __slots__ = ("_binding", "_fields", "_reads", "_strict")
@@ -106,9 +107,9 @@ class _Binding(batched.Binding):
         value = getattr(binding, name)  # raises mjcf.BindingError for an unknown field
         spec = fields.kind_fields(binding.kind)[name]
         model = spec.struct == "model"
-        state = not model and spec.name in batched.STATE_FIELDS
+        state = not model and spec.name in protocol.STATE_FIELDS
         if self._strict and not model:
-            batched.check_source(spec.name)
+            protocol.check_source(spec.name)
         # A read copies the physics' rows: at once for a plain view, through np.array for
         # a copy that writes itself back (mjcf.sim.binding.WriteThrough) or a dtype to change.
         dtype = _MJTNUM if state else None
@@ -125,17 +126,17 @@ class _Binding(batched.Binding):
     def _set(self, name: str, value: Any) -> None:
         found = self._fields.get(name) or self._field(name)
         if not found.writable:
-            raise batched.not_writable(name, model_field=found.model)
+            raise protocol.not_writable(name, model_field=found.model)
         rows = np.asarray(value, dtype=_MJTNUM)
         if rows.shape[:1] != (1,) or rows.shape[1:] != found.shape:
-            rows = batched.rows_to_write(rows, 1, found.shape, name)
+            rows = protocol.rows_to_write(rows, 1, found.shape, name)
         setattr(self._binding, name, rows[0])
 
     def __repr__(self) -> str:
         return f"<batch-of-one binding of {self._binding!r}>"
 
 
-class BatchOfOne(batched.BatchPhysics):
+class BatchOfOne(protocol.BatchPhysics):
     """One environment's simulation as a `composer.BatchPhysics` of one row (see the
     module docstring)."""
 
@@ -197,9 +198,9 @@ class BatchOfOne(batched.BatchPhysics):
         if found is None:
             binding = self._physics.bind(key)  # raises BindingError for foreign elements
             if binding is mjcf.sim.binding.EMPTY:
-                found = batched.EmptyBinding(self)
+                found = protocol.EmptyBinding(self)
             else:
-                found = batched.binding_class(_Binding, binding.kind)(binding, self._strict)
+                found = protocol.binding_class(_Binding, binding.kind)(binding, self._strict)
             self._bindings[key] = found
         return found
 
@@ -212,12 +213,12 @@ class BatchOfOne(batched.BatchPhysics):
 
     def _field_reader(self, name: str) -> Callable[[], np.ndarray]:
         if self._strict:
-            batched.check_source(name)
+            protocol.check_source(name)
         physics = self._physics
-        state = name in batched.STATE_FIELDS
+        state = name in protocol.STATE_FIELDS
         dtype = _MJTNUM if state else None
-        stage = tracking.read_stage(name)
-        if stage == tracking.Stage.NONE:
+        stage = staleness.read_stage(name)
+        if stage == staleness.Stage.NONE:
             return lambda: np.array(getattr(physics.data, name), dtype=dtype)[None]
         try:
             fields.indexed_field(name, "data")
@@ -225,7 +226,7 @@ class BatchOfOne(batched.BatchPhysics):
             # Not indexed by object: no named view to bring it up to date, so recompute
             # whatever may be behind (a position-stage field is only after a write).
             def read() -> np.ndarray:
-                if stage == tracking.Stage.ACCELERATION or physics.is_dirty:
+                if stage == staleness.Stage.ACCELERATION or physics.is_dirty:
                     physics.forward()
                 value = getattr(physics.data, name)
                 # MjData's counts (ncon, nefc ...) are C ints, as MuJoCo's batch gives them.
@@ -240,5 +241,5 @@ class BatchOfOne(batched.BatchPhysics):
         rows = np.asarray(controls, dtype=_MJTNUM)
         shape = (physics.model.nu,)
         if rows.shape[:1] != (1,) or rows.shape[1:] != shape:
-            rows = batched.rows_to_write(rows, 1, shape, "ctrl")
+            rows = protocol.rows_to_write(rows, 1, shape, "ctrl")
         physics.set_control(rows[0])

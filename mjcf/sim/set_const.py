@@ -1,7 +1,7 @@
 """The model constants MuJoCo derives from model parameters, kept true after a binding
 writes a parameter.
 
-    model_constants.update(model, scratch, undo, "'ipos' of body 'object'")
+    set_const.update(model, scratch, undo, "'ipos' of body 'object'")
 
 `mj_setConst` recomputes what MuJoCo derives from positions, orientations, masses and
 sizes (sameframe flags, bounding volumes, subtree masses, dof_M0 ...). One derived flag it
