@@ -1,22 +1,17 @@
 """An XML Schema of MJCF, generated from `mjcf.schema`, that libxml2 checks whole
-documents against in C: the parser's first, fast check.
+documents against in C: the fast reader's first check.
 
     if xsd.accepts(xml_root):    # every element and attribute known, every value well formed
-        ...                      # read fast (mjcf.io.indexer)
+        ...                      # read fast (mjcf.io.fast_reader)
     else:
         ...                      # read element by element, which says what is wrong
 
-The schema is conservative: it accepts a document only if the element-by-element
-checks (`mjcf.schema.values` converters, `mjcf.schema` specs) accept it too, never the other
-way round. Elements and attributes are those of `mjcf.schema` in their places; numbers
-are XML Schema doubles or integers, as many as the attribute takes (integers in 32 bits,
-reals MuJoCo holds as C floats within one); keywords are the keywords (and the integers
-MuJoCo takes for some); attributes an element requires are required. Whatever it cannot
-say as simply (numbers counted in multiples or bounded, blank values, keyword lists,
-keywords in other cases, text with a grammar, rules between attributes, namespaced
-attributes ...) it refuses or leaves to `unchecked` attributes and the indexer, and the
-element-by-element checks decide. It is built once per thread, when it first reads a
-document (about 10 ms).
+The schema is conservative: it accepts a document only if the element-by-element checks
+(`mjcf.schema.values` converters, `mjcf.schema` specs) accept it too, never the other way
+round. Whatever it cannot say simply (numbers counted in multiples or bounded, blank
+values, keyword lists, text with a grammar, rules between attributes ...) it refuses or
+leaves to `unchecked` attributes and the indexer. It is built once per thread, when it
+first reads a document.
 """
 
 from __future__ import annotations

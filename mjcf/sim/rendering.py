@@ -9,44 +9,23 @@ which system library is missing.
     rendering.threaded(); rendering.release_context()        # drawing from worker threads
     with rendering.context_group(key): physics.render(64, 64)  # one OpenGL context for many
 
-Render settings: MuJoCo's defaults (a 4096-pixel shadow map, 4x multisampling, a 640x480
-offscreen buffer) cost 30 to 50 times a plain frame at 64x64 on a software rasterizer
-(Mesa's llvmpipe, the usual headless EGL), and limit images to 640x480. So each renderer is
-made with the settings `frame_settings` gives for its size in place of those the model
-leaves to MuJoCo's defaults: an offscreen buffer of exactly the image's size (any size
-renders, and a small one is cheaper to multisample), and for images up to SMALL_FRAME
-pixels a side (observations: 64x64, 84x84) no shadows, no multisampling, and meshes drawn
-with at most 8 triangles per pixel of the image (`mjcf.sim.render_meshes`: a robot arm's 200,000
-triangles cost 20 times a plain frame at 64x64, simplified 2.5 times). Larger images
-(pictures, videos) are drawn as MuJoCo draws them. A setting the model's MJCF gives
-(`<quality shadowsize=...>`, `<global offwidth=...>` ...) is always kept: for a model
-compiled from an `mjcf` tree that is known from its text, otherwise a value other than
-MuJoCo's default counts as given. The model is not changed: the settings are swapped in only
-while the renderer's context is made. On EGL a closed renderer's OpenGL context is kept for
-the next renderer (a recompile closes the physics' renderers): Mesa compiles its shaders in
-each new context, so a renderer costs 10 ms instead of 150.
+What it promises:
+- Settings: each renderer gets `frame_settings` for its size in place of what the model
+  leaves to MuJoCo's defaults: an offscreen buffer of the image's size (any size renders),
+  and for images up to SMALL_FRAME pixels a side (observations) no shadows, no
+  multisampling, meshes simplified to at most 8 triangles a pixel
+  (`mjcf.sim.render_meshes`); larger images are drawn as MuJoCo draws them. What the
+  model's MJCF sets is kept, and the model is never changed.
+- Backend: MUJOCO_GL's when set; else the first that works at the first renderer (Linux:
+  EGL, OSMesa, then GLFW with a display; macOS: CGL, GLFW; Windows: GLFW), which becomes
+  MuJoCo's own and child processes'. Rendering works without a display or MUJOCO_GL.
+- Threads: renderers of different physics draw at once from threads of their own (MuJoCo
+  releases the GIL); on EGL (`threaded()`) a thread calls `release_context()` when it has
+  drawn; renderers made inside `context_group(key)` share one OpenGL context.
+- Every context is checked before MuJoCo draws with it: a context that cannot be made is
+  a RenderError, at every attempt, never the abort MuJoCo itself makes at the second try.
 
-The backend is MUJOCO_GL's when that is set. Otherwise it is chosen at the first renderer
-(not at import, so `import mujoco` before `import mjcf` changes nothing): on Linux the first
-of EGL (no display needed: a GPU, or Mesa's software renderer), OSMesa (software) and GLFW
-(only when there is a display) whose context can be made; on macOS CGL, then GLFW; on
-Windows GLFW. So rendering works in a script, a notebook or a test on a machine without a
-display and without MUJOCO_GL. The choice becomes MuJoCo's own: `mujoco.Renderer` makes its
-contexts with it, and MUJOCO_GL is set to it for child processes.
-
-Threads: MuJoCo releases Python's GIL while it draws, so renderers of different physics
-draw at once from threads of their own (a 64x64 frame: 1.95x the frames per second on 2
-cores). An OpenGL context is current in one thread at a time and a renderer leaves its own
-current after a frame: on EGL (`threaded()`) a thread calls `release_context()` when it
-has drawn, so that another may use those renderers next. Renderers made inside
-`context_group(key)` share one OpenGL context, each with its own buffers and assets in it:
-on Mesa's software rasterizer a renderer then costs 7 ms to make instead of 150 and a
-third less memory, and a thread drawing many of them switches no context between frames.
-
-Every context is checked before MuJoCo draws with it: MuJoCo aborts the whole process
-(`__cxa_guard_acquire detected recursive initialization`) at the second attempt to make its
-render context without a current OpenGL context, so here a context that cannot be made is a
-RenderError, at every attempt, and never an abort.
+Why (the costs measured): docs/performance_profile.md, "Costs behind choices".
 """
 
 from __future__ import annotations

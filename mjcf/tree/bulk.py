@@ -3,12 +3,10 @@
     @bulk.whole_tree
     def serialize(root): ...
 
-Reading, writing or copying a large model makes hundreds of thousands of objects that
-live on (elements, their attribute dicts and child lists, which refer to each other in
-cycles); the collector would scan all of them again each time enough new ones had
-been made, which made the work on a 100,000-body model grow faster than its size
-(2.4x slower at 300,000 elements). Nothing these functions make is garbage, so the
-collector waits until they return (or raise); it stays off if it was off.
+Reading, writing or copying a model makes many objects that live on and refer to each
+other in cycles; nothing these functions make is garbage, so the collector waits until
+they return (or raise), and stays off if it was off. Without this the work on a large
+model grows faster than its size (docs/performance_profile.md, "Costs behind choices").
 """
 
 from __future__ import annotations
