@@ -25,9 +25,8 @@ from mjcf import errors, schema
 from mjcf.compose import settings
 from mjcf.schema import AttributeSpec, ElementSpec
 from mjcf.tree import builder
-from mjcf.tree.element import Element, count_change, stored_attributes, tree_children
+from mjcf.tree.element import Element, count_change, stored_attributes, tree_children, value_of
 from mjcf.tree.element_list import attached_models
-from mjcf.tree.element_values import value_of
 from mjcf.tree.root import RootElement, frame_of, section_of, set_frame
 
 _ORIENTATION = ("quat", "axisangle", "xyaxes", "zaxis", "euler")

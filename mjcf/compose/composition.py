@@ -34,9 +34,8 @@ import numpy as np
 from mjcf import errors
 from mjcf.compose import attachment, defaults, keyframes, naming, settings, sharing
 from mjcf.schema.values import format_number
-from mjcf.tree.element import stored_attributes, tree_children
+from mjcf.tree.element import stored_attributes, tree_children, value_of
 from mjcf.tree.element_list import attached_models
-from mjcf.tree.element_values import value_of
 from mjcf.tree.namescope import NAMED_AFTER_FILE, PREFIX_SEPARATOR, WORLD
 from mjcf.tree.namescope import unescape as _unescape
 from mjcf.tree.root import compositions_of, own_version, section_of, set_compositions

@@ -37,9 +37,9 @@ from mjcf.tree.element import (
     single_child,
     stored_attributes,
     tree_children,
+    value_of,
     written_empty,
 )
-from mjcf.tree.element_values import value_of
 from mjcf.tree.namescope import NAMED_AFTER_FILE, name_from_file
 from mjcf.tree.root import RootElement, own_version, set_own_version
 

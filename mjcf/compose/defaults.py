@@ -34,10 +34,10 @@ from mjcf.tree.element import (
     count_change,
     stored_attributes,
     tree_children,
+    value_of,
     written_empty,
 )
 from mjcf.tree.element_list import attached_models
-from mjcf.tree.element_values import value_of
 
 if TYPE_CHECKING:
     from mjcf.tree.root import RootElement

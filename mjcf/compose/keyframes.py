@@ -27,8 +27,7 @@ from mjcf import errors
 from mjcf.compose import attachment
 from mjcf.schema.values import format_number
 from mjcf.tree import above
-from mjcf.tree.element import stored_attributes, tree_children
-from mjcf.tree.element_values import value_of
+from mjcf.tree.element import stored_attributes, tree_children, value_of
 
 if TYPE_CHECKING:
     from collections.abc import Callable

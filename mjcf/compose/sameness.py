@@ -20,8 +20,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from mjcf.compose import attachment
-from mjcf.tree.element import Element, stored_attributes, tree_children, written_empty
-from mjcf.tree.element_values import value_of
+from mjcf.tree.element import Element, stored_attributes, tree_children, value_of, written_empty
 from mjcf.tree.root import RootElement
 
 if TYPE_CHECKING:

@@ -38,9 +38,8 @@ import numpy as np
 
 from mjcf import errors, schema
 from mjcf.tree import above
-from mjcf.tree.element import stored_attributes, tree_children
+from mjcf.tree.element import stored_attributes, tree_children, value_of
 from mjcf.tree.element_list import attached_models
-from mjcf.tree.element_values import value_of
 from mjcf.tree.root import section_of
 
 if TYPE_CHECKING:

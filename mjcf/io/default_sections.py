@@ -36,8 +36,7 @@ from mjcf import errors, schema
 from mjcf.compose.defaults import LateDefault, overlay
 from mjcf.schema import values as _values
 from mjcf.tree import builder
-from mjcf.tree.element import Element, single_child, stored_attributes, tree_children
-from mjcf.tree.element_values import value_of
+from mjcf.tree.element import Element, single_child, stored_attributes, tree_children, value_of
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec

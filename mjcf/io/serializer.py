@@ -28,8 +28,7 @@ from mjcf.schema.values import escape
 from mjcf.tree import assets as _assets
 from mjcf.tree import bulk
 from mjcf.tree.builder import cache_text
-from mjcf.tree.element import stored_attributes, tree_children, written_empty
-from mjcf.tree.element_values import value_of
+from mjcf.tree.element import stored_attributes, tree_children, value_of, written_empty
 from mjcf.tree.root import own_version, section_of
 
 if TYPE_CHECKING:

@@ -26,6 +26,7 @@ from mjcf.schema import values as _values
 from mjcf.tree import debugging
 from mjcf.tree.element_list import OWN_SECTIONS, ElementList, attached_models
 from mjcf.tree.element_values import ALIASES, ElementValues, fill_new
+from mjcf.tree.element_values import value_of as value_of  # one of the reading functions
 from mjcf.tree.namescope import NAMED_AFTER_FILE, name_from_file
 
 if TYPE_CHECKING:
