@@ -81,13 +81,10 @@ class Task(hooks.EpisodeHooks):
 
     @property
     def physics_timestep(self) -> float:
-        """The physics timestep: the `option.timestep` of the root model, else of the first
-        entity model setting one (composed models share it), else MuJoCo's default."""
-        for entity in self.root_entity.iter_entities():
-            timestep = entity.mjcf_model.option.timestep
-            if timestep is not None:
-                return float(timestep)
-        return _DEFAULT_PHYSICS_TIMESTEP
+        """The physics timestep: the `option.timestep` of the root model (which the models
+        attached into it share: see `mjcf.compose.global_settings`), else MuJoCo's default."""
+        timestep = self.root_entity.mjcf_model.option.timestep
+        return _DEFAULT_PHYSICS_TIMESTEP if timestep is None else float(timestep)
 
     @physics_timestep.setter
     def physics_timestep(self, value: float) -> None:
@@ -105,16 +102,11 @@ class Task(hooks.EpisodeHooks):
         self.set_timesteps(value, self.physics_timestep)
 
     def set_timesteps(self, control_timestep: float, physics_timestep: float) -> None:
-        """Set both timesteps; the physics one is written to the root model's option and to
-        every entity model that sets its own (composed models must agree). Raises TaskError
-        if either is not positive or the control timestep is not a multiple of the physics
-        one."""
+        """Set both timesteps; the physics one is written to the root model's option, which
+        the models attached into it share. Raises TaskError if either is not positive or
+        the control timestep is not a multiple of the physics one."""
         stepping.substeps(control_timestep, physics_timestep, type(self).__name__)
-        root = self.root_entity
-        for entity in root.iter_entities():
-            option = entity.mjcf_model.option
-            if entity is root or option.timestep is not None:
-                option.timestep = physics_timestep
+        self.root_entity.mjcf_model.option.timestep = physics_timestep
         self._control_timestep = float(control_timestep)
 
     @property

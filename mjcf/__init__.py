@@ -17,8 +17,10 @@ What it promises: every change is validated against the installed MuJoCo's schem
 when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
 `to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
-as dm_control names them ('//unnamed_geom_0', see `mjcf.compose.naming`). Attached models keep
-their own trees; composition happens when a model is written or compiled.
+as dm_control names them ('//unnamed_geom_0', see `mjcf.compose.naming`). Attached models
+keep their own trees; composition happens when a model is written or compiled, but for the
+global settings (`<option>`, `<size>`, `<visual>` ...), which are merged when a model is
+attached and shared from then on, as in dm_control (see `mjcf.compose.global_settings`).
 
 No exception name shadows a Python builtin, so `from mjcf import *` is safe:
 `NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called

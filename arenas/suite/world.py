@@ -8,14 +8,14 @@ Every domain of dm_control's suite includes the same three files: a gradient sky
 random white marks, the visual settings (headlight, near clip plane, shadow map size) and
 the materials; the checkered `grid` texture and material of the last are the world's, the
 robot's materials travel with the robot (`entities.suite.materials`). The floor is a plane
-named `floor` of the domain's size and place. The arena sets no physics option: those are
-the robot's (its model's `<option>`), so the composed model compiles to what the domain's
-own file compiles to.
+named `floor` (or as the domain names it) of the domain's size and place. The arena sets no
+physics option: those are the robot's (its model's `<option>`), so the composed model
+compiles to what the domain's own file compiles to.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import composer
 import mjcf
@@ -31,15 +31,18 @@ class SuiteArena(composer.Arena):
         floor_pos: Sequence[float] = (0.0, 0.0, 0.0),
         grid_repeat: Sequence[float] = (1.0, 1.0),
         grid_reflectance: float = 0.2,
+        floor_name: str = "floor",
+        floor_attributes: Mapping[str, object] | None = None,
+        skybox_first: bool = True,
     ) -> None:
-        """Make the world model named `name`, with a floor plane of `floor_size` (None: no
-        floor) at `floor_pos`, its grid material repeated `grid_repeat` times per unit
-        (`texuniform`) with `grid_reflectance`."""
+        """Make the world model named `name`, with a floor plane named `floor_name` of
+        `floor_size` (None: no floor) at `floor_pos`, with `floor_attributes` besides (a
+        domain's `friction` ...), its grid material repeated `grid_repeat` times per unit
+        (`texuniform`) with `grid_reflectance`. The skybox texture comes before the grid's
+        unless not `skybox_first` (a compiled model keeps the file's order of textures)."""
         root = self._mjcf_root = mjcf.RootElement(model=name)
-        root.asset.add(
-            "texture", name="skybox", type="skybox", builtin="gradient", rgb1=[0.4, 0.6, 0.8],
-            rgb2=[0, 0, 0], width=800, height=800, mark="random", markrgb=[1, 1, 1],
-        )  # fmt: skip
+        if skybox_first:
+            self._add_skybox()
         root.visual.headlight.set_attributes(
             ambient=[0.4] * 3, diffuse=[0.8] * 3, specular=[0.1] * 3
         )
@@ -53,12 +56,20 @@ class SuiteArena(composer.Arena):
             "material", name="grid", texture="grid", texrepeat=list(grid_repeat),
             texuniform=True, reflectance=grid_reflectance,
         )  # fmt: skip
+        if not skybox_first:
+            self._add_skybox()
         self.floor = None
         if floor_size is not None:
             self.floor = root.worldbody.add(
-                "geom", name="floor", type="plane", pos=list(floor_pos), size=list(floor_size),
-                material=self.grid,
+                "geom", name=floor_name, type="plane", pos=list(floor_pos),
+                size=list(floor_size), material=self.grid, **dict(floor_attributes or {}),
             )  # fmt: skip
+
+    def _add_skybox(self) -> None:
+        self._mjcf_root.asset.add(
+            "texture", name="skybox", type="skybox", builtin="gradient", rgb1=[0.4, 0.6, 0.8],
+            rgb2=[0, 0, 0], width=800, height=800, mark="random", markrgb=[1, 1, 1],
+        )  # fmt: skip
 
     def add_light(self, **attributes: object) -> mjcf.Element:
         """Add a light to the world body (`name`, `pos`, `dir` ... as MJCF's `<light>`)."""

@@ -9,7 +9,8 @@
 
 The tree builders use it: the reader (`mjcf.io.parser`, `mjcf.io.default_sections`),
 copies (`mjcf.compose.copying`), default classes (`mjcf.compose.defaults`), attachment
-(`mjcf.compose.attachment`) and `RootElement`. Each checks a whole document, plan or
+(`mjcf.compose.attachment`), shared global settings (`mjcf.compose.global_settings`) and
+`RootElement`. Each checks a whole document, plan or
 model first, then builds here what it checked (the public setters would check it again,
 element by element), and counts its change (`count_change`). Everything else reads
 elements through their public properties and the reading functions of
@@ -19,6 +20,7 @@ them through their public methods.
 
 from __future__ import annotations
 
+from collections.abc import MutableMapping
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from mjcf.tree.element import Element
@@ -42,6 +44,19 @@ def attributes_to_fill(element: Element) -> dict[str, Any]:
     """`element`'s stored attributes (see `mjcf.tree.element.stored_attributes`), to fill
     or change in place with values checked already."""
     return element._attrs
+
+
+def replace_attributes(element: Element, storage: MutableMapping[str, Any]) -> None:
+    """Make `storage` the stored attributes of `element` (a settings element of an
+    attached model takes the outermost model's, shared: see
+    `mjcf.compose.global_settings`)."""
+    object.__setattr__(element, "_attrs", storage)
+
+
+def change_class(element: Element, kind: type[Element]) -> None:
+    """Make `element` an instance of `kind`: `Element`, or a subclass of it with no slots
+    of its own (`mjcf.compose.global_settings.SharedSettings`), keeping all it holds."""
+    element.__class__ = kind
 
 
 def children_to_fill(element: Element) -> list[Element]:

@@ -16,7 +16,7 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole
+from tasks.suite import cartpole, cheetah, fish, hopper, swimmer, walker
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -38,7 +38,12 @@ __all__ = [
     "TASKS_BY_DOMAIN",
     "SuiteEntry",
     "cartpole",
+    "cheetah",
     "find",
+    "fish",
+    "hopper",
     "load",
+    "swimmer",
     "tagged",
+    "walker",
 ]

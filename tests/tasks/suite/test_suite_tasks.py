@@ -46,6 +46,53 @@ def test_an_episode_is_dm_control_s_step_for_step(domain, task):
     oracle.compare_episode(ours, theirs, seed=seed, steps=STEPS)
 
 
+# Tasks whose reward a random policy leaves at 0 nearly throughout (it falls at once): their
+# reward is compared on states near the upright pose, with random velocities and controls.
+NEAR_UPRIGHT = [pytest.param(*name.split("-"), id=name) for name in ("hopper-stand", "hopper-hop")]
+
+
+@pytest.mark.parametrize(("domain", "task"), NEAR_UPRIGHT)
+def test_the_reward_near_upright_is_dm_control_s(domain, task):
+    ours = suite.load(domain, task)
+    theirs = oracle.reference(domain, task, seed=0)
+    ours.reset(seed=0)
+    theirs.reset()
+    model, random = ours.physics.model, np.random.RandomState(5)
+    rewards = []
+    for _ in range(20):
+        qpos = model.qpos0 + 0.1 * random.randn(model.nq)
+        qvel, ctrl = random.uniform(-4, 4, model.nv), random.uniform(-1, 1, model.nu)
+        for physics in (ours.physics, theirs.physics):
+            physics.data.qpos[:], physics.data.qvel[:], physics.data.ctrl[:] = qpos, qvel, ctrl
+            physics.forward()
+        rewards.append(ours.task.get_reward(ours.physics))
+        assert rewards[-1] == theirs.task.get_reward(theirs.physics)
+    assert len(set(rewards) - {0.0, 1.0}) >= 5  # the formula varies over these states
+
+
+def test_the_fish_s_reward_near_the_target_is_dm_control_s():
+    # A random policy's fish never comes near the target: its in_target term stays below
+    # 1e-9. Here the target is placed near the mouth, in both simulations alike.
+    ours, theirs = suite.load("fish", "swim"), oracle.reference("fish", "swim", seed=0)
+    ours.reset(seed=0)
+    theirs.reset()
+    target = ours.physics.bind(ours.task.fish.target)
+    random, rewards = np.random.RandomState(2), []
+    for _ in range(20):
+        mouth = ours.physics.bind(ours.task.fish.mouth).xpos.copy()
+        place = mouth + random.uniform(-0.15, 0.15, 3)
+        target.pos = place
+        theirs.physics.named.model.geom_pos["target"] = place
+        theirs.physics.forward()
+        rewards.append(ours.task.get_reward(ours.physics))
+        assert rewards[-1] == theirs.task.get_reward(theirs.physics)
+        np.testing.assert_array_equal(
+            ours.task.task_observables["target"].batch_function(ours.batch_physics)[0],
+            theirs.task.get_observation(theirs.physics)["target"],
+        )
+    assert min(rewards) < 0.2 and max(rewards) > 0.8  # in_target spans its range
+
+
 @pytest.mark.parametrize(("domain", "task"), ALL)
 def test_flattened_observations_follow_dm_control_s_key_order(domain, task):
     seed = _seed(domain, task)
@@ -70,17 +117,37 @@ def test_every_id_passes_gymnasium_s_checks(env_id):
     env.close()
 
 
-def test_the_lists_are_dm_control_s():
-    module = oracle.suite_module("cartpole")  # the package's own lists need every domain
-    assert set(module.SUITE) == set(suite.TASKS_BY_DOMAIN["cartpole"])
+@pytest.mark.parametrize("domain", sorted(suite.TASKS_BY_DOMAIN))
+def test_the_lists_are_dm_control_s(domain):
+    module = oracle.suite_module(domain)  # the package's own lists need every domain
+    assert set(module.SUITE) == set(suite.TASKS_BY_DOMAIN[domain])
     assert set(module.SUITE.tagged("benchmarking")) == {
-        task for domain, task in suite.BENCHMARKING if domain == "cartpole"
+        task for name, task in suite.BENCHMARKING if name == domain
     }
     assert all(env_id.startswith("dm_control/") for env_id in suite.IDS)
 
 
-def test_the_vector_environment_equals_single_ones():
-    env_id = "dm_control/cartpole-swingup-v0"
+@pytest.mark.parametrize("n_links", [3, 8])
+def test_a_swimmer_of_any_length_is_dm_control_s_model(n_links):
+    # dm_control's code writes the swimmer's model for any length (`swimmer(n_links)`).
+    ours = suite.load("swimmer", "swimmer6", task_kwargs={"n_links": n_links})
+    theirs = oracle.reference_model("swimmer", n_joints=n_links)
+    oracle.assert_same_model(ours.physics.model, theirs)
+
+
+# One task of each domain whose step differs from the others' (its reward, observables).
+VECTOR_IDS = [
+    "dm_control/cartpole-swingup-v0",
+    "dm_control/cheetah-run-v0",
+    "dm_control/fish-swim-v0",
+    "dm_control/hopper-stand-v0",
+    "dm_control/swimmer-swimmer6-v0",
+    "dm_control/walker-walk-v0",
+]
+
+
+@pytest.mark.parametrize("env_id", VECTOR_IDS)
+def test_the_vector_environment_equals_single_ones(env_id):
     vector = gymnasium.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point")
     reference = gymnasium.make_vec(env_id, num_envs=3, vectorization_mode="sync")
     assert_same_runs(vector, reference, steps=30, seed=4)
@@ -107,6 +174,13 @@ def test_unknown_domains_tasks_and_keywords_are_named():
         suite.load("cartpole", "swingup", environment_kwargs={"n_sub_steps": 2})
     with pytest.raises(registration.RegistrationError, match="num_pole"):
         gymnasium.make("dm_control/cartpole-swingup-v0", num_pole=2)
+
+
+def test_bad_task_keywords_are_named():
+    with pytest.raises(composer.EntityError, match="n_links must be an int >= 3, got 2"):
+        gymnasium.make("dm_control/swimmer-swimmer6-v0", n_links=2)
+    with pytest.raises(composer.TaskError, match="move_speed must be a number >= 0, got -1"):
+        suite.load("walker", "walk", task_kwargs={"move_speed": -1})
 
 
 def test_bad_actions_are_refused_before_the_step():
