@@ -25,7 +25,8 @@ try:
     from dm_env import specs
 except ImportError as e:  # the [dm] extra is optional
     raise ImportError(
-        "composer's dm_env support needs the dm-env package: pip install 'mujoco-composer[dm]'"
+        "composer's dm_env support needs the dm-env package: pip install -e '.[dm]' from a "
+        "checkout (or: pip install dm-env)"
     ) from e
 
 

@@ -8,9 +8,10 @@ Every domain of dm_control's suite includes the same three files: a gradient sky
 random white marks, the visual settings (headlight, near clip plane, shadow map size) and
 the materials; the checkered `grid` texture and material of the last are the world's, the
 robot's materials travel with the robot (`entities.suite.materials`). The floor is a plane
-named `floor` (or as the domain names it) of the domain's size and place. The arena sets no
-physics option: those are the robot's (its model's `<option>`), so the composed model
-compiles to what the domain's own file compiles to.
+of the domain's name (`floor`, or `ground` as some files say), size and place, with the
+attributes the domain's top-level defaults give it (`floor_attributes`: finger's solref
+...). The arena sets no physics option: those are the robot's (its model's `<option>`),
+so the composed model compiles to what the domain's own file compiles to.
 """
 
 from __future__ import annotations
@@ -36,8 +37,8 @@ class SuiteArena(composer.Arena):
         skybox_first: bool = True,
     ) -> None:
         """Make the world model named `name`, with a floor plane named `floor_name` of
-        `floor_size` (None: no floor) at `floor_pos`, with `floor_attributes` besides (a
-        domain's `friction` ...), its grid material repeated `grid_repeat` times per unit
+        `floor_size` (None: no floor) at `floor_pos`, with `floor_attributes` besides (as
+        MJCF's `<geom>` takes them), its grid material repeated `grid_repeat` times per unit
         (`texuniform`) with `grid_reflectance`. The skybox texture comes before the grid's
         unless not `skybox_first` (a compiled model keeps the file's order of textures)."""
         root = self._mjcf_root = mjcf.RootElement(model=name)

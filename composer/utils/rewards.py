@@ -206,18 +206,18 @@ class Tolerance:
         self._sigmoid = _SIGMOID_FUNCTIONS.get(sigmoid) if margin != 0 else None
         scale = None if self._sigmoid is None else _scale(sigmoid, value_at_margin)
         self._scale = scale
-        # The clamped distance equals dm_control's outside finite bounds, and is 0 inside
-        # them, where a finite scale makes every sigmoid exactly dm_control's 1.0.
-        self._fast = bool(
-            scale is not None
-            and margin > 0
-            and all(math.isfinite(bound) for bound in bounds)
-            and math.isfinite(scale)
-        )
+        # The clamped distance equals dm_control's outside the bounds, and is 0 inside
+        # them, where a finite scale makes every sigmoid exactly dm_control's 1.0. With one
+        # infinite bound only the other one's distance is taken: at x = that infinity
+        # dm_control's x - inf is not taken either (x is within the bounds).
+        finite = [math.isfinite(bound) for bound in bounds]
+        self._fast = bool(scale is not None and margin > 0 and any(finite) and math.isfinite(scale))
         if lower == upper == 0:
             self._fast_distance = "signed" if sigmoid in _EVEN else "absolute"
-        else:
+        elif all(finite):
             self._fast_distance = "clamped"
+        else:
+            self._fast_distance = "below" if finite[0] else "above"
         self._fast_numbers: tuple[Any, ...] | None = None
 
     def __call__(self, x: Any) -> Any:
@@ -248,6 +248,10 @@ class Tolerance:
             distance = x / margin
         elif self._fast_distance == "absolute":  # bounds (0, 0): dm_control's 0 - x or x - 0
             distance = np.absolute(x) / margin
+        elif self._fast_distance == "below":  # (lower, inf): how far below the lower bound
+            distance = np.maximum(lower - x, _ARRAYS.zero) / margin
+        elif self._fast_distance == "above":  # (-inf, upper): how far above the upper one
+            distance = np.maximum(x - upper, _ARRAYS.zero) / margin
         else:
             distance = np.maximum(np.maximum(lower - x, x - upper), _ARRAYS.zero) / margin
         return self._sigmoid(distance, scale, _ARRAYS)  # type: ignore[misc]

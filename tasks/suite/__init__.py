@@ -16,7 +16,26 @@ timesteps, time limits and discounts. tests/tasks/suite proves it against dm_con
 suite code, step by step. docs/suite.md lists the tasks.
 """
 
-from tasks.suite import cartpole, cheetah, fish, hopper, swimmer, walker
+from tasks.suite import (
+    acrobot,
+    ball_in_cup,
+    cartpole,
+    cheetah,
+    finger,
+    fish,
+    hopper,
+    humanoid,
+    humanoid_cmu,
+    lqr,
+    manipulator,
+    pendulum,
+    point_mass,
+    quadruped,
+    reacher,
+    stacker,
+    swimmer,
+    walker,
+)
 from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
 
 ALL_TASKS = tagged(None)
@@ -37,12 +56,24 @@ __all__ = [
     "TASKS",
     "TASKS_BY_DOMAIN",
     "SuiteEntry",
+    "acrobot",
+    "ball_in_cup",
     "cartpole",
     "cheetah",
     "find",
+    "finger",
     "fish",
     "hopper",
+    "humanoid",
+    "humanoid_cmu",
     "load",
+    "lqr",
+    "manipulator",
+    "pendulum",
+    "point_mass",
+    "quadruped",
+    "reacher",
+    "stacker",
     "swimmer",
     "tagged",
     "walker",

@@ -302,4 +302,6 @@ def test_without_dm_env_composer_works_and_the_bridge_says_how_to_install_it():
         """
     )
     assert result.returncode == 0, result.stderr
-    assert result.stdout.count("pip install 'mujoco-composer[dm]'") == 2
+    assert (
+        result.stdout.count("pip install -e '.[dm]' from a checkout (or: pip install dm-env)") == 2
+    )

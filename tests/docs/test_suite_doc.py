@@ -1,6 +1,6 @@
 """docs/suite.md's table of tasks is the registry's: every Control Suite id, its flattened
-observation and action sizes, its episode length and benchmark tag, and nothing else. On a
-mismatch the message holds the table as it should read."""
+observation and action sizes, its episode length (or "no limit") and benchmark tag, and
+nothing else. On a mismatch the message holds the table as it should read."""
 
 from __future__ import annotations
 
@@ -20,7 +20,9 @@ def expected_table() -> list[str]:
     rows = [HEADER, "| --- | ---: | ---: | --- | --- | --- |"]
     for (domain, task), entry in suite.TASKS.items():
         env = suite.load(domain, task, environment_kwargs={"flat_observation": True})
-        steps = math.ceil(entry.time_limit / env.control_timestep - 1e-9)
+        # lqr's episodes have no time limit: they end when the system comes to rest.
+        limited = math.isfinite(entry.time_limit)
+        steps = math.ceil(entry.time_limit / env.control_timestep - 1e-9) if limited else "no limit"
         mark = "yes" if "benchmarking" in entry.tags else ""
         rows.append(
             f"| `{entry.env_id}` | {flatdim(env.observation_space)} | "

@@ -5,7 +5,8 @@ tasks here are compared with (tests only; nothing of dm_control ships).
     env = reference('cartpole', 'swingup', seed=3)     # its control.Environment
     model = reference_model('cartpole', num_poles=2)   # the MjModel its XML compiles to
     assert_same_model(ours.physics.model, model)       # every numeric array equal
-    compare_episode('cartpole', 'swingup', seed=3, steps=1000)
+    compare_episode(ours, theirs, seed=3, steps=1000)
+    compare_steps(ours, theirs, random_actions(theirs, seed=4, steps=50))  # from here on
 
 The published wheel (`tests/dm_control_wheel.py`: fetched at test time, skipped when the
 index is unreachable) is unpacked into a package of another name, `dm_suite_reference`, so
@@ -149,18 +150,34 @@ def _flatten(observation: dict[str, np.ndarray]) -> np.ndarray:
 def compare_episode(ours: Any, theirs: Any, seed: int, steps: int, atol: float = 1e-9) -> int:
     """Run our environment `ours` (a composer.Environment, reset with `seed`) and
     dm_control's `theirs` (made with `random=seed`) with the same `steps` random actions
-    (uniform within the action bounds, from RandomState(seed + 1)); every observation
-    (keys, order and values), reward and discount must agree to `atol`, and both episodes
-    must end at the same step. Returns the steps run."""
+    (`random_actions` from RandomState(seed + 1)); every observation (keys, order, shapes
+    and values), reward and discount must agree to `atol`, and both episodes must end at
+    the same step. Returns the steps run."""
     observation, _ = ours.reset(seed=seed)
     timestep = theirs.reset()
     _assert_observations(observation, timestep.observation, 0, atol)
+    return len(compare_steps(ours, theirs, random_actions(theirs, seed + 1, steps), atol))
+
+
+def random_actions(theirs: Any, seed: int, steps: int) -> np.ndarray:
+    """`steps` actions uniform within the bounds of dm_control's environment `theirs`, drawn
+    from RandomState(seed): (steps, action size). Within [-1, 1] where an actuator is
+    unbounded (lqr's): forces of up to 1e10 N would only blow the system up, which
+    dm_control answers with a PhysicsError and ours with a truncation."""
     spec = theirs.action_spec()
-    actions = np.random.RandomState(seed + 1).uniform(
-        spec.minimum, spec.maximum, size=(steps, *spec.shape)
-    )
+    low = np.where(spec.minimum <= -mujoco.mjMAXVAL, -1.0, spec.minimum)
+    high = np.where(spec.maximum >= mujoco.mjMAXVAL, 1.0, spec.maximum)
+    return np.random.RandomState(seed).uniform(low, high, size=(steps, *spec.shape))
+
+
+def compare_steps(ours: Any, theirs: Any, actions: np.ndarray, atol: float = 1e-9) -> np.ndarray:
+    """Step both environments from the states they are in with each of `actions` until an
+    episode ends, comparing as `compare_episode` says. Returns our rewards, one per step
+    run."""
+    rewards = []
     for t, action in enumerate(actions, start=1):
         observation, reward, terminated, truncated, info = ours.step(action)
+        rewards.append(reward)
         timestep = theirs.step(action)
         _assert_observations(observation, timestep.observation, t, atol)
         assert abs(reward - timestep.reward) <= atol, f"step {t}: reward {reward} {timestep.reward}"
@@ -168,8 +185,8 @@ def compare_episode(ours: Any, theirs: Any, seed: int, steps: int, atol: float =
         assert (terminated or truncated) == timestep.last(), f"step {t}: episode end"
         if timestep.last():
             assert terminated == (timestep.discount == 0.0 and truncated is False)
-            return t
-    return steps
+            break
+    return np.array(rewards)
 
 
 def _assert_observations(ours: Any, theirs: dict[str, np.ndarray], t: int, atol: float) -> None:
@@ -178,6 +195,9 @@ def _assert_observations(ours: Any, theirs: dict[str, np.ndarray], t: int, atol:
             f"step {t}: keys {list(ours)} {list(theirs)}"
         )
         for key, value in theirs.items():
+            assert np.shape(ours[key]) == np.shape(value), (
+                f"step {t}: {key} has shape {np.shape(ours[key])}, dm_control's {np.shape(value)}"
+            )
             np.testing.assert_allclose(
                 ours[key], value, rtol=0, atol=atol, err_msg=f"step {t}: {key}"
             )
