@@ -86,17 +86,17 @@ print(' '.join(sorted(m for m in sys.modules if m.split('.')[0] in
 
 def test_import_composer_loads_what_an_environment_needs():
     """`import composer` loads Entity, Task, Environment and what they need; the vector and
-    pixel environments, variations, the shipped initializers and registration load when
-    first used, and the CLI, Ray, stable-baselines3 and the dm_env bridge only when
-    imported. The on-demand names still work."""
+    pixel environments, variations, the shipped initializers, registration and
+    `composer.utils` load when first used, and the CLI, Ray, stable-baselines3 and the
+    dm_env bridge only when imported. The on-demand names still work."""
     loaded = subprocess.run(
         [sys.executable, "-c", _LOADED], cwd=REPO, capture_output=True, text=True, check=True
     ).stdout.split()
     assert {"composer.environment", "composer.task", "composer.entity", "mjcf"} <= set(loaded)
     later = ("composer.vector", "composer.pixels", "composer.variation", "composer.registration",
-             "composer.initializers.prop_initializer", "composer.cli", "composer.sb3",
-             "composer.rllib", "composer.dm_env_bridge", "ray", "stable_baselines3", "dm_env",
-             "torch")  # fmt: skip
+             "composer.initializers.prop_initializer", "composer.utils", "composer.cli",
+             "composer.sb3", "composer.rllib", "composer.dm_env_bridge", "ray",
+             "stable_baselines3", "dm_env", "torch")  # fmt: skip
     assert [m for m in loaded if m.startswith(later)] == []
     import composer
 
