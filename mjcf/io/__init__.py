@@ -1,0 +1,3 @@
+"""Reading and writing MJCF text (layer 4 of mjcf): the reader (`parser`, with `xsd`,
+`indexer` and `default_sections`), the writer (`serializer`) and `export`. Imports only
+the layers below; see docs/architecture.md."""
