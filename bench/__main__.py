@@ -3,6 +3,7 @@
 python -m bench                       # everything; JSON in bench/results/<time>.json
 python -m bench vector scene          # some of them
 python -m bench vector --against envpool,gymnasium   # the vector comparison with others
+python -m bench suite --against envpool,gymnasium    # the Control Suite's, with others
 python -m bench --quick --json /tmp/smoke.json   # tiny budgets: checks the plumbing
 """
 
@@ -34,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--against",
         default="",
-        help="the vector benchmark also runs these, comma-separated: envpool, gymnasium "
+        help="the vector and suite benchmarks also run these, comma-separated: envpool, gymnasium "
         "(envpool: pip install -e '.[bench]')",
     )
     args = parser.parse_args(argv)

@@ -4,6 +4,8 @@
     python -m bench.profiles reset AntRun             # one reset via gym.make
     python -m bench.profiles vector 8                 # one VectorEnvironment.step, 8 ants
                                                       # (on one thread: see _vector)
+    python -m bench.profiles suite cheetah-run:32     # one step of gym.make_vec's vector
+                                                      # of 32 suite environments (one thread)
     python -m bench.profiles parse rodent             # one mjcf.from_path (bench.real_models)
     python -m bench.profiles step Reach --lines 20    # ... and the 20 costliest lines
     python -m bench.profiles step Reach --cprofile    # cProfile instead of py-spy
@@ -38,6 +40,8 @@ import time
 from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
+
+import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 OURS = ("composer/", "mjcf/", "tasks/", "entities/", "arenas/", "bench/")
@@ -84,6 +88,30 @@ def _vector(num_envs: str) -> Callable[[], None]:
     return lambda: env.step(chosen)
 
 
+def _suite(subject: str) -> Callable[[], None]:
+    import gymnasium
+
+    import tasks  # noqa: F401  registers the suite's ids
+
+    name, _, count = subject.partition(":")
+    num_envs = int(count or 1)
+    env = gymnasium.make_vec(
+        f"dm_control/{name}-v0", num_envs, vectorization_mode="vector_entry_point", nthread=1
+    )  # one thread, as _vector
+    env.reset(seed=0)
+    space = env.single_action_space
+    chosen = np.random.default_rng(0).uniform(space.low, space.high, (num_envs, *space.shape))
+    step, steps = env.step, [0]
+
+    def operation() -> None:
+        step(chosen)
+        steps[0] += 1
+        if steps[0] % 900 == 0:  # before the episodes' 1,000-step limit: no autoresets
+            _left_out(lambda: env.reset(seed=0))
+
+    return operation
+
+
 def _parse(name: str) -> Callable[[], None]:
     import mjcf
     from bench import real_models
@@ -93,7 +121,7 @@ def _parse(name: str) -> Callable[[], None]:
 
 
 WORKLOADS: dict[str, Callable[[str], Callable[[], None]]] = {
-    "step": _step, "reset": _reset, "vector": _vector, "parse": _parse,
+    "step": _step, "reset": _reset, "vector": _vector, "suite": _suite, "parse": _parse,
 }  # fmt: skip
 
 

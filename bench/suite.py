@@ -6,7 +6,7 @@
 Each benchmark is a module's `main(quick=..., **options)` returning a dict of figures
 (ratios are the keys with '_vs_'); what it prints is shown and kept too. A benchmark that
 raises is recorded with its traceback and the others still run. An option goes to the
-benchmarks whose `main` takes it (`against`: bench_vector's other sides).
+benchmarks whose `main` takes it (`against`: bench_vector's and bench_suite's other sides).
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ BENCHMARKS = {
     "scene": "bench.bench_scene",
     "large": "bench.bench_large",
     "vector": "bench.bench_vector",
+    "suite": "bench.bench_suite",
     "ray": "bench.bench_ray",
     "ray_learning": "bench.bench_ray_learning",
 }

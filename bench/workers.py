@@ -73,9 +73,10 @@ class Worker:
             raise WorkerError(f"side {self.side!r} raised:\n{reply}")
         return reply
 
-    def build(self, num_envs: int, nthread: int) -> None:
-        """Make the side's environments (dropping those of an earlier build)."""
-        self._call("build", num_envs, nthread)
+    def build(self, num_envs: int, nthread: int, *options: Any) -> None:
+        """Make the side's environments (dropping those of an earlier build): its module's
+        `SIDES[side](num_envs, nthread, *options)`."""
+        self._call("build", num_envs, nthread, *options)
 
     def round(self, steps: int) -> tuple[float, float]:
         """Reset (not timed), then run `steps` steps: (wall seconds, CPU seconds of the

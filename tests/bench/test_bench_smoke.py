@@ -11,7 +11,7 @@ import shutil
 
 import pytest
 
-from bench import bench_parse, profiles, real_models, suite
+from bench import bench_parse, bench_suite, profiles, real_models, suite
 from bench.__main__ import main
 from bench.workers import Worker, WorkerError
 
@@ -158,3 +158,25 @@ def test_the_suite_step_benchmark_measures_three_sides(tmp_path):
     results = json.loads(path.read_text())["benchmarks"]["suite_step"]["results"]
     found = suite.ratios(results)
     assert {"cartpole-swingup.ours_vs_raw", "cartpole-swingup.ours_vs_dm_control"} <= set(found)
+
+
+def test_the_suite_comparison_runs_ours_the_floor_envpool_and_gymnasium(tmp_path):
+    pytest.importorskip("envpool", reason="envpool is not installed: pip install -e '.[bench]'")
+    path = tmp_path / "results.json"
+    command = ["suite", "--quick", "--against", "envpool,gymnasium", "--json", str(path)]
+    assert main(command) == 0
+    entry = json.loads(path.read_text())["benchmarks"]["suite"]
+    assert entry["error"] is None and "envpool CartpoleSwingup-v1" in entry["output"]
+    results = entry["results"]
+    assert set(results["sides"]) == {"vector", "floor", "batch", "envpool", "gymnasium"}
+    assert "on the MuJoCo it bundles" in results["sides"]["envpool"]
+    found = suite.ratios(results)
+    for num_envs in (1, 4):
+        for ratio in ("vector_vs_envpool", "vector_vs_floor", "vector_vs_gymnasium"):
+            assert found[f"tasks.cartpole-swingup.n{num_envs}.{ratio}"] > 0
+        assert len(results["tasks"]["cartpole-swingup"][f"n{num_envs}"]["load"]) == 2
+
+
+def test_the_suite_comparison_refuses_a_task_that_is_not_registered():
+    with pytest.raises(ValueError, match=r"unknown suite task\(s\) \['cheetah-sprint'\]"):
+        bench_suite.main(quick=True, subjects=("cheetah-run", "cheetah-sprint"))
