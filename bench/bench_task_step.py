@@ -70,8 +70,9 @@ def make(name: str) -> tuple[Any, mujoco.MjModel, int]:
     if name == OURS_ON_GYMNASIUM_MODEL:
         _register_ant_v5()
         env = gymnasium.make("bench/AntV5-v0", flatten_observations=True)
-    else:
-        env = gymnasium.make(f"composer/{name}-v0", flatten_observations=True)
+    else:  # a shipped task's name, or any registered id ('dm_control/cartpole-swingup-v0')
+        env_id = name if "/" in name else f"composer/{name}-v0"
+        env = gymnasium.make(env_id, flatten_observations=True)
     inner = env.unwrapped
     return env, inner.physics.model, inner.task.physics_steps_per_control_step
 
