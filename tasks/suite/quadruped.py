@@ -249,10 +249,10 @@ class Fetch(QuadrupedTask):
         ball = physics.bind(self.quadruped.ball).xpos
         ball_velocity = physics.bind(self.quadruped.ball_root).qvel  # (n, 6)
         root_velocity = physics.bind(self.quadruped.root).qvel
-        rows = np.stack(
+        rows = np.concatenate(  # (n, 3, 3): np.stack's rows, without its Python wrapper
             (ball - position, ball_velocity[:, :3] - root_velocity[:, :3], ball_velocity[:, 3:]),
             axis=1,
-        )
+        ).reshape(-1, 3, 3)
         # dm_control multiplies the three rows at once (a matrix product, which rounds as
         # numpy's matmul of each environment's pair does).
         return np.matmul(rows, frame.reshape(-1, 3, 3)).reshape(len(rows), -1)
