@@ -12,6 +12,13 @@ Three sides per task, stepped with the same random actions:
   fetched as the tests fetch it, `tests/tasks/suite/oracle.py`);
 - raw: `mujoco.mj_step` on the same compiled model for the task's physics steps per
   control step, actions written to ctrl, nothing else.
+Every round of every side runs the same trajectory: ours from `reset(seed=0)`, dm_control's
+task reseeded with 0 before its reset (the same episode, as the equality tests show), raw
+from the state ours starts in (MuJoCo's full physics state), so that all three simulate the
+same states: a contact-heavy or ray-heavy stretch (humanoid lying, quadruped-escape's
+rangefinders on its terrain) costs every side alike. (LQR's unbounded actuators, given
+random forces up to 1e10 here, diverge within a few steps on every side, so its figures
+are of diverging, truncated episodes.)
 Figures are thread CPU time per step (microseconds), the best of alternating rounds, with
 the median; the ratios are against raw and against dm_control.
 """
@@ -57,11 +64,18 @@ def _round(reset: Callable[[], Any], step: Callable[[Any], Any], actions: np.nda
     return run
 
 
-def _raw_round(model: mujoco.MjModel, substeps: int, actions: np.ndarray) -> Callable[[], float]:
+_FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
+
+
+def _raw_round(
+    model: mujoco.MjModel, state: np.ndarray, substeps: int, actions: np.ndarray
+) -> Callable[[], float]:
+    """A round of raw steps from MuJoCo's full physics state `state`."""
     data = mujoco.MjData(model)
 
     def run() -> float:
         mujoco.mj_resetData(model, data)
+        mujoco.mj_setState(model, data, state, _FULL_STATE)
         mujoco.mj_forward(model, data)
         start = clock()
         for action in actions:
@@ -81,12 +95,21 @@ def measure(subject: str, round_count: int, steps: int) -> dict[str, float]:
     spec = theirs.action_spec()
     actions = np.random.default_rng(0).uniform(spec.minimum, spec.maximum, (steps, *spec.shape))
     gym_ended = lambda result: result[2] or result[3]  # noqa: E731
+    env.reset(seed=0)
+    model, data = inner.physics.model, inner.physics.data
+    start = np.empty(mujoco.mj_stateSize(model, _FULL_STATE))
+    mujoco.mj_getState(model, data, start, _FULL_STATE)
+
+    def reset_theirs() -> None:
+        theirs.task.random.seed(0)
+        theirs.reset()
+
     timed = rounds.alternate(
         {
             "ours": _round(lambda: env.reset(seed=0), env.step, actions, gym_ended),
             "unwrapped": _round(lambda: inner.reset(seed=0), inner.step, actions, gym_ended),
-            "dm_control": _round(theirs.reset, theirs.step, actions, lambda ts: ts.last()),
-            "raw": _raw_round(inner.physics.model, inner.timing.substeps, actions),
+            "dm_control": _round(reset_theirs, theirs.step, actions, lambda ts: ts.last()),
+            "raw": _raw_round(model, start, inner.timing.substeps, actions),
         },
         round_count,
     )

@@ -8,10 +8,12 @@ Subjects: each shipped task (`tasks.IDS`), `AntV5` (ours on gymnasium's ant.xml,
 `bench.ant_v5`, the same model as gymnasium's Ant-v5), and gymnasium's InvertedPendulum,
 Reacher, Ant, Walker2d and Pusher v5. Each is made by `gym.make` (ours with flattened
 observations, so with gymnasium's wrappers as a user gets it) and stepped with random
-actions; the raw side steps the same compiled MjModel on its own MjData for the
-subject's physics steps per control step, writing the actions to ctrl (no observation,
-reward or reset). `unwrapped` is the environment's own step without gymnasium's
-wrappers. Resets: `reset()` through gym.make against raw `mj_resetData` + `mj_forward`.
+actions; the raw side steps the same compiled MjModel on its own MjData, from the state
+each round of the environment starts in (`reset(seed=0)`: the same states, as far as the
+episode runs without a reset), for the subject's physics steps per control step, writing
+the actions to ctrl (no observation, reward or reset). `unwrapped` is the environment's
+own step without gymnasium's wrappers. Resets: `reset()` through gym.make against raw
+`mj_resetData` + `mj_forward`.
 
 Figures are thread CPU time (other processes' time is not counted), timed over a
 round's steps; the resets of episodes ending within a round are timed on their own and
@@ -70,8 +72,9 @@ def make(name: str) -> tuple[Any, mujoco.MjModel, int]:
     if name == OURS_ON_GYMNASIUM_MODEL:
         _register_ant_v5()
         env = gymnasium.make("bench/AntV5-v0", flatten_observations=True)
-    else:
-        env = gymnasium.make(f"composer/{name}-v0", flatten_observations=True)
+    else:  # a shipped task's name, or any registered id ('dm_control/cartpole-swingup-v0')
+        env_id = name if "/" in name else f"composer/{name}-v0"
+        env = gymnasium.make(env_id, flatten_observations=True)
     inner = env.unwrapped
     return env, inner.physics.model, inner.task.physics_steps_per_control_step
 
@@ -94,11 +97,27 @@ def _env_round(env: Any, actions: np.ndarray) -> Callable[[], float]:
     return run
 
 
-def _raw_round(model: mujoco.MjModel, substeps: int, actions: np.ndarray) -> Callable[[], float]:
+_FULL_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
+
+
+def _start_state(env: Any, model: mujoco.MjModel) -> np.ndarray:
+    """MuJoCo's full physics state `env` is in (ours or gymnasium's)."""
+    inner = env.unwrapped
+    data = inner.physics.data if hasattr(inner, "physics") else inner.data
+    state = np.empty(mujoco.mj_stateSize(model, _FULL_STATE))
+    mujoco.mj_getState(model, data, state, _FULL_STATE)
+    return state
+
+
+def _raw_round(
+    model: mujoco.MjModel, state: np.ndarray, substeps: int, actions: np.ndarray
+) -> Callable[[], float]:
+    """A round of raw steps from MuJoCo's full physics state `state`."""
     data = mujoco.MjData(model)
 
     def run() -> float:
         mujoco.mj_resetData(model, data)
+        mujoco.mj_setState(model, data, state, _FULL_STATE)
         mujoco.mj_forward(model, data)
         step = mujoco.mj_step
         start = clock()
@@ -135,11 +154,12 @@ def measure(name: str, round_count: int, steps: int, resets: int) -> dict[str, f
     round, median, spread), and the ratios."""
     env, model, substeps = make(name)
     env.reset(seed=0)
+    state = _start_state(env, model)  # raw steps from where each round of env starts
     space = env.action_space
     actions = np.random.default_rng(0).uniform(space.low, space.high, (steps, *space.shape))
     timed = rounds.alternate(
         {"env": _env_round(env, actions), "unwrapped": _env_round(env.unwrapped, actions),
-         "raw": _raw_round(model, substeps, actions), **_reset_rounds(env, model, resets)},
+         "raw": _raw_round(model, state, substeps, actions), **_reset_rounds(env, model, resets)},
         round_count,
     )  # fmt: skip
     env.close()

@@ -3,11 +3,12 @@
     python -m bench.trajectories record /tmp/before.pkl     # on the code before a change
     python -m bench.trajectories compare /tmp/before.pkl    # on the code after it
 
-A performance change must not change a number: this steps every shipped task (and
-`bench.ant_v5`'s AntV5) through `gym.make`, with dict and flattened observations and a few
-options, and a `VectorEnvironment` of each, from fixed seeds with random actions (some
-outside the action space, so clipping is exercised), through episode ends and resets; it
-keeps every observation, reward, termination, truncation and info entry. `compare` runs
+A performance change must not change a number: this steps every shipped task, every Control
+Suite id (`dm_control/DOMAIN-TASK-v0`) and `bench.ant_v5`'s AntV5 through `gym.make`, with
+dict and flattened observations and a few options, and a `VectorEnvironment` of each, from
+fixed seeds with random actions (some outside the action space, so clipping is exercised),
+through episode ends and resets; it keeps every observation, reward, termination,
+truncation and info entry. `compare` runs
 the same and reports the first difference of each run, exiting 1 if there is one. Arrays
 are compared by their bytes, dtype and shape; numbers by type and value.
 """
@@ -28,6 +29,7 @@ import composer
 import tasks
 from bench.ant_v5 import AntV5
 
+SUITE_IDS = tuple(env_id for env_id in gymnasium.registry if env_id.startswith("dm_control/"))
 STEPS = 120
 VECTOR_STEPS = 60
 VECTOR_ENVS = 3
@@ -41,6 +43,7 @@ SINGLE_RUNS: list[tuple[str, str, dict[str, Any]]] = [
     ("AntRun-terrain", "composer/AntRun-v0", {"arena": "terrain", "time_limit": 1.0}),
     ("AntRun-not-legacy", "AntRun", {"time_limit": 1.0, "legacy_step": False}),
     ("AntV5", "AntV5", {"time_limit": 1.0}),
+    *[(f"{i}-dict", i, {"time_limit": 1.0}) for i in SUITE_IDS],
 ]
 
 
@@ -97,7 +100,7 @@ def vector_run(env_id: str) -> list[Any]:
 def record() -> dict[str, list[Any]]:
     """{run label: the values it returned} for every run of this module."""
     runs = {label: single_run(env_id, options) for label, env_id, options in SINGLE_RUNS}
-    for env_id in tasks.IDS:
+    for env_id in (*tasks.IDS, *SUITE_IDS):
         runs[f"{env_id}-vector"] = vector_run(env_id)
     return runs
 

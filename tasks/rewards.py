@@ -1,6 +1,7 @@
 """Reward shaping for the shipped tasks: `tolerance` and `Tolerance`, dm_control's smooth
-1-inside, falling-outside bump (`composer.utils.rewards` owns them; re-exported here), and
-`squared_norms`, sums of squares a batched reward takes as a single one does.
+1-inside, falling-outside bump (`composer.utils.rewards` owns them; re-exported here),
+`squared_norms`, sums of squares a batched reward takes as a single one does, and
+`row_means` and `row_norms`, numpy's `mean` and `linalg.norm` along each row to their bits.
 
     tolerance(0.3, bounds=(0, 0.5))                      # 1.0: inside the bounds
     tolerance(x, margin=2.0)                             # 1 at 0, 0.1 at |x| = 2, gaussian
@@ -8,6 +9,7 @@
     small_control = Tolerance(margin=1.0, value_at_margin=0.0, sigmoid='quadratic')
     small_control(u)                                     # the same, checked once
     squared_norms(controls)                              # (n,): np.dot(u, u) of each row
+    row_means(values), row_norms(vectors)                # (n,): v.mean(), np.linalg.norm(v)
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import numpy as np
 
 from composer.utils.rewards import SIGMOIDS, Tolerance, tolerance
 
-__all__ = ["SIGMOIDS", "Tolerance", "squared_norms", "tolerance"]
+__all__ = ["SIGMOIDS", "Tolerance", "row_means", "row_norms", "squared_norms", "tolerance"]
 
 
 def squared_norms(vectors: np.ndarray) -> Any:
@@ -28,3 +30,20 @@ def squared_norms(vectors: np.ndarray) -> Any:
     it equals a single environment's using `np.dot`."""
     vectors = np.asarray(vectors, dtype=np.float64)
     return np.matmul(vectors[..., None, :], vectors[..., :, None])[..., 0, 0]
+
+
+# numpy's `ndarray.mean(axis=...)` and `linalg.norm(..., axis=...)` are Python functions
+# around a ufunc reduction, costing 1 to 1.5 us more than the reduction on a batch of one
+# (a step computes a few). These are their reductions, written out as numpy writes them.
+
+
+def row_means(values: np.ndarray) -> np.ndarray:
+    """The mean of each row of `values` (n, k), shape (n,), to the last bit as
+    `values.mean(axis=1)` (numpy's: the sum along the row over the count)."""
+    return np.add.reduce(values, axis=1) / values.shape[1]
+
+
+def row_norms(vectors: np.ndarray) -> np.ndarray:
+    """The Euclidean norm of each row of real `vectors` (n, k), shape (n,), to the last bit
+    as `np.linalg.norm(vectors, axis=1)` (numpy's: the root of the row's summed squares)."""
+    return np.sqrt(np.add.reduce(vectors * vectors, axis=1))

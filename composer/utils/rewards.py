@@ -280,4 +280,34 @@ def tolerance(
     for `bounds[0] > bounds[1]`, a negative margin, and, when the margin is not 0, an
     unknown sigmoid or `value_at_margin` outside (0, 1) ([0, 1) for 'cosine', 'linear'
     and 'quadratic')."""
-    return Tolerance(bounds, margin, sigmoid, value_at_margin)(x)
+    key = _parameters_key(bounds, margin, sigmoid, value_at_margin)
+    built = None if key is None else _BUILT.get(key)
+    if built is None:
+        built = Tolerance(bounds, margin, sigmoid, value_at_margin)  # raises RewardError
+        if key is not None and len(_BUILT) < _BUILT_LIMIT:
+            _BUILT[key] = built
+    return built(x)
+
+
+# The Tolerances `tolerance` built, by their parameters: dm_control's rewards call it every
+# step with the same few, and building one (checks, scale) costs more than its arithmetic.
+_BUILT: dict[tuple[Any, ...], Tolerance] = {}
+_BUILT_LIMIT = 256
+_PLAIN_NUMBERS = (float, int)
+
+
+def _parameters_key(
+    bounds: Any, margin: Any, sigmoid: Any, value_at_margin: Any
+) -> tuple[Any, ...] | None:
+    """A key telling apart every set of parameters that may compute differently: Python
+    floats and ints with their types (numpy's arithmetic keeps a float32 input's dtype with
+    them, not with a numpy float64), the sigmoid's name; None for anything else (arrays,
+    numpy numbers, lists of bounds), which is built afresh each call."""
+    if type(bounds) is not tuple or len(bounds) != 2 or type(sigmoid) is not str:
+        return None
+    lower, upper = bounds
+    numbers = (lower, upper, margin, value_at_margin)
+    types = tuple(type(number) for number in numbers)
+    if not all(kind in _PLAIN_NUMBERS for kind in types):
+        return None
+    return (*numbers, sigmoid, types)

@@ -61,7 +61,7 @@ class Balance(SuiteTask):
     def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Both links' xz entries (sines), then their zz entries (cosines): (n, 4)."""
         xmat = physics.bind(self.acrobot.arms).xmat  # (n, 2, 9)
-        return np.hstack((xmat[:, :, 2], xmat[:, :, 8]))
+        return np.concatenate((xmat[:, :, 2], xmat[:, :, 8]), axis=1)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Fix the reward's shape: 1 within the target's radius as compiled (0.2 m)."""

@@ -24,7 +24,7 @@ from tasks.suite.base import SuiteTask
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
 _MAX_ATTEMPTS = 1000  # initial ball positions tried before giving up on one without contacts
-_XZ = [0, 2]
+_XZ = np.array([0, 2])
 
 
 class BallInCup(SuiteTask):
@@ -84,8 +84,8 @@ class BallInCup(SuiteTask):
 
     def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
         """1 where the ball is inside the cup, else 0; shape (n,)."""
-        target = physics.bind(self.ball_in_cup.target).xpos[:, _XZ]
-        ball = physics.bind(self.ball_in_cup.ball_body).xpos[:, _XZ]
+        target = physics.bind(self.ball_in_cup.target).xpos.take(_XZ, axis=1)
+        ball = physics.bind(self.ball_in_cup.ball_body).xpos.take(_XZ, axis=1)
         return np.all(np.abs(target - ball) < self._inside, axis=1).astype(np.float64)
 
 

@@ -63,10 +63,10 @@ class _FingerTask(SuiteTask):
         self._observables: dict[str, observation.Observable] = {
             "position": observation.BatchGeneric(self._bounded_position),
             "velocity": observation.BatchGeneric(
-                lambda physics: physics.field("sensordata")[:, self._velocities]
+                lambda physics: physics.field("sensordata").take(self._velocities, axis=1)
             ),
             "touch": observation.BatchGeneric(
-                lambda physics: np.log1p(physics.field("sensordata")[:, self._touches])
+                lambda physics: np.log1p(physics.field("sensordata").take(self._touches, axis=1))
             ),
         }
 
@@ -103,12 +103,13 @@ class _FingerTask(SuiteTask):
     def _from_axis(self, sensordata: np.ndarray, xz: np.ndarray) -> np.ndarray:
         """The x and z of `sensordata`'s columns `xz` (a frame position's) from the
         spinner's axis, (n, 2)."""
-        return sensordata[:, xz] - sensordata[:, self._spinner]
+        return sensordata.take(xz, axis=1) - sensordata.take(self._spinner, axis=1)
 
     def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Both finger joints' angles, then the tip's x and z from the axis: (n, 4)."""
         sensordata = physics.field("sensordata")
-        return np.hstack((sensordata[:, self._angles], self._from_axis(sensordata, self._tip)))
+        angles = sensordata.take(self._angles, axis=1)
+        return np.concatenate((angles, self._from_axis(sensordata, self._tip)), axis=1)
 
     def _set_random_joint_angles(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

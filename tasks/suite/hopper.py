@@ -19,8 +19,8 @@ import composer
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
-from composer.utils.rewards import Tolerance
 from entities.suite import Hopper
+from tasks.rewards import Tolerance, row_means
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
 
@@ -83,7 +83,7 @@ class PlanarHopper(SuiteTask):
         if self._hopping:
             speed = physics.bind(self.hopper.speed_sensor).sensordata[:, 0]
             return standing * self._hop(speed)
-        small_control = self._small_control(physics.field("ctrl")).mean(axis=1)
+        small_control = row_means(self._small_control(physics.field("ctrl")))
         return standing * ((small_control + 4) / 5)
 
 

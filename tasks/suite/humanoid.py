@@ -28,7 +28,7 @@ import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
 from entities import suite as suite_entities
-from tasks.rewards import Tolerance
+from tasks.rewards import Tolerance, row_means, row_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 from tasks.suite.frames import in_frame
@@ -149,12 +149,12 @@ class Biped(SuiteTask):
         parts = self._parts
         standing = _standing(self._head_height(physics))
         upright = _upright(physics.bind(parts.upright_body).xmat[:, parts.upright_entry])
-        small_control = (4 + _small_control(physics.field("ctrl")).mean(axis=1)) / 5
+        small_control = (4 + row_means(_small_control(physics.field("ctrl")))) / 5
         horizontal = self._com_velocity(physics)[:, :2]
         if self._move_speed == 0:
-            move = _still(horizontal).mean(axis=1)
+            move = row_means(_still(horizontal))
         else:
-            move = (5 * self._move(np.linalg.norm(horizontal, axis=1)) + 1) / 6
+            move = (5 * self._move(row_norms(horizontal)) + 1) / 6
         return small_control * (standing * upright) * move
 
 

@@ -61,6 +61,11 @@ class Bring(SuiteTask):
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._is_close = Tolerance(bounds=(0, _CLOSE), margin=_CLOSE * 2)
         arm, robot = self.manipulator.arm, self.manipulator
+        if self._use_peg:  # grasp, pinch, bring and bring_tip's distances (the reward's)
+            self._peg_distances = planar.SiteDistances(
+                [(robot.peg_grasp, arm.grasp), (robot.peg_pinch, arm.pinch),
+                 (robot.object_site, robot.target_site), (robot.target_peg_tip, robot.peg_tip)]
+            )  # fmt: skip
         observables = {
             "arm_pos": lambda physics: planar.bounded_joint_positions(physics, arm.joints),
             "arm_vel": lambda physics: physics.bind(arm.joints).qvel,
@@ -137,13 +142,9 @@ class Bring(SuiteTask):
         robot, is_close = self.manipulator, self._is_close
         if not self._use_peg:
             return is_close(planar.site_distances(physics, robot.object_site, robot.target_site))
-        arm = robot.arm
-        grasp = is_close(planar.site_distances(physics, robot.peg_grasp, arm.grasp))
-        pinch = is_close(planar.site_distances(physics, robot.peg_pinch, arm.pinch))
-        grasping = (grasp + pinch) / 2
-        bring = is_close(planar.site_distances(physics, robot.object_site, robot.target_site))
-        bring_tip = is_close(planar.site_distances(physics, robot.target_peg_tip, robot.peg_tip))
-        bringing = (bring + bring_tip) / 2
+        close = is_close(self._peg_distances(physics))  # (n, 4): grasp, pinch, bring, tip
+        grasping = (close[:, 0] + close[:, 1]) / 2
+        bringing = (close[:, 2] + close[:, 3]) / 2
         return np.maximum(bringing, grasping / 3)
 
 

@@ -25,6 +25,7 @@ from tasks.suite.base import SuiteTask
 TIME_LIMIT = 20.0
 _ANGLE_BOUND = 8  # degrees
 _COSINE_BOUND = np.cos(np.deg2rad(_ANGLE_BOUND))
+_ZZ_XZ = np.array([8, 2])  # the pole's xmat entries observed: its cos and sin
 
 
 class SwingUp(SuiteTask):
@@ -61,7 +62,7 @@ class SwingUp(SuiteTask):
 
     def _orientation(self, physics: composer.BatchPhysics) -> np.ndarray:
         """(cos, sin) of the pole's angle from upright: its xmat's zz and xz, (n, 2)."""
-        return physics.bind(self.pendulum.pole).xmat[:, [8, 2]]
+        return physics.bind(self.pendulum.pole).xmat.take(_ZZ_XZ, axis=1)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

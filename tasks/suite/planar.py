@@ -4,6 +4,7 @@ batched form: dm_control's `Physics` helpers of those domains, over n environmen
     bounded_joint_positions(physics, arm.joints)     # (n, 8, 2): sin, cos of each angle
     body_2d_poses(physics, [hand])                   # (n, 1, 4): x, z, qw, qy
     site_distances(physics, ball_site, target_site)  # (n,): the distance between two sites
+    SiteDistances([(a, b), (c, d)])(physics)         # (n, 2): several pairs' at once
     randomize_arm(physics, arm, random_state)        # a random pose, the hand symmetric
 
 The scene lies in the x-z plane: a body's 2D pose is its x and z and the w and y entries of
@@ -52,6 +53,25 @@ def site_distances(
     """The distance between two sites in each environment: (n,)."""
     positions = physics.bind([second, first]).xpos  # (n, 2, 3)
     return np.sqrt(squared_norms(positions[:, 1] - positions[:, 0]))
+
+
+class SiteDistances:
+    """The distances of several pairs of sites, read and computed together (a reward's
+    four distances cost what one does apart): each column `site_distances` of its pair,
+    to the last bit."""
+
+    def __init__(self, pairs: Sequence[tuple[mjcf.Element, mjcf.Element]]) -> None:
+        """Measure each (first, second) of `pairs`."""
+        sites = list(dict.fromkeys(site for pair in pairs for site in pair))
+        self._sites = tuple(sites)
+        self._firsts = np.array([sites.index(first) for first, _ in pairs])
+        self._seconds = np.array([sites.index(second) for _, second in pairs])
+
+    def __call__(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The distance of each pair in each environment: (n, pairs)."""
+        positions = physics.bind(self._sites).xpos  # (n, sites, 3)
+        offsets = positions.take(self._firsts, axis=1) - positions.take(self._seconds, axis=1)
+        return np.sqrt(squared_norms(offsets))
 
 
 def randomize_arm(

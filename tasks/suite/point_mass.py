@@ -21,7 +21,7 @@ import entities.suite
 import mjcf
 from arenas.suite import SuiteArena
 from composer import observation
-from tasks.rewards import Tolerance, squared_norms
+from tasks.rewards import Tolerance, row_means, squared_norms
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
 
@@ -95,7 +95,7 @@ class PointMass(SuiteTask):
             physics.bind(self.point_mass.target).xpos - physics.bind(self.point_mass.mass).xpos
         )
         near_target = self._near_target(np.sqrt(squared_norms(to_target)))
-        small_control = (self._small_control(physics.field("ctrl")).mean(axis=1) + 4) / 5
+        small_control = (row_means(self._small_control(physics.field("ctrl"))) + 4) / 5
         return near_target * small_control
 
 

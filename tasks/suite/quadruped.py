@@ -29,7 +29,7 @@ import mjcf
 from arenas.suite import QuadrupedArena
 from composer import observation
 from entities.suite import Quadruped
-from tasks.rewards import Tolerance
+from tasks.rewards import Tolerance, row_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 from tasks.suite.frames import in_frame
@@ -100,7 +100,7 @@ class QuadrupedTask(SuiteTask):
     def _egocentric_state(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The hinges' angles and velocities and the actuators' states, (n, 44)."""
         hinges = physics.bind(self.quadruped.hinges)
-        return np.hstack((hinges.qpos, hinges.qvel, physics.field("act")))
+        return np.concatenate((hinges.qpos, hinges.qvel, physics.field("act")), axis=1)
 
     def _torso_upright(self, physics: composer.BatchPhysics) -> np.ndarray:
         """z of the torso's z axis, (n,)."""
@@ -212,7 +212,7 @@ class Escape(QuadrupedTask):
     def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The reward of each environment (module docstring), shape (n,)."""
         workspace = physics.bind(self.quadruped.workspace).xpos
-        escape = self._escape(np.linalg.norm(workspace, axis=1))
+        escape = self._escape(row_norms(workspace))
         return self._upright(self._torso_upright(physics)) * escape
 
 
@@ -249,10 +249,10 @@ class Fetch(QuadrupedTask):
         ball = physics.bind(self.quadruped.ball).xpos
         ball_velocity = physics.bind(self.quadruped.ball_root).qvel  # (n, 6)
         root_velocity = physics.bind(self.quadruped.root).qvel
-        rows = np.stack(
+        rows = np.concatenate(  # (n, 3, 3): np.stack's rows, without its Python wrapper
             (ball - position, ball_velocity[:, :3] - root_velocity[:, :3], ball_velocity[:, 3:]),
             axis=1,
-        )
+        ).reshape(-1, 3, 3)
         # dm_control multiplies the three rows at once (a matrix product, which rounds as
         # numpy's matmul of each environment's pair does).
         return np.matmul(rows, frame.reshape(-1, 3, 3)).reshape(len(rows), -1)
@@ -284,8 +284,8 @@ class Fetch(QuadrupedTask):
         workspace = physics.bind(self.quadruped.workspace).xpos
         ball = physics.bind(self.quadruped.ball).xpos
         target = physics.bind(self.quadruped.target).xpos
-        reach = self._reach(np.linalg.norm((workspace - ball)[:, :2], axis=1))
-        fetch = self._fetch(np.linalg.norm((target - ball)[:, :2], axis=1))
+        reach = self._reach(row_norms((workspace - ball)[:, :2]))
+        fetch = self._fetch(row_norms((target - ball)[:, :2]))
         return self._upright(self._torso_upright(physics)) * (reach * (0.5 + 0.5 * fetch))
 
 

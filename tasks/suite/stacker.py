@@ -114,7 +114,7 @@ class Stack(SuiteTask):
         robot = self.stacker
         sites = physics.bind([robot.target_site, *robot.box_sites]).xpos  # (n, 1 + boxes, 3)
         distances = np.sqrt(squared_norms(sites[:, 1:] - sites[:, :1]))
-        box_is_close = self._box_is_close(distances.min(axis=1))
+        box_is_close = self._box_is_close(np.minimum.reduce(distances, axis=1))  # .min's
         hand = planar.site_distances(physics, robot.arm.grasp, robot.target_site)
         return box_is_close * self._hand_is_far(hand)
 

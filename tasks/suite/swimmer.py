@@ -31,7 +31,7 @@ CONTROL_TIMESTEP = 0.03
 _CLOSE_TARGET_PROBABILITY = 0.2
 _CLOSE_BOX, _FAR_BOX = 0.3, 2.0
 # Each link's velocimeter and gyro give (vx, vy, vz, wx, wy, wz): the planar ones.
-_PLANAR_VELOCITIES = [0, 1, 5]
+_PLANAR_VELOCITIES = np.array([0, 1, 5])
 
 
 class SwimToTarget(SuiteTask):
@@ -76,7 +76,7 @@ class SwimToTarget(SuiteTask):
     def _body_velocities(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Each link's (vx, vy, wz) in its frame, head first: (n, 3 * n_links)."""
         readings = physics.bind(self.swimmer.velocity_sensors).sensordata
-        per_link = readings.reshape(len(readings), -1, 6)[:, :, _PLANAR_VELOCITIES]
+        per_link = readings.reshape(len(readings), -1, 6).take(_PLANAR_VELOCITIES, axis=2)
         return per_link.reshape(len(readings), -1)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:

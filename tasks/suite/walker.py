@@ -31,6 +31,7 @@ CONTROL_TIMESTEP = 0.025
 _STAND_HEIGHT = 1.2
 _WALK_SPEED = 1.0
 _RUN_SPEED = 8.0
+_XX_XZ = np.array([0, 2])  # each body's xmat entries observed
 
 
 class PlanarWalker(SuiteTask):
@@ -78,7 +79,7 @@ class PlanarWalker(SuiteTask):
     def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The x-x and x-z orientation entries of each body: (n, 2 * bodies)."""
         xmat = physics.bind(self.walker.bodies).xmat  # (n, bodies, 9)
-        return xmat[:, :, [0, 2]].reshape(len(xmat), -1)
+        return xmat.take(_XX_XZ, axis=2).reshape(len(xmat), -1)
 
     def _height(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The torso's height: (n,)."""

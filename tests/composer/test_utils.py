@@ -101,6 +101,28 @@ def test_tolerance_of_a_float64_array_is_the_general_formula_to_the_last_bit(sig
         assert np.array_equal(np.signbit(fast), np.signbit(general))
 
 
+def test_tolerance_called_again_computes_as_its_parameters_types_say():
+    """`tolerance` reuses what it built for the same parameters; a numpy float64 margin
+    is not the Python float of the same value (it makes a float32 input's result float64)."""
+    float32 = np.array([0.5, 2.0], dtype=np.float32)
+    for _ in range(2):
+        assert rewards.tolerance(float32, margin=1.0, sigmoid="linear").dtype == np.float32
+        assert rewards.tolerance(float32, margin=np.float64(1.0), sigmoid="linear").dtype == (
+            np.float64
+        )
+        assert rewards.tolerance(float32, margin=1, sigmoid="linear").dtype == np.float32
+    with pytest.raises(rewards.RewardError):  # a bad set is refused every call, never kept
+        rewards.tolerance(0.5, bounds=(1.0, 0.0))
+    with pytest.raises(rewards.RewardError):
+        rewards.tolerance(0.5, bounds=(1.0, 0.0))
+
+
+def test_row_means_and_norms_are_numpys_to_the_last_bit():
+    rows = np.random.default_rng(1).normal(0.0, 3.0, (50, 7))
+    assert tasks.rewards.row_means(rows).tobytes() == rows.mean(axis=1).tobytes()
+    assert tasks.rewards.row_norms(rows).tobytes() == np.linalg.norm(rows, axis=1).tobytes()
+
+
 def test_tasks_rewards_is_composer_utils_rewards():
     assert tasks.rewards.tolerance is rewards.tolerance
     assert tasks.rewards.Tolerance is rewards.Tolerance
