@@ -36,8 +36,8 @@ imports it, not even inside a function; private members of another module's obje
 used only through the internal protocol their class documents (`Element`, `RootElement`,
 `Physics`). tests/mjcf/test_architecture.py checks all three on the real source:
 
-    values:       errors upcalls debugging mujoco_log bulk fields assets values schema xsd
-                  namescope
+    values:       errors upcalls debugging mujoco_log bulk fields assets archives values
+                  schema xsd namescope
     tree:         element_list references model_operations element_names element_rules
                   element root base constants
     composition:  settings attachment naming traversal frames defaults traversal_utils
@@ -50,6 +50,7 @@ used only through the internal protocol their class documents (`Element`, `RootE
 
 # The modules above the tree whose functions it calls (see `_install_upcalls`), and
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
+from mjcf import archives as archives
 from mjcf import attachment, compiler, copying, naming, sameness, serializer, traversal
 from mjcf import base as base
 from mjcf import constants as constants
@@ -77,6 +78,7 @@ from mjcf.errors import (
     SchemaError,
     StateError,
     UnknownAttributeError,
+    UnpackLimitError,
 )
 from mjcf.errors import deprecated_name as _deprecated_name
 from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
@@ -111,6 +113,7 @@ __all__ = [
     "SchemaError",
     "StateError",
     "UnknownAttributeError",
+    "UnpackLimitError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",

@@ -81,6 +81,11 @@ class ParseError(Error, ValueError):
     message names the file and line."""
 
 
+class UnpackLimitError(ParseError):
+    """A zip entry that unpacks to more than the limits on untrusted archives allow (a
+    decompression bomb), or a limit that is not a size or ratio: see `mjcf.archives`."""
+
+
 class MissingFileError(ParseError, FileNotFoundError):
     """An included file found neither in the `assets` given nor on disk: a ParseError,
     and a `FileNotFoundError` (an `OSError`, which dm_control raises)."""
