@@ -21,14 +21,13 @@ is given as training did.
 
 from __future__ import annotations
 
-import json
 import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from composer.cli.engines import base
+from composer.cli.engines import base, untrusted
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, PolicyError
 
 NAME = base.DEFAULT_ENGINE
@@ -91,12 +90,19 @@ def find_policy(path: Path) -> Path | None:
 def algo_of(path: Path) -> str:
     """The algorithm ('ppo', 'sac') a stable-baselines3 .zip was saved by, from the module
     of its policy class: `stable_baselines3.sac.policies` for SAC, the shared actor-critic
-    policies of `stable_baselines3.common.policies` for PPO. Raises PolicyError."""
+    policies of `stable_baselines3.common.policies` for PPO. Its `data` is read as a
+    stranger's (`untrusted`). Raises PolicyError."""
+    unpacker = untrusted.unpacker()
     try:
         with zipfile.ZipFile(path) as archive:
-            module = json.loads(archive.read("data"))["policy_class"]["__module__"]
-    except (OSError, zipfile.BadZipFile, KeyError, TypeError, ValueError) as e:
+            data = untrusted.entry(unpacker, archive, "data", path)
+    except (OSError, zipfile.BadZipFile) as e:
         raise PolicyError(f"{path} is not a stable-baselines3 policy file: {e}") from e
+    where = f"{path}: data"
+    policy_class = untrusted.mapping(untrusted.json_data(data, where), where).get("policy_class")
+    module = policy_class.get("__module__") if isinstance(policy_class, dict) else None
+    if not isinstance(module, str):
+        raise PolicyError(f"{path} does not name the module of its policy class")
     if module == "stable_baselines3.common.policies":
         algo = "ppo"
     else:
