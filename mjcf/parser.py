@@ -18,7 +18,8 @@ script that reads one model does not pay for it. Attribute text is kept as read 
 used.
 
 The XML reader refuses DTDs and entities (no external entity, no "billion laughs"),
-never touches the network, and limits nesting depth.
+never touches the network, and reads documents nested as deep as MuJoCo's reader does
+(`MAX_DEPTH` elements), no deeper: the writer refuses the same.
 """
 
 from __future__ import annotations
@@ -48,6 +49,11 @@ from mjcf.root import RootElement
 from mjcf.schema import AttributeSpec, ElementSpec
 
 _MAX_INCLUDES = 1000
+# How many elements deep MuJoCo's XML reader (tinyxml2) reads a document, <mujoco> the first:
+# a model nested deeper is refused when read (mjcf.ParseError) and when written
+# (mjcf.SchemaError), as MuJoCo refuses it (tests/mjcf/test_hostile_input.py checks both
+# against MuJoCo's reader).
+MAX_DEPTH = 499
 # Making the XML Schema the fast way checks documents with (`mjcf.xsd`) costs about 8 ms of
 # CPU time, once a thread; reading element by element costs about 10 us an element more
 # than reading fast. Until a process has read this many elements element by element, it
@@ -57,7 +63,7 @@ _ELEMENTS_BEFORE_SCHEMA = 1000
 _elements_read_slowly = 0  # by this process, while no XML Schema was made
 
 
-def _xml_parser() -> etree.XMLParser:
+def _xml_parser(huge: bool = False) -> etree.XMLParser:
     return etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -65,7 +71,7 @@ def _xml_parser() -> etree.XMLParser:
         dtd_validation=False,
         remove_comments=True,
         remove_pis=True,
-        huge_tree=False,
+        huge_tree=huge,
         # Whitespace between elements and xml:id are no part of MJCF: kept, they cost
         # about a tenth of the time to read a file.
         remove_blank_text=True,
@@ -173,9 +179,12 @@ def _parse(
     if filename is not None:
         included.add(os.path.abspath(filename))
     confine = os.path.realpath(model_dir or os.getcwd()) if strict_paths else None
+    read = len(included)
     exact |= _expand_includes(
         xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine
     )
+    if len(included) > read:  # each file was measured alone: the whole is measured too
+        check_depth(xml_root, filename)
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
@@ -288,10 +297,15 @@ def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, 
     try:
         tree = etree.fromstring(data, _xml_parser(), base_url=filename)
     except etree.XMLSyntaxError as error:
-        line = error.lineno if error.lineno is not None else "?"
-        raise errors.ParseError(
-            f"{filename or '<string>'}:{line}: malformed XML: {error.msg}"
-        ) from None
+        # libxml2 reads 256 levels unless told to read "huge" documents (2,048 levels):
+        # those between are read again, and measured against MuJoCo's depth.
+        if "Excessive depth" not in (error.msg or ""):
+            raise _malformed(error, filename) from None
+        try:
+            tree = etree.fromstring(data, _xml_parser(huge=True), base_url=filename)
+        except etree.XMLSyntaxError as deeper:
+            raise _malformed(deeper, filename) from None
+        check_depth(tree, filename)
     doctype = tree.getroottree().docinfo
     if doctype.internalDTD is not None or doctype.externalDTD is not None or doctype.doctype:
         raise errors.ParseError(
@@ -299,6 +313,25 @@ def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, 
             "(or entities) are refused"
         )
     return tree, xsd.needs_exact(data, doctype.encoding)
+
+
+def _malformed(error: etree.XMLSyntaxError, filename: str | None) -> errors.ParseError:
+    line = error.lineno if error.lineno is not None else "?"
+    return errors.ParseError(f"{filename or '<string>'}:{line}: malformed XML: {error.msg}")
+
+
+def check_depth(root: etree._Element, filename: str | None) -> None:
+    """Raise mjcf.ParseError if the document under `root` nests more than MAX_DEPTH
+    elements (MuJoCo's reader refuses it)."""
+    pending = [(root, 1)]
+    while pending:
+        element, depth = pending.pop()
+        if depth > MAX_DEPTH:
+            raise errors.ParseError(
+                f"{_where(filename, element)}: <{element.tag}> is nested {depth} elements "
+                f"deep; MuJoCo reads models nested at most {MAX_DEPTH} deep"
+            )
+        pending.extend((child, depth + 1) for child in element if isinstance(child.tag, str))
 
 
 def _expand_includes(

@@ -11,11 +11,13 @@ import time
 import zipfile
 from pathlib import Path
 
+import mujoco
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mjcf
+from mjcf import parser
 from tests.conftest import GYM_ASSETS, MUJOCO_TESTDATA
 
 XXE = """<?xml version="1.0"?>
@@ -50,6 +52,43 @@ def test_deep_nesting_is_refused() -> None:
     text = "<mujoco><worldbody>" + "<body>" * depth + "</body>" * depth + "</worldbody></mujoco>"
     with pytest.raises(mjcf.ParseError, match="malformed XML"):
         mjcf.from_xml_string(text)
+
+
+def _nested(depth: int) -> str:
+    """A model nested `depth` elements deep: bodies in bodies, a geom in the innermost."""
+    bodies = depth - 3  # <mujoco>, <worldbody> and the geom
+    return (
+        "<mujoco><worldbody>" + "<body>" * bodies + "<geom size='.1'/>" + "</body>" * bodies
+        + "</worldbody></mujoco>"
+    )  # fmt: skip
+
+
+def test_models_are_read_and_written_as_deep_as_mujoco_reads_them(tmp_path: Path) -> None:
+    """MuJoCo's own reader is the oracle: what it compiles is read, written and compiled;
+    one level deeper it refuses, and so do the reader and the writer (with mjcf errors,
+    not the IndexError a 600-level model raised, nor libxml2's 256-level refusal)."""
+    deepest, too_deep = _nested(parser.MAX_DEPTH), _nested(parser.MAX_DEPTH + 1)
+    assert mujoco.MjModel.from_xml_string(deepest).nbody == parser.MAX_DEPTH - 2
+    with pytest.raises(ValueError, match="XML_ELEMENT_DEPTH_EXCEEDED"):
+        mujoco.MjModel.from_xml_string(too_deep)
+    for strict_paths in (False, True):  # read lazily, and element by element
+        model = mjcf.from_xml_string(deepest, strict_paths=strict_paths)
+        assert mjcf.Physics.from_mjcf_model(model).model.nbody == parser.MAX_DEPTH - 2
+        assert mjcf.from_xml_string(model.to_xml_string()).to_xml_string() == model.to_xml_string()
+        with pytest.raises(mjcf.ParseError, match="<geom> is nested 500 elements deep; MuJoCo"):
+            mjcf.from_xml_string(too_deep, strict_paths=strict_paths)
+    innermost = model.find_all("body")[-1]
+    innermost.add("body").add("geom", size=[0.1])
+    for write in (model.to_xml_string, lambda: mjcf.Physics.from_mjcf_model(model)):
+        with pytest.raises(mjcf.SchemaError, match=r"nested 500 elements deep when written"):
+            write()
+    # Two files, each within the depth, included into one that is not.
+    (tmp_path / "inner.xml").write_text(_nested(300).replace("<mujoco><worldbody>", "<mujoco>")
+                                        .replace("</worldbody></mujoco>", "</mujoco>"))  # fmt: skip
+    outer = "<mujoco><worldbody>" + "<body>" * 250 + "<include file='inner.xml'/>" + "</body>" * 250
+    (tmp_path / "outer.xml").write_text(outer + "</worldbody></mujoco>")
+    with pytest.raises(mjcf.ParseError, match="nested 500 elements deep"):
+        mjcf.from_path(tmp_path / "outer.xml")
 
 
 def test_strict_paths_refuse_includes_outside_the_model_folder(tmp_path: Path) -> None:
