@@ -43,6 +43,10 @@ has drawn, so that another may use those renderers next. Renderers made inside
 on Mesa's software rasterizer a renderer then costs 7 ms to make instead of 150 and a
 third less memory, and a thread drawing many of them switches no context between frames.
 
+A thread that draws with a renderer whose context another thread holds gets
+`ContextBusyError` (a RenderError), and `mjcf.Physics.render` then makes that thread a
+renderer of its own: an environment renders from any thread.
+
 Every context is checked before MuJoCo draws with it: MuJoCo aborts the whole process
 (`__cxa_guard_acquire detected recursive initialization`) at the second attempt to make its
 render context without a current OpenGL context, so here a context that cannot be made is a
@@ -85,9 +89,12 @@ def make_renderer(
     try:
         if drawn is not None:
             with _swapped(drawn, chosen):
-                return _SimplifiedRenderer(model, drawn, height, width)
-        with _settings_lock, _swapped(model, chosen):
-            return _Renderer(model, height, width)
+                renderer: _Renderer = _SimplifiedRenderer(model, drawn, height, width)
+        else:
+            with _settings_lock, _swapped(model, chosen):
+                renderer = _Renderer(model, height, width)
+        renderer._drawn_in = threading.current_thread()  # its context is current here
+        return renderer
     except ValueError as e:  # larger than the model's offscreen framebuffer
         raise errors.RenderError(str(e)) from e
     except _NoContextError as e:
@@ -145,17 +152,56 @@ def render(
         renderer.update_scene(data, camera=camera_id, scene_option=scene_option)
     except ValueError as e:
         raise errors.RenderError(f"cannot render camera {camera_id!r}: {e}") from e
-    if isinstance(renderer, _Renderer):
-        renderer.select_buffers()
     if depth:
         renderer.enable_depth_rendering()
     elif segmentation:
         renderer.enable_segmentation_rendering()
     try:
-        return renderer.render()
+        if isinstance(renderer, _Renderer):
+            renderer.select_buffers()
+        frame = renderer.render()
+    except (RuntimeError, _opengl_error()) as e:  # its context cannot be made current here
+        drew = getattr(renderer, "_drawn_in", None)  # a _Renderer's
+        here = threading.current_thread()
+        if drew is not None and drew is not here:
+            raise ContextBusyError(
+                f"cannot draw in thread {here.name!r} with a renderer thread {drew.name!r} drew "
+                f"with, whose OpenGL context is current there ({type(e).__name__}); "
+                "mjcf.Physics.render draws with a renderer of the thread's own"
+            ) from e
+        raise errors.RenderError(f"cannot draw: {type(e).__name__}: {e}") from e
     finally:
         renderer.disable_depth_rendering()
         renderer.disable_segmentation_rendering()
+    if isinstance(renderer, _Renderer):
+        renderer._drawn_in = threading.current_thread()
+    return frame
+
+
+class ContextBusyError(errors.RenderError):
+    """A renderer's OpenGL context is current in the thread that drew with it last, and an
+    EGL context is current in one thread at a time: another thread cannot draw with it
+    until that thread calls `release_context()` (`mjcf.Physics.render` then draws with a
+    renderer of the calling thread's own)."""
+
+
+def _opengl_error() -> type[BaseException]:
+    """PyOpenGL's base error (EGL's errors are of it), or RuntimeError without it."""
+    module = sys.modules.get("OpenGL.error")
+    return getattr(module, "Error", RuntimeError)
+
+
+def close(renderer: mujoco.Renderer) -> None:
+    """Free `renderer`'s OpenGL resources. A renderer whose context another thread holds (one
+    that drew with it last and did not `release_context()`, perhaps ended since) cannot be
+    freed from this thread: it is kept, unused, until the process ends, rather than raise."""
+    try:
+        renderer.close()
+    except (RuntimeError, _opengl_error()):
+        # Kept whole (a GLContext here frees nothing by itself), and the renderer emptied so
+        # that its __del__ does not try again.
+        _abandoned.append((renderer._mjr_context, renderer._gl_context))
+        renderer._mjr_context = renderer._gl_context = None
 
 
 def release_context() -> None:
@@ -257,10 +303,17 @@ _failure: str | None = None
 _group = threading.local()
 _group_contexts: dict[tuple[type, Hashable], Any] = {}
 _group_users: dict[int, int] = {}
+# The render and OpenGL contexts of renderers whose contexts other threads hold, which
+# `close` could not free.
+_abandoned: list[tuple[Any, Any]] = []
 
 
 class _Renderer(mujoco.Renderer):
-    """A mujoco.Renderer that may share its OpenGL context with others (`context_group`)."""
+    """A mujoco.Renderer that may share its OpenGL context with others (`context_group`),
+    and knows the thread that drew with it last (`_drawn_in`), where its context is current
+    unless that thread released it."""
+
+    _drawn_in: threading.Thread | None = None
 
     def select_buffers(self) -> None:
         """Before a frame: when its context holds other renderers' buffers too, make it
