@@ -44,7 +44,7 @@ used only through the internal protocol their class documents (`Element`, `RootE
                   copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity render_meshes rendering raw_access
-                  tree_binding compiler model_constants frame_poses frame_binding
+                  tree_binding budget compiler model_constants frame_poses frame_binding
                   physics_state physics
 """
 
@@ -53,6 +53,7 @@ used only through the internal protocol their class documents (`Element`, `RootE
 from mjcf import archives as archives
 from mjcf import attachment, compiler, copying, naming, sameness, serializer, traversal
 from mjcf import base as base
+from mjcf import budget as budget
 from mjcf import constants as constants
 from mjcf import traversal_utils as traversal_utils
 from mjcf.assets import Asset
@@ -65,6 +66,7 @@ from mjcf.errors import (
     AttachmentError,
     AttributeValueError,
     BindingError,
+    BudgetError,
     CompileError,
     Error,
     InvalidReferenceError,
@@ -97,6 +99,7 @@ __all__ = [
     "AttachmentFrame",
     "AttributeValueError",
     "BindingError",
+    "BudgetError",
     "CompileError",
     "Element",
     "Error",

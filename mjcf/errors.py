@@ -111,6 +111,12 @@ class CompileError(Error):
     Python line that created it."""
 
 
+class BudgetError(CompileError, ValueError):
+    """A model that asks MuJoCo for more elements or memory than `mjcf.budget` allows (a
+    tiny file that would compile for minutes or allocate gigabytes), or a budget that is
+    not a number."""
+
+
 class PhysicsError(Error):
     """The simulation diverged (bad acceleration, NaN or infinite state)."""
 

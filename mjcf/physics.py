@@ -47,6 +47,7 @@ import numpy as np
 
 from mjcf import binding as binding_module
 from mjcf import (
+    budget,
     compiler,
     errors,
     fields,
@@ -686,7 +687,13 @@ class Physics(StateAccess):
 
 
 def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:
+    """`loader(source, assets)`: MuJoCo's; MJCF text given (`assets` not None) is measured
+    against `mjcf.budget` first. Raises CompileError (BudgetError past the budget)."""
+    if assets is not None:
+        budget.check(source, assets, "the model")
     try:
         return loader(source) if assets is None else loader(source, assets)
     except ValueError as e:
         raise errors.CompileError(f"MuJoCo could not load the model: {e}") from e
+    except RuntimeError as e:  # MuJoCo's "Caught an unknown exception!": out of memory
+        raise errors.CompileError(compiler.unknown_failure("the model", e)) from None

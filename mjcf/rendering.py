@@ -198,10 +198,9 @@ def close(renderer: mujoco.Renderer) -> None:
     try:
         renderer.close()
     except (RuntimeError, _opengl_error()):
-        # Kept whole (a GLContext here frees nothing by itself), and the renderer emptied so
-        # that its __del__ does not try again.
-        _abandoned.append((renderer._mjr_context, renderer._gl_context))
-        renderer._mjr_context = renderer._gl_context = None
+        if not isinstance(renderer, _Renderer):
+            raise
+        renderer.abandon()
 
 
 def release_context() -> None:
@@ -314,6 +313,14 @@ class _Renderer(mujoco.Renderer):
     unless that thread released it."""
 
     _drawn_in: threading.Thread | None = None
+
+    def abandon(self) -> None:
+        """Keep this renderer's contexts unfreed until the process ends (another thread
+        holds its OpenGL context, so they cannot be freed from this one), and empty it, so
+        that its __del__ does not try again (a GLContext here frees nothing by itself)."""
+        contexts: tuple[Any, Any] = (self._mjr_context, self._gl_context)  # type: ignore[has-type]
+        _abandoned.append(contexts)
+        self._mjr_context = self._gl_context = None
 
     def select_buffers(self) -> None:
         """Before a frame: when its context holds other renderers' buffers too, make it

@@ -285,8 +285,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         options = dict(options or {})
         mask = options.pop("reset_mask", None)
         seeds = _seeds(seed, self.num_envs)
-        if _is_seed(seed):
-            super().reset(seed=int(seed))
+        if seed is not None and _is_seed(seed):
+            super().reset(seed=seeds[0])
         if mask is None:
             ids = np.arange(self.num_envs)
         else:
@@ -616,7 +616,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
 
 def _is_seed(seed: Any) -> bool:
     """Whether `seed` is one seed: an int (numpy's too) of at least 0, as Gymnasium takes."""
-    return isinstance(seed, int | np.integer) and seed >= 0
+    return isinstance(seed, int | np.integer) and bool(seed >= 0)
 
 
 def _seeds(seed: Any, n: int) -> list[int | None]:
