@@ -467,8 +467,8 @@ def _spec_attached(scene: mujoco.MjSpec, body: str, child: mujoco.MjSpec, prefix
 def test_a_model_attached_inside_a_settotalmass_model_keeps_its_own_masses(order: str) -> None:
     """half_cheetah sets <compiler settotalmass="14">: attached into a scene its bodies weigh
     what they weigh alone (14 kg), and a hopper attached on its torso weighs what it weighs
-    alone, in either order of attaching; the hopper was scaled with the cheetah (its 3.7 kg
-    to 1.9). MuJoCo's own attach leaves the hopper's masses too (its compile here, with the
+    alone, in either order of attaching; the hopper was scaled with the cheetah (its 15.8 kg
+    to 6.0). MuJoCo's own attach leaves the hopper's masses too (its compile here, with the
     same files, is the reference); dm_control scales every model of the scene to 14 kg."""
     hopper_alone = mujoco.MjModel.from_xml_path(str(gym_model("hopper")))
     cheetah_alone = mujoco.MjModel.from_xml_path(str(gym_model("half_cheetah")))
