@@ -192,13 +192,13 @@ def from_zip(
     entry's compressed size), checked while unpacking. Raises mjcf.ParseError for a zip
     that is not such an archive or that is unsafe, mjcf.UnpackLimitError (a ParseError)
     for one that unpacks to more than the limits."""
-    try:
-        if isinstance(zip_path, str | os.PathLike):
-            _assets.check_file(os.fspath(zip_path))  # not a device or FIFO, not too large
-        archive = zipfile.ZipFile(zip_path)
-    except (OSError, zipfile.BadZipFile, errors.AssetError) as error:
-        raise errors.ParseError(f"cannot read zip {zip_path!r}: {error}") from None
     where = f"zip {zip_path!r}"
+    if isinstance(zip_path, str | os.PathLike):
+        try:
+            _assets.check_file(os.fspath(zip_path))  # not a device or FIFO, not too large
+        except errors.AssetError as error:
+            raise errors.ParseError(f"cannot read {where}: {error}") from None
+    archive = archives.open_archive(zip_path, where)  # type: ignore[arg-type]
     unpacker = archives.Unpacker(limits)
     with archive:
         infos = [info for info in archive.infolist() if not info.is_dir()]

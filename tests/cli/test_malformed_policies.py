@@ -7,12 +7,15 @@ from __future__ import annotations
 
 import io
 import json
+import tempfile
 import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import composer
 from composer.cli import engines, rollout
@@ -89,6 +92,30 @@ def test_malformed_settings_of_a_stable_baselines3_policy_are_refused(sb3_policy
             target = _rewrite(path, tmp_path / "p.zip", data=json.dumps(changed).encode())
             outcomes[part, index] = _loads_or_refuses(target, env)
     assert list(outcomes.values()).count("refused") > 0.9 * len(outcomes)
+
+
+_JSON = st.recursive(
+    st.none() | st.booleans() | st.integers(-(2**70), 2**70)
+    | st.floats(allow_nan=True, allow_infinity=True) | st.text(max_size=8),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=6), inner,
+                                                                max_size=4),
+    max_leaves=12,
+)  # fmt: skip
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(parts=st.lists(st.tuples(st.sampled_from(SB3_PARTS), _JSON), min_size=1, max_size=3))
+def test_random_settings_of_a_stable_baselines3_policy_are_refused_or_act(sb3_policy, parts):
+    """Random JSON in place of up to three parts of a real policy's settings: it loads and
+    acts, or is refused with a PolicyError, nothing else."""
+    path, env = sb3_policy
+    with zipfile.ZipFile(path) as archive:
+        data = json.loads(archive.read("data"))
+    for part, value in parts:
+        data = _set(data, part, value)
+    with tempfile.TemporaryDirectory() as folder:
+        target = _rewrite(path, Path(folder) / "p.zip", data=json.dumps(data).encode())
+        _loads_or_refuses(target, env)
 
 
 @pytest.mark.parametrize(

@@ -4,9 +4,12 @@ work on hostile documents, and only mjcf errors out of the public API."""
 from __future__ import annotations
 
 import copy
+import functools
+import io
 import os
 import subprocess
 import sys
+import tempfile
 import time
 import zipfile
 from pathlib import Path
@@ -140,7 +143,14 @@ def _mutated(draw) -> str:
             snippet = draw(st.sampled_from(
                 ['<geom size="1"/>', "<body>", "</body>", 'name="torso"', ' class="x"',
                  ' pos="1 2"', ' type="nope"', "&amp;", "<include file='x.xml'/>",
-                 ' joint="nothing"', "<frame>", "<replicate count='2'>", "\x00", "é"]
+                 ' joint="nothing"', "<frame>", "<replicate count='2'>", "\x00", "é",
+                 # What asks MuJoCo for minutes or gigabytes (mjcf.budget refuses it):
+                 "<replicate count='100000'>", "<replicate count='100000'><geom size='1'/>",
+                 "<hfield name='h' nrow='99999' ncol='99999' size='1 1 1 1'/>",
+                 "<size memory='1T' nkey='999999999'/>", " nrow='2000000000'",
+                 "<flexcomp name='f' type='grid' count='999 999 9' dim='3'/>",
+                 "<texture name='t' builtin='flat' width='99999' height='99999'/>",
+                 "<body>" * 300]
             ))  # fmt: skip
             text = text[:position] + snippet + text[position:]
         elif kind == "replace":
@@ -172,6 +182,45 @@ def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
         if bodies:
             physics.bind(bodies).xpos  # noqa: B018
         physics.bind(model.worldbody).xpos  # noqa: B018
+    except mjcf.Error:
+        pass
+
+
+@functools.cache
+def _archive() -> bytes:
+    """A real model and its mesh files, exported as a zip."""
+    folder = Path(tempfile.mkdtemp())
+    model = mjcf.from_path(MUJOCO_TESTDATA / "model.xml")
+    model.asset.add("mesh", name="extra", file=mjcf.Asset(
+        (MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes(), ".msh", prefix="extra"))  # fmt: skip
+    return Path(mjcf.export_with_assets_as_zip(model, folder / "model.zip")).read_bytes()
+
+
+@st.composite
+def _mutated_zip(draw) -> bytes:
+    data = bytearray(_archive())
+    for _ in range(draw(st.integers(1, 6))):
+        position = draw(st.integers(0, len(data) - 1))
+        kind = draw(st.sampled_from(["byte", "size", "cut", "insert"]))
+        if kind == "byte":
+            data[position] = draw(st.integers(0, 255))
+        elif kind == "size":  # a 32-bit field (sizes, offsets, counts) made large
+            data[position : position + 4] = draw(st.sampled_from(
+                [b"\xff\xff\xff\x7f", b"\xff\xff\xff\xff", b"\x00\x00\x00\x40"]))  # fmt: skip
+        elif kind == "cut":
+            del data[position : position + draw(st.integers(1, 64))]
+        else:
+            data[position:position] = draw(st.binary(min_size=1, max_size=16))
+    return bytes(data)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_mutated_zip())
+def test_mutated_zips_raise_only_mjcf_errors(data: bytes) -> None:
+    """A corrupted or crafted archive (sizes, offsets and counts made large, bytes cut or
+    inserted) is read or refused with an mjcf.Error, unpacking no more than the limits."""
+    try:
+        mjcf.from_zip(io.BytesIO(data), limits=mjcf.archives.Limits(size=1 << 24, ratio=100))
     except mjcf.Error:
         pass
 

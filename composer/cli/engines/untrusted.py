@@ -27,7 +27,7 @@ import math
 import zipfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
@@ -53,6 +53,15 @@ def unpacker() -> archives.Unpacker:
         raise PolicyError(str(e)) from None
 
 
+def archive(source: Path | IO[bytes], where: object) -> zipfile.ZipFile:
+    """The zip archive `source` (a file, or bytes in a BytesIO); raises PolicyError naming
+    `where` for one that cannot be read as a zip (whatever zipfile raises for it)."""
+    try:
+        return archives.open_archive(source, where)
+    except mjcf.ParseError as e:
+        raise PolicyError(str(e)) from None
+
+
 def entry(unpacker: archives.Unpacker, archive: zipfile.ZipFile, name: str, file: Path) -> bytes:
     """The unpacked entry `name` of `archive` (the policy `file`); raises PolicyError
     when it is missing, corrupt, or past the unpacker's limits."""
@@ -71,12 +80,12 @@ def inner_archive(unpacker: archives.Unpacker, data: bytes, where: str) -> None:
     PolicyError."""
     if not zipfile.is_zipfile(io.BytesIO(data)):
         return
-    try:
-        with zipfile.ZipFile(io.BytesIO(data)) as archive:
-            for info in archive.infolist():
-                unpacker.read(archive, info, where)
-    except (zipfile.BadZipFile, OSError, ValueError) as e:  # mjcf's ParseError is a ValueError
-        raise PolicyError(f"{where}: {e}") from None
+    with archive(io.BytesIO(data), where) as inner:
+        for info in inner.infolist():
+            try:
+                unpacker.read(inner, info, where)
+            except mjcf.ParseError as e:  # mjcf.UnpackLimitError too
+                raise PolicyError(str(e)) from None
 
 
 def json_data(text: bytes | str, where: str) -> Any:
@@ -143,16 +152,11 @@ def npz_arrays(path: Path, unpacker: archives.Unpacker) -> dict[str, np.ndarray]
     """The arrays of numpy's .npz file `path`, each unpacked within the unpacker's limits,
     of numbers (no objects, so no pickle) and holding the elements its header declares;
     raises PolicyError otherwise."""
-    try:
-        archive = zipfile.ZipFile(path)
-    except (OSError, zipfile.BadZipFile) as e:
-        raise PolicyError(f"cannot read {path}: {e}") from None
     arrays = {}
-    with archive:
-        for info in archive.infolist():
+    with archive(path, path) as npz:
+        for info in npz.infolist():
             name = info.filename.removesuffix(".npy")
-            data = entry(unpacker, archive, info.filename, path)
-            arrays[name] = _array(data, f"{path}: {name!r}")
+            arrays[name] = _array(entry(unpacker, npz, info.filename, path), f"{path}: {name!r}")
     return arrays
 
 

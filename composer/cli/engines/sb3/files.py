@@ -21,7 +21,6 @@ is given as training did.
 
 from __future__ import annotations
 
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -92,12 +91,8 @@ def algo_of(path: Path) -> str:
     of its policy class: `stable_baselines3.sac.policies` for SAC, the shared actor-critic
     policies of `stable_baselines3.common.policies` for PPO. Its `data` is read as a
     stranger's (`untrusted`). Raises PolicyError."""
-    unpacker = untrusted.unpacker()
-    try:
-        with zipfile.ZipFile(path) as archive:
-            data = untrusted.entry(unpacker, archive, "data", path)
-    except (OSError, zipfile.BadZipFile) as e:
-        raise PolicyError(f"{path} is not a stable-baselines3 policy file: {e}") from e
+    with untrusted.archive(path, f"{path} as a stable-baselines3 policy file") as archive:
+        data = untrusted.entry(untrusted.unpacker(), archive, "data", path)
     where = f"{path}: data"
     policy_class = untrusted.mapping(untrusted.json_data(data, where), where).get("policy_class")
     module = policy_class.get("__module__") if isinstance(policy_class, dict) else None

@@ -27,7 +27,6 @@ import io
 import pickle
 import types
 import warnings
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -80,12 +79,9 @@ def plain_policy(
     numbers than its weights. Raises PolicyError for a file that cannot be read, is
     malformed or does not fit `env`, UntrustedPolicyError when what it needs is pickled."""
     unpacker = untrusted.unpacker()
-    try:
-        with zipfile.ZipFile(file) as archive:
-            data_bytes = untrusted.entry(unpacker, archive, "data", file)
-            weight_bytes = untrusted.entry(unpacker, archive, "policy.pth", file)
-    except (OSError, zipfile.BadZipFile) as e:
-        raise PolicyError(f"cannot read the policy in {file}: {e}") from e
+    with untrusted.archive(file, f"the policy in {file}") as archive:
+        data_bytes = untrusted.entry(unpacker, archive, "data", file)
+        weight_bytes = untrusted.entry(unpacker, archive, "policy.pth", file)
     data = untrusted.mapping(untrusted.json_data(data_bytes, f"{file}: data"), f"{file}: data")
     untrusted.inner_archive(unpacker, weight_bytes, f"{file}: policy.pth")
     weights = _weights(file, weight_bytes)
