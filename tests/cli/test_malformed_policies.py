@@ -19,6 +19,8 @@ from hypothesis import strategies as st
 
 import composer
 from composer.cli import engines, rollout
+from composer.cli.engines import untrusted
+from composer.cli.errors import PolicyError
 from tests.cli.helpers import assert_one_line_error
 from tests.cli.helpers import composer as run_composer
 from tests.cli.policies import ray_policy_folder, trained
@@ -175,6 +177,38 @@ def _deflated_torch_file(weights: dict[str, Any]) -> bytes:
     return out.getvalue()
 
 
+# 64 layers of 4096 units: over a billion numbers (4 GiB filled) from a few bytes of settings.
+HUGE_LAYERS = [4096] * 64
+
+
+def test_settings_asking_for_a_network_larger_than_the_weights_are_refused(sb3_policy, tmp_path):
+    """The settings are the stranger's: a network they ask for past twice the numbers its
+    weights fill is refused as it is built, before its layers are filled."""
+    path, env = sb3_policy
+    with zipfile.ZipFile(path) as archive:
+        data = json.loads(archive.read("data"))
+    changed = _set(data, ("policy_kwargs", "net_arch"), HUGE_LAYERS)
+    target = _rewrite(path, tmp_path / "p.zip", data=json.dumps(changed).encode())
+    with pytest.raises(
+        PolicyError,
+        match=r"p\.zip: its settings make a network of more than "
+        r"[\d,]+ numbers, far more than its weights fill",
+    ):
+        engines.load_policy(target, env)
+
+
+def test_at_most_refuses_a_module_past_its_capacity_and_lets_one_within_it():
+    torch = pytest.importorskip("torch", reason="needs the [train] extra")
+    with untrusted.at_most(torch, 10 * 10 + 10, "small"):
+        torch.nn.Linear(10, 10)
+    with (
+        pytest.raises(PolicyError, match="large: its settings make a network of more than 109"),
+        untrusted.at_most(torch, 109, "large"),
+    ):
+        torch.nn.Linear(10, 10)
+    torch.nn.Linear(4096, 4096)  # the hooks are gone after `with`, raised or not
+
+
 def test_a_bomb_policy_zip_is_refused_on_the_command_line(sb3_policy, tmp_path):
     path, _ = sb3_policy
     target = _rewrite(path, tmp_path / "bomb.zip", **{"policy.pth": None})
@@ -232,6 +266,21 @@ def test_malformed_settings_of_a_ray_policy_are_refused(ray_policy, tmp_path):
             outcomes[part, index] = _loads_or_refuses(target, env)
             shutil.rmtree(target)
     assert list(outcomes.values()).count("refused") > 0.9 * len(outcomes)
+
+
+def test_a_ray_model_config_asking_for_a_network_larger_than_the_weights_is_refused(
+    ray_policy, tmp_path
+):
+    import shutil
+
+    folder, env = ray_policy
+    target = tmp_path / "policy"
+    shutil.copytree(folder, target)
+    spec = json.loads((target / "policy.json").read_text())
+    spec = _set(spec, ("model_config", "fcnet_hiddens"), HUGE_LAYERS)
+    (target / "policy.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="far more than its weights fill"):
+        engines.load_policy(target, env)
 
 
 def _npz(arrays: dict[str, np.ndarray], compressed: bool = False) -> bytes:

@@ -4,9 +4,13 @@ train` holds before a library sees them, so a malformed or hostile file is refus
 PolicyError naming the file, the part and what was expected.
 
     unpacker = untrusted.unpacker()                     # mjcf.archives' limits in force
-    data = untrusted.json_data(untrusted.entry(unpacker, archive, 'data', file), file, 'data')
+    with untrusted.archive(file, file) as zipped:       # PolicyError for what is no zip
+        text = untrusted.entry(unpacker, zipped, 'data', file)
+    data = untrusted.mapping(untrusted.json_data(text, f'{file}: data'), f'{file}: data')
     shape = untrusted.shape(data['observation_space']['_shape'], f'{file}: observation shape')
     arrays = untrusted.npz_arrays(path, unpacker)       # {name: array}, no pickle
+    with untrusted.at_most(torch, untrusted.capacity(numbers), file):
+        network = build(settings)                       # refused as soon as it grows past
 
 - Archives (a stable-baselines3 .zip, the torch file inside it, numpy's .npz) are unpacked
   through one `mjcf.archives.Unpacker` per policy: within its limits, which
@@ -14,6 +18,8 @@ PolicyError naming the file, the part and what was expected.
   MJCF_UNPACK_RATIO raise (`mjcf.archives`, the one owner of that rule).
 - JSON is plain data nested at most MAX_DEPTH levels.
 - Numbers, shapes and arrays are of the types and sizes asked for, finite where asked.
+- A network built from a stranger's settings holds no more numbers than its weights fill
+  (`at_most`, `capacity`), so settings cannot ask for gigabytes the weights do not hold.
 
 This module imports no engine's library.
 """
