@@ -35,6 +35,7 @@ BENCHMARKS = {
     "bind": "bench.bench_bind",
     "env_step": "bench.bench_env_step",
     "task_step": "bench.bench_task_step",
+    "suite_step": "bench.bench_suite_step",
     "render": "bench.bench_render",
     "attach": "bench.bench_attach",
     "scene": "bench.bench_scene",

@@ -1,4 +1,4 @@
-"""Decorators for entity classes: `observable` declares an observable, `cached_property` a
+"""Decorators for entities and tasks: `observable` declares an observable, `cached_property` a
 value computed once per object (dm_control's `composer.define`).
 
     class ArmObservables(composer.Observables):
@@ -11,48 +11,30 @@ value computed once per object (dm_control's `composer.define`).
         def joints(self):
             return self.mjcf_model.find_all('joint')
 
+    class Reach(composer.Task):
+        @composer.observable                      # a task's own: made once, then kept
+        def goal(self):
+            return observable.Generic(lambda physics: self._goal)
+
+        @property
+        def task_observables(self):
+            return {'goal': self.goal}
+
 An `@observable` method is called once per `Observables` object, when the entity builds
 its observables (an observable it reads through `self.other` is made first). On an
 entity, `entity.name_of_method` and `entity.observables.name_of_method` are the same
-object. `observable` is defined with the `Observables` it declares into
-(`composer.observables`).
+object. On any other object (a task) it is dm_control's: a `cached_property`, made at
+first access and the same object after; a task lists it in its `task_observables`.
+`observable` is defined with the `Observables` it declares into (`composer.observables`),
+`cached_property` in `composer.caching`.
 """
 
 from __future__ import annotations
 
 import abc
-import threading
-from collections.abc import Callable
-from typing import Any
 
+from composer.caching import cached_property
 from composer.observables import observable
-
-
-class cached_property(property):
-    """A property computed on first access and then kept in the object's `__dict__`
-    (thread safe: computed once even when first read from two threads)."""
-
-    def __init__(self, function: Callable[[Any], Any], doc: str | None = None) -> None:
-        """Wrap `function(obj)`; its docstring is the property's unless `doc` is given."""
-        super().__init__(fget=function, doc=doc)
-        self._lock = threading.RLock()
-        self._name = function.__name__
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self._name = name
-
-    def __get__(self, instance: Any, owner: type | None = None) -> Any:
-        if instance is None:
-            return self
-        stored = instance.__dict__
-        try:
-            return stored[self._name]
-        except KeyError:
-            with self._lock:
-                if self._name not in stored:
-                    stored[self._name] = self.fget(instance)  # type: ignore[misc]
-                return stored[self._name]
-
 
 # For abstract Observables classes: a subclass must define the observable.
 abstract_observable = abc.abstractproperty

@@ -49,7 +49,8 @@ try:
     import dm_env
 except ImportError as e:  # the [dm] extra is optional
     raise ImportError(
-        "composer.dm_env_bridge needs the dm-env package: pip install 'mujoco-composer[dm]'"
+        "composer.dm_env_bridge needs the dm-env package: pip install -e '.[dm]' from a "
+        "checkout (or: pip install dm-env)"
     ) from e
 
 __all__ = ["DmEnvAdapter", "action_space_from_spec", "space_from_spec", "spec_from_space"]

@@ -4,6 +4,7 @@
     box = dm_env_specs.space_from_spec(specs.BoundedArray((2,), float, -1, 1))
     spec = dm_env_specs.spec_from_space(env.observation_space)
     action_space = dm_env_specs.action_space_from_spec(task.action_spec(physics))
+    spec = dm_env_specs.actuator_spec(low, high, names)   # Task.action_spec's default
 
 `composer.Task.action_space` converts a task's dm_control `action_spec` here, and
 `composer.dm_env_bridge` (which re-exports these functions) builds its specs here. Importing
@@ -24,7 +25,8 @@ try:
     from dm_env import specs
 except ImportError as e:  # the [dm] extra is optional
     raise ImportError(
-        "composer's dm_env support needs the dm-env package: pip install 'mujoco-composer[dm]'"
+        "composer's dm_env support needs the dm-env package: pip install -e '.[dm]' from a "
+        "checkout (or: pip install dm-env)"
     ) from e
 
 
@@ -65,6 +67,15 @@ def action_space_from_spec(spec: Any) -> spaces.Box:
             return space
     raise errors.TaskError(
         f"action_spec must return one dm_env.specs.Array or BoundedArray of numbers, got {spec!r}"
+    )
+
+
+def actuator_spec(low: np.ndarray, high: np.ndarray, names: list[str]) -> Any:
+    """dm_control's action spec of a model's actuators (`composer.Task.action_spec`): a
+    float64 `BoundedArray` of shape (nu,) from `low` to `high`, (nu,) each, named by the
+    actuators' `names` joined by tabs."""
+    return specs.BoundedArray(
+        shape=low.shape, dtype=np.float64, minimum=low, maximum=high, name="\t".join(names)
     )
 
 

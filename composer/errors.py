@@ -64,12 +64,40 @@ class EpisodeError(Error):
     episode ended, or with an action of the wrong shape."""
 
 
+class OverrideError(Error, NotImplementedError):
+    """A subclass of `composer.Environment` overrides one of dm_control's internal methods
+    in a way this environment cannot keep (`composer.dm_internals`); the message names the
+    method and what to do instead. Raised when the environment is made, or for what a
+    method returns, when it returns it."""
+
+
 class VariationError(Error, ValueError):
     """A variation or variator was given values it cannot use."""
 
 
 class InitializerError(Error, ValueError):
     """An initializer was given arguments it cannot use (no props, attempts below 1)."""
+
+
+class RewardError(TaskError):
+    """A reward shaping function (`composer.utils.rewards`) was given parameters it cannot
+    use: bounds out of order, a negative margin, an unknown sigmoid, a value at the margin
+    out of range."""
+
+
+class TransformationError(Error, ValueError):
+    """A rotation helper (`composer.utils.transformations`) was given a value outside its
+    domain, e.g. a quaternion's scalar part beyond [-1, 1] by more than the tolerance."""
+
+
+class EulerOrderingError(_PlainMessage, TransformationError, KeyError):
+    """An Euler angle ordering `composer.utils.transformations` does not have (a KeyError
+    too, as dm_control's lookup raises)."""
+
+
+class InverseKinematicsError(Error, ValueError):
+    """`composer.utils.inverse_kinematics` was given no target, joints of the wrong type or
+    no step to take."""
 
 
 class PlacementError(EpisodeInitializationError):

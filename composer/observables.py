@@ -13,16 +13,18 @@
 Every `@observable` of the entity's class and of the Observables class is made when the
 entity builds its observables, in name order (one that reads another through `self.name`
 gets it made first). `Observables` is also a read-only mapping by name. The decorator
-`observable` is dm_control's `composer.define.observable` (re-exported there).
+`observable` is dm_control's `composer.define.observable` (re-exported there); on a task,
+which is no entity, it is dm_control's cached property (`composer.define`).
 """
 
 from __future__ import annotations
 
 import abc
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 from composer import errors
+from composer.caching import cached_property
 from composer.observation import Observable
 
 if TYPE_CHECKING:
@@ -34,25 +36,23 @@ OPTION_KEYS = frozenset(
 )
 
 
-class observable:
+class observable(cached_property):
     """Declare a method returning an `Observable` as one, named after the method; see the
-    module docstring. Works on `Observables` subclasses and on entities."""
-
-    def __init__(self, function: Callable[[Any], Observable]) -> None:
-        """Wrap `function(owner) -> Observable` (owner: the entity or its Observables)."""
-        self.function = function
-        self.name = function.__name__
-        self.__doc__ = function.__doc__
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
+    module docstring. On an `Observables` subclass and on an entity it is one of the
+    entity's observables; on any other object (a task, which lists it in its own
+    `task_observables`) it is dm_control's, a `cached_property`: made at first access,
+    then the same object. The method is `function(owner) -> Observable` (owner: the
+    entity, its Observables, or the task)."""
 
     def __get__(self, instance: Any, owner: type | None = None) -> Any:
         if instance is None:
             return self
         if isinstance(instance, Observables):
-            return instance._declared_item(self.name)
-        return instance.observables[self.name]
+            return instance._declared_item(self._name)
+        # An entity (what has `_build_observables`): its Observables made the observable.
+        if hasattr(instance, "_build_observables"):
+            return instance.observables[self._name]
+        return super().__get__(instance, owner)
 
 
 def _declared(cls: type) -> dict[str, observable]:
@@ -118,7 +118,7 @@ class Observables(Mapping[str, Observable]):
         if found is not None or name not in self._declarations:
             return self[name]
         declared, owner = self._declarations[name]
-        made = declared.function(owner)
+        made = declared.fget(owner)  # type: ignore[misc]
         if not isinstance(made, Observable):
             raise errors.ObservableError(
                 f"entity {self._entity.name!r}: @observable {name!r} returned "

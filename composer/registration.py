@@ -27,11 +27,12 @@ What it promises: a registered spec holds only strings and plain values (the tas
 import path, `'tasks.reach:Reach'`), so it pickles into `AsyncVectorEnv` workers and
 stable-baselines3's `SubprocVecEnv`. Keyword arguments of `gym.make` go to the task's
 constructor, except ENVIRONMENT_OPTIONS (`time_limit`, `flatten_observations`,
-`render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`, `frame_stack`,
-`proprioception`), which go to `composer.Environment` and `composer.pixels`; a keyword
-neither accepts raises `RegistrationError` naming the task and listing what it accepts, as
-do both `camera_id` and `camera_name`, or a camera the scene does not have. Registering an
-id again is a no-op.
+`action_repeat`, `render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`,
+`frame_stack`, `proprioception`), which go to `composer.Environment` and
+`composer.pixels`; a keyword neither accepts raises `RegistrationError` naming the task
+and listing what it accepts, as do both `camera_id` and `camera_name`, or a camera the
+scene does not have. Registering an id of ours again is a no-op; one another package
+registered (Shimmy's `dm_control/...`) is replaced with a `RegistrationWarning`.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ import functools
 import importlib
 import inspect
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from typing import Any, Literal, overload
 
@@ -55,8 +57,8 @@ NAMESPACE = "composer"
 ENTRY_POINT = "composer.registration:make_environment"
 VECTOR_ENTRY_POINT = "composer.vector:make_vector_environment"
 ENVIRONMENT_OPTIONS = (
-    "time_limit", "flatten_observations", "render_mode", "width", "height", "camera_id",
-    "camera_name", "pixels", "frame_stack", "proprioception",
+    "time_limit", "flatten_observations", "action_repeat", "render_mode", "width", "height",
+    "camera_id", "camera_name", "pixels", "frame_stack", "proprioception",
 )  # fmt: skip
 # The size of render() frames when `width` and `height` are not given (Environment's).
 RENDER_SIZE = (240, 320)
@@ -64,6 +66,10 @@ RENDER_SIZE = (240, 320)
 
 class RegistrationError(errors.TaskError):
     """A task could not be registered, found, or built from the keywords given."""
+
+
+class RegistrationWarning(UserWarning):
+    """An id another package had registered now makes a composer task."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,20 +87,38 @@ _REGISTERED: dict[str, TaskInfo] = {}
 
 
 def register(
-    name: str, task: str, description: str, *, version: int = 0, **default_kwargs: Any
+    name: str,
+    task: str,
+    description: str,
+    *,
+    version: int = 0,
+    namespace: str = NAMESPACE,
+    **default_kwargs: Any,
 ) -> str:
     """Register `task` (an import path, 'package.module:TaskClass') as the Gymnasium id
-    `composer/{name}-v{version}` and return the id; `default_kwargs` are `gym.make`'s
-    defaults (task keywords and `time_limit`, `flatten_observations`, `render_mode`).
-    Registering an id that exists is a no-op. Raises RegistrationError when `task` is not
-    a 'module:attribute' string (a string keeps the spec picklable)."""
+    `{namespace}/{name}-v{version}` ('composer/...' by default) and return the id;
+    `default_kwargs` are `gym.make`'s defaults (task keywords and `time_limit`,
+    `flatten_observations`, `render_mode`). Registering an id of ours again is a no-op; an
+    id another package registered (Shimmy's `dm_control/...` ids) is replaced with a
+    RegistrationWarning naming it. Raises RegistrationError when `task` is not a
+    'module:attribute' string (a string keeps the spec picklable)."""
     if not isinstance(task, str) or ":" not in task:
         raise RegistrationError(
             f"register({name!r}): task must be an import path 'package.module:TaskClass', "
             f"got {task!r}"
         )
-    env_id = f"{NAMESPACE}/{name}-v{version}"
-    if env_id not in gymnasium.registry:
+    env_id = f"{namespace}/{name}-v{version}"
+    existing = gymnasium.registry.get(env_id)
+    if existing is not None and existing.entry_point != ENTRY_POINT:
+        warnings.warn(
+            f"{env_id} was registered by {existing.entry_point!r} (another package, e.g. "
+            f"Shimmy's dm_control environments); it now makes composer's task {task}",
+            RegistrationWarning,
+            stacklevel=2,
+        )
+        del gymnasium.registry[env_id]
+        existing = None
+    if existing is None:
         gymnasium.register(
             id=env_id,
             entry_point=ENTRY_POINT,
@@ -182,6 +206,7 @@ def make_environment(
     *,
     time_limit: float | None = None,
     flatten_observations: bool = False,
+    action_repeat: int = 1,
     render_mode: str | None = None,
     width: int | None = None,
     height: int | None = None,
@@ -226,6 +251,7 @@ def make_environment(
         built,
         time_limit=math.inf if time_limit is None else time_limit,
         flatten_observations=flatten_observations or (pixels and proprioception),
+        action_repeat=action_repeat,
         render_mode=render_mode,
         render_height=render_size[0],
         render_width=render_size[1],

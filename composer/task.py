@@ -17,8 +17,10 @@
 A task names the scene's root entity, its timesteps, its reward, when an episode ends, and
 extra `task_observables`. By default the action is every actuator's control, in model
 order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
-to `physics.data.ctrl`. The hooks are those of entities (see `composer.hooks` for the order);
-the task's `before_step` and `before_substep` also get the action.
+to `physics.data.ctrl`. A task may instead override dm_control's `action_spec(physics)`
+(starting from `super().action_spec(physics)` if it likes: the [dm] extra). The hooks are
+those of entities (see `composer.hooks` for the order); the task's `before_step` and
+`before_substep` also get the action.
 
 Each per-step method (`before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
 `get_discount`, `get_info`) can be written instead in batched form, once for one
@@ -57,6 +59,17 @@ class Task(hooks.EpisodeHooks):
 
     _control_timestep: float | None = None
     _served_batch: BatchOfOne | None = None
+    #: Whether observations keep the order of `observables` (task observables first, in
+    #: the order `task_observables` gives them) in flattened observations, as dm_control's
+    #: `flat_observation` concatenates its observation dict; False: sorted by name.
+    keep_observation_order: bool = False
+
+    def random_state_for_seed(self, seed: int) -> np.random.RandomState | None:
+        """The random state an environment's `reset(seed=seed)` hands this task's hooks,
+        or None (the default) for the environment's own: one drawing from Gymnasium's
+        `np_random`. A task that must start as dm_control's suite task seeded with
+        `random=seed` (as Shimmy serves it) returns `np.random.RandomState(seed)`."""
+        return None
 
     @property
     def root_entity(self) -> Entity:
@@ -67,13 +80,10 @@ class Task(hooks.EpisodeHooks):
 
     @property
     def physics_timestep(self) -> float:
-        """The physics timestep: the `option.timestep` of the root model, else of the first
-        entity model setting one (composed models share it), else MuJoCo's default."""
-        for entity in self.root_entity.iter_entities():
-            timestep = entity.mjcf_model.option.timestep
-            if timestep is not None:
-                return float(timestep)
-        return _DEFAULT_PHYSICS_TIMESTEP
+        """The physics timestep: the `option.timestep` of the root model (which the models
+        attached into it share: see `mjcf.global_settings`), else MuJoCo's default."""
+        timestep = self.root_entity.mjcf_model.option.timestep
+        return _DEFAULT_PHYSICS_TIMESTEP if timestep is None else float(timestep)
 
     @physics_timestep.setter
     def physics_timestep(self, value: float) -> None:
@@ -91,16 +101,11 @@ class Task(hooks.EpisodeHooks):
         self.set_timesteps(value, self.physics_timestep)
 
     def set_timesteps(self, control_timestep: float, physics_timestep: float) -> None:
-        """Set both timesteps; the physics one is written to the root model's option and to
-        every entity model that sets its own (composed models must agree). Raises TaskError
-        if either is not positive or the control timestep is not a multiple of the physics
-        one."""
+        """Set both timesteps; the physics one is written to the root model's option, which
+        the models attached into it share. Raises TaskError if either is not positive or
+        the control timestep is not a multiple of the physics one."""
         stepping.substeps(control_timestep, physics_timestep, type(self).__name__)
-        root = self.root_entity
-        for entity in root.iter_entities():
-            option = entity.mjcf_model.option
-            if entity is root or option.timestep is not None:
-                option.timestep = physics_timestep
+        self.root_entity.mjcf_model.option.timestep = physics_timestep
         self._control_timestep = float(control_timestep)
 
     @property
@@ -155,19 +160,34 @@ class Task(hooks.EpisodeHooks):
     def action_space(self, physics: mjcf.Physics) -> spaces.Box:
         """A float32 Box (as Gymnasium's MuJoCo envs and stable-baselines3 expect) over every
         actuator's control, bounded by its ctrlrange where it is control-limited,
-        unbounded otherwise. MuJoCo clamps controls to ctrlrange itself. A task defining
+        unbounded otherwise. MuJoCo clamps controls to ctrlrange itself. A task overriding
         dm_control's `action_spec(physics)` gets its dm_env spec as a Box instead
         (`composer.dm_env_specs`, the [dm] extra)."""
-        declared = getattr(type(self), "action_spec", None)
-        if declared is not None and declared is not getattr(Task, "action_spec", None):
+        declared = type(self).action_spec
+        if declared is not Task.action_spec:
             from composer import dm_env_specs  # imports dm_env: only for such tasks
 
             return dm_env_specs.action_space_from_spec(declared(self, physics))
-        model = physics.model
-        limited = model.actuator_ctrllimited.astype(bool)
-        low = np.where(limited, model.actuator_ctrlrange[:, 0], -np.inf)
-        high = np.where(limited, model.actuator_ctrlrange[:, 1], np.inf)
+        low, high = _control_bounds(physics.model, np.inf)
         return spaces.Box(low.astype(np.float32), high.astype(np.float32), dtype=np.float32)
+
+    def action_spec(self, physics: mjcf.Physics) -> Any:
+        """dm_control's default action spec, for an override that starts from
+        `super().action_spec(physics)`: a dm_env `BoundedArray` of shape (nu,), float64,
+        bounded by each actuator's ctrlrange where it is control-limited and by
+        -/+`mujoco.mjMAXVAL` otherwise, named by the actuators' names joined by tabs (an
+        unnamed one by its index). Only an override changes the action space
+        (`action_space`). Needs dm_env: raises ImportError saying to install the [dm]
+        extra."""
+        from composer import dm_env_specs  # imports dm_env: only when asked for
+
+        model = physics.model
+        low, high = _control_bounds(model, mujoco.mjMAXVAL)
+        names = [
+            mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, i) or str(i)
+            for i in range(model.nu)
+        ]
+        return dm_env_specs.actuator_spec(low, high, names)
 
     def _batch_of_one(self, physics: mjcf.Physics) -> BatchOfOne:
         """What the single forms' defaults run the batched forms with: the batch of one of
@@ -257,6 +277,15 @@ class Task(hooks.EpisodeHooks):
         self, physics: mjcf.Physics, action: np.ndarray, random_state: np.random.RandomState
     ) -> None:
         """Before each physics step."""
+
+
+def _control_bounds(model: mujoco.MjModel, unlimited: float) -> tuple[np.ndarray, np.ndarray]:
+    """(low, high), (nu,) float64 each: every actuator's ctrlrange where it is
+    control-limited, -/+`unlimited` where it is not."""
+    limited = model.actuator_ctrllimited.astype(bool)
+    low = np.where(limited, model.actuator_ctrlrange[:, 0], -unlimited)
+    high = np.where(limited, model.actuator_ctrlrange[:, 1], unlimited)
+    return low, high
 
 
 class NullTask(Task):

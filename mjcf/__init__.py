@@ -18,7 +18,9 @@ when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
 `to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
 as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
-their own trees; composition happens when a model is written or compiled.
+their own trees; composition happens when a model is written or compiled, but for the
+global settings (`<option>`, `<size>`, `<visual>` ...), which are merged when a model is
+attached and shared from then on, as in dm_control (see `mjcf.global_settings`).
 
 No exception name shadows a Python builtin, so `from mjcf import *` is safe:
 `NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
@@ -40,8 +42,8 @@ used only through the internal protocol their class documents (`Element`, `RootE
                   schema xsd namescope
     tree:         element_list references model_operations element_names element_rules
                   element root base constants
-    composition:  settings attachment naming traversal frames defaults traversal_utils
-                  copying sameness keyframes sharing composition
+    composition:  settings global_settings attachment naming traversal frames defaults
+                  traversal_utils copying sameness keyframes sharing composition
     text:         default_sections indexer parser serializer export
     simulation:   tracking binding named validity render_meshes rendering raw_access
                   tree_binding budget compiler model_constants frame_poses frame_binding

@@ -21,7 +21,7 @@ for `attach` and for copies alike, and `detach` undoes it; nothing else writes i
 
 from __future__ import annotations
 
-from mjcf import errors, schema, settings
+from mjcf import errors, global_settings, schema, settings
 from mjcf.element import Element, count_change, stored_attributes, tree_children, value_of
 from mjcf.root import RootElement, section_of
 from mjcf.schema import AttributeSpec, ElementSpec
@@ -95,13 +95,14 @@ class AttachmentFrame(Element):
 
 def attach(place: Element, child: RootElement) -> AttachmentFrame:
     """Attach model `child` at `place` (a site, body, frame or the world body) and
-    return its attachment frame. Raises mjcf.AttachmentError for a model that is
-    already attached, that would contain itself, or whose settings conflict with those
-    of the models it goes into (a conflict with a model attached beside it is raised
-    when the scene is written or compiled); the tree is unchanged then. A child whose
-    model name is taken by a model attached into the same model already is renamed
-    'name_1' (then 'name_2', ...), as dm_control does. Checks cost the same whatever
-    is attached already."""
+    return its attachment frame. Its global settings are merged into those of the
+    outermost model it goes into, and shared with it from then on (see
+    `mjcf.global_settings`). Raises mjcf.AttachmentError for a model that is already
+    attached, that would contain itself, or whose settings conflict with those of the
+    models it goes into (naming every conflict); the tree is unchanged then. A child
+    whose model name is taken by a model attached into the same model already is
+    renamed 'name_1' (then 'name_2', ...), as dm_control does. Checks cost the same
+    whatever is attached already."""
     if not isinstance(child, RootElement):
         raise errors.AttachmentError(
             f"Expected a mjcf.RootElement: only a model can be attached, got {child!r}"
@@ -127,9 +128,12 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
                 f"inside itself ({place.path})"
             )
         model = model.parent_model
-    settings.check_compatible(place.root.namescope.root.model, child)
-    if place.root.namescope.root.model is not place.root:
-        settings.check_compatible(place.root, child)
+    top = place.root.root_model
+    merge = global_settings.SettingsMerge(top)
+    merge.add(child)
+    for parent in dict.fromkeys((top, place.root)):
+        merge.problems.extend(settings.compiler_problems(parent, child))
+    merge.raise_problems(child, place.root)
     body = place.parent if place.spec.tag == "site" else place
     assert body is not None, "a site in the tree has a parent"
     frame = AttachmentFrame._make(FRAME_SPEC, body, place.root)
@@ -143,9 +147,10 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
     free = place.root.namescope.free_child_name(child.model)
     if free != child.model:  # the same robot file attached twice: 'name_1', as dm_control
         child.model = free
-    settings.absorb_capacities(place.root, child)
     link(frame, child)
     body._children.append(frame)
+    merge.apply()
+    global_settings.share(child)
     count_change(place)
     return frame
 
@@ -163,14 +168,17 @@ def link(frame: AttachmentFrame, child: RootElement) -> None:
 
 def detach(child: RootElement) -> None:
     """Detach model `child` from the model it is attached to; raises
-    mjcf.AttachmentError if it is not attached."""
+    mjcf.AttachmentError if it is not attached. The detached model keeps a copy of the
+    global settings it shared (see `mjcf.global_settings`)."""
     frame = frame_of(child)
     if frame is None:
         raise errors.AttachmentError(f"model {child.model!r} is not attached to any model")
+    top = child.root_model
     frame._cut()
     frame.root.namescope.remove_child(child.namescope)
     frame.root._attachments.remove(frame)
     object.__setattr__(child, "_frame", None)
+    global_settings.unshare(child, top)
     count_change(frame)
 
 
@@ -178,7 +186,10 @@ def remove(element: Element, affect_attachments: bool) -> None:
     """Remove `element` (and its subtree) from its model, or empty a top-level section
     (see `Element.remove`). Raises mjcf.AttachmentError if models are attached inside (or,
     for a section, into the model), unless `affect_attachments` (they are detached then),
-    and mjcf.SchemaError for a model root or an element removed already."""
+    and mjcf.SchemaError for a model root or an element removed already. A once-only
+    child of a settings section that models share (`<visual><headlight>`) is emptied in
+    place, for every model sharing it, as dm_control empties it (see
+    `mjcf.global_settings`)."""
     parent = element.parent
     if parent is None:
         raise errors.SchemaError(
@@ -186,6 +197,12 @@ def remove(element: Element, affect_attachments: bool) -> None:
         )
     if parent.parent is None and parent is element.root:
         clear_section(element, affect_attachments)
+        return
+    if _shares_settings(element.root) and _is_settings_child(element):
+        if element.root._attachments and not affect_attachments:
+            _refuse_emptying(element)
+        element._attrs.clear()
+        count_change(element)
         return
     frames = [e for e in element.iter() if isinstance(e, AttachmentFrame)]
     if frames and not affect_attachments:
@@ -203,25 +220,52 @@ def clear_section(section: Element, affect_attachments: bool) -> None:
     """Empty the top-level section `section` (its attributes and children) of its model,
     and with `affect_attachments` the same section of every model attached into it
     (frames in an emptied world body are detached). Raises mjcf.AttachmentError if models
-    are attached into the model and not `affect_attachments`; nothing changes then."""
+    are attached into the model and not `affect_attachments`; nothing changes then. The
+    once-only children of a settings section that models share are emptied in place."""
     model = section.root
     attached = attached_models(model)
     if attached and not affect_attachments:
-        raise errors.AttachmentError(
-            f"{section.path}: models {', '.join(repr(m.model) for m in attached)} are attached "
-            f"into this model, and each has its own <{section.tag}>: please use "
-            "remove(affect_attachments=True) to empty it in every model"
-        )
+        _refuse_emptying(section)
     tag = section.spec.tag
+    settings_children = tag in global_settings.SECTIONS and _shares_settings(model)
     for each in (*attached, model) if affect_attachments else (model,):
         emptied = section_of(each, tag)
         for frame in [c for c in emptied.iter() if isinstance(c, AttachmentFrame)]:
             if not frame.is_removed:
                 detach(frame._attached)
         for child in list(tree_children(emptied)):
-            child._cut()
+            if settings_children:
+                child._attrs.clear()
+            else:
+                child._cut()
         emptied._attrs.clear()
         count_change(emptied)
+
+
+def _refuse_emptying(element: Element) -> None:
+    attached = attached_models(element.root)
+    raise errors.AttachmentError(
+        f"{element.path}: models {', '.join(repr(m.model) for m in attached)} are attached "
+        f"into this model, and each has its own <{element.tag}>: please use "
+        "remove(affect_attachments=True) to empty it in every model"
+    )
+
+
+def _shares_settings(model: RootElement) -> bool:
+    """Whether `model` shares its global settings with models it is attached into, or
+    that are attached into it."""
+    return model._frame is not None or bool(model._attachments)
+
+
+def _is_settings_child(element: Element) -> bool:
+    """Whether `element` is a once-only child of a settings section (`<option><flag>`)."""
+    section = element.parent
+    return (
+        section is not None
+        and section.parent is element.root
+        and section.spec.tag in global_settings.SECTIONS
+        and not element.spec.repeated
+    )
 
 
 def frame_of(model: RootElement) -> AttachmentFrame | None:

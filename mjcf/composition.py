@@ -10,12 +10,13 @@ written:
   `class` on its elements outside the world body; if the output model itself has
   global defaults and attachments, they move to a class '/' the same way, so that no
   model's defaults leak into another's;
-- compiler settings are those of each model, as in MuJoCo's own attachment (see
-  `mjcf.settings`): `angle` (euler, axisangle, and the range/ref/springref of hinge
-  and ball joints, attachment frames included) and `eulerseq` (euler becomes quat) are
-  converted element by element to the output model's, and an attached model's
-  `settotalmass` becomes its own densities, masses and inertias scaled (the models
-  attached inside it keep theirs);
+- global settings are the output model's, which the models attached into it share
+  (merged when each was attached: see `mjcf.global_settings`), but for the compiler
+  settings each model keeps, as in MuJoCo's own attachment (see `mjcf.settings`):
+  `angle` (euler, axisangle, and the range/ref/springref of hinge and ball joints,
+  attachment frames included) and `eulerseq` (euler becomes quat) are converted element
+  by element to the output model's, and an attached model's `settotalmass` becomes its
+  own densities, masses and inertias scaled (the models attached inside it keep theirs);
 - unnamed elements are written with the names `mjcf.naming` gives them
   ('child//unnamed_geom_0'), in every output, so the compiled names are the written
   ones;
@@ -257,6 +258,9 @@ def composition_of(
     meshes and textures are written once unless not `share_assets` (`mjcf.sharing`)."""
     models = [root, *attachment.attached_models(root)]
     versions = [(model, own_version(model)) for model in models]
+    top = root.root_model
+    if top is not root:  # an attached model written alone: it writes the settings it shares
+        versions.append((top, own_version(top)))
     cached = root._composed
     kind = (for_compile, share_assets)
     found = cached.get(kind) if cached else None
@@ -360,12 +364,19 @@ class Composition:
             self._contexts[model].mass_scale = float(total) / settings.unscaled_mass(model)
 
     def check(self) -> None:
-        """Raise mjcf.AttachmentError if an attached model's settings conflict."""
+        """Raise mjcf.AttachmentError if the compiler settings each model keeps cannot be
+        reconciled (see `mjcf.settings`)."""
         if self._checked:
             return
-        for model in self._models[1:]:
-            settings.check_compatible(self.root, model, inertia=False, output=True)
         if self.has_attachments:
+            problems = settings.compiler_problems(
+                self.root, self._models[1], inertia=False, output=True
+            )
+            if problems:
+                raise errors.AttachmentError(
+                    f"model {self.root.model!r} cannot be written with the models attached "
+                    f"to it: {problems[0]}"
+                )
             self.inertia_setting()
         self._checked = True
 
@@ -396,8 +407,9 @@ class Composition:
     # -- settings -------------------------------------------------------------------------
 
     def merged_settings(self, tag: str) -> settings.MergedSettings:
-        """One settings section merged over all models (see `mjcf.settings`); raises
-        mjcf.AttachmentError when two models set one value differently."""
+        """One settings section as this output writes it (see `mjcf.settings.merged`);
+        raises mjcf.AttachmentError when the models' inertia settings cannot be
+        reconciled."""
         merged = self._merged.get(tag)
         if merged is None:
             inertia = self.inertia_setting() if tag == "compiler" and self.has_attachments else None

@@ -24,7 +24,7 @@ from typing import Any, TypeVar, cast
 
 import numpy as np
 
-from mjcf import assets, attachment, bulk, errors, references
+from mjcf import assets, attachment, bulk, errors, global_settings, references
 from mjcf import values as _values
 from mjcf.assets import Asset
 from mjcf.element import (
@@ -62,9 +62,23 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
     plan: list[tuple[Element, Element, dict[str, Any], list[Element]]] = []
     _plan_merge(target, source, override_attributes, plan)
     renames = _check_names(target, plan)
+    frames = [
+        element
+        for _, _, _, children in plan
+        for child in children
+        for element in child.iter()
+        if isinstance(element, attachment.AttachmentFrame)
+    ]
+    merge = global_settings.SettingsMerge(target.root.root_model)
+    for frame in frames:  # the copies of models attached inside join target's settings
+        merge.add(frame.attached_model)
+    if frames:
+        merge.raise_problems(frames[0].attached_model, target.root)
     clones: dict[int, Element] = {}
     for destination, origin, attributes, children in plan:
         destination._attrs.update(attributes)
+        if attributes:
+            count_change(destination)  # of the model whose settings it shares, too
         if written_empty(origin):  # put there in the source: so it is in the copy
             destination._keep()
         for child in children:
@@ -72,6 +86,9 @@ def include_copy(target: Element, source: Element, override_attributes: bool = F
             destination._children.append(clone)
             for element in clone.iter():
                 element._register()
+    merge.apply()
+    for frame in frames:
+        global_settings.share(cast(attachment.AttachmentFrame, clones[id(frame)]).attached_model)
     scope = target.root.namescope
     for destination, (namespace, old, new) in renames.items():
         if old is not None:
@@ -258,7 +275,9 @@ def deepcopy_element(element: _E, memo: dict[int, Any]) -> _E:
         return found
     cloned: list[tuple[Element, Element]] = []
     if not element.is_removed:
-        _copy_model(element.root, memo, cloned)
+        copied = _copy_model(element.root, memo, cloned)
+        # Its attached models share its settings; the copy of an attached model has its own.
+        global_settings.unshare(copied)
     else:  # a removed element: a removed copy, in a copy of its model
         root_copy = deepcopy_element(element.root, memo)
         copy_ = type(element)._make(element.spec, None, root_copy)

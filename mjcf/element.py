@@ -59,13 +59,16 @@ class Element(ElementRules):
     (which cannot import them) and the writer's per-element loop; `_source` is where
     debug mode saw it made (`created_at`), set by the parser and copies. The tree
     builders count an element made by reading `parent.<tag>` as put there with `_keep()`.
-    Only the modules that build or rewrite
-    trees (parser, copying, default_sections, defaults, attachment, root) make elements
-    with `_make`, fill `_attrs` and `_children` of new elements or commit checked values
-    into them, then record names with `_register()`; `_cut()` and
-    `_unregister_subtree()` take elements out; `mjcf.references` replaces references
-    held as text in `_attrs` by the elements they name. `_text` is the serializer's cache:
-    ((model version, context token, number format), attribute text) of its last write.
+    Only the modules that build or rewrite trees (parser, copying, default_sections,
+    defaults, attachment, root, global_settings) make elements with `_make`, fill
+    `_attrs` and `_children` of new elements or commit checked values into them, then
+    record names with `_register()`; `_cut()` and `_unregister_subtree()` take elements
+    out; `mjcf.references` replaces references held as text in `_attrs` by the elements
+    they name; `mjcf.global_settings` gives the settings elements of attached models the
+    `_attrs` of the outermost model's (one storage, shared), and makes them its
+    `SharedSettings` and back (`change_class`). `_text` is the serializer's
+    cache: ((model version, context token, number format), attribute text) of its last
+    write.
 
     Elements read from a file are built when first used: the parser gives a section the
     lxml element it was read from with `_defer(xml)`, and the section's children (and
@@ -598,6 +601,11 @@ class _OnDemand(Element):
         return False
 
 
+# dm_control's name for the class of every element, which code uses as a type
+# (`mjcf.element._ElementImpl`, e.g. `MjcfElement = mjcf.element._ElementImpl`).
+_ElementImpl = Element
+
+
 # -- reading the tree: what mjcf's modules read of any element ------------------------------
 # With the properties `spec`, `parent` and `root`, these are how mjcf's other modules read an
 # element; the element's attribute names are MJCF's, so they are functions, not members.
@@ -650,6 +658,12 @@ def count_change(element: Element) -> None:
     """Count a change of `element`'s model made in place (not through the element's own
     setters, which count theirs), so that its version grows (see `RootElement.version`)."""
     element._modified()
+
+
+def change_class(element: Element, cls: type[Element]) -> None:
+    """Make `element` an instance of `cls`: `Element`, or a subclass of it with no slots
+    of its own (`mjcf.global_settings.SharedSettings`), keeping everything it holds."""
+    element.__class__ = cls
 
 
 def _from_xml(parent: Element, xml: Any, named: list[tuple[str, str, Element]]) -> Element:

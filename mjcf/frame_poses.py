@@ -330,15 +330,25 @@ def matrix(quat: np.ndarray) -> np.ndarray:
 
 
 def multiply(left: np.ndarray, right: np.ndarray) -> np.ndarray:
-    """Quaternion products `left * right`, over the leading axes of either (w first)."""
-    w1, x1, y1, z1 = np.moveaxis(np.asarray(left, dtype=np.float64), -1, 0)
-    w2, x2, y2, z2 = np.moveaxis(np.asarray(right, dtype=np.float64), -1, 0)
-    return np.stack(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ],
-        axis=-1,
-    )
+    """Quaternion products `left * right` (w first), over the leading axes of either:
+    shape (..., 4).
+
+    Computed as the matrix of multiplying by `left` times `right`, as dm_control's
+    `transformations.quat_mul` computes it, so that `composer.utils.transformations` (which
+    uses this) gives dm_control's values to the last bit: numpy's matrix product rounds
+    differently from the four sums written out."""
+    left, right = np.asarray(left), np.asarray(right)
+    return ((left[..., _LEFT_INDEX] * _LEFT_SIGN) @ right[..., None])[..., 0]
+
+
+def _left_multiplication() -> tuple[np.ndarray, np.ndarray]:
+    """Where each entry of the matrix L(q), with L(q) @ p = q * p, comes from: the component
+    of q = (w, x, y, z) at index[r, c], times sign[r, c]."""
+    w, x, y, z = 0, 1, 2, 3
+    index = np.array([[w, x, y, z], [x, w, z, y], [y, z, w, x], [z, y, x, w]])
+    sign = np.array([[1, -1, -1, -1], [1, 1, -1, 1], [1, 1, 1, -1], [1, -1, 1, 1]])
+    index.flags.writeable = sign.flags.writeable = False
+    return index, sign
+
+
+_LEFT_INDEX, _LEFT_SIGN = _left_multiplication()

@@ -185,8 +185,10 @@ class RootElement(Element):
         return self._section("worldbody").attach(child)
 
     def detach(self) -> None:
-        """Detach this model from the model it is attached to, leaving that model as it
-        was before. Raises mjcf.AttachmentError if it is not attached."""
+        """Detach this model from the model it is attached to, taking out all it brought
+        but the global settings merged at attach, which stay, as in dm_control; this model
+        keeps a copy of the settings it shared (see `mjcf.global_settings`). Raises
+        mjcf.AttachmentError if it is not attached."""
         ABOVE.detach(self)
 
     def get_assets(self, filename_with_hash: bool = False) -> dict[str, bytes]:

@@ -1,11 +1,15 @@
-"""Settings sections of composed models: how the `<compiler>`, `<option>`, `<size>`,
-`<visual>` and `<statistic>` of several models become the one a composed document has.
+"""Settings sections of composed models: the `<compiler>` settings each model keeps for
+itself, and the sections a composed document writes.
 
-    settings.check_compatible(scene, arm)     # at attach: raises mjcf.AttachmentError
-    settings.merged([scene, arm], 'option')   # the merged section, when writing
+    settings.compiler_problems(scene, arm)    # at attach: what cannot be reconciled
+    settings.merged([scene, arm], 'option')   # the section written, when writing
 
-Compiler settings are each model's own, as in MuJoCo's own attachment, so a composed
-model compiles every model's elements as that model alone would:
+The settings models share (`<option>`, `<size>`, `<visual>`, `<statistic>` and most of
+`<compiler>`) are merged when a model is attached and shared from then on (see
+`mjcf.global_settings`): a composed document writes its output model's. The compiler
+settings in `OWN_COMPILER_SETTINGS` are each model's own, as in MuJoCo's own
+attachment, so a composed model compiles every model's elements as that model alone
+would:
 
 - `angle` and `eulerseq` are converted element by element (see `mjcf.composition`);
 - `autolimits` is written "true" when models differ (a model with "false" states
@@ -20,13 +24,7 @@ model compiles every model's elements as that model alone would:
   `settotalmass` with models attached is an AttachmentError, since it would scale them;
 - settings that do not change an attached model's compiled values (`usethread`,
   `passthrough` ...) are the output model's; files are resolved per model, so
-  `meshdir`, `texturedir`, `assetdir` and `strippath` are never written; every other
-  compiler setting that two models both set must agree, and one that a single model
-  sets is the composed model's (`boundmass` of a scene bounds its robots' masses too).
-
-`option`, `visual` and `statistic` values merge attribute by attribute, a conflict
-between two explicit values being an `AttachmentError`; `size` values are capacities
-and merge to the largest (`memory` compared in bytes: '1M' is larger than '1000K').
+  `meshdir`, `texturedir`, `assetdir` and `strippath` are never written.
 """
 
 from __future__ import annotations
@@ -39,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
-from mjcf import errors, schema
+from mjcf import errors
 from mjcf.element import stored_attributes, tree_children, value_of
 from mjcf.root import section_of
 from mjcf.upcalls import ABOVE
@@ -61,34 +59,34 @@ CONVERTED_SETTINGS = frozenset(
 OUTPUT_SETTINGS = frozenset(
     {"usethread", "saveinertial", "savecompiled", "savecanonical", "conflict", "passthrough"}
 )
+# Compiler settings each model keeps for itself, never shared with the models it is
+# attached into (see mjcf.global_settings).
+OWN_COMPILER_SETTINGS = FILE_SETTINGS | CONVERTED_SETTINGS | OUTPUT_SETTINGS
 _INERTIA_SETTINGS = ("true", "auto", "false")
 # Elements whose mass `settotalmass` scaling cannot be expressed by their attributes.
 _UNSCALABLE = frozenset({"flexcomp", "composite", "flex", "attach"})
 
 
 class MergedSettings:
-    """The attributes and once-only children of a settings section, merged over the
-    models of one output."""
+    """The attributes (as text) and once-only children of a settings section as a
+    composed document writes it."""
 
-    __slots__ = ("attributes", "children", "sources")
+    __slots__ = ("attributes", "children")
 
     def __init__(self) -> None:
         self.attributes: dict[str, str] = {}
         self.children: dict[str, MergedSettings] = {}
-        self.sources: dict[str, tuple[RootElement, object]] = {}
 
 
 def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> MergedSettings:
-    """Section `tag` merged over `models` (the output model first; `inertia` is their
-    `inertia_setting` if known); raises mjcf.AttachmentError when two models set one
-    value differently."""
+    """Section `tag` as the output of `models` (the output model first, whose settings
+    the others share; `inertia` is their `inertia_setting` if known) writes it: the
+    output model's, without file folders, and for `compiler` with the `autolimits` and
+    `inertiafromgeom` every model compiles with as alone; raises mjcf.AttachmentError if
+    there is no such `inertiafromgeom`."""
     root = models[0]
     result = MergedSettings()
-    for model in models:
-        skip = FILE_SETTINGS if tag == "compiler" else frozenset()
-        if tag == "compiler" and model is not root:
-            skip = skip | CONVERTED_SETTINGS | OUTPUT_SETTINGS
-        _merge_into(result, section_of(model, tag), model, skip)
+    _copy_into(result, section_of(root, tag), FILE_SETTINGS if tag == "compiler" else frozenset())
     if tag == "compiler" and len(models) > 1:
         limits = {setting(model, "autolimits") for model in models}
         if len(limits) > 1:
@@ -100,119 +98,49 @@ def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> M
     return result
 
 
-def check_compatible(
+def compiler_problems(
     parent: RootElement, child: RootElement, inertia: bool = True, output: bool = False
-) -> None:
-    """Raise mjcf.AttachmentError if `child` cannot be composed into `parent`: both
-    models set a compiler setting that is not converted to different values, their
-    inertia settings cannot be reconciled (checked unless `inertia` is false), a
-    setting both models give explicitly differs, or (`output`: `parent` is the model
-    written, attached to none) `parent`'s settotalmass would scale `child`. A setting
-    one model leaves unset never conflicts: the composed model has the other's, as for
-    `<option>`."""
-    for name, attribute in schema.MUJOCO.child("compiler").attributes.items():
-        if name in FILE_SETTINGS or name in CONVERTED_SETTINGS or name in OUTPUT_SETTINGS:
-            continue
-        mine, theirs = _explicit_setting(parent, name), _explicit_setting(child, name)
-        if mine is not None and theirs is not None and not same(attribute, mine, theirs):
-            raise errors.AttachmentError(
-                f"Conflicting values for attribute `{name}`: model {child.model!r} cannot be "
-                f"attached to model {parent.model!r}: their <compiler {name}> differ "
-                f"({theirs!r} vs {mine!r}); set the same value on both, or on one of them only"
-            )
+) -> list[str]:
+    """What keeps `child` from being composed into `parent` among the compiler settings
+    each model keeps (see `OWN_COMPILER_SETTINGS`): inertia settings that cannot be
+    reconciled (checked unless `inertia` is false), and (`output`: `parent` is the model
+    written, attached to none) a `settotalmass` of `parent`, which would scale the
+    attached models' masses too; empty if nothing does. The settotalmass is refused when
+    written, not at attach, so that the order of attaching does not decide."""
+    problems = []
     total = setting(parent, "settotalmass")
     # A model attached elsewhere is written alone only to know its own masses.
     if output and parent.parent_model is None and total is not None and total > 0:
-        raise errors.AttachmentError(
-            f"model {parent.model!r} cannot be written with model {child.model!r} attached: "
-            f"its <compiler settotalmass={total!r}> would scale the masses of attached models "
-            "too (MuJoCo's would); attach it into another model, which keeps each model's "
-            "masses as alone, or remove it (MuJoCo deprecates it) and scale the masses of its "
-            "own bodies"
+        problems.append(
+            f"<compiler settotalmass={total!r}> of model {parent.model!r} would scale the "
+            "masses of attached models too (MuJoCo's would); attach it into another model, "
+            "which keeps each model's masses as alone, or remove it (MuJoCo deprecates it) "
+            "and scale the masses of its own bodies"
         )
     if inertia:
-        inertia_setting([parent, child])
-    for tag in ("option", "size", "visual", "statistic"):
-        merged = MergedSettings()
-        _merge_into(merged, section_of(parent, tag), parent, frozenset())
-        _merge_into(merged, section_of(child, tag), child, frozenset())
+        try:
+            inertia_setting([parent, child])
+        except errors.AttachmentError as error:
+            problems.append(str(error))
+    return problems
 
 
-def _merge_into(
-    merged: MergedSettings, section: Element, model: RootElement, skip: frozenset
-) -> None:
-    tag = section.spec.tag
-    for name in stored_attributes(section):
+def _copy_into(merged: MergedSettings, section: Element, skip: frozenset) -> None:
+    for name, value in stored_attributes(section).items():
         if name in skip:
             continue
-        attribute = section.spec.attributes[name]
-        value = stored_attributes(section)[name]
-        text = value if type(value) is str else attribute.converter.to_text(value)
-        previous = merged.sources.get(name)
-        if previous is None:
-            merged.attributes[name] = text
-            merged.sources[name] = (model, value_of(section, attribute))
-            continue
-        other_model, other_value = previous
-        value = value_of(section, attribute)
-        if same(attribute, other_value, value):
-            continue
-        if tag == "size":
-            mine, theirs = _capacity(name, value), _capacity(name, other_value)
-            if mine is not None and theirs is not None:
-                if mine > theirs:  # capacities: the largest serves every model
-                    merged.attributes[name] = text
-                    merged.sources[name] = (model, value)
-                continue
-        raise errors.AttachmentError(
-            f"Conflicting values for attribute `{name}`: models {other_model.model!r} and "
-            f"{model.model!r} set <{tag} {name}> differently ({merged.attributes[name]!r} vs "
-            f"{text!r}); a composed model has one value: set the same value on both, or on "
-            "neither"
-        )
+        converter = section.spec.attributes[name].converter
+        merged.attributes[name] = value if type(value) is str else converter.to_text(value)
     for child in tree_children(section):
-        if child.spec.repeated:
-            continue
-        target = merged.children.get(child.spec.tag)
-        if target is None:
+        if not child.spec.repeated:
             target = merged.children[child.spec.tag] = MergedSettings()
-        _merge_into(target, child, model, frozenset())
-
-
-def absorb_capacities(parent: RootElement, child: RootElement) -> None:
-    """Raise the `<size>` capacities of `parent` to those `child` (and the models
-    attached to it) need, as dm_control does when it attaches `child`: a capacity
-    `parent` leaves unset takes `child`'s value, a larger one replaces `parent`'s
-    (`memory` then in bytes: '1M' over '10000' is '1048576')."""
-    needed: dict[str, tuple[object, int | None]] = {}
-    for model in (child, *ABOVE.attached_models(child)):
-        size = section_of(model, "size")
-        for name in stored_attributes(size):
-            value = value_of(size, size.spec.attributes[name])
-            capacity = _capacity(name, value)
-            held = needed.get(name)
-            if held is None or (
-                capacity is not None and held[1] is not None and capacity > held[1]
-            ):
-                needed[name] = (value, capacity)
-    size = section_of(parent, "size")
-    changes: dict[str, object] = {}
-    for name, (value, capacity) in needed.items():
-        mine = value_of(size, size.spec.attributes[name])
-        if mine is None:
-            changes[name] = value
-            continue
-        own = _capacity(name, mine)
-        if capacity is not None and own is not None and capacity > own:
-            changes[name] = str(capacity) if name == "memory" else value
-    if changes:
-        size.set_attributes(**changes)
+            _copy_into(target, child, frozenset())
 
 
 _BYTE_SUFFIXES = {"k": 10, "m": 20, "g": 30, "t": 40, "p": 50, "e": 60}
 
 
-def _capacity(name: str, value: object) -> int | None:
+def capacity(name: str, value: object) -> int | None:
     """A `<size>` value as a number to compare (bytes for `memory`, '2M' or '-1'), or
     None if it is not one."""
     if isinstance(value, int | np.integer) and not isinstance(value, bool):
@@ -229,16 +157,11 @@ def _capacity(name: str, value: object) -> int | None:
 
 
 def same(attribute: AttributeSpec, a: object, b: object) -> bool:
+    """Whether two values of `attribute` are equal (arrays by shape and value)."""
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
         a_array, b_array = np.asarray(a), np.asarray(b)
         return a_array.shape == b_array.shape and bool(np.all(a_array == b_array))
     return a == b
-
-
-def _explicit_setting(model: RootElement, name: str) -> Any:
-    """A compiler setting `model` sets itself, or None."""
-    compiler = section_of(model, "compiler")
-    return value_of(compiler, compiler.spec.attributes[name])
 
 
 def setting(model: RootElement, name: str) -> Any:

@@ -28,6 +28,7 @@ steps them with no per-environment work (its `per_environment` is []).
 
 from composer.registration import register
 from tasks import recipes as recipes  # registers each task's training recipes
+from tasks import suite  # registers the Control Suite's dm_control/... ids
 from tasks.cartpole import CartpoleSwingup
 from tasks.locomotion import AntRun, WalkerRun
 from tasks.push import ArmPushBox
@@ -47,4 +48,4 @@ IDS = (
              time_limit=8.0),
 )  # fmt: skip
 
-__all__ = ["IDS", "AntRun", "ArmPushBox", "CartpoleSwingup", "Reach", "WalkerRun"]
+__all__ = ["IDS", "AntRun", "ArmPushBox", "CartpoleSwingup", "Reach", "WalkerRun", "suite"]

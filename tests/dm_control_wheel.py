@@ -10,12 +10,16 @@ How dm_control's own code and tests are measured against ours: the wheel of
 `dm-control==VERSION` is downloaded from the package index (`pip download --no-deps`,
 nothing installed) into a cache outside the repository, unpacked, and every source file is
 rewritten so that `from dm_control import mjcf` / `composer` and `from dm_control.mjcf...`
-/ `dm_control.composer...` import our packages. dm_control's own implementation of `mjcf`
-and `composer` is deleted from the rewritten tree, so a reference the rewrite missed fails
-loudly instead of running their code; what stays there are their tests, the modules those
-tests share (`hooks_test_utils`, `fake_physics`, `code_for_debugging_test`), data files,
-and everything outside the two packages (`locomotion`, `manipulation`, `entities`,
-`utils`, `mujoco` ...), which then runs on our `mjcf` and `composer`.
+/ `dm_control.composer...` import our packages, and `from dm_control.utils import rewards`
+/ `transformations` / `inverse_kinematics` ours in `composer.utils`. dm_control's own
+implementation of `mjcf`, `composer` and those three modules is deleted from the rewritten
+tree, so a reference the rewrite missed fails loudly instead of running their code; what
+stays there are their tests, the modules those tests share (`hooks_test_utils`,
+`fake_physics`, `code_for_debugging_test`), data files, and everything else (`locomotion`,
+`manipulation`, `entities`, the other `utils`, `mujoco` ...), which then runs on ours.
+A few test files get a rewrite of their own (`_FILE_REWRITES`): dm_control's inverse
+kinematics test builds `dm_control.mujoco.Physics`, which does not load on MuJoCo 4, and
+builds ours instead.
 
 Nothing of it is copied into the repository: the cache is `$COMPOSER_TEST_CACHE` or the
 system's temporary folder. Processes (pytest-xdist workers) share it under a file lock.
@@ -45,6 +49,15 @@ from typing import Any, NoReturn
 
 VERSION = "1.0.50"
 _OURS = ("mjcf", "composer")
+# dm_control.utils modules that are ours in composer.utils.
+_UTILS = ("rewards", "transformations", "inverse_kinematics")
+# Edits of single files (under dm_control/), made before the import rewriting; each must
+# find its text, so that a new wheel that changed it fails loudly.
+_FILE_REWRITES = {
+    "utils/inverse_kinematics_test.py": [
+        ("from dm_control import mujoco\n", "import mjcf as mujoco  # mjcf.Physics\n"),
+    ],
+}
 # Modules of dm_control's mjcf/composer that its tests import and that are not part of the
 # implementation: kept (rewritten), and imported under their dm_control names.
 _SUPPORT = re.compile(r"(_test|test_utils|fake_physics)$")
@@ -56,6 +69,10 @@ _FROM_SUB = re.compile(
 )
 _IMPORT_SUB = re.compile(
     r"^(?P<indent>[ \t]*)import dm_control\.(?P<module>(?:mjcf|composer)\S*)", re.M
+)
+_FROM_UTILS = re.compile(
+    r"^(?P<indent>[ \t]*)from dm_control\.utils(?P<module>\.\w+)? import (?P<names>[^(\n]+)$",
+    re.M,
 )
 
 
@@ -100,7 +117,8 @@ def _as_clause(name: str, bound: str) -> str:
 
 
 def rewrite(source: str) -> str:
-    """`source` with its imports of dm_control's mjcf and composer turned into ours."""
+    """`source` with its imports of dm_control's mjcf, composer and the utils of `_UTILS`
+    turned into ours."""
 
     def top(match: re.Match[str]) -> str:
         indent, statements = match["indent"], []
@@ -131,9 +149,25 @@ def rewrite(source: str) -> str:
     def plain(match: re.Match[str]) -> str:
         return f"{match['indent']}import {match['module']}"
 
+    def utils(match: re.Match[str]) -> str:
+        indent, module = match["indent"], (match["module"] or "")[1:]
+        if module:  # from dm_control.utils.rewards import tolerance
+            package = "composer.utils" if module in _UTILS else "dm_control.utils"
+            return f"{indent}from {package}.{module} import {match['names']}"
+        ours, theirs = [], []
+        for name, bound in _split_names(match["names"]):
+            (ours if name in _UTILS else theirs).append(_as_clause(name, bound))
+        statements = []
+        if ours:
+            statements.append(f"from composer.utils import {', '.join(ours)}")
+        if theirs:
+            statements.append(f"from dm_control.utils import {', '.join(theirs)}")
+        return indent + "; ".join(statements)
+
     source = re.sub(r"^([ \t]*)import mock$", r"\1from unittest import mock", source, flags=re.M)
     source = _FROM_TOP.sub(top, source)
     source = _FROM_SUB.sub(sub, source)
+    source = _FROM_UTILS.sub(utils, source)
     return _IMPORT_SUB.sub(plain, source)
 
 
@@ -178,10 +212,16 @@ def _unpack(wheel: Path, target: Path) -> None:
                 path.write_text("")  # a plain namespace for the kept modules
             elif not _is_support(".".join(relative.parts)):
                 path.unlink()  # their implementation: ours replaces it
+    for name in _UTILS:
+        (package / "utils" / f"{name}.py").unlink()
     for path in package.rglob("*.py"):
-        text = path.read_text(encoding="utf-8")
+        original = text = path.read_text(encoding="utf-8")
+        for old, new in _FILE_REWRITES.get(path.relative_to(package).as_posix(), []):
+            if old not in text:
+                raise RuntimeError(f"{path}: {old!r} not found; update _FILE_REWRITES")
+            text = text.replace(old, new)
         rewritten = rewrite(text)
-        if rewritten != text:
+        if rewritten != original:
             path.write_text(rewritten, encoding="utf-8")
     os.replace(staging, target)
 

@@ -129,16 +129,20 @@ GENERIC_PIXELS = {
                   n_epochs=4, pixels=True),
 }  # fmt: skip
 
-_RECIPES: dict[Callable[..., Any], tuple[Recipe, ...]] = {}
+_RECIPES: dict[Callable[..., Any] | str, tuple[Recipe, ...]] = {}
 
 
-def register(task: Callable[..., Any], *recipes: Recipe) -> None:
-    """Give `task` (the class or factory a registered task id names) its recipes, the first
-    its default. Raises RecipeError, registering nothing, for a task that is not callable,
-    no recipe, a recipe of an unknown algorithm, two of one algorithm, or engine changes of
-    fields a recipe does not have."""
-    if not callable(task):
-        raise RecipeError(f"recipes are registered for a task class or factory, got {task!r}")
+def register(task: Callable[..., Any] | str, *recipes: Recipe) -> None:
+    """Give `task` its recipes, the first its default: the class or factory registered task
+    ids name (every id of it), or one Gymnasium id ('dm_control/walker-walk-v0': of tasks
+    sharing a class, that one; it wins over its class's). Raises RecipeError, registering
+    nothing, for a task that is neither, no recipe, a recipe of an unknown algorithm, two of
+    one algorithm, or engine changes of fields a recipe does not have."""
+    if not (callable(task) or (isinstance(task, str) and "/" in task)):
+        raise RecipeError(
+            "recipes are registered for a task class or factory, or a Gymnasium id "
+            f"'namespace/Name-vN', got {task!r}"
+        )
     if not recipes:
         raise RecipeError(f"register({_name(task)}): give at least one Recipe")
     fields = {f.name for f in dataclasses.fields(Recipe)} - {"engine_changes"}
@@ -178,8 +182,12 @@ def register(task: Callable[..., Any], *recipes: Recipe) -> None:
 
 
 def registered(info: registration.TaskInfo) -> tuple[Recipe, ...]:
-    """The recipes registered for `info`'s task, state and pixel ones alike, its default
-    first (none: empty). Raises RegistrationError when the task cannot be imported."""
+    """The recipes registered for `info`'s id, else for its task, state and pixel ones
+    alike, its default first (none: empty). Raises RegistrationError when the task cannot
+    be imported."""
+    own = _RECIPES.get(info.env_id)
+    if own is not None:
+        return own
     return _RECIPES.get(registration.resolve_task(info.task), ())
 
 
@@ -215,5 +223,5 @@ def _own(info: registration.TaskInfo) -> list[Recipe]:
     return [recipe for recipe in registered(info) if recipe.pixels == pixels]
 
 
-def _name(task: Callable[..., Any]) -> str:
-    return getattr(task, "__qualname__", repr(task))
+def _name(task: Callable[..., Any] | str) -> str:
+    return task if isinstance(task, str) else getattr(task, "__qualname__", repr(task))

@@ -17,7 +17,11 @@ checkpoint and exits with status 130; the same command then resumes it, up to
 it on to a larger `--timesteps`) or `--fresh` (replace it) says what to do, and one holding
 another engine's run is refused (`composer.cli.run_folder` keeps these rules).
 Evaluations (deterministic actions, fixed seeds) run every `--eval-every` timesteps, a
-tenth of the run by default; each saves a checkpoint. `--pixels` observes the task through
+tenth of `--timesteps` by default, and once more after training; each saves a checkpoint.
+The announcement says where the run will end (PPO collects whole rollouts, so
+`--timesteps 5000` on 8 environments of 256 steps trains 6,144: it says so, and why) and
+how often it evaluates; the progress bar's time left counts the evaluations
+(`composer.cli.progress`). `--pixels` observes the task through
 its camera (`catalog.with_pixels`) and trains with its pixel recipe, into
 runs/TASK-pixels-ALGO; `composer run` and `composer eval` take `--pixels` for its policy.
 
@@ -108,8 +112,10 @@ def _train(
     )  # fmt: skip
     run_folder.clear_if_fresh(folder, engine)
     verb = f"resuming at {progress.timesteps:,} steps:" if folder.resumes else "training"
-    print(f"{verb} {args.info.name} with {trainer.algorithm} to {recipe.timesteps:,} steps on "
+    print(f"{verb} {args.info.name} with {trainer.algorithm} to {trainer.end():,} steps on "
           f"{trainer.where} -> {folder.out}")  # fmt: skip
+    for line in _plan(trainer, session):
+        print("  " + line)
     print("hyperparameters: " + ", ".join(f"{k}={v}" for k, v in recipe.table().items()))
     with StopOnInterrupt() as stop:
         if progress.timesteps < recipe.timesteps:
@@ -126,6 +132,28 @@ def _train(
     _finish(args.info, trainer, session, folder.out / engine.policy, args.eval_episodes,
             not args.no_video)  # fmt: skip
     return 0
+
+
+def _plan(trainer: Trainer, session: Session) -> list[str]:
+    """What the announcement says after its first line: why the run ends past the
+    recipe's timesteps (its algorithm collects whole batches), and when it evaluates."""
+    lines = []
+    collection, target, done = trainer.collection, trainer.recipe.timesteps, trainer.timesteps
+    end = trainer.end()
+    if end > target and done < target and collection.batch:
+        lines.append(f"{target:,} steps rounded up to whole {collection.what} "
+                     f"({collection.batch:,} steps each)")  # fmt: skip
+    elif collection.batch is None and done < target:
+        lines.append(f"{collection.what}: the run may end past {target:,} steps")
+    evaluations = session.evaluations_until(end, done, collection.check_every)
+    episodes = describe.count(session.eval_episodes, "episode")
+    if evaluations:
+        times = describe.count(evaluations, "time")
+        lines.append(f"evaluating every {session.eval_every:,} steps ({times}, {episodes} "
+                     "each), then once more after training")  # fmt: skip
+    else:
+        lines.append(f"evaluating once, after training ({episodes})")
+    return lines
 
 
 def _finish(
@@ -164,7 +192,7 @@ def _finish(
         f"({metrics['env_steps_per_second']:,} steps/s); wrote {', '.join(written)} in {out}"
     )
     print(f"watch it: composer run {catalog.command_line(info)} --policy {out} "
-          f"--video {info.name}.mp4")  # fmt: skip
+          f"--video {out / 'replay.mp4'}")  # fmt: skip
 
 
 def _record(info: TaskInfo, trainer: Trainer, path: Path) -> Path:

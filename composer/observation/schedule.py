@@ -230,10 +230,11 @@ class Schedule:
 
     @property
     def observation_space(self) -> spaces.Dict | spaces.Box:
-        """One environment's observation space: a Dict of each channel's Box, or one
-        float64 Box when flattened."""
+        """One environment's observation space: a Dict of each channel's Box in the
+        channels' order, or one float64 Box when flattened."""
         if not self.flatten:
-            return spaces.Dict({c.name: c.box() for c in self.channels})
+            # Pairs, not a mapping: gymnasium's Dict sorts a mapping's keys, keeps pairs'.
+            return spaces.Dict([(c.name, c.box()) for c in self.channels])
         lows = [c.low.ravel() for c in self.channels]
         highs = [c.high.ravel() for c in self.channels]
         return spaces.Box(

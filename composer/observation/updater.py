@@ -64,16 +64,20 @@ class Updater:
         flatten: bool = False,
         strip_singleton_buffer_dim: bool = True,
         padding: ObservationPadding = ObservationPadding.INITIAL_VALUE,
+        *,
+        keep_order: bool = False,
     ) -> None:
-        """Resolve every observable in `physics` (read once to learn its shape and type);
-        raises ObservableError naming the observable that cannot be read."""
+        """Resolve every observable in `physics` (read once to learn its shape and type),
+        in the order of `observables` with `keep_order`, else sorted by name (the order
+        of flattened observations); raises ObservableError naming the observable that
+        cannot be read."""
         self.substeps = substeps
         self.flatten = flatten
         self.zero_padding = padding is ObservationPadding.ZERO
         self.channels: list[Channel] = []
         self.readers: list[Callable[[], Any]] = []
         plans: list[Plan | None] = []
-        for name in sorted(observables):
+        for name in observables if keep_order else sorted(observables):
             observable = observables[name]
             observable.validate(name)
             read, value = _resolve(name, observable, physics)

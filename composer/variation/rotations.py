@@ -16,30 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from composer.utils import transformations
 from composer.variation import base
 from composer.variation.variation_values import evaluate
-from mjcf.frame_poses import multiply  # the Hamilton product, over leading axes
 
 IDENTITY_QUATERNION = np.array([1.0, 0.0, 0.0, 0.0])
-
-
-def _rotate(quaternion: np.ndarray, vector: np.ndarray) -> np.ndarray:
-    """`vector` (3,) rotated by `quaternion` (4,): the vector part of q (0, v) q*, which
-    for a quaternion that is not unit also scales by its squared norm."""
-    pure = np.concatenate([[0.0], np.asarray(vector, dtype=np.float64)])
-    conjugate = np.asarray(quaternion, dtype=np.float64) * [1.0, -1.0, -1.0, -1.0]
-    return multiply(multiply(quaternion, pure), conjugate)[1:]
-
-
-def _from_axis_angle(axis_angle: np.ndarray) -> np.ndarray:
-    """The unit quaternion rotating by |axis_angle| about its direction (identity for a
-    zero vector)."""
-    axis_angle = np.asarray(axis_angle, dtype=np.float64)
-    angle = np.linalg.norm(axis_angle, axis=-1, keepdims=True)
-    zero = angle <= 0.0
-    axis = np.where(zero, [1.0, 0.0, 0.0], axis_angle / np.where(zero, 1.0, angle))
-    half = np.where(zero, 0.0, angle) / 2
-    return np.concatenate([np.cos(half), axis * np.sin(half)], axis=-1)
 
 
 class UniformQuaternion(base.Variation):
@@ -76,7 +57,7 @@ class QuaternionFromAxisAngle(base.Variation):
         """The quaternion of axis * angle (axis first, then angle, evaluated)."""
         axis = evaluate(self._axis, initial_value, current_value, random_state)
         angle = evaluate(self._angle, initial_value, current_value, random_state)
-        return _from_axis_angle(np.asarray(axis) * angle)
+        return transformations.axisangle_to_quat(np.asarray(axis) * angle)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, QuaternionFromAxisAngle):
@@ -101,7 +82,7 @@ class QuaternionPreMultiply(base.Variation):
         """The product of a new `quat` and the base quaternion."""
         quat = evaluate(self._quat, initial_value, current_value, random_state)
         base_quat = current_value if self._cumulative else initial_value
-        return multiply(np.asarray(quat), np.asarray(base_quat))
+        return transformations.quat_mul(np.asarray(quat), np.asarray(base_quat))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, QuaternionPreMultiply):
@@ -131,7 +112,7 @@ class QuaternionRotate(base.Variation):
             vec = current_value if self._cumulative else initial_value
         else:
             vec = evaluate(self._vec, initial_value, current_value, random_state)
-        return _rotate(np.asarray(quat), np.asarray(vec))
+        return transformations.quat_rotate(np.asarray(quat), np.asarray(vec))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, QuaternionRotate):

@@ -92,6 +92,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         *,
         time_limit: float | None = None,
         flatten_observations: bool = False,
+        action_repeat: int = 1,
         seed: int | None = None,
         nthread: int | None = None,
         max_episode_steps: int | None = None,
@@ -105,6 +106,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
     ) -> None:
         """Build num_envs environments of `task_factory()` and one batch of their
         simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
+        `action_repeat` is `composer.Environment`'s (each step that many control steps);
         `seed` seeds environment i's random state with seed + i until a seeded reset;
         `nthread` (physics and render threads) defaults to the CPUs this process may use;
         the render options are `composer.Environment`'s (`render_camera` None: the task's
@@ -118,12 +120,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self.autoreset_mode = AutoresetMode(autoreset_mode)
         self.render_mode = render_mode
         options = dict(
-            flatten_observations=flatten_observations,
+            flatten_observations=flatten_observations, action_repeat=action_repeat,
             strip_singleton_obs_buffer_dim=strip_singleton_obs_buffer_dim,
             delayed_observation_padding=delayed_observation_padding,
             render_height=render_height, render_width=render_width,
         )  # fmt: skip
         self._envs = self._make_envs(task_factory, time_limit, seed, options, render_camera)
+        self._action_repeat = action_repeat
         self._same_models = SameModels(num_envs)
         first = self._envs[0]
         self.single_observation_space = first.observation_space
@@ -348,10 +351,42 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         if ids.size:
             self._step_envs(ids, actions if ids is self._every else actions[ids], rewards,
                             terminated, truncated, info)  # fmt: skip
+            if self._action_repeat > 1:
+                info = self._repeat(ids, actions, rewards, terminated, truncated, info)
         self._over = terminated | truncated
         if self.autoreset_mode is AutoresetMode.SAME_STEP and self._over.any():
             info = self._final(np.flatnonzero(self._over), info)
         return self._observations.observation(), rewards, terminated, truncated, info
+
+    def _repeat(
+        self,
+        ids: np.ndarray,
+        actions: np.ndarray,
+        rewards: np.ndarray,
+        terminated: np.ndarray,
+        truncated: np.ndarray,
+        info: dict[str, Any],
+    ) -> dict[str, Any]:
+        """The control steps after the first of an `action_repeat` step, for environments
+        `ids` whose episodes go on, as each one's Environment runs them: rewards summed,
+        discounts multiplied, each environment's info that of its last control step."""
+        n = self.num_envs
+        discounts = np.ones(n)
+        _multiply_discounts(discounts, info, ids)
+        for _ in range(1, self._action_repeat):
+            going = ids[~(terminated[ids] | truncated[ids])]
+            if not going.size:
+                break
+            more_rewards = np.zeros(n)
+            more: dict[str, Any] = {}
+            self._step_envs(going, actions[going], more_rewards, terminated, truncated, more)
+            rewards[going] += more_rewards[going]
+            _multiply_discounts(discounts, more, going)
+            info_layout.replace_rows(info, more, going)
+        if "discount" in info:
+            has = info["_discount"]
+            info["discount"][has] = discounts[has]
+        return info
 
     def _final(self, ended: np.ndarray, info: dict[str, Any]) -> dict[str, Any]:
         """SAME_STEP: move ended environments' observations and info to final_obs and
@@ -635,3 +670,12 @@ def _seeds(seed: Any, n: int) -> list[int | None]:
         f"seed must be None, an int of at least 0 (environment i gets seed + i) or {n} of "
         f"them (or None), got {shown}"
     )
+
+
+def _multiply_discounts(discounts: np.ndarray, info: dict[str, Any], ids: np.ndarray) -> None:
+    """discounts[ids] *= the step's discount of each of `ids` (0 where it has none: a
+    diverged step, as a single Environment counts it)."""
+    if "discount" in info:
+        discounts[ids] *= np.where(info["_discount"][ids], info["discount"][ids], 0.0)
+    else:
+        discounts[ids] = 0.0

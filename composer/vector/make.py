@@ -35,6 +35,7 @@ def make_vector_environment(
     *,
     time_limit: float | None = None,
     flatten_observations: bool = False,
+    action_repeat: int = 1,
     render_mode: str | None = None,
     width: int | None = None,
     height: int | None = None,
@@ -68,7 +69,8 @@ def make_vector_environment(
     factory = task_factory(task, task_kwargs, (*ENVIRONMENT_OPTIONS, *_VECTOR_OPTIONS))
     options: dict[str, Any] = dict(
         time_limit=time_limit, flatten_observations=flatten_observations,
-        max_episode_steps=max_episode_steps, autoreset_mode=autoreset_mode,
+        action_repeat=action_repeat, max_episode_steps=max_episode_steps,
+        autoreset_mode=autoreset_mode,
         render_mode=render_mode, nthread=nthread, render_camera=camera,
         render_height=RENDER_SIZE[0] if height is None else height,
         render_width=RENDER_SIZE[1] if width is None else width,

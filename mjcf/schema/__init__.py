@@ -47,7 +47,8 @@ class AttributeSpec:
     'string', 'file', 'reference', 'keyword', 'int', 'real'), arity bounds for
     numbers (and bounds on their values, and whether MuJoCo holds them as 32-bit
     floats), keywords (whether case counts, which integers stand for them), the
-    namespace a reference points into, a grammar for text, and MuJoCo's default."""
+    namespace a reference points into, a grammar for text, MuJoCo's default, and how two
+    models' values merge when one is attached to the other (`merge`)."""
 
     __slots__ = (
         "alone",
@@ -65,6 +66,7 @@ class AttributeSpec:
         "max",
         "max_exclusive",
         "max_value",
+        "merge",
         "min",
         "min_exclusive",
         "min_value",
@@ -113,6 +115,9 @@ class AttributeSpec:
         # Blank text: numbers and text take it (MuJoCo reads it as not set), keywords not.
         self.blank: bool = bool(data.get("blank", kind.takes_blank))
         self.trims: bool = bool(data.get("trims", False))
+        # How two models' values merge when one is attached to the other ('min', 'max',
+        # 'or'), where MuJoCo's documentation says (see mjcf.global_settings).
+        self.merge: str | None = data.get("merge")
         # Text mjcf refuses though MuJoCo's reader takes it, and why (see _refusals);
         # why it refuses infinite or NaN numbers here, if it does.
         self.refused: dict[str, str] = {}

@@ -146,3 +146,15 @@ def test_py_spy_profiles_a_step_in_microseconds_per_call(capsys):
     out = capsys.readouterr().out
     assert "us CPU per call" in out
     assert "composer/environment.py:Environment.step" in out  # inclusive, all of a step
+
+
+def test_the_suite_step_benchmark_measures_three_sides(tmp_path):
+    pytest.importorskip("dm_env")
+    from tests import dm_control_wheel
+
+    dm_control_wheel.wheel()  # skips when the index cannot give dm_control's wheel
+    path = tmp_path / "results.json"
+    assert main(["suite_step", "--quick", "--json", str(path)]) == 0
+    results = json.loads(path.read_text())["benchmarks"]["suite_step"]["results"]
+    found = suite.ratios(results)
+    assert {"cartpole-swingup.ours_vs_raw", "cartpole-swingup.ours_vs_dm_control"} <= set(found)

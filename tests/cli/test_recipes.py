@@ -65,7 +65,7 @@ def test_a_task_without_recipes_trains_with_the_generic_ones():
 @pytest.mark.parametrize(
     ("task", "given", "message"),
     [
-        ("not a task", (GENERIC["ppo"],), "a task class or factory, got 'not a task'"),
+        ("not a task", (GENERIC["ppo"],), "a task class or factory, or a Gymnasium id"),
         (SwingTask, (), "give at least one Recipe"),
         (SwingTask, ({"algo": "ppo"},), "expected Recipe objects, got {'algo': 'ppo'}"),
         (SwingTask, (GENERIC["ppo"].replace(algo="a2c"),), "algo 'a2c' is not one of"),
@@ -96,3 +96,18 @@ def test_your_own_task_s_recipe_is_listed_and_trained_with(tmp_path):
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert Recipe.from_table(metrics["recipe"]) == Recipe("ppo", 64, 2, (16, 16), 1e-3, 64,
                                                           n_steps=32, n_epochs=2)  # fmt: skip
+
+
+def test_a_recipe_for_one_id_wins_over_its_task_class_s():
+    swing = registration.TaskInfo("Swing2", "test/Swing-v2", "tests.composer.scenes:SwingTask",
+                                  "", {})  # fmt: skip
+    sac = GENERIC["sac"].replace(timesteps=1_000)
+    recipes.register(SwingTask, GENERIC["ppo"].replace(timesteps=2_000))
+    recipes.register("test/Swing-v2", sac)
+    try:
+        assert recipes.registered(swing) == (sac,)  # the id's own
+        assert recipes.registered(SWING)[0].timesteps == 2_000  # the class's, for other ids
+        assert recipes.default_algo(swing) == "sac"
+    finally:
+        recipes._RECIPES.pop("test/Swing-v2")
+        recipes._RECIPES.pop(SwingTask)

@@ -38,14 +38,21 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     temp = tmp_path / "temp"  # the system's temporary folder: left as it was
     temp.mkdir()
     # Without Ray installed: the stable-baselines3 engine does not need it.
-    result = composer_without(("ray",), "train", "Reach", "--timesteps", "2048", "--out", "run",
+    result = composer_without(("ray",), "train", "Reach", "--timesteps", "2000", "--out", "run",
                               *TINY, cwd=tmp_path, env=environment(TMPDIR=str(temp)))  # fmt: skip
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines()[-1] == "imported: ['stable_baselines3', 'torch']"
     # Nothing per run (stable-baselines3 made an empty SB3-<date> folder); torch keeps one
     # cache folder per user there.
     assert [p.name for p in temp.iterdir() if not p.name.startswith("torchinductor_")] == []
-    assert "training Reach with PPO to 2,048 steps on 2 environments -> run" in result.stdout
+    # PPO collects whole rollouts: the announcement says where the run ends, and why.
+    assert (
+        "training Reach with PPO to 2,048 steps on 2 environments -> run\n"
+        "  2,000 steps rounded up to whole rollouts of 2 environments x 128 steps (256 steps "
+        "each)\n"
+        "  evaluating every 1,024 steps (2 times, 2 episodes each), then once more after "
+        "training\n"
+    ) in result.stdout
     assert re.search(rf"^ +2,048 steps +{DURATION}  return [\d.]+ ± [\d.]+  success [\d.]+$",
                      result.stdout, re.M)  # fmt: skip
     out = tmp_path / "run"
@@ -207,6 +214,10 @@ def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):
     resumed = composer("train", "Reach", "--timesteps", str(done + 1), "--out", "run",
                        "--no-video", "--eval-episodes", "1", cwd=tmp_path)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
-    assert f"resuming at {done:,} steps: Reach with SAC to {done + 1:,} steps" in resumed.stdout
+    assert (
+        f"resuming at {done:,} steps: Reach with SAC to {done + 2:,} steps on 2 environments "
+        f"-> run\n  {done + 1:,} steps rounded up to whole steps of its 2 environments (2 "
+        "steps each)\n"
+    ) in resumed.stdout
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert metrics["completed"] and metrics["timesteps"] == done + 2

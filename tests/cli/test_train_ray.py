@@ -21,6 +21,7 @@ import pytest
 
 from composer.cli.engines.ray import instance as ray_instance
 from composer.cli.engines.ray.algorithm import Layout
+from composer.cli.engines.ray.instance import LOOPBACK_ONLY
 from tests.cli.helpers import (
     FINISHED_CHOICES,
     assert_one_line_error,
@@ -59,55 +60,61 @@ def processes_started_with(marker: str) -> list[int]:
 
 
 @needs_ray
-def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_path, ray_cluster):
+def test_ray_train_on_a_local_instance_writes_what_eval_and_run_read(tmp_path):
     # A local instance, started and stopped by the command: nothing of it is left.
     # Nor does it need stable-baselines3.
     with tempfile.TemporaryDirectory(dir="/tmp") as short:  # Ray's socket paths go in it
         result = composer_without(("stable_baselines3",), "train", "CartpoleSwingup", *RAY,
-                                  "--workers", "2", "--timesteps", "20000", "--out", "run",
-                                  cwd=tmp_path, env=environment(TMPDIR=short),
-                                  timeout=TIMEOUT)  # fmt: skip
+                                  "--workers", "2", "--timesteps", "8000", "--eval-episodes",
+                                  "2", "--out", "run", cwd=tmp_path,
+                                  env=environment(TMPDIR=short), timeout=TIMEOUT)  # fmt: skip
         assert result.returncode == 0, result.stderr
         assert result.stdout.splitlines()[-1] == "imported: ['ray', 'torch']"
         assert processes_started_with(f"TMPDIR={short}") == []
         left = [p.name for p in Path(short).iterdir() if not p.name.startswith("torchinductor_")]
         assert left == []
     assert result.stderr == ""  # no notice of Ray's that asks nothing of the user
-    assert ("training CartpoleSwingup with RLlib PPO to 20,000 steps on 2 env runners x 16 "
-            "environments -> run") in result.stdout  # fmt: skip
-    assert re.search(r"^env runners: 2 on [\d.]+ \(pids \d+, \d+\)$", result.stdout, re.M)
-    progress = rf"^ +20,480 steps +{DURATION}  return [\d.]+ ± [\d.]+$"
+    # 4,096 steps per iteration (32 environments x 128): the run ends at the second, and an
+    # evaluation every 800 steps is due after each.
+    assert (
+        "training CartpoleSwingup with RLlib PPO to 8,192 steps on 2 env runners x 16 "
+        "environments -> run\n  8,000 steps rounded up to whole iterations of RLlib's train "
+        "batch (4,096 steps each)\n  evaluating every 800 steps (2 times, 2 episodes each), "
+        "then once more after training\n"
+    ) in result.stdout
+    local = r"a local Ray instance, on 127\.0\.0\.1 only"  # listening on the loopback only
+    runners = rf"^env runners: 2 on 127\.0\.0\.1 \(pids \d+, \d+\): {local}$"
+    assert re.search(runners, result.stdout, re.M)
+    progress = rf"^ +8,192 steps +{DURATION}  return [\d.]+ ± [\d.]+$"
     assert re.search(progress, result.stdout, re.M)
     out = tmp_path / "run"
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["engine"], metrics["workers"], metrics["envs_per_worker"]) == ("ray", 2, 16)
-    assert metrics["env_steps_per_second"] > 0
     assert (metrics["task"], metrics["algo"], metrics["timesteps"]) == ("CartpoleSwingup", "ppo",
-                                                                        20480)  # fmt: skip
+                                                                        8192)  # fmt: skip
     assert metrics["completed"] and metrics["env_steps_per_second"] > 0
     assert metrics["env_runner_restarts"] == 0 and metrics["ray"]["cluster"] == "local"
-    # 4,096 steps per iteration (32 environments x 128): an evaluation every 2,000 is due
-    # after each of the 5 iterations.
-    assert [e["timesteps"] for e in metrics["evaluations"]] == [4096 * i for i in range(1, 6)]
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [4096, 8192]
     assert metrics["final"] == metrics["evaluations"][-1]
     assert metrics["recipe"]["n_envs"] == 32 and metrics["recipe"]["n_steps"] == 128
-    assert sum(row[2] for row in metrics["train_curve"]) == 32 * (20480 // 32 // 200)
-    assert metrics["random_policy"]["episodes"] == 10
+    assert sum(row[2] for row in metrics["train_curve"]) == 32 * (8192 // 32 // 200)
+    assert metrics["random_policy"]["episodes"] == 2
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
     assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape[1:] == (240, 320, 3)
     assert {p.name for p in (out / "policy").iterdir()} == {"module", "policy.json", "weights.npz"}
 
     # The policy carries its observation filter, and eval's default seeds are those of
-    # training's evaluations: eval repeats training's final evaluation.
-    evaluated = composer("eval", "CartpoleSwingup", "run", cwd=tmp_path)
+    # training's evaluations: eval of as many episodes repeats training's final evaluation.
+    evaluated = composer("eval", "CartpoleSwingup", "run", "--episodes", "2", cwd=tmp_path)
     assert evaluated.returncode == 0, evaluated.stderr
     final = metrics["final"]
     assert evaluated.stdout == (
         f"CartpoleSwingup, policy run: return {final['mean_return']:.2f} ± "
-        f"{final['std_return']:.2f} over 10 episodes\n"
+        f"{final['std_return']:.2f} over 2 episodes\n"
     )
     # Read from weights.npz (the default) or by RLlib from module/: the same policy.
-    trusted = composer("eval", "CartpoleSwingup", "run", "--trust-policy", cwd=tmp_path)
+    trusted = composer("eval", "CartpoleSwingup", "run", "--episodes", "2", "--trust-policy",
+                       cwd=tmp_path)  # fmt: skip
     assert trusted.stdout == evaluated.stdout
     ran = composer("run", "CartpoleSwingup", "--policy", "run/policy", cwd=tmp_path)
     assert ran.returncode == 0, ran.stderr
@@ -115,23 +122,40 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     elsewhere = composer("eval", "Reach", "run", cwd=tmp_path)
     assert_one_line_error(elsewhere, "observations of shape (5,)", "this task has (10,)")
 
+
+@needs_ray
+def test_a_ray_run_keeps_the_folder_rules_resumes_on_other_workers_and_is_replaced(
+    tmp_path, ray_cluster
+):
+    """On the session's cluster: a finished run of two env runners, the output folder's
+    rules, resuming it on one runner, and replacing it with --fresh."""
+    cluster = ("--address", ray_cluster.address)
+    first = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "2",
+                     "--envs-per-worker", "4", "--timesteps", "2000", "--eval-episodes", "1",
+                     "--out", "run", "--no-video", cwd=tmp_path, env=ray_cluster.environment(),
+                     timeout=TIMEOUT)  # fmt: skip
+    assert first.returncode == 0, first.stderr
+    assert "to 2,048 steps on 2 env runners x 4 environments -> run\n" in first.stdout
+    assert re.search(r"^env runners: 2 on 127\.0\.0\.1 \(pids \d+, \d+\)$", first.stdout, re.M)
+    out = tmp_path / "run"
+
     # The rules of the output folder are the stable-baselines3 engine's, checked before
     # Ray starts: a finished run is kept unless --resume or --fresh says what to do, ...
     files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
-    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "28000", "--out", "run",
+    again = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "3000", "--out", "run",
                      cwd=tmp_path)  # fmt: skip
     line = assert_one_line_error(again, "run holds a finished run: CartpoleSwingup with PPO, "
-                                 "20,480 steps")  # fmt: skip
+                                 "2,048 steps")  # fmt: skip
     assert line.endswith(FINISHED_CHOICES)
-    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "20480", "--resume",
+    smaller = composer("train", "CartpoleSwingup", *RAY, "--timesteps", "2048", "--resume",
                        "run", cwd=tmp_path)  # fmt: skip
-    assert_one_line_error(smaller, "the run in run has 20,480 steps already",
+    assert_one_line_error(smaller, "the run in run has 2,048 steps already",
                           "give --timesteps above that")  # fmt: skip
     # ... the stable-baselines3 engine neither resumes nor replaces it ...
     for flag in ("--resume", "--fresh"):
         sb3 = composer("train", "CartpoleSwingup", "--out", "run", flag, cwd=tmp_path)
         assert_one_line_error(sb3, "run holds a run of --engine ray (CartpoleSwingup with PPO, "
-                              "20,480 steps", "--engine sb3 can neither resume nor replace it; "
+                              "2,048 steps", "--engine sb3 can neither resume nor replace it; "
                               "give --engine ray, or --out DIR")  # fmt: skip
     shutil.copytree(out / "policy", tmp_path / "policy-only" / "policy")
     sb3 = composer("train", "CartpoleSwingup", "--out", "policy-only", cwd=tmp_path)
@@ -144,19 +168,22 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert_one_line_error(unreachable, f"cannot reach the Ray cluster at 127.0.0.1:{port}")
     assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files
 
-    # The rest joins the session's cluster.
-    cluster = ("--address", ray_cluster.address)
+    # Resumed on one env runner, the run keeps its recipe: its batch stays 1,024 (2 x 4 x 128).
     resumed = composer("train", "CartpoleSwingup", *RAY, *cluster, "--workers", "1",
-                       "--timesteps", "28000", "--resume", "--out", "run", "--no-video",
+                       "--timesteps", "3000", "--resume", "--out", "run", "--no-video",
                        cwd=tmp_path, env=ray_cluster.environment(), timeout=TIMEOUT)  # fmt: skip
     assert resumed.returncode == 0, resumed.stderr
-    assert ("resuming at 20,480 steps: CartpoleSwingup with RLlib PPO to 28,000 steps on "
-            "1 env runner x 16 environments") in resumed.stdout  # fmt: skip
+    assert (
+        "resuming at 2,048 steps: CartpoleSwingup with RLlib PPO to 3,072 steps on 1 env "
+        "runner x 4 environments -> run\n  3,000 steps rounded up to whole iterations of "
+        "RLlib's train batch (1,024 steps each)\n"
+    ) in resumed.stdout
     metrics = json.loads((out / "metrics.json").read_text())
-    assert metrics["timesteps"] == 28672 and metrics["workers"] == 1  # the batch stays 4,096
-    assert [e["timesteps"] for e in metrics["evaluations"]][5:] == [24576, 28672]
-    # Resumed environments start new episodes: 16 of 512 steps each, 2 episodes each.
-    assert sum(row[2] for row in metrics["train_curve"]) == 96 + 16 * 2
+    assert metrics["timesteps"] == 3072 and metrics["workers"] == 1
+    assert [e["timesteps"] for e in metrics["evaluations"]] == [1024, 2048, 3072]
+    # Resumed environments start new episodes: 4 of 256 steps each, 1 episode each (and 8
+    # of the first session's).
+    assert sum(row[2] for row in metrics["train_curve"]) == 8 + 4
     (saved,) = (p.name for p in (out / "checkpoint").iterdir() if p.is_dir())
 
     # --fresh replaces the run with a new one (one iteration: 2 environments x 128 steps,
@@ -169,8 +196,8 @@ def test_ray_train_writes_the_outputs_that_eval_and_run_read_then_resumes(tmp_pa
     assert fresh.returncode == 0, fresh.stderr
     assert fresh.stdout.startswith(
         f"--fresh: removed the earlier run in run: checkpoint/{saved}/, checkpoint/state.json, "
-        "policy/, metrics.json, learning_curve.png, video.mp4\ntraining CartpoleSwingup with "
-        "RLlib PPO to 256 steps on 1 env runner x 2 environments -> run\n"
+        "policy/, metrics.json, learning_curve.png\ntraining CartpoleSwingup with RLlib PPO to "
+        "256 steps on 1 env runner x 2 environments -> run\n"
     )
     metrics = json.loads((out / "metrics.json").read_text())
     assert (metrics["timesteps"], len(metrics["evaluations"])) == (256, 1)
@@ -199,7 +226,7 @@ def test_killing_an_env_runner_does_not_end_training_and_ctrl_c_saves(tmp_path, 
             seen.append(line)
             if line.startswith("env runners:") and not pids:
                 pids = [int(pid) for pid in re.findall(r"\d+", line.partition("pids")[2])]
-            elif re.match(r" +[\d,]+ steps ", line):
+            elif re.match(r" +[\d,]+ steps +\S+  return ", line):  # an evaluation
                 if killed is None:
                     killed = int(line.split()[0].replace(",", ""))
                     os.kill(pids[0], signal.SIGKILL)
@@ -257,22 +284,27 @@ def test_joins_a_cluster_of_two_nodes_started_with_ray_start(tmp_path):
     runners over both."""
     port = free_port()
     token = os.urandom(16).hex()
-    env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token)
+    # Two nodes make a cluster of machines, which Ray's switch for one machine refuses: its
+    # nodes listen on this machine's interface address, as on a real cluster.
+    several = {LOOPBACK_ONLY: "1"}
+    env = environment(RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=token, **several)
     temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")  # Ray's socket paths must be short
+    head, worker = tmp_path / "head.log", tmp_path / "worker.log"
     nodes = [start_node("--head", "--port", str(port), "--include-dashboard", "false",
-                        "--temp-dir", temp, env=env, cpus=1)]  # fmt: skip
+                        "--temp-dir", temp, env=env, log=head, cpus=1)]  # fmt: skip
     try:
-        wait_started(nodes[0])
-        nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, cpus=1))
-        wait_started(nodes[1])
+        wait_started(nodes[0], head)
+        nodes.append(start_node("--address", f"127.0.0.1:{port}", env=env, log=worker, cpus=1))
+        wait_started(nodes[1], worker)
         # The token alone, as a user copies it: the command joins in token mode itself.
         result = composer("train", "CartpoleSwingup", *RAY, "--address", f"127.0.0.1:{port}",
                           "--envs-per-worker", "2", "--timesteps", "2048", "--eval-episodes",
                           "1", "--out", "run", "--no-video", cwd=tmp_path,
-                          env=environment(RAY_AUTH_TOKEN=token), timeout=TIMEOUT)  # fmt: skip
+                          env=environment(RAY_AUTH_TOKEN=token, **several),
+                          timeout=TIMEOUT)  # fmt: skip
     finally:
         for node in reversed(nodes):
-            stop_node(node)
+            stop_node(node.pid)
         shutil.rmtree(temp, ignore_errors=True)
     assert result.returncode == 0, result.stderr
     assert "on 2 env runners x 2 environments" in result.stdout  # the cluster's two CPUs

@@ -1,19 +1,24 @@
 """The dm_env bridge: dm_env's own conformance tests on composer environments (shipped
 tasks and a test scene), discounts of terminations and truncations, tasks declaring
-dm_control's `action_spec`, spec conversions, and `import composer` without dm_env."""
+dm_control's `action_spec`, `Task.action_spec` against dm_control's own (issue 37, item 5),
+spec conversions, and `import composer` without dm_env."""
 
 from __future__ import annotations
 
 import subprocess
 import sys
 import textwrap
+import types
 import unittest
+import zipfile
 
+import mujoco
 import numpy as np
 import pytest
 from gymnasium import spaces
 
 import composer
+from tests import dm_control_wheel
 from tests.composer.scenes import SwingTask
 from tests.conftest import REPO
 
@@ -156,6 +161,73 @@ def test_an_action_spec_that_is_not_one_array_of_numbers_is_refused():
         composer.Environment(Discrete())
 
 
+def _dm_control_task_module() -> types.ModuleType:
+    """dm_control's own `composer/task.py` from its wheel (fetched at test time), run on
+    its own `dm_control.mujoco` from the rewritten wheel."""
+    dm_control_wheel.import_module("dm_control.mujoco.wrapper.core")  # its mujoco, imported
+    with zipfile.ZipFile(dm_control_wheel.wheel()) as archive:
+        source = archive.read("dm_control/composer/task.py").decode()
+    module = types.ModuleType("dm_control_task_reference")
+    exec(compile(source, "dm_control/composer/task.py", "exec"), module.__dict__)
+    return module
+
+
+def _with_odd_actuators() -> composer.Task:
+    """SwingTask with an actuator that is not control-limited and an unnamed one."""
+    task = SwingTask()
+    model, hinge = task.pendulum.mjcf_model, task.pendulum.hinge
+    model.actuator.add("velocity", name="spin", joint=hinge, kv=0.1, ctrllimited=False)
+    model.actuator.add("motor", joint=hinge, ctrlrange=[-0.5, 2])
+    return task
+
+
+@pytest.mark.parametrize("make_task", [WalkerRun, _with_odd_actuators])
+def test_task_action_spec_is_dm_control_s_on_the_same_model(make_task):
+    task = make_task()
+    physics = composer.Environment(task).physics
+    core = dm_control_wheel.import_module("dm_control.mujoco.wrapper.core")
+    their_physics = types.SimpleNamespace(model=core.MjModel(physics.model))
+    theirs = _dm_control_task_module().Task.action_spec(task, their_physics)
+    ours = task.action_spec(physics)
+    assert type(ours) is specs.BoundedArray
+    assert (ours.shape, ours.dtype, ours.name) == (theirs.shape, theirs.dtype, theirs.name)
+    np.testing.assert_array_equal(ours.minimum, theirs.minimum)
+    np.testing.assert_array_equal(ours.maximum, theirs.maximum)
+    if make_task is _with_odd_actuators:
+        assert ours.name.split("\t")[1:] == ["pendulum/spin", "pendulum//unnamed_actuator_2"]
+        assert ours.maximum[1] == mujoco.mjMAXVAL and ours.minimum[2] == -0.5
+
+
+class UserActions(SwingTask):
+    """Two actions of its own after the actuators' (as flybody's walkers add user actions),
+    from dm_control's default spec."""
+
+    def action_spec(self, physics):
+        spec = super().action_spec(physics)
+        return specs.BoundedArray(
+            (spec.shape[0] + 2,), spec.dtype, np.append(spec.minimum, [-1, -1]),
+            np.append(spec.maximum, [1, 1]), name=spec.name + "\tuser_0\tuser_1",
+        )  # fmt: skip
+
+    def before_step(self, physics, action, random_state):
+        physics.set_control(action[:-2])
+        self.user = action[-2:]
+
+
+def test_an_action_spec_starting_from_super_is_the_action_space():
+    task = UserActions()
+    env = composer.Environment(task)
+    assert env.action_space == spaces.Box(
+        np.array([-1, -1, -1.0]), np.array([1, 1, 1.0]), (3,), np.float64
+    )
+    env.reset(seed=0)
+    env.step(np.array([0.5, 2.0, -0.25]))
+    np.testing.assert_array_equal(env.physics.data.ctrl, [0.5])
+    np.testing.assert_array_equal(task.user, [1.0, -0.25])  # clipped to the spec
+    spec = dm_env_bridge.DmEnvAdapter(env).action_spec()
+    assert spec.name == "pendulum/motor\tuser_0\tuser_1"
+
+
 def test_specs_and_spaces_convert_both_ways():
     nested = {
         "pos": specs.Array((3,), np.float64),
@@ -223,7 +295,13 @@ def test_without_dm_env_composer_works_and_the_bridge_says_how_to_install_it():
             from composer import dm_env_bridge
         except ImportError as e:
             print(e)
+        try:
+            env.task.action_spec(env.physics)
+        except ImportError as e:
+            print(e)
         """
     )
     assert result.returncode == 0, result.stderr
-    assert "pip install 'mujoco-composer[dm]'" in result.stdout
+    assert (
+        result.stdout.count("pip install -e '.[dm]' from a checkout (or: pip install dm-env)") == 2
+    )

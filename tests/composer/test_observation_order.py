@@ -11,17 +11,13 @@ on our task, physics and observables).
 
 from __future__ import annotations
 
-import importlib
-import sys
-import zipfile
-
 import numpy as np
 import pytest
 
 import composer
 import mjcf
 from composer import observation
-from tests import dm_control_wheel
+from tests.composer import dm_control_environment
 from tests.composer.scenes import SwingTask
 
 GOALS = np.linspace(-1.0, 1.0, 7)
@@ -141,50 +137,12 @@ def test_camera_frames_show_the_state_after_step_left():
 
 # -- dm_control's own Environment, run on our task ---------------------------------------
 
-PACKAGE = "dm_control_environment_reference"
-_MODULES = {
-    "dm_control/composer/environment.py": "environment.py",
-    "dm_control/composer/observation/updater.py": "updater.py",
-    "dm_control/composer/observation/obs_buffer.py": "obs_buffer.py",
-    "dm_control/rl/control.py": "control.py",
-}
-_IMPORTS = (
-    ("from dm_control import mjcf", "import mjcf"),
-    ("from dm_control.composer import variation", "from composer import variation"),
-    (
-        "from dm_control.composer.observation import obs_buffer",
-        f"from {PACKAGE} import obs_buffer",
-    ),
-    (
-        "from dm_control.composer import observation",
-        f"from {PACKAGE} import updater as observation",
-    ),
-    ("from dm_control.rl import control", f"from {PACKAGE} import control"),
-)
-
 
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     """dm_control's composer `environment` module, on our mjcf and our observables."""
-    pytest.importorskip("dm_env")
-    pytest.importorskip("absl")
-    root = tmp_path_factory.mktemp("reference")
-    package = root / PACKAGE
-    package.mkdir()
-    (package / "__init__.py").write_text("")
-    with zipfile.ZipFile(dm_control_wheel.wheel()) as archive:
-        for name, target in _MODULES.items():
-            source = archive.read(name).decode()
-            for old, new in _IMPORTS:
-                source = source.replace(old, new)
-            (package / target).write_text(source)
-    sys.path.insert(0, str(root))
-    try:
-        yield importlib.import_module(f"{PACKAGE}.environment")
-    finally:
-        sys.path.remove(str(root))
-        for name in [n for n in sys.modules if n.startswith(PACKAGE)]:
-            del sys.modules[name]
+    with dm_control_environment.loaded(tmp_path_factory.mktemp("reference")) as module:
+        yield module
 
 
 def test_an_episode_observes_what_dm_control_s_environment_observes(reference):

@@ -32,7 +32,7 @@ ANY = None  # every mjcf module
 # the reading functions are read-only views, and the public setters would check again, for
 # every element, what a builder has checked (the parser: the whole document at once).
 TREE_BUILDERS = frozenset(
-    {"parser", "copying", "default_sections", "defaults", "attachment", "root"}
+    {"parser", "copying", "default_sections", "defaults", "attachment", "root", "global_settings"}
 )
 # The modules that read and write a physics' state for bindings and named access: every read
 # tests `_stale` and calls `_refresh()` inline, the per-read path (bench bind), where a call

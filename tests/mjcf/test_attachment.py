@@ -4,6 +4,7 @@ settings, helpers and bad input, on the real UR5e, Robotiq 2F-85 and gymnasium m
 from __future__ import annotations
 
 import copy
+import re
 import warnings
 
 import mujoco
@@ -169,18 +170,28 @@ def _top_bodies(model: mujoco.MjModel) -> set[str]:
 # -- detach -----------------------------------------------------------------------------------
 
 
+_SETTINGS = ("compiler", "option", "size", "statistic", "visual")
+
+
+def _without_settings(xml: str) -> str:
+    sections = "|".join(_SETTINGS)
+    return re.sub(rf"\n  <({sections})\b.*?(/>|</\1>)", "", xml, flags=re.S)
+
+
 def _detach_restores(parent: mjcf.RootElement, attach, detach_frame: bool) -> mjcf.Element:
+    """Detaching takes out all the child brought, but the global settings merged into
+    the parent, which stay as the attach left them, as in dm_control."""
     before = parent.to_xml_string()
-    settings = parent.compiler.get_attributes()
     frame = attach()
     child = frame.attached_model
+    merged = {tag: getattr(parent, tag).to_xml_string() for tag in _SETTINGS}
     assert parent.to_xml_string() != before
     if detach_frame:
         frame.detach()
     else:
         child.detach()
-    assert parent.to_xml_string() == before
-    assert parent.compiler.get_attributes() == settings
+    assert _without_settings(parent.to_xml_string()) == _without_settings(before)
+    assert {tag: getattr(parent, tag).to_xml_string() for tag in _SETTINGS} == merged
     assert mjcf.get_attachment_frame(child) is None and child.parent_model is None
     return child
 
@@ -205,7 +216,9 @@ def test_detach_restores_the_parent_byte_for_byte(menagerie, detach_frame: bool)
     _detach_restores(arm, free, detach_frame)
     assert arm.find("joint", "float") is None
     alone = mjcf.from_path(ROBOTIQ)
-    assert gripper.to_xml_string() == alone.to_xml_string()
+    # The gripper keeps a copy of the settings it shared with the arm, as in dm_control.
+    assert _without_settings(gripper.to_xml_string()) == _without_settings(alone.to_xml_string())
+    assert (gripper.option.integrator, gripper.option.impratio) == ("implicitfast", 10)
 
 
 def test_detach_nested_attachments_and_keyframes(menagerie) -> None:
@@ -232,12 +245,13 @@ def test_detach_nested_attachments_and_keyframes(menagerie) -> None:
     assert names == ["start", "base/arm/home"]
     assert "base/arm/gripper/fingers_actuator" in physics.named.data.ctrl.axes.row.names
     arm.detach()
-    assert base.to_xml_string() == base_before
-    assert scene.to_xml_string() == scene_before
+    assert _without_settings(base.to_xml_string()) == _without_settings(base_before)
+    assert _without_settings(scene.to_xml_string()) == _without_settings(scene_before)
+    assert scene.option.integrator == "implicitfast"  # the arm's, merged: it stays
     assert scene.find("geom", "base/arm/gripper/right_pad1") is None
 
 
-def test_detach_leaves_no_compiler_setting_of_the_child() -> None:
+def test_detach_leaves_no_compiler_setting_the_child_keeps_for_itself() -> None:
     parent = mjcf.RootElement(model="parent")
     parent.worldbody.add("geom", type="plane", size=[1, 1, 1])
     before = parent.to_xml_string()
@@ -245,8 +259,11 @@ def test_detach_leaves_no_compiler_setting_of_the_child() -> None:
     parent.attach(ant)
     assert 'angle="degree"' not in parent.to_xml_string()
     ant.detach()
-    assert parent.to_xml_string() == before
-    assert parent.compiler.get_attributes() == {}
+    assert _without_settings(parent.to_xml_string()) == _without_settings(before)
+    # What the ant shares stays merged, as in dm_control; what it keeps for itself goes.
+    assert parent.compiler.get_attributes() == {"coordinate": "local"}
+    assert parent.option.get_attributes() == {"integrator": "RK4", "timestep": 0.01}
+    assert ant.compiler.angle == "degree" and ant.compiler.inertiafromgeom == "true"
 
 
 def test_remove_of_a_frame_detaches() -> None:
@@ -393,36 +410,31 @@ def test_attachment_frames_inside_an_attached_model_keep_its_angle_units(
 
 def test_conflicting_options_are_refused_and_change_nothing() -> None:
     parent, child = _parent("radian"), _child("degree")
-    parent.option.timestep = 0.002
-    child.option.timestep = 0.005
+    parent.option.integrator = "RK4"
+    child.option.integrator = "implicitfast"
+    child.option.timestep = 0.005  # merges: the smaller step
     before, child_before = parent.to_xml_string(), child.to_xml_string()
-    with pytest.raises(mjcf.AttachmentError, match=r"<option timestep> differently"):
+    with pytest.raises(mjcf.AttachmentError, match=r"<option> integrator: 'RK4' in model"):
         parent.attach(child)
     assert parent.to_xml_string() == before and child.to_xml_string() == child_before
     assert child.parent_model is None
-    child.option.timestep = 0.002  # the same value on both is fine
+    child.option.integrator = "RK4"  # the same value on both is fine
     parent.attach(child)
-    child.option.timestep = 0.005  # a conflict made later is caught when compiling
-    with pytest.raises(mjcf.AttachmentError, match="timestep"):
-        mjcf.Physics.from_mjcf_model(parent)
+    assert parent.option.timestep == 0.005
+    child.option.integrator = "Euler"  # written later: the composed model's, as in dm_control
+    assert mjcf.Physics.from_mjcf_model(parent).model.opt.integrator == 0  # Euler
 
 
-def test_gymnasium_models_with_different_timesteps_conflict() -> None:
-    """Attach checks a model against the models it is attached into; two siblings that
-    disagree are reported when the scene is written or compiled."""
+def test_gymnasium_models_with_different_timesteps_compose_at_the_smaller_step() -> None:
     ant = mjcf.from_path(gym_model("ant"))  # timestep 0.01
-    before = ant.to_xml_string()
-    with pytest.raises(mjcf.AttachmentError, match="timestep"):
-        ant.attach(mjcf.from_path(gym_model("humanoid")))  # timestep 0.003
-    assert ant.to_xml_string() == before
+    ant.attach(mjcf.from_path(gym_model("humanoid")))  # timestep 0.003, 50 PGS iterations
+    model = mjcf.Physics.from_mjcf_model(ant).model
+    assert model.opt.timestep == 0.003 and model.opt.iterations == 50
+    assert model.opt.solver == mujoco.mjtSolver.mjSOL_PGS
     arena = mjcf.RootElement(model="arena")
     arena.attach(mjcf.from_path(gym_model("ant")))
     arena.attach(mjcf.from_path(gym_model("humanoid")))
-    message = r"models 'ant' and 'humanoid' set <option timestep> differently"
-    with pytest.raises(mjcf.AttachmentError, match=message):
-        mjcf.Physics.from_mjcf_model(arena)
-    with pytest.raises(mjcf.AttachmentError, match=message):
-        arena.to_xml_string()
+    assert mjcf.Physics.from_mjcf_model(arena).model.opt.timestep == 0.003
 
 
 def test_irreconcilable_inertia_settings_are_refused() -> None:
@@ -506,7 +518,9 @@ def test_settotalmass_of_the_output_model_with_attachments_is_refused() -> None:
     hopper.option.timestep = cheetah.option.timestep
     cheetah.attach(hopper)
     for write in (cheetah.to_xml_string, lambda: mjcf.Physics.from_mjcf_model(cheetah)):
-        with pytest.raises(mjcf.AttachmentError, match=r"settotalmass=14\.0> would scale"):
+        with pytest.raises(
+            mjcf.AttachmentError, match=r"settotalmass=14\.0> of model 'cheetah' would scale"
+        ):
             write()
     scene = mjcf.RootElement(model="scene")
     scene.attach(cheetah)

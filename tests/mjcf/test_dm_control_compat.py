@@ -330,23 +330,25 @@ def test_size_capacities_merge_to_the_largest_memory_in_bytes() -> None:
     child.size.nkey = 3
     child.size.nuserdata = 5
     parent.attach(child)
-    # The parent holds what its models need at once, as in dm_control.
-    assert (parent.size.memory, parent.size.nkey, parent.size.nuserdata) == ("2M", 3, 5)
-    assert 'memory="2M" nkey="3" nuserdata="5"' in parent.to_xml_string()
+    # The parent holds what its models need at once, memory in bytes, as in dm_control.
+    assert (parent.size.memory, parent.size.nkey, parent.size.nuserdata) == ("2097152", 3, 5)
+    assert 'memory="2097152" nkey="3" nuserdata="5"' in parent.to_xml_string()
     physics = mjcf.Physics.from_mjcf_model(parent)
     assert physics.model.narena == 2 * 2**20
     other = mjcf.RootElement(model="o")
     other.size.memory = "3m"
     parent.attach(other)
-    assert parent.size.memory == str(3 * 2**20)  # in bytes, as dm_control writes it
+    assert parent.size.memory == str(3 * 2**20)
     assert mjcf.Physics.from_mjcf_model(parent).model.narena == 3 * 2**20
 
 
 def test_other_setting_conflicts_still_raise() -> None:
     parent, child = mjcf.RootElement(model="p"), mjcf.RootElement(model="c")
     parent.option.timestep = 0.002
-    child.option.timestep = 0.005
-    with pytest.raises(mjcf.AttachmentError, match="option timestep"):
+    child.option.timestep = 0.005  # merges to the smaller
+    parent.option.gravity = [0, 0, -9.81]
+    child.option.gravity = [0, 0, -1.62]
+    with pytest.raises(mjcf.AttachmentError, match="Conflicting values for attribute `gravity`"):
         parent.attach(child)
 
 

@@ -31,6 +31,7 @@ def test_traversal_utils_on_composed_real_models(menagerie) -> None:
     gripper = mjcf.from_path(ROBOTIQ)
     arm.find("site", "attachment_site").attach(gripper)
     ant = mjcf.from_path(gym_model("ant"))
+    del ant.option.integrator  # RK4, where the arm's is implicitfast: one model, one integrator
     arm_frame = scene.attach(arm)
     ant_frame = scene.attach(ant)
     ant_frame.add("joint", name="slide", type="slide", axis=[1, 0, 0])
@@ -91,3 +92,21 @@ def test_parser_and_element_module_paths_as_dm_control_imports_them(menagerie, t
     assert parser.from_zip(zipped).find("mesh", "pad") is not None
     with pytest.raises(mjcf.ParseError, match="cannot read MJCF file"):
         parser.from_file(str(tmp_path / "missing.xml"))
+
+
+def test_element_impl_is_the_class_of_every_element(menagerie) -> None:
+    """kevinzakka/mujoco_utils types elements as `mjcf.element._ElementImpl`, dm_control's
+    class of every element: here `mjcf.Element`, whatever made the element."""
+    from mjcf import element
+
+    assert element._ElementImpl is mjcf.element._ElementImpl is mjcf.Element
+    arm, gripper = mjcf.from_path(UR5E), mjcf.from_path(ROBOTIQ)  # read from files
+    frame = arm.find("site", "attachment_site").attach(gripper)
+    arm.worldbody.add("body", name="made").add("geom", size=[0.1])  # made in Python
+    arm.default.add("default", dclass="extra").geom.rgba = [1, 0, 0, 1]
+    everything = [*arm.iter(), *gripper.iter(), frame, *arm.worldbody.all_children()]
+    kinds = {type(e).__name__ for e in everything}
+    assert {"RootElement", "AttachmentFrame", "Element"} <= kinds
+    assert len(everything) > 200
+    assert all(isinstance(e, element._ElementImpl) for e in everything)
+    assert not isinstance(arm.worldbody.body, element._ElementImpl)  # an ElementList

@@ -67,6 +67,9 @@ class Attribute:
     text_format: str | None = None  # a grammar of values.TEXT_FORMATS
     blank: bool | None = None  # whether blank text is read; None: as usual for the kind
     trims: bool = False  # keywords: spaces around them are ignored
+    # How two models' values merge when one is attached to the other (min, max, or);
+    # None where the documentation's merging table leaves them to agree.
+    merge: str | None = None
 
     def to_json(self) -> dict:
         """The attribute's entry in the JSON file."""
@@ -115,6 +118,8 @@ class Attribute:
         spec["required"] = self.required
         if self.kind in ("string", "keyword", "int", "real"):
             spec["default"] = self.default
+        if self.merge is not None:
+            spec["merge"] = self.merge
         return spec
 
 
@@ -318,6 +323,43 @@ def elements_from_docs(docs: Path) -> tuple[dict[str, Element], list[tuple[str, 
         raise SchemaError("no documented type for: " + ", ".join(unresolved))
     elements[BODY].children.extend(META)
     return elements, edges
+
+
+# The merging table's behaviors (modeledit.rst, "Attribute Merging"), by their names there.
+_MERGE_BEHAVIORS = {"Minimum": "min", "Maximum": "max", "OR (union)": "or", "Error": None}
+
+
+def merge_rules_from_docs(docs: Path, elements: dict[str, Element]) -> None:
+    """Give each attribute the documented way two models' values merge when one model is
+    attached to the other (``compiler/conflict="merge"``: the table of
+    ``programming/modeledit.rst``); a row naming a whole element (``option-flag``) gives
+    it to each of its attributes."""
+    text = (docs / "programming" / "modeledit.rst").read_text()
+    table = re.search(r"\.\. list-table:: Attribute Merging Behavior.*?(?=\n\S)", text, re.S)
+    if table is None:
+        raise SchemaError("modeledit.rst has no Attribute Merging Behavior table")
+    rows = re.split(r"\n\s*\* - ", table.group(0))[1:]
+    for row in rows:
+        heading = re.match(r"\*\*(.+?)\*\*", row)
+        if heading is None or heading.group(1) == "Behavior":
+            continue
+        if heading.group(1) not in _MERGE_BEHAVIORS:
+            raise SchemaError(f"unknown merging behavior {heading.group(1)!r} in modeledit.rst")
+        rule = _MERGE_BEHAVIORS[heading.group(1)]
+        fields = row.split("\n     - ")[1]  # the row's second cell: its fields
+        for anchor in re.findall(r":ref:`[^`<]*<([\w-]+)>`", fields):
+            for attribute in _anchored(anchor, elements):
+                attribute.merge = rule
+
+
+def _anchored(anchor: str, elements: dict[str, Element]) -> list[Attribute]:
+    """The attributes a documentation anchor names: an element's, or one attribute."""
+    if anchor in elements:
+        return list(elements[anchor].attributes.values())
+    key, _, name = anchor.rpartition("-")
+    if key in elements and name in elements[key].attributes:
+        return [elements[key].attributes[name]]
+    raise SchemaError(f"the merging table of modeledit.rst names {anchor!r}, no attribute")
 
 
 def listed_values(description: str) -> list[str]:

@@ -10,6 +10,8 @@ it in CI). Where the data comes from:
 * the element tree, attribute names and order: ``XMLschema.rst`` in the wheel;
 * attribute types, keywords, defaults, required-ness: ``XMLreference.rst`` and
   the ``modeling.rst`` sections it points to ("See :ref:`CSensor`");
+* how two models' global settings merge when one is attached to the other (``merge``:
+  ``min``, ``max`` or ``or``): the merging table of ``programming/modeledit.rst``;
 * what the documentation does not say (which element a name refers to, which
   strings are file paths): the hand-kept tables in ``_annotations.py``; a string
   attribute they do not cover stops the generator with a list to decide on;
@@ -40,7 +42,7 @@ specs have a ``type`` of ``identifier``, ``string``, ``file``, ``reference``
 ``keyword`` (``values``; ``list``) or ``int``/``real`` (``min``/``max``
 numbers, counting from 1; ``max`` null when unbounded; ``gaps``: counts between
 them refused; ``multiple_of``), with
-``required`` and ``default``.
+``required`` and ``default``, and ``merge`` where the documentation gives one.
 """
 
 from __future__ import annotations
@@ -68,6 +70,7 @@ from tools.mjcf_schema._docs import (
     doc_dir,
     elements_from_docs,
     listed_values,
+    merge_rules_from_docs,
 )
 from tools.mjcf_schema._probe import Probe, note
 
@@ -356,6 +359,7 @@ def _arity(prober: _probe.Prober, key: str, attribute: Attribute) -> None:
 def build(docs: Path | None = None) -> dict:
     """The schema of the installed mujoco, as the JSON-ready dictionary."""
     elements, edges = elements_from_docs(docs or doc_dir())
+    merge_rules_from_docs(docs or doc_dir(), elements)
     classify_strings(elements)
     complete_with_probes(elements, edges)
     return {

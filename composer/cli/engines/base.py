@@ -297,6 +297,24 @@ class RunFolder(Generic[CheckpointType]):
         return progress, recipe
 
 
+@dataclasses.dataclass(frozen=True)
+class Collection:
+    """How an engine's algorithm collects steps: in batches of `batch` steps (None where
+    the engine cannot say beforehand), called `what` in the announcement ('rollouts of 16
+    environments x 128 steps'), checking for a due evaluation every `check_every` steps."""
+
+    batch: int | None
+    what: str
+    check_every: int
+
+    def end(self, done: int, total: int) -> int:
+        """Where a session starting at `done` steps towards `total` stops: the first whole
+        batch at or past `total` (`total` itself when the batch is not known)."""
+        if done >= total or not self.batch:
+            return max(done, total)
+        return done + -(-(total - done) // self.batch) * self.batch
+
+
 class Trainer(abc.ABC):
     """One engine training one run, as `composer.cli.train` drives it: the engine opens it
     (a context manager that builds the model, or restores it from the checkpoint), the
@@ -325,6 +343,16 @@ class Trainer(abc.ABC):
     @abc.abstractmethod
     def timesteps(self) -> int:
         """Environment steps trained so far in the run (resumed ones counted)."""
+
+    @property
+    @abc.abstractmethod
+    def collection(self) -> Collection:
+        """How its algorithm collects steps (where the run will end, and why)."""
+
+    def end(self) -> int:
+        """The steps this session will end at: the recipe's timesteps, rounded up to whole
+        batches of the algorithm from where the run stands (`Collection.end`)."""
+        return self.collection.end(self.timesteps, self.recipe.timesteps)
 
     @abc.abstractmethod
     def learn(self, session: Session, stop: StopOnInterrupt) -> None:
@@ -506,6 +534,19 @@ class Session:
             self._cpu_time_before + time.process_time() - self._cpu_started, 2
         )
         trainer.save_checkpoint()
+
+    def evaluations_until(self, end: int, done: int, check_every: int) -> int:
+        """How many evaluations `due` will ask for from `done` steps to `end`, asked every
+        `check_every` steps; changes nothing."""
+        evaluations, next_eval, steps = 0, self._next_eval, done
+        while True:
+            # The first check at or past the next evaluation: one at least.
+            steps += max(1, -(-(next_eval - steps) // check_every)) * check_every
+            if steps > end:
+                return evaluations
+            evaluations += 1
+            while next_eval <= steps:
+                next_eval += self.eval_every
 
     def due(self, timesteps: int) -> bool:
         """Whether an evaluation is due at `timesteps`; schedules the next one."""

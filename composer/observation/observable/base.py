@@ -404,7 +404,8 @@ def image_spec(kind: str, height: int, width: int) -> Any:
         from dm_env import specs
     except ImportError:
         raise errors.ObservableError(
-            "array_spec is a dm_env spec: install dm-env (pip install 'mujoco-composer[dm]')"
+            "array_spec is a dm_env spec, which needs dm-env: pip install -e '.[dm]' from a "
+            "checkout (or: pip install dm-env)"
         ) from None
     channels, dtype = _IMAGE_KINDS[kind]
     low, high = _IMAGE_BOUNDS[kind]

@@ -68,9 +68,11 @@ class RayEngine(base.Engine[files.Checkpoint]):
         return hints
 
     def prepare(self, args: argparse.Namespace) -> None:
-        """Ray's RLlib and torch importable, in token mode for a cluster that has one; a
-        task observed through its camera is refused (CliError): the env runners' batch
-        (`composer.VectorEnvironment`) has no camera observations yet."""
+        """A cluster's address reachable, Ray's RLlib and torch importable, in token mode
+        for a cluster that has one, a local instance on 127.0.0.1 only
+        (`instance.loopback_only`); a task observed through its camera is refused
+        (CliError): the env runners' batch (`composer.VectorEnvironment`) has no camera
+        observations yet."""
         from composer.cli.engines.ray import instance
 
         if catalog.observes_pixels(args.info):
@@ -80,7 +82,10 @@ class RayEngine(base.Engine[files.Checkpoint]):
                 "observations; train from pixels with --engine sb3 (docs/training)"
             )
 
+        if args.address is not None:  # at once, not after Ray's and torch's imports
+            instance.check_reachable(args.address)
         instance.authenticate(args.address)  # before Ray is imported
+        instance.loopback_only(args.address)
         files.require_ray()
 
     def trainer(

@@ -4,13 +4,16 @@ when the command returns, or a cluster joined and left as it was.
     with instance.running(address=None, workers=2) as cpus:   # ray.init ... ray.shutdown
         ...                                                    # build and train
 
-A local instance keeps its session folder (logs, sockets) in a temporary folder of its
-own, removed after it stops, instead of adding one per run to the system's (Ray's
-default: /tmp/ray/session_*). Its processes (Ray's services, the env runners) are waited
-for after `ray.shutdown()`, which only signals them, so none is left when the command
-returns. While Ray runs, one line its C++ core prints on every run (`core_worker.cc ...
-the actor restart will fail`: RLlib restarts a lost env runner with its own copy of the
-arguments, so the warning does not apply) is dropped from stderr; everything else passes.
+A local instance is this machine's alone: its node's address is 127.0.0.1 and every server
+of Ray's (GCS, raylet, workers) listens on the loopback interface only (`loopback_only`,
+before Ray is imported). A local instance keeps its session folder (logs, sockets) in a
+temporary folder of its own, removed after it stops, instead of adding one per run to the
+system's (Ray's default: /tmp/ray/session_*). Its processes (Ray's services, the env
+runners) are waited for after `ray.shutdown()`, which only signals them, so none is left
+when the command returns. While Ray runs, one line its C++ core prints on every run
+(`core_worker.cc ... the actor restart will fail`: RLlib restarts a lost env runner with
+its own copy of the arguments, so the warning does not apply) is dropped from stderr;
+everything else passes.
 
 Where the time of a start goes (measured, 2 cores): imports of torch and RLlib in each
 process (about 4.5 s of CPU in this one, 5 s in each env runner: RLlib imports Ray Tune,
@@ -48,6 +51,13 @@ STOP_SECONDS = 15.0
 # The longest temporary folder a session folder goes into: Ray's socket paths in it
 # ('/ray-XXXXXXXX/session_<date>_<pid>/sockets/plasma_store', 77 bytes) must fit in 107.
 MAX_TEMP_ROOT = 30
+# Ray's switch for an instance of this machine alone, read when Ray is imported (its default
+# on macOS and Windows): "0" gives the node the address 127.0.0.1, and Ray's servers listen
+# on the loopback interface only. Without it Ray on Linux turns 127.0.0.1 (`ray.init`'s
+# `_node_ip_address`, `ray start --node-ip-address`) into the machine's interface address
+# and listens on every interface (measured with Ray 2.60: `ss -ltnp`).
+LOOPBACK_ONLY = "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"
+LOOPBACK = "127.0.0.1"
 # What Ray's C++ core prints that needs no action (see the module docstring).
 NOISE = re.compile(rb"core_worker\.cc.*actor restart will fail")
 
@@ -67,7 +77,7 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
         "configure_logging": True,
     }
     if address is not None:
-        _check_reachable(address)
+        check_reachable(address)
     session = None if address is not None else tempfile.mkdtemp(prefix="ray-", dir=_temp_root())
     processes: dict[int, str] = {}
     with _without_noise():
@@ -78,6 +88,7 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
                 else:
                     ray.init(
                         num_cpus=workers or os.cpu_count() or 1, _temp_dir=session,
+                        _node_ip_address=LOOPBACK,
                         object_store_memory=LOCAL_OBJECT_STORE_BYTES, include_dashboard=False,
                         **options,
                     )  # fmt: skip
@@ -110,6 +121,13 @@ def authenticate(address: str | None) -> None:
         os.environ["RAY_AUTH_MODE"] = "token"
 
 
+def loopback_only(address: str | None) -> None:
+    """Before Ray is imported: a local instance (`address` None) binds to 127.0.0.1 only
+    (LOOPBACK_ONLY), unless the environment says otherwise."""
+    if address is None:
+        os.environ.setdefault(LOOPBACK_ONLY, "0")
+
+
 def machine_cpus() -> int:
     """The CPUs this process may run on."""
     if hasattr(os, "sched_getaffinity"):
@@ -140,7 +158,7 @@ def check_capacity(layout: Layout, cpus: int) -> None:
         )
 
 
-def _check_reachable(address: str) -> None:
+def check_reachable(address: str) -> None:
     """Raise CliError unless `address` is 'auto' or a HOST:PORT that accepts a connection
     within CONNECT_SECONDS (ray.init retries an unreachable address for minutes)."""
     if address == "auto":

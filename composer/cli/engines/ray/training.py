@@ -30,11 +30,17 @@ import numpy as np
 from composer.cli import describe, recipes
 from composer.cli.engines import base
 from composer.cli.engines.ray import instance
-from composer.cli.engines.ray.algorithm import EPISODES, Layout, build_algorithm, describe_runners
+from composer.cli.engines.ray.algorithm import (
+    EPISODES,
+    SAC_FRAGMENT,
+    Layout,
+    build_algorithm,
+    describe_runners,
+)
 from composer.cli.engines.ray.files import NAME, POLICY, Checkpoint
 from composer.cli.engines.ray.policy import RayPolicy, current_policy, save_policy, uri
 from composer.cli.errors import OutputError
-from composer.cli.progress import Bar
+from composer.cli.progress import Bar, evaluating
 from composer.cli.progress import say as progress_line
 from composer.registration import TaskInfo
 
@@ -102,9 +108,22 @@ class Trainer(base.Trainer):
         """The environment steps sampled in the run."""
         return int(self.model.num_timesteps)
 
+    @property
+    def collection(self) -> base.Collection:
+        """PPO samples a batch of `n_steps` per environment each iteration (RLlib's
+        train_batch_size); SAC's iterations sample as RLlib's replay ratio and minimum
+        iteration size say, not known beforehand. Evaluations are checked after each."""
+        recipe, layout = self.recipe, self.layout
+        if recipe.algo == "ppo":
+            batch = recipe.n_envs * recipe.n_steps
+            return base.Collection(batch, "iterations of RLlib's train batch", batch)
+        what = "RLlib's SAC samples in iterations of a size it chooses"
+        return base.Collection(None, what, layout.n_envs * SAC_FRAGMENT)
+
     def learn(self, session: base.Session, stop: base.StopOnInterrupt) -> None:
         """Iterate the algorithm (see `_train`), then take its policy for evaluation."""
-        print(f"env runners: {describe_runners(self.model.algo)}", flush=True)
+        local = "" if self.layout.address else ": a local Ray instance, on 127.0.0.1 only"
+        print(f"env runners: {describe_runners(self.model.algo)}{local}", flush=True)
         _train(self, session, stop)
         self.model.sync()
 
@@ -220,7 +239,9 @@ def _train(trainer: Trainer, session: base.Session, stop: base.StopOnInterrupt) 
     model, layout = trainer.model, trainer.layout
     algo = model.algo
     progress = session.progress
-    bar = Bar.open(trainer.recipe.timesteps, progress.timesteps)
+    end = trainer.end()
+    evaluations = session.evaluations_until(end, progress.timesteps, trainer.collection.check_every)
+    bar = Bar.open(end, progress.timesteps, evaluations)
     say = functools.partial(progress_line, bar)
     healthy = layout.workers
     restarts = algo.env_runner_group.num_remote_worker_restarts()
@@ -238,8 +259,10 @@ def _train(trainer: Trainer, session: base.Session, stop: base.StopOnInterrupt) 
                 bar.advance_to(progress.timesteps)
             healthy, restarts = _watch_runners(model, healthy, restarts, layout, say)
             if not stop.requested and session.due(progress.timesteps):
-                model.sync()
-                say(describe.evaluation(session.evaluate(trainer)))
+                with evaluating(bar):
+                    model.sync()
+                    result = session.evaluate(trainer)
+                say(describe.evaluation(result))
                 session.save(trainer)
     finally:
         if bar is not None:

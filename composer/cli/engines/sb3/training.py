@@ -30,6 +30,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.logger import Logger
 from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
 from stable_baselines3.common.running_mean_std import RunningMeanStd
+from stable_baselines3.common.type_aliases import TrainFreq, TrainFrequencyUnit
 from stable_baselines3.common.vec_env import (
     DummyVecEnv,
     SubprocVecEnv,
@@ -211,9 +212,32 @@ class Trainer(base.Trainer):
         """The model's timesteps."""
         return int(self.model.num_timesteps)
 
+    @property
+    def collection(self) -> base.Collection:
+        """PPO collects whole rollouts of `n_steps` per environment, an off-policy algorithm
+        `train_freq` steps of every environment at a time; the callback runs at every step
+        of the environments."""
+        model, n_envs = self.model, self.model.n_envs
+        environments = describe.count(n_envs, "environment")
+        if isinstance(model, OffPolicyAlgorithm):
+            train_freq = model.train_freq
+            assert isinstance(train_freq, TrainFreq), "SB3 converts it when it builds the model"
+            frequency = train_freq.frequency
+            if train_freq.unit != TrainFrequencyUnit.STEP:
+                return base.Collection(None, f"rounds of {frequency} episodes", n_envs)
+            if frequency == 1:
+                return base.Collection(n_envs, f"steps of its {environments}", n_envs)
+            what = f"rounds of {frequency} steps of its {environments}"
+            return base.Collection(n_envs * frequency, what, n_envs)
+        n_steps = int(getattr(model, "n_steps", 1))
+        what = f"rollouts of {environments} x {n_steps} steps"
+        return base.Collection(n_envs * n_steps, what, n_envs)
+
     def learn(self, session: base.Session, stop: base.StopOnInterrupt) -> None:
         """`model.learn` up to the recipe's timesteps, with the progress bar on a terminal."""
-        bar = progress.Bar.open(self.recipe.timesteps, self.model.num_timesteps)
+        done, end = self.timesteps, self.end()
+        evaluations = session.evaluations_until(end, done, self.collection.check_every)
+        bar = progress.Bar.open(end, done, evaluations)
         try:
             self.model.learn(
                 self.recipe.timesteps - self.model.num_timesteps,
@@ -315,7 +339,8 @@ class _SessionCallback(BaseCallback):
                     timesteps, float(episode["r"]), info.get("is_success")
                 )
         if not self.stop.requested and session.due(timesteps):
-            result = session.evaluate(self.trainer)
+            with progress.evaluating(self.bar):
+                result = session.evaluate(self.trainer)
             progress.say(self.bar, describe.evaluation(result))
             for key in ("mean_return", "success_rate", "forward_speed"):
                 if result.get(key) is not None:  # TensorBoard's, with --tensorboard

@@ -1,0 +1,80 @@
+"""tasks.suite: the DeepMind Control Suite on composer, equal to dm_control's, on MuJoCo 4.
+
+    import gymnasium as gym
+    import tasks                                        # registers dm_control/... ids too
+    env = gym.make('dm_control/walker-walk-v0')         # Shimmy's ids and keys
+    env = gym.make('dm_control/cartpole-swingup-v0', flatten_observations=True)
+    from tasks import suite
+    env = suite.load('cartpole', 'swingup')             # dm_control's suite.load
+    suite.BENCHMARKING                                  # dm_control's task lists
+
+Each domain's robot is an entity (`entities.suite`), its world an arena (`arenas.suite`),
+its tasks composer tasks here (`tasks.suite.base.SuiteTask`): the same model as
+dm_control's file compiles to, the same observations (keys, values, order), rewards,
+initial states for the same seed (`reset(seed=s)` is dm_control's `random=s`), control
+timesteps, time limits and discounts. tests/tasks/suite proves it against dm_control's own
+suite code, step by step. docs/suite.md lists the tasks.
+"""
+
+from tasks.suite import (
+    acrobot,
+    ball_in_cup,
+    cartpole,
+    cheetah,
+    finger,
+    fish,
+    hopper,
+    humanoid,
+    humanoid_cmu,
+    lqr,
+    manipulator,
+    pendulum,
+    point_mass,
+    quadruped,
+    reacher,
+    stacker,
+    swimmer,
+    walker,
+)
+from tasks.suite.registry import NAMESPACE, TASKS, SuiteEntry, find, load, register_all, tagged
+
+ALL_TASKS = tagged(None)
+BENCHMARKING = tagged("benchmarking")
+EXTRA = tuple(sorted(set(ALL_TASKS) - set(BENCHMARKING)))
+TASKS_BY_DOMAIN = {
+    domain: tuple(name for d, name in ALL_TASKS if d == domain)
+    for domain in dict.fromkeys(domain for domain, _ in ALL_TASKS)
+}
+IDS = register_all()
+
+__all__ = [
+    "ALL_TASKS",
+    "BENCHMARKING",
+    "EXTRA",
+    "IDS",
+    "NAMESPACE",
+    "TASKS",
+    "TASKS_BY_DOMAIN",
+    "SuiteEntry",
+    "acrobot",
+    "ball_in_cup",
+    "cartpole",
+    "cheetah",
+    "find",
+    "finger",
+    "fish",
+    "hopper",
+    "humanoid",
+    "humanoid_cmu",
+    "load",
+    "lqr",
+    "manipulator",
+    "pendulum",
+    "point_mass",
+    "quadruped",
+    "reacher",
+    "stacker",
+    "swimmer",
+    "tagged",
+    "walker",
+]

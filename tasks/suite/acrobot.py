@@ -1,0 +1,93 @@
+"""Acrobot: swing a two-link pendulum, actuated at the elbow only, up to balance its tip
+on a target (dm_control's `acrobot`).
+
+    env = gym.make('dm_control/acrobot-swingup-v0')
+    env = gym.make('dm_control/acrobot-swingup_sparse-v0')
+
+Observations: `orientations` (each link's sin, then each link's cos of its angle from
+upright, as the x-z and z-z entries of its orientation), `velocity` (both joints').
+Reward in [0, 1]: 1 while the tip is within the target's 0.2 m radius (4 m up, where the
+links point straight up); dense, falling off outside it with the distance (gaussian, 0.1
+at 1 m beyond it); sparse, 0 outside. Each episode starts with both joints at angles uniform in
+[-pi, pi); 1,000 steps of 10 ms.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import composer
+import mjcf
+from arenas.suite import SuiteArena
+from composer import observation
+from entities.suite import Acrobot
+from tasks.rewards import Tolerance, squared_norms
+from tasks.suite import registry
+from tasks.suite.base import SuiteTask
+
+TIME_LIMIT = 10.0
+
+
+class Balance(SuiteTask):
+    """Swing up the acrobot and hold its tip on the target (module docstring)."""
+
+    def __init__(self, sparse: bool = False, control_timestep: float | None = None) -> None:
+        """Build the scene, rewarded sparsely with `sparse`. Raises composer.TaskError for
+        a control timestep that is not a multiple of 10 ms."""
+        self.acrobot = Acrobot()
+        self._arena = SuiteArena(floor_size=(3.0, 3.0, 0.2))
+        self._arena.add_light(name="light", pos=[0, 0, 6])
+        self._arena.attach(self.acrobot)
+        self._sparse = bool(sparse)
+        self.render_camera = f"{self.acrobot.name}/fixed"
+        self.use_control_timestep(control_timestep, default=None)
+        self._observables: dict[str, observation.Observable] = {
+            "orientations": observation.BatchGeneric(self._orientations),
+            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+        }
+        for item in self._observables.values():
+            item.enabled = True
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The suite's world with the acrobot."""
+        return self._arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """`orientations` and `velocity`, dm_control's keys in its order."""
+        return self._observables
+
+    def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """Both links' xz entries (sines), then their zz entries (cosines): (n, 4)."""
+        xmat = physics.bind(self.acrobot.arms).xmat  # (n, 2, 9)
+        return np.hstack((xmat[:, :, 2], xmat[:, :, 8]))
+
+    def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
+        """Fix the reward's shape: 1 within the target's radius as compiled (0.2 m)."""
+        radius = float(physics.bind(self.acrobot.target).size[0])
+        self._on_target = Tolerance(bounds=(0.0, radius), margin=0.0 if self._sparse else 1.0)
+
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """dm_control's draw: shoulder and elbow at U(-pi, pi), in that order."""
+        physics.bind(self.acrobot.joints).qpos = random_state.uniform(-np.pi, np.pi, 2)
+
+    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The reward of each environment (module docstring), shape (n,)."""
+        tip_to_target = physics.bind(self.acrobot.target).xpos - physics.bind(self.acrobot.tip).xpos
+        return self._on_target(np.sqrt(squared_norms(tip_to_target)))
+
+
+for _name, _sparse, _description in (
+    ("swingup", False, "Swing up an acrobot and hold its tip on a target"),
+    ("swingup_sparse", True,
+     "Swing up an acrobot and hold its tip on a target; reward 1 while on it"),
+):  # fmt: skip
+    registry.add(
+        registry.SuiteEntry(
+            "acrobot", _name, Balance, {"sparse": _sparse}, TIME_LIMIT, _description,
+            ("benchmarking",),
+        )
+    )  # fmt: skip

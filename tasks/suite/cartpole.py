@@ -1,0 +1,126 @@
+"""Cartpole: swing up and balance one or more poles on a cart (dm_control's `cartpole`).
+
+    env = gym.make('dm_control/cartpole-swingup-v0')
+    env = gym.make('dm_control/cartpole-three_poles-v0', flatten_observations=True)
+
+Observations: `position` (the cart's position, then each pole's cos and sin of its angle
+from upright, as the z-z and x-z entries of its orientation), `velocity` (every joint's).
+Reward in [0, 1]: dense, `upright * centered * small_control * small_velocity` (each pole
+upright on average, the cart near the centre, little force, slow poles); sparse, 1 while
+the cart is within 0.25 m of the centre and every pole within 0.995 of upright. Swing-up
+starts hanging down, balance near upright; 1,000 steps of 10 ms.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import composer
+import mjcf
+from arenas.suite import SuiteArena
+from composer import observation
+from composer.utils.rewards import tolerance
+from entities.suite import Cartpole
+from tasks.suite import registry
+from tasks.suite.base import SuiteTask
+
+TIME_LIMIT = 10.0
+_CART_RANGE = (-0.25, 0.25)
+_ANGLE_COSINE_RANGE = (0.995, 1.0)
+
+
+class Balance(SuiteTask):
+    """Balance (or swing up and balance) the poles of a cart-pole (module docstring)."""
+
+    def __init__(
+        self,
+        swing_up: bool = False,
+        sparse: bool = False,
+        num_poles: int = 1,
+        control_timestep: float | None = None,
+    ) -> None:
+        """Build the scene: `num_poles` poles, starting hanging down with `swing_up`,
+        rewarded sparsely with `sparse`. Raises composer.TaskError for a control timestep
+        that is not a multiple of 10 ms, composer.EntityError for fewer than one pole."""
+        self.cartpole = Cartpole(num_poles=num_poles)
+        self._arena = SuiteArena(floor_pos=(0.0, 0.0, 1 - num_poles - 0.05))
+        self._arena.add_light(name="light", pos=[0, 0, 6])
+        self._arena.attach(self.cartpole)
+        self._swing_up = bool(swing_up)
+        self._sparse = bool(sparse)
+        self.use_control_timestep(control_timestep, default=None)
+        self._observables: dict[str, observation.Observable] = {
+            "position": observation.BatchGeneric(self._bounded_position),
+            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+        }
+        for item in self._observables.values():
+            item.enabled = True
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The suite's world with the cart-pole."""
+        return self._arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """`position` and `velocity`, dm_control's keys in its order."""
+        return self._observables
+
+    def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The cart's position, then (cos, sin) of each pole: (n, 1 + 2 * poles)."""
+        cart = physics.bind(self.cartpole.slider).qpos
+        xmat = physics.bind(self.cartpole.poles).xmat  # (n, poles, 9)
+        angles = xmat[:, :, [8, 2]].reshape(len(cart), -1)  # zz, xz of each pole
+        return np.hstack((cart, angles))
+
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """dm_control's draws: swing-up, the cart at N(0, 0.01) and the first pole at
+        pi + N(0, 0.01), the others N(0, 0.1); balance, the cart U(-0.1, 0.1) and each
+        pole U(-0.034, 0.034); then every velocity N(0, 0.01)."""
+        qpos, nv = physics.data.qpos, physics.model.nv
+        if self._swing_up:
+            qpos[0] = 0.01 * random_state.randn()
+            qpos[1] = np.pi + 0.01 * random_state.randn()
+            qpos[2:] = 0.1 * random_state.randn(nv - 2)
+        else:
+            qpos[0] = random_state.uniform(-0.1, 0.1)
+            qpos[1:] = random_state.uniform(-0.034, 0.034, nv - 1)
+        physics.data.qvel[:] = 0.01 * random_state.randn(nv)
+
+    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The reward of each environment (module docstring), shape (n,)."""
+        cart = physics.bind(self.cartpole.slider).qpos[:, 0]
+        cosines = physics.bind(self.cartpole.poles).xmat[:, :, 8]
+        if self._sparse:
+            cart_in_bounds = tolerance(cart, _CART_RANGE)
+            angle_in_bounds = tolerance(cosines, _ANGLE_COSINE_RANGE).prod(axis=1)
+            return cart_in_bounds * angle_in_bounds
+        upright = (cosines + 1) / 2
+        centered = (1 + tolerance(cart, margin=2)) / 2
+        control = physics.field("ctrl")[:, 0]
+        small_control = tolerance(control, margin=1, value_at_margin=0, sigmoid="quadratic")
+        small_control = (4 + small_control) / 5
+        angular = physics.bind(self.cartpole.hinges).qvel  # (n, poles)
+        small_velocity = (1 + tolerance(angular, margin=5).min(axis=1)) / 2
+        return upright.mean(axis=1) * small_control * small_velocity * centered
+
+
+_SWING = "Swing up and balance a pole on a cart"
+for _name, _kwargs, _description, _tags in (
+    ("balance", {"swing_up": False, "sparse": False},
+     "Balance a pole on a cart", ("benchmarking",)),
+    ("balance_sparse", {"swing_up": False, "sparse": True},
+     "Balance a pole on a cart; reward 1 while upright and centred", ("benchmarking",)),
+    ("swingup", {"swing_up": True, "sparse": False}, _SWING, ("benchmarking",)),
+    ("swingup_sparse", {"swing_up": True, "sparse": True},
+     f"{_SWING}; reward 1 while upright and centred", ("benchmarking",)),
+    ("two_poles", {"swing_up": True, "sparse": False, "num_poles": 2},
+     "Swing up and balance a chain of two poles on a cart", ()),
+    ("three_poles", {"swing_up": True, "sparse": False, "num_poles": 3},
+     "Swing up and balance a chain of three poles on a cart", ()),
+):  # fmt: skip
+    registry.add(
+        registry.SuiteEntry("cartpole", _name, Balance, _kwargs, TIME_LIMIT, _description, _tags)
+    )

@@ -1,0 +1,99 @@
+"""Hopper: stand up, or hop forward, on one planar leg (dm_control's `hopper`).
+
+    env = gym.make('dm_control/hopper-hop-v0')
+
+Observations: `position` (every joint's but the horizontal root slide's: translation
+invariant), `velocity` (every joint's), `touch` (log(1 + force) at the toe and the heel).
+Reward in [0, 1]: standing, 1 while the torso's centre of mass is 0.6 to 2 m above the
+foot's, else 0; times, to stand, `(4 + small_control) / 5` (small_control: the mean over
+the motors of 1 - control², a quadratic bump), to hop, the torso subtree's forward
+speed, 1 at 2 m/s and above, falling linearly to 0.5 at 1 m/s and 0 at rest. An episode
+starts from joint angles drawn within their limits; 1,000 steps of 20 ms.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import composer
+import mjcf
+from arenas.suite import SuiteArena
+from composer import observation
+from composer.utils.rewards import Tolerance
+from entities.suite import Hopper
+from tasks.suite import randomizers, registry
+from tasks.suite.base import SuiteTask
+
+TIME_LIMIT = 20.0
+CONTROL_TIMESTEP = 0.02
+_STAND_HEIGHT = 0.6
+_HOP_SPEED = 2.0
+
+
+class PlanarHopper(SuiteTask):
+    """Stand, or hop forward (module docstring)."""
+
+    def __init__(self, hopping: bool = False, control_timestep: float | None = None) -> None:
+        """Build the scene: a hopper rewarded for hopping forward with `hopping`, for
+        standing still otherwise. Raises composer.TaskError for a control timestep that is
+        not a multiple of 5 ms."""
+        self.hopper = Hopper()
+        self._arena = SuiteArena(floor_size=(50, 1, 0.2), floor_pos=(48, 0, 0))
+        self._arena.attach(self.hopper)
+        self._hopping = bool(hopping)
+        self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
+        self._standing = Tolerance(bounds=(_STAND_HEIGHT, 2.0))
+        self._hop = Tolerance(
+            bounds=(_HOP_SPEED, float("inf")), margin=_HOP_SPEED / 2, value_at_margin=0.5,
+            sigmoid="linear",
+        )  # fmt: skip
+        self._small_control = Tolerance(margin=1, value_at_margin=0, sigmoid="quadratic")
+        self._observables: dict[str, observation.Observable] = {
+            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
+            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            "touch": observation.BatchGeneric(self._touch),
+        }
+        for item in self._observables.values():
+            item.enabled = True
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The suite's world with the hopper."""
+        return self._arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """`position`, `velocity` and `touch`, dm_control's keys in its order."""
+        return self._observables
+
+    def _touch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """log(1 + the toe's and the heel's touch force): (n, 2)."""
+        return np.log1p(physics.bind(self.hopper.touch_sensors).sensordata)
+
+    def initialize_episode(
+        self, physics: mjcf.Physics, random_state: np.random.RandomState
+    ) -> None:
+        """dm_control's draws: every limited joint within its range (`randomizers`)."""
+        randomizers.randomize_limited_and_rotational_joints(physics, random_state)
+
+    def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
+        """The reward of each environment (module docstring), shape (n,)."""
+        heights = physics.bind([self.hopper.torso, self.hopper.foot]).xipos[:, :, 2]
+        standing = self._standing(heights[:, 0] - heights[:, 1])
+        if self._hopping:
+            speed = physics.bind(self.hopper.speed_sensor).sensordata[:, 0]
+            return standing * self._hop(speed)
+        small_control = self._small_control(physics.field("ctrl")).mean(axis=1)
+        return standing * ((small_control + 4) / 5)
+
+
+for _name, _hopping, _description in (
+    ("stand", False, "Stand upright on one planar leg"),
+    ("hop", True, "Hop forward on one planar leg"),
+):
+    registry.add(
+        registry.SuiteEntry(
+            "hopper", _name, PlanarHopper, {"hopping": _hopping}, TIME_LIMIT, _description,
+            ("benchmarking",),
+        )
+    )  # fmt: skip

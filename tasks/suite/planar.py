@@ -1,0 +1,70 @@
+"""What the planar manipulation tasks (manipulator, stacker) observe, measure and draw, in
+batched form: dm_control's `Physics` helpers of those domains, over n environments.
+
+    bounded_joint_positions(physics, arm.joints)     # (n, 8, 2): sin, cos of each angle
+    body_2d_poses(physics, [hand])                   # (n, 1, 4): x, z, qw, qy
+    site_distances(physics, ball_site, target_site)  # (n,): the distance between two sites
+    randomize_arm(physics, arm, random_state)        # a random pose, the hand symmetric
+
+The scene lies in the x-z plane: a body's 2D pose is its x and z and the w and y entries of
+its orientation quaternion. Distances are `np.linalg.norm` of the difference, as
+dm_control computes them (`tasks.rewards.squared_norms` sums the squares as its dot does).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+import composer
+import mjcf
+from entities.suite.planar_arm import ARM_JOINTS, PlanarArm
+from tasks.rewards import squared_norms
+
+
+def bounded_joint_positions(
+    physics: composer.BatchPhysics, joints: Sequence[mjcf.Element]
+) -> np.ndarray:
+    """The sine and cosine of each hinge's angle: (n, joints, 2)."""
+    angles = physics.bind(joints).qpos
+    bounded = np.empty((*angles.shape, 2))
+    np.sin(angles, out=bounded[..., 0])
+    np.cos(angles, out=bounded[..., 1])
+    return bounded
+
+
+def body_2d_poses(
+    physics: composer.BatchPhysics, bodies: Sequence[mjcf.Element], orientation: bool = True
+) -> np.ndarray:
+    """Each body's x and z, then (with `orientation`) its quaternion's w and y:
+    (n, bodies, 4), or (n, bodies, 2) without orientation."""
+    bound = physics.bind(bodies)
+    positions = bound.xpos[:, :, ::2]  # x and z
+    if not orientation:
+        return positions
+    return np.concatenate((positions, bound.xquat[:, :, ::2]), axis=-1)  # then w and y
+
+
+def site_distances(
+    physics: composer.BatchPhysics, first: mjcf.Element, second: mjcf.Element
+) -> np.ndarray:
+    """The distance between two sites in each environment: (n,)."""
+    positions = physics.bind([second, first]).xpos  # (n, 2, 3)
+    return np.sqrt(squared_norms(positions[:, 1] - positions[:, 0]))
+
+
+def randomize_arm(
+    physics: mjcf.Physics, arm: PlanarArm, random_state: np.random.RandomState
+) -> None:
+    """dm_control's draw of the arm's pose (one `uniform` of the eight angles, within each
+    joint's range, [-pi, pi] where unlimited), the finger then set to the thumb's angle
+    so that the hand opens symmetrically."""
+    joints = physics.bind(arm.joints)
+    limited = joints.limited.astype(bool)
+    ranges = joints.range
+    lower = np.where(limited, ranges[:, 0], -np.pi)
+    upper = np.where(limited, ranges[:, 1], np.pi)
+    joints.qpos = random_state.uniform(lower, upper)
+    finger = physics.bind(arm.joints[ARM_JOINTS.index("finger")])
+    finger.qpos = physics.bind(arm.joints[ARM_JOINTS.index("thumb")]).qpos
