@@ -176,8 +176,9 @@ def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
     spec = untrusted.json_data(text, str(path))
     if not isinstance(spec, dict) or spec.get("format") != POLICY_FORMAT:
         raise PolicyError(f"{path} is not a policy written by `composer train`")
-    spec = _checked(path, spec)
+    # Without Ray no folder of Ray's loads: say so first, whatever else the folder holds.
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
+    spec = _checked(path, spec)
     quiet_ray()
     module = _trusted_module(folder) if trusted else _module(folder, spec)
     module.eval()
