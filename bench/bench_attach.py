@@ -19,7 +19,7 @@ CPU time (MuJoCo's threads, which process meshes, included on both sides); one w
 round fills MuJoCo's mesh cache for both. Compiled sizes (bodies, joints, geoms ...) are
 checked equal.
 
-The copies of the UR5e + 2F-85 share their meshes in our scene (see `mjcf.sharing`), and
+The copies of the UR5e + 2F-85 share their meshes in our scene (see `mjcf.compose.sharing`), and
 not in MjSpec's, where each copy compiles to about 43 MB of mesh data and needs about
 135 MB while compiling: from N = 30 on, the MjSpec side runs once, in a process of its own
 limited in memory, and only when the machine has the memory free (100 copies took

@@ -26,7 +26,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
-from mjcf.physics import Physics
+from mjcf.sim.physics import Physics
 
 ROUNDS = 40
 NUMBER = 20_000

@@ -38,7 +38,7 @@ from lxml import etree  # noqa: E402
 
 import mjcf  # noqa: E402
 from bench import real_models, rounds  # noqa: E402
-from mjcf import compiler  # noqa: E402
+from mjcf.sim import compiler  # noqa: E402
 
 clock = time.process_time
 FIRST_CALL_PROCESSES = 3

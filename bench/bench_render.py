@@ -7,7 +7,7 @@
 The floor is a plain plane and capsule without shadows (`<quality shadowsize="0"/>`) drawn
 by a raw `mujoco.Renderer` made in the same run at the same size. Ours is a frame as a user
 gets it: `gym.make(id, render_mode='rgb_array', width=w, height=h)`, then `env.render()`
-through the task's camera (`mjcf.rendering` fits the render settings to the size). Before
+through the task's camera (`mjcf.sim.rendering` fits the render settings to the size). Before
 is a raw `mujoco.Renderer` on the same compiled model with the model's own settings,
 MuJoCo's defaults (a 4096-pixel shadow map, 4x multisampling, a 640x480 buffer): what a
 frame cost before the settings were fitted. Each figure is the best of rounds of process
@@ -46,7 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import tasks
 from composer.pixels import frame
-from mjcf import rendering
+from mjcf.sim import rendering
 
 SIZES = ((64, 64), (84, 84), (480, 640))
 VECTOR_COUNTS = (1, 4, 16)
@@ -215,7 +215,7 @@ def factors(name: str, rounds: int, frames: int) -> dict[str, Any]:
 def making_renderer(model: mujoco.MjModel, size: int, rounds: int) -> dict[str, float]:
     """Best ms of process CPU time to make MuJoCo's render context in a new OpenGL context
     (the context included: what every renderer cost) and in one that made one before (what
-    a renderer costs when `mjcf.rendering` hands it a kept context)."""
+    a renderer costs when `mjcf.sim.rendering` hands it a kept context)."""
     base = importlib.import_module(f"mujoco.{rendering.backend()}").GLContext
     fresh = reused = float("inf")
     for _ in range(rounds):

@@ -43,7 +43,7 @@ import mujoco
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout
 
 import mjcf
-from mjcf import serializer
+from mjcf.io import serializer
 
 REPO = Path(__file__).resolve().parents[1]
 clock = time.process_time

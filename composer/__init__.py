@@ -15,14 +15,21 @@ promised). Observables, variations and initializers live in `composer.observatio
 `composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
 environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
 written once in batched form run in both, a single environment being a batch of one
-(`composer.batched`, `composer.BatchOfOne`). `composer.PixelEnvironment` observes an
+(`composer.batch`, `composer.BatchOfOne`). `composer.PixelEnvironment` observes an
 environment through a camera (`composer.pixels`). Every error is a `composer.Error`.
+`import composer` loads what a user of one environment needs; the vector and pixel
+environments, variations and the shipped initializers load when first used, and the
+command line (`composer.cli`), Ray, stable-baselines3 and the dm_env bridge only when
+imported (docs/architecture.md).
 
 dm_control's Composer code runs with its imports changed (`from dm_control import
 composer` -> `import composer`): the same names and module paths (`composer.define`,
 `composer.observation.observable.base`, `composer.initializers.prop_initializer` ...);
 docs/dm_control_composer.md says what differs on purpose.
 """
+
+import importlib
+from typing import TYPE_CHECKING
 
 from composer import (
     arena,
@@ -31,17 +38,13 @@ from composer import (
     entity,
     environment,
     initializer,
-    initializers,
     observation,
-    pixels,
     robot,
     task,
-    variation,
-    vector,
 )
 from composer.arena import Arena
-from composer.batch_of_one import BatchOfOne
-from composer.batched import BatchedTask, BatchPhysics
+from composer.batch.protocol import BatchedTask, BatchPhysics
+from composer.batch.single import BatchOfOne
 from composer.constants import SENSOR_SITES_GROUP
 from composer.define import cached_property, observable
 from composer.entity import (
@@ -72,11 +75,26 @@ from composer.errors import (
 )
 from composer.hooks import HOOK_NAMES
 from composer.initializer import Initializer
-from composer.initializers import PropPlacer
-from composer.pixels import PixelEnvironment
 from composer.robot import Robot
 from composer.task import NullTask, Task
-from composer.vector import VectorEnvironment
+
+if TYPE_CHECKING:
+    from composer import initializers, pixels, variation, vector
+    from composer.initializers import PropPlacer
+    from composer.pixels import PixelEnvironment
+    from composer.vector import VectorEnvironment
+
+# What an environment's user may never need, imported when first used: {name: (module,
+# attribute of it, or None for the module itself)}.
+_ON_DEMAND = {
+    "initializers": ("composer.initializers", None),
+    "PropPlacer": ("composer.initializers", "PropPlacer"),
+    "pixels": ("composer.pixels", None),
+    "PixelEnvironment": ("composer.pixels", "PixelEnvironment"),
+    "variation": ("composer.variation", None),
+    "vector": ("composer.vector", None),
+    "VectorEnvironment": ("composer.vector", "VectorEnvironment"),
+}
 
 __all__ = [
     "HOOK_NAMES",
@@ -131,3 +149,16 @@ __all__ = [
     "variation",
     "vector",
 ]
+
+
+def __getattr__(name: str) -> object:
+    """The names of `_ON_DEMAND`, importing their module when first asked for."""
+    found = _ON_DEMAND.get(name)
+    if found is None:
+        raise AttributeError(f"module 'composer' has no attribute {name!r}")
+    module = importlib.import_module(found[0])
+    return module if found[1] is None else getattr(module, found[1])
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_ON_DEMAND})

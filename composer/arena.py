@@ -26,7 +26,7 @@ import os
 from typing import Any
 
 import mjcf
-import mjcf.defaults
+import mjcf.compose.defaults
 from composer.entity import Entity
 from composer.errors import EntityError
 
@@ -80,7 +80,7 @@ class Arena(Entity):
         planes = [
             geom
             for geom in _static_children(model.worldbody)
-            if geom.tag == "geom" and mjcf.defaults.effective_value(geom, "type") == "plane"
+            if geom.tag == "geom" and mjcf.compose.defaults.effective_value(geom, "type") == "plane"
         ]
         if planes:
             raise EntityError(

@@ -8,7 +8,7 @@
 
 The value is kept in the object's `__dict__` under the property's name; two threads reading
 it first compute it once. `composer.observable` is one too, on any object that is neither an
-entity nor its `Observables` (a task's observables: `composer.observables`).
+entity nor its `Observables` (a task's observables: `composer.observation.entity_observables`).
 """
 
 from __future__ import annotations

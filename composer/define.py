@@ -25,8 +25,8 @@ its observables (an observable it reads through `self.other` is made first). On 
 entity, `entity.name_of_method` and `entity.observables.name_of_method` are the same
 object. On any other object (a task) it is dm_control's: a `cached_property`, made at
 first access and the same object after; a task lists it in its `task_observables`.
-`observable` is defined with the `Observables` it declares into (`composer.observables`),
-`cached_property` in `composer.caching`.
+`observable` is defined with the `Observables` it declares into
+(`composer.observation.entity_observables`), `cached_property` in `composer.caching`.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from __future__ import annotations
 import abc
 
 from composer.caching import cached_property
-from composer.observables import observable
+from composer.observation.entity_observables import observable
 
 # For abstract Observables classes: a subclass must define the observable.
 abstract_observable = abc.abstractproperty

@@ -31,7 +31,7 @@ Poses, as dm_control: `set_pose`/`get_pose` of an entity with a free joint are i
 pose; of an entity attached without one, the pose of its attachment frame relative to the
 body it is attached in, read and written through `physics.bind(frame)`: a body's pos and
 quat when the frame has joints, else the frame's (a MuJoCo `<frame>`, moved with all it
-holds in the compiled simulation: `mjcf.frame_binding`).
+holds in the compiled simulation: `mjcf.sim.frame_binding`).
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ import numpy as np
 import mjcf
 from composer import errors, hooks
 from composer.define import observable
-from composer.observables import FreePropObservableMixin, Observables
 from composer.observation import MJCFFeature
+from composer.observation.entity_observables import FreePropObservableMixin, Observables
 
 __all__ = [
     "Entity",

@@ -52,7 +52,7 @@ What it promises:
 - Observations are new arrays every step (safe to keep); a step's `info` holds the task's
   `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
 - A task's per-step method written in batched form (`get_reward_batch` ...,
-  `composer.batched`) runs here with a batch of one (`composer.BatchOfOne`), so one
+  `composer.batch`) runs here with a batch of one (`composer.BatchOfOne`), so one
   environment computes what a `VectorEnvironment` computes for each of its own, to the
   last bit; the control step's rules are `composer.stepping`'s, which both keep.
 - Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
@@ -82,7 +82,7 @@ import numpy as np
 
 import mjcf
 from composer import dm_internals, errors, hooks, stepping
-from composer.batch_of_one import BatchOfOne
+from composer.batch.single import BatchOfOne
 from composer.errors import EpisodeInitializationError
 from composer.hooks import HOOK_NAMES
 from composer.observation import ObservationPadding, Updater

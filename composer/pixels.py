@@ -20,7 +20,7 @@ task's observations flattened into one vector (what `MultiInputPolicy` takes). I
 `gymnasium.utils.env_checker.check_env(env.unwrapped)` checks the pixel observations.
 
 What it promises: a frame is the state after the step (or reset) it is returned by, drawn
-by the physics' renderer of that size (`mjcf.rendering`: no shadows or multisampling up to
+by the physics' renderer of that size (`mjcf.sim.rendering`: no shadows or multisampling up to
 128 pixels a side, unless the model's MJCF sets them); the same seed and actions give the
 same frames, bit for bit; a recompile of the scene (`initialize_episode_mjcf` changing the
 model) is drawn from the new model; each observation is a new array, safe to keep.

@@ -56,10 +56,6 @@ from composer.task import Task
 NAMESPACE = "composer"
 ENTRY_POINT = "composer.registration:make_environment"
 VECTOR_ENTRY_POINT = "composer.vector:make_vector_environment"
-ENVIRONMENT_OPTIONS = (
-    "time_limit", "flatten_observations", "action_repeat", "render_mode", "width", "height",
-    "camera_id", "camera_name", "pixels", "frame_stack", "proprioception",
-)  # fmt: skip
 # The size of render() frames when `width` and `height` are not given (Environment's).
 RENDER_SIZE = (240, 320)
 
@@ -84,6 +80,66 @@ class TaskInfo:
 
 
 _REGISTERED: dict[str, TaskInfo] = {}
+
+
+@dataclasses.dataclass(frozen=True)
+class EnvironmentOptions:
+    """The keywords of `gym.make` and `gym.make_vec` that go to the environment rather than
+    the task (`make_environment`, `composer.vector.make_vector_environment`), with their
+    defaults; the module docstring says what each does."""
+
+    time_limit: float | None = None
+    flatten_observations: bool = False
+    action_repeat: int = 1
+    render_mode: str | None = None
+    width: int | None = None
+    height: int | None = None
+    camera_id: int | None = None
+    camera_name: str | None = None
+    pixels: bool = False
+    frame_stack: int = 1
+    proprioception: bool = False
+
+    @classmethod
+    def split(cls, keywords: dict[str, Any]) -> tuple[EnvironmentOptions, dict[str, Any]]:
+        """(the options among `keywords`, the other keywords: the task's)."""
+        options = {k: v for k, v in keywords.items() if k in ENVIRONMENT_OPTIONS}
+        rest = {k: v for k, v in keywords.items() if k not in ENVIRONMENT_OPTIONS}
+        return cls(**options), rest
+
+    def check(self, where: str = "") -> None:
+        """Raise RegistrationError (its message starting with `where`) for both `camera_id`
+        and `camera_name`, or `frame_stack` or `proprioception` without `pixels`; and
+        composer.TaskError for a size that is not a positive integer."""
+        if self.camera_id is not None and self.camera_name is not None:
+            raise RegistrationError(
+                f"{where}give camera_id or camera_name, not both "
+                f"(got {self.camera_id!r} and {self.camera_name!r})"
+            )
+        if not self.pixels and (self.frame_stack != 1 or self.proprioception):
+            raise RegistrationError(
+                f"{where}frame_stack and proprioception shape pixel observations; "
+                "give pixels=True with them"
+            )
+        for label, value in (("width", self.width), ("height", self.height)):
+            if value is not None:
+                check_positive(label, value)
+
+    @property
+    def render_size(self) -> tuple[int, int]:
+        """(height, width) of render() frames."""
+        return (RENDER_SIZE[0] if self.height is None else self.height,
+                RENDER_SIZE[1] if self.width is None else self.width)  # fmt: skip
+
+    @property
+    def pixel_size(self) -> tuple[int, int]:
+        """(height, width) of pixel observations."""
+        return (DEFAULT_SIZE if self.height is None else self.height,
+                DEFAULT_SIZE if self.width is None else self.width)  # fmt: skip
+
+
+# Their names, in order.
+ENVIRONMENT_OPTIONS = tuple(field.name for field in dataclasses.fields(EnvironmentOptions))
 
 
 def register(
@@ -202,59 +258,36 @@ def make_environment(
 
 
 def make_environment(
-    task: str | Callable[..., Task],
-    *,
-    time_limit: float | None = None,
-    flatten_observations: bool = False,
-    action_repeat: int = 1,
-    render_mode: str | None = None,
-    width: int | None = None,
-    height: int | None = None,
-    camera_id: int | None = None,
-    camera_name: str | None = None,
-    pixels: bool = False,
-    frame_stack: int = 1,
-    proprioception: bool = False,
-    **task_kwargs: Any,
+    task: str | Callable[..., Task], **keywords: Any
 ) -> Environment | PixelEnvironment:
     """Build `task(**task_kwargs)` and serve it as a `composer.Environment` (Gymnasium's
     entry point for every registered id); with `pixels`, served through a
-    `composer.pixels.PixelEnvironment` (the module docstring says what each keyword does).
-    `time_limit` None means no limit. Raises RegistrationError for a keyword the task does
-    not accept (listing those it does), both `camera_id` and `camera_name`, or a camera the
-    scene does not have, and what the task, Environment or PixelEnvironment raise
-    (composer.Error subclasses)."""
-    if camera_id is not None and camera_name is not None:
-        raise RegistrationError(
-            f"task {_label(task)}: give camera_id or camera_name, not both "
-            f"(got {camera_id!r} and {camera_name!r})"
-        )
-    if not pixels and (frame_stack != 1 or proprioception):
-        raise RegistrationError(
-            f"task {_label(task)}: frame_stack and proprioception shape pixel observations; "
-            "give pixels=True with them"
-        )
-    for label, value in (("width", width), ("height", height)):
-        if value is not None:
-            check_positive(label, value)
+    `composer.pixels.PixelEnvironment`. `keywords` are the `EnvironmentOptions` (the module
+    docstring says what each does; `time_limit` None means no limit) and the task's.
+    Raises RegistrationError for a keyword the task does not accept (listing those it
+    does), both `camera_id` and `camera_name`, or a camera the scene does not have, and
+    what the task, Environment or PixelEnvironment raise (composer.Error subclasses)."""
+    options, task_kwargs = EnvironmentOptions.split(keywords)
+    options.check(f"task {_label(task)}: ")
     built = task_factory(task, task_kwargs, ENVIRONMENT_OPTIONS)()
     if not isinstance(built, Task):
         raise RegistrationError(
             f"task {_label(task)} made a {type(built).__name__}, not a composer.Task"
         )
     camera = next(
-        (c for c in (camera_name, camera_id) if c is not None), getattr(built, "render_camera", -1)
+        (c for c in (options.camera_name, options.camera_id) if c is not None),
+        getattr(built, "render_camera", -1),
     )
-    render_size = (RENDER_SIZE[0] if height is None else height,
-                   RENDER_SIZE[1] if width is None else width)  # fmt: skip
+    render_height, render_width = options.render_size
     env = Environment(
         built,
-        time_limit=math.inf if time_limit is None else time_limit,
-        flatten_observations=flatten_observations or (pixels and proprioception),
-        action_repeat=action_repeat,
-        render_mode=render_mode,
-        render_height=render_size[0],
-        render_width=render_size[1],
+        time_limit=math.inf if options.time_limit is None else options.time_limit,
+        flatten_observations=options.flatten_observations
+        or (options.pixels and options.proprioception),
+        action_repeat=options.action_repeat,
+        render_mode=options.render_mode,
+        render_height=render_height,
+        render_width=render_width,
         render_camera=camera,
     )
     try:
@@ -262,12 +295,12 @@ def make_environment(
     except errors.TaskError as e:
         env.close()
         raise RegistrationError(f"task {_label(task)}: {e}") from e
-    if not pixels:
+    if not options.pixels:
         return env
+    height, width = options.pixel_size
     return PixelEnvironment(
-        env, height=DEFAULT_SIZE if height is None else height,
-        width=DEFAULT_SIZE if width is None else width, camera=camera,
-        frame_stack=frame_stack, proprioception=proprioception,
+        env, height=height, width=width, camera=camera, frame_stack=options.frame_stack,
+        proprioception=options.proprioception,
     )  # fmt: skip
 
 

@@ -47,7 +47,8 @@ import numpy as np
 from gymnasium import spaces
 
 import mjcf
-from composer import batched, errors, hooks
+from composer import errors, hooks
+from composer.batch import protocol
 
 if TYPE_CHECKING:
     from composer.task import Task
@@ -273,34 +274,34 @@ class _Rows:
 
     def __init__(self, method: Callable[..., Any] | None, name: str, dtype: type) -> None:
         self.method = method
-        self.value = batched.NOT_CONSTANT if method is None else batched.constant(method)
+        self.value = protocol.NOT_CONSTANT if method is None else protocol.constant(method)
         self.name = f"{name}_batch"
         self.dtype = dtype
 
-    def rows(self, physics: batched.BatchPhysics) -> np.ndarray | None:
+    def rows(self, physics: protocol.BatchPhysics) -> np.ndarray | None:
         """The (n,) rows of the environments of `physics`; None for the single form."""
         if self.method is None:
             return None
         n = physics.num_envs
-        if self.value is not batched.NOT_CONSTANT:
+        if self.value is not protocol.NOT_CONSTANT:
             return np.full(n, self.value, dtype=self.dtype)
-        return batched.check_rows(self.name, self.method(physics), n, self.dtype)
+        return protocol.check_rows(self.name, self.method(physics), n, self.dtype)
 
-    def first(self, physics: batched.BatchPhysics) -> Any:
+    def first(self, physics: protocol.BatchPhysics) -> Any:
         """The row of the one environment of `physics`, a batch of one (batched form)."""
-        if self.value is not batched.NOT_CONSTANT:
+        if self.value is not protocol.NOT_CONSTANT:
             return self.value
-        return batched.check_rows(self.name, self.method(physics), 1, self.dtype)[0]  # type: ignore[misc]
+        return protocol.check_rows(self.name, self.method(physics), 1, self.dtype)[0]  # type: ignore[misc]
 
 
 class TaskStep:
-    """How a task's per-step methods run (`composer.batched`): the batched form over a
+    """How a task's per-step methods run (`composer.batch`): the batched form over a
     BatchPhysics of the environments of a step, the single form once per environment.
     Resolved once per compile; `single` names the methods that run per environment."""
 
     def __init__(self, task: Task) -> None:
         """Resolve every per-step method of `task`."""
-        forms = {name: batched.batched_method(task, name) for name in batched.BATCHABLE}
+        forms = {name: protocol.batched_method(task, name) for name in protocol.BATCHABLE}
         self.single = tuple(name for name, form in forms.items() if form is None)
         self._before = forms["before_step"]
         after, info = forms["after_step"], forms["get_info"]
@@ -313,26 +314,26 @@ class TaskStep:
 
     # -- the batched forms, over the environments of a BatchPhysics ------------------------
 
-    def apply(self, physics: batched.BatchPhysics, actions: np.ndarray) -> bool:
+    def apply(self, physics: protocol.BatchPhysics, actions: np.ndarray) -> bool:
         """Run the batched `before_step` with (n, action size) actions; whether it ran."""
         if self._before is None:
             return False
         self._before(physics, actions)
         return True
 
-    def finish(self, physics: batched.BatchPhysics) -> bool:
+    def finish(self, physics: protocol.BatchPhysics) -> bool:
         """Run the batched `after_step`; whether it ran (not for Task's empty one)."""
         if self._after is None:
             return False
         self._after(physics)
         return True
 
-    def outcome(self, physics: batched.BatchPhysics) -> Outcome:
+    def outcome(self, physics: protocol.BatchPhysics) -> Outcome:
         """The batched methods' rewards, terminations, discounts and info entries, each
         checked to hold a row per environment. Raises BatchError if one does not."""
         info = {}
         if self._info_entries:
-            info = batched.check_info(self._info(physics), physics.num_envs)  # type: ignore[misc]
+            info = protocol.check_info(self._info(physics), physics.num_envs)  # type: ignore[misc]
         return Outcome(
             self._reward.rows(physics),
             self._terminate.rows(physics),
@@ -397,7 +398,7 @@ class TaskStep:
         return reward, terminated, info
 
     def outcome_of_one(
-        self, physics: batched.BatchPhysics, task: Task, own: mjcf.Physics
+        self, physics: protocol.BatchPhysics, task: Task, own: mjcf.Physics
     ) -> tuple[float, bool, dict[str, Any]]:
         """(reward, terminated, info) of one environment: the batched forms over its batch
         of one `physics`, the single ones on its own physics `own`."""
@@ -407,9 +408,9 @@ class TaskStep:
         if terminated is None:
             terminated = bool(self._terminate.first(physics))
         if self._info_entries:
-            entries = batched.check_info(self._info(physics), 1)  # type: ignore[misc]
+            entries = protocol.check_info(self._info(physics), 1)  # type: ignore[misc]
             for key, values in entries.items():
-                info[key] = batched.first_row(values)
+                info[key] = protocol.first_row(values)
         if self._discount.method is not None:
             info["discount"] = float(self._discount.first(physics))
         return reward, terminated, info

@@ -26,7 +26,7 @@ Each per-step method (`before_step`, `after_step`, `get_reward`, `should_termina
 `get_discount`, `get_info`) can be written instead in batched form, once for one
 environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
 environments and returns (n,) rows; a single Environment runs it with a batch of one, a
-`VectorEnvironment` over all its environments at once (`composer.batched`). Task's own
+`VectorEnvironment` over all its environments at once (`composer.batch`). Task's own
 single forms run the batched ones with the batch of one of the `composer.Environment`
 stepping the task, when given its physics (with its random state and bound fields), else
 with a new batch of one around the physics given.
@@ -42,8 +42,9 @@ import numpy as np
 from gymnasium import spaces
 
 import mjcf
-from composer import batched, errors, hooks, stepping
-from composer.batch_of_one import BatchOfOne
+from composer import errors, hooks, stepping
+from composer.batch import protocol
+from composer.batch.single import BatchOfOne
 from composer.entity import Entity
 from composer.observation import Observable
 
@@ -81,7 +82,7 @@ class Task(hooks.EpisodeHooks):
     @property
     def physics_timestep(self) -> float:
         """The physics timestep: the `option.timestep` of the root model (which the models
-        attached into it share: see `mjcf.global_settings`), else MuJoCo's default."""
+        attached into it share: see `mjcf.compose.global_settings`), else MuJoCo's default."""
         timestep = self.root_entity.mjcf_model.option.timestep
         return _DEFAULT_PHYSICS_TIMESTEP if timestep is None else float(timestep)
 
@@ -197,7 +198,7 @@ class Task(hooks.EpisodeHooks):
             return served
         return BatchOfOne(physics, self)
 
-    # -- per-step methods (composer.batched): each in its single or its batched form -----
+    # -- per-step methods (composer.batch): each in its single or its batched form -----
     # A task defines a method's single form (dm_control's, on one mjcf.Physics) or its
     # batched form (`<name>_batch`, on a BatchPhysics of n environments). The defaults
     # here are batched; the single forms run the batched ones with a batch of one.
@@ -206,9 +207,9 @@ class Task(hooks.EpisodeHooks):
         """The reward of the control step that just ended. Define this or
         `get_reward_batch` (this then runs it with a batch of one)."""
         rows = self.get_reward_batch(self._batch_of_one(physics))
-        return float(batched.check_rows("get_reward_batch", rows, 1, np.float64)[0])
+        return float(protocol.check_rows("get_reward_batch", rows, 1, np.float64)[0])
 
-    def get_reward_batch(self, physics: batched.BatchPhysics) -> np.ndarray:
+    def get_reward_batch(self, physics: protocol.BatchPhysics) -> np.ndarray:
         """The rewards of the control step that just ended, shape (n,)."""
         raise NotImplementedError(
             f"{type(self).__name__} must implement get_reward(physics) or get_reward_batch(physics)"
@@ -218,9 +219,9 @@ class Task(hooks.EpisodeHooks):
         """Whether the episode ended in a terminal state (not a time limit); by default
         what `should_terminate_episode_batch` says, with a batch of one."""
         rows = self.should_terminate_episode_batch(self._batch_of_one(physics))
-        return bool(batched.check_rows("should_terminate_episode_batch", rows, 1, bool)[0])
+        return bool(protocol.check_rows("should_terminate_episode_batch", rows, 1, bool)[0])
 
-    should_terminate_episode_batch = batched.constant_rows(
+    should_terminate_episode_batch = protocol.constant_rows(
         False,
         bool,
         """Whether each episode ended in a terminal state, shape (n,) bool; never here.""",
@@ -230,9 +231,9 @@ class Task(hooks.EpisodeHooks):
         """The discount of the step (dm_env style, in info['discount']); by default what
         `get_discount_batch` says, with a batch of one."""
         rows = self.get_discount_batch(self._batch_of_one(physics))
-        return float(batched.check_rows("get_discount_batch", rows, 1, np.float64)[0])
+        return float(protocol.check_rows("get_discount_batch", rows, 1, np.float64)[0])
 
-    get_discount_batch = batched.constant_rows(
+    get_discount_batch = protocol.constant_rows(
         1.0, np.float64, """The discount of each step, shape (n,); 1.0 here."""
     )
 
@@ -240,11 +241,11 @@ class Task(hooks.EpisodeHooks):
         """Extra entries for the step's `info`, a new dict (e.g. {'is_success': True}, as
         stable-baselines3 reads it); by default those of `get_info_batch`, with a batch of
         one (a number or bool for a row of one number)."""
-        entries = batched.check_info(self.get_info_batch(self._batch_of_one(physics)), 1)
-        return {key: batched.first_row(values) for key, values in entries.items()}
+        entries = protocol.check_info(self.get_info_batch(self._batch_of_one(physics)), 1)
+        return {key: protocol.first_row(values) for key, values in entries.items()}
 
     @hooks.noop
-    def get_info_batch(self, physics: batched.BatchPhysics) -> dict[str, np.ndarray]:
+    def get_info_batch(self, physics: protocol.BatchPhysics) -> dict[str, np.ndarray]:
         """Extra info entries, each an array of shape (n, ...); none here."""
         return {}
 
@@ -258,7 +259,7 @@ class Task(hooks.EpisodeHooks):
         actions = np.asarray(action, dtype=np.float64)[None]
         self.before_step_batch(self._batch_of_one(physics), actions)
 
-    def before_step_batch(self, physics: batched.BatchPhysics, actions: np.ndarray) -> None:
+    def before_step_batch(self, physics: protocol.BatchPhysics, actions: np.ndarray) -> None:
         """Apply `actions`, (n, action size) float64 clipped to the action space; here,
         write them to every actuator's ctrl."""
         physics.set_control(actions)
@@ -269,7 +270,7 @@ class Task(hooks.EpisodeHooks):
         self.after_step_batch(self._batch_of_one(physics))
 
     @hooks.noop
-    def after_step_batch(self, physics: batched.BatchPhysics) -> None:
+    def after_step_batch(self, physics: protocol.BatchPhysics) -> None:
         """`after_step` of n environments at once; nothing here."""
 
     @hooks.noop
@@ -303,6 +304,6 @@ class NullTask(Task):
 
     # A batched method made by constant_rows (marked constant), which the type checker
     # cannot see as the method it is.
-    get_reward_batch = batched.constant_rows(  # type: ignore[assignment]
+    get_reward_batch = protocol.constant_rows(  # type: ignore[assignment]
         0.0, np.float64, """Always 0.0."""
     )

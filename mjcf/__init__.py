@@ -17,52 +17,42 @@ What it promises: every change is validated against the installed MuJoCo's schem
 when it is made, and a failed change leaves the model as it was; errors are
 `mjcf.Error` subclasses naming the element and attribute. A model written with
 `to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
-as dm_control names them ('//unnamed_geom_0', see `mjcf.naming`). Attached models keep
-their own trees; composition happens when a model is written or compiled, but for the
+as dm_control names them ('//unnamed_geom_0', see `mjcf.compose.naming`). Attached models
+keep their own trees; composition happens when a model is written or compiled, but for the
 global settings (`<option>`, `<size>`, `<visual>` ...), which are merged when a model is
-attached and shared from then on, as in dm_control (see `mjcf.global_settings`).
+attached and shared from then on, as in dm_control (see `mjcf.compose.global_settings`).
 
 No exception name shadows a Python builtin, so `from mjcf import *` is safe:
 `NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
 `NameError`, `AttributeError` and `ReferenceError` in the previous release; those old
 names still work (`mjcf.NameError`), with a DeprecationWarning, until the next release.
 
-How the package is built: its modules form layers, each importing only from its own layer
-and the layers listed before it. Values and names come first (what an attribute holds,
-what MJCF allows, how names scope), then the element tree, then how trees compose
-(attachment, defaults, settings, copies), then reading and writing MJCF text, then
-compiling and simulating. A module calls one of a later layer only through
-`mjcf.upcalls` (`Element.find`, `attach`, `to_xml_string` ... are carried out above the
-tree), which this package fills when it is imported, so no module imports another that
-imports it, not even inside a function; private members of another module's objects are
-used only through the internal protocol their class documents (`Element`, `RootElement`,
-`Physics`). tests/mjcf/test_architecture.py checks all three on the real source:
-
-    values:       errors upcalls debugging mujoco_log bulk fields assets archives values
-                  schema xsd namescope
-    tree:         element_list references model_operations element_names element_rules
-                  element root base constants
-    composition:  settings global_settings attachment naming traversal frames defaults
-                  traversal_utils copying sameness keyframes sharing composition
-    text:         default_sections indexer parser serializer export
-    simulation:   tracking binding named validity render_meshes rendering raw_access
-                  tree_binding budget compiler model_constants frame_poses frame_binding
-                  physics_state physics
+How the package is built (docs/architecture.md): five layers, each a folder importing
+only the ones below it: `mjcf.schema` (what MJCF allows, what a value is), `mjcf.tree`
+(elements and models), `mjcf.compose` (attaching, defaults, settings, copies, names),
+`mjcf.io` (reading and writing MJCF text) and `mjcf.sim` (compiling, `Physics`,
+bindings). `mjcf.element`, `mjcf.physics`, `mjcf.parser`, `mjcf.traversal_utils` ...
+are dm_control's module paths, re-exporting these names.
 """
 
-# The modules above the tree whose functions it calls (see `_install_upcalls`), and
-# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.constants`).
-from mjcf import archives as archives
-from mjcf import attachment, compiler, copying, naming, sameness, serializer, traversal
+# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.element`), and the
+# limits on untrusted input users set (`mjcf.archives.LIMITS`, `mjcf.budget.LIMITS`).
 from mjcf import base as base
-from mjcf import budget as budget
 from mjcf import constants as constants
+from mjcf import debugging as debugging
+from mjcf import element as element
+from mjcf import namescope as namescope
+from mjcf import parser as parser
+from mjcf import physics as physics
 from mjcf import traversal_utils as traversal_utils
-from mjcf.assets import Asset
-from mjcf.attachment import AttachmentFrame
-from mjcf.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
-from mjcf.defaults import commit_defaults
-from mjcf.element import Element
+from mjcf.compose.attachment import AttachmentFrame
+from mjcf.compose.defaults import commit_defaults
+from mjcf.compose.frames import (
+    get_attachment_frame,
+    get_frame_freejoint,
+    get_frame_joints,
+    get_freejoint,
+)
 from mjcf.errors import (
     AssetError,
     AttachmentError,
@@ -85,13 +75,16 @@ from mjcf.errors import (
     UnpackLimitError,
 )
 from mjcf.errors import deprecated_name as _deprecated_name
-from mjcf.export import export_with_assets, export_with_assets_as_zip, from_zip
-from mjcf.frames import get_attachment_frame, get_frame_freejoint, get_frame_joints, get_freejoint
-from mjcf.namescope import PREFIX_SEPARATOR
-from mjcf.parser import from_file, from_path, from_xml_string
-from mjcf.physics import Physics
-from mjcf.root import RootElement
-from mjcf.upcalls import ABOVE as _ABOVE
+from mjcf.io import archives as archives
+from mjcf.io.export import export_with_assets, export_with_assets_as_zip, from_zip
+from mjcf.io.parser import from_file, from_path, from_xml_string
+from mjcf.sim import budget as budget
+from mjcf.sim.physics import Physics
+from mjcf.tree.assets import Asset
+from mjcf.tree.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
+from mjcf.tree.element import Element
+from mjcf.tree.namescope import PREFIX_SEPARATOR
+from mjcf.tree.root import RootElement
 
 __all__ = [
     "PREFIX_SEPARATOR",
@@ -135,33 +128,6 @@ __all__ = [
     "is_debug_mode",
     "traversal_utils",
 ]
-
-
-def _install_upcalls() -> None:
-    """Give the tree the functions of the layers above it (see `mjcf.upcalls`)."""
-    _ABOVE.identifier = naming.identifier
-    _ABOVE.find = traversal.find
-    _ABOVE.find_all = traversal.find_all
-    _ABOVE.is_same_as = sameness.is_same_as
-    _ABOVE.attach = attachment.attach
-    _ABOVE.detach = attachment.detach
-    _ABOVE.remove = attachment.remove
-    _ABOVE.attached_models = attachment.attached_models
-    _ABOVE.include_copy = copying.include_copy
-    _ABOVE.deepcopy_element = copying.deepcopy_element
-    _ABOVE.to_xml_string = serializer.to_xml_string
-    _ABOVE.attribute_text = serializer.attribute_text
-    _ABOVE.serialize = serializer.serialize
-    _ABOVE.file_name_of = serializer.file_name_of
-    _ABOVE.from_zip = from_zip
-    _ABOVE.serialize_for_compile = serializer.serialize_for_compile
-    _ABOVE.compile_composition = compiler.compile_composition
-    _ABOVE.compile_model = Physics.from_mjcf_model
-    _ABOVE.element_class = Element
-    _ABOVE.root_class = RootElement
-
-
-_install_upcalls()
 
 
 def __getattr__(name: str) -> type[Error]:

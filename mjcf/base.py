@@ -5,6 +5,6 @@
     isinstance(thing, base.Element)
 """
 
-from mjcf.element import Element
+from mjcf.tree.element import Element
 
 __all__ = ["Element"]

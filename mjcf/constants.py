@@ -6,7 +6,7 @@ user code refers to:
     model.to_xml_string(precision=constants.XML_DEFAULT_PRECISION)
 """
 
-from mjcf.namescope import PREFIX_SEPARATOR
+from mjcf.tree.namescope import PREFIX_SEPARATOR
 
 # An escaped separator ('\\/') in a name read with escape_separators is a plain '/'.
 PREFIX_SEPARATOR_ESCAPE = "\\"

@@ -17,7 +17,7 @@ Options are matched exactly (argparse's abbreviations are off: `--time` is not
 `--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
 bad value) and every `composer.Error` (an unknown task, a missing optional dependency, an
 unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C exits with
-130. Rendering needs no MUJOCO_GL: `mjcf.rendering` chooses a backend that works here.
+130. Rendering needs no MUJOCO_GL: `mjcf.sim.rendering` chooses a backend that works here.
 """
 
 from __future__ import annotations

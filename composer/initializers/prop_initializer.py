@@ -33,7 +33,7 @@ import numpy as np
 import mjcf
 from composer import errors
 from composer.entity import Entity
-from composer.initializer import Initializer
+from composer.initializers.base import Initializer
 from composer.variation import evaluate
 
 _LOG = logging.getLogger(__name__)

@@ -26,7 +26,7 @@ import numpy as np
 import mjcf
 from composer import errors
 from composer.entity import Entity
-from composer.initializer import Initializer
+from composer.initializers.base import Initializer
 from composer.robot import DOWN_QUATERNION
 from composer.variation import evaluate
 

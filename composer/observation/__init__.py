@@ -1,5 +1,6 @@
 """Observables and the pipeline that samples them; see `observable`, `updater` (one
-environment's pipeline) and `schedule` (the schedule and samples of one environment or many).
+environment's pipeline), `schedule` (the schedule and samples of one environment or many)
+and `entity_observables` (the observables of one entity, `composer.Observables`).
 
     from composer import observation
     obs = observation.MJCFFeature('qpos', joints, buffer_size=2)

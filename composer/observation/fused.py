@@ -27,9 +27,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 import mjcf
-from composer import batched
+from composer.batch import protocol
 from composer.observation.observable import FieldRows, Observable
-from mjcf import fields, tracking
+from mjcf.sim import fields, staleness
 
 # What a value is made of: the field's value, or the cos or sin of it.
 _RAW, _COS, _SIN = 0, 1, 2
@@ -47,30 +47,30 @@ class Plan(NamedTuple):
     operations: np.ndarray
     bounds: tuple[np.ndarray, np.ndarray] | None
     probe: tuple[Any, str]
-    stage: tracking.Stage
+    stage: staleness.Stage
 
 
 def _declares_its_reader(observable: Observable) -> bool:
     """Whether `observable`'s `field_rows` is defined where every reading method it
     overrides is, or on a subclass: then it describes what that reader reads."""
     cls = type(observable)
-    rows_owner = batched.defining_class(cls, "field_rows")
+    rows_owner = protocol.defining_class(cls, "field_rows")
     if rows_owner is None or rows_owner is Observable:
         return False
     for name in _READERS:
-        owner = batched.defining_class(cls, name)
+        owner = protocol.defining_class(cls, name)
         if owner is not None and owner is not Observable and not issubclass(rows_owner, owner):
             return False
     return True
 
 
-def _stage(physics: Any, spec: fields.Field, ids: np.ndarray) -> tracking.Stage:
+def _stage(physics: Any, spec: fields.Field, ids: np.ndarray) -> staleness.Stage:
     """The stage a read of `spec` for objects `ids` needs fresh, as bindings decide it."""
     if spec.name == "sensordata":
-        return tracking.sensor_stage(physics.model, ids)
-    if spec.name in tracking.ON_DEMAND:
-        return tracking.Stage.ACCELERATION
-    return tracking.field_stage(spec)
+        return staleness.sensor_stage(physics.model, ids)
+    if spec.name in staleness.ON_DEMAND:
+        return staleness.Stage.ACCELERATION
+    return staleness.field_stage(spec)
 
 
 class FusedRead:

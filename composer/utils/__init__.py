@@ -17,8 +17,8 @@
 Each gives dm_control's values (tests/composer/test_utils_reference.py compares them with
 dm_control's own modules, and tests/composer/test_dm_control_utils.py runs dm_control's
 tests of them on these). The modules are imported when asked for (`composer.utils.rewards`
-too): `import composer` loads only `transformations`, which composer.variation's rotations
-use, as dm_control's do.
+too): `import composer` loads none of them; `composer.variation`, loaded on first use,
+brings `transformations` for its rotations, as dm_control's does.
 """
 
 from __future__ import annotations

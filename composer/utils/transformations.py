@@ -12,7 +12,7 @@ transformations` becomes `from composer.utils import transformations`.
 Every public function of dm_control's module, with its signature, its batching (the
 functions saying "over leading axes" take any number of them; the others one rotation)
 and its values to the last bit: the same formulas in the same order, the quaternion product
-included (`mjcf.frame_poses.multiply`, which mjcf's frames use too).
+included (`mjcf.sim.frame_poses.multiply`, which mjcf's frames use too).
 tests/composer/test_utils_reference.py compares them with dm_control's own module.
 
 Euler orderings: `euler_to_rmat` takes any three axes ('XYZ', 'ZXZ' ...), composing
@@ -36,7 +36,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from composer.errors import EulerOrderingError, TransformationError
-from mjcf.frame_poses import multiply
+from mjcf.sim.frame_poses import multiply
 
 __all__ = [
     "axisangle_to_quat",

@@ -13,7 +13,7 @@
 
 Physics steps run on MuJoCo's thread pool (`mujoco.batch.Batch`); what the task computes
 per step runs over all environments at once where it is written in batched form
-(`composer.batched`, which a single `composer.Environment` runs too, with a batch of one)
+(`composer.batch`, which a single `composer.Environment` runs too, with a batch of one)
 and its observables are batchable (`MJCFFeature`s are; `BatchGeneric` for functions;
 `composer.vector.observations`). Anything else runs per environment, correctly, on a
 materialized MjData. The trajectories equal those of single `composer.Environment`s with
@@ -27,12 +27,12 @@ a camera, as `composer.PixelEnvironment` one (`make_vec(..., pixels=True)`).
 here too.
 """
 
-from composer.batched import BatchedTask, BatchPhysics
+from composer.batch.protocol import BatchedTask, BatchPhysics
+from composer.batch.vector import BatchBinding, VectorPhysics
 from composer.errors import BatchError
 from composer.observation import BatchGeneric
 from composer.vector.environment import VectorEnvironment
 from composer.vector.make import make_vector_environment
-from composer.vector.physics import BatchBinding, VectorPhysics
 from composer.vector.pixels import PixelVectorEnvironment
 
 __all__ = [

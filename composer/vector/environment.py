@@ -21,7 +21,7 @@ What it promises:
   False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
   observations, rewards, terminations and discounts are numpy arrays over every
   environment, computed at once where the task writes its per-step methods in their
-  batched form and its observables are batchable (`composer.batched`, `.observations`);
+  batched form and its observables are batchable (`composer.batch`, `.observations`);
   the rest runs per environment on a materialized MjData. A control step keeps the order
   and rules of a single environment's (`composer.stepping`).
 - Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
@@ -56,15 +56,15 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import errors, hooks, stepping
+from composer.batch.vector import Simulations, VectorPhysics
 from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
 from composer.vector import info_layout
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
-from composer.vector.physics import Simulations, VectorPhysics
 from composer.vector.rendering import Ids, RenderThreads
-from mjcf import rendering
+from mjcf.sim import rendering
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run

@@ -20,10 +20,10 @@ from collections.abc import Callable
 
 import numpy as np
 
+from composer.batch.vector import VectorPhysics
 from composer.errors import BatchError
 from composer.observation import MJCFCamera, MJCFFeature, Observable, Updater
 from composer.observation.schedule import ALL, Rows, Schedule
-from composer.vector.physics import VectorPhysics
 from composer.vector.rendering import Ids
 
 

@@ -4,22 +4,15 @@
     frames = threads.draw([0, 1, 2, 3], lambda i: envs[i].physics.render(64, 64))  # 4 frames
     threads.close()
 
-Environment i is always drawn on thread i % count, so each environment's renderers (its
-`mjcf.Physics`'s own, made for its own model: the single environment's code path) are only
-ever current in that thread and in the caller's; every thread, the caller's included,
-releases its OpenGL context before another may use those renderers
-(`mjcf.rendering.release_context`). The renderers of the environments of one thread share
-one OpenGL context (`mjcf.rendering.context_group(threads.group(i))`, which the caller
-wraps around whatever may make environment i's renderers, such as its reset): a renderer
-costs 7 ms to make instead of 150, and a thread draws without switching contexts. MuJoCo
-releases the GIL while it draws, so the threads draw in parallel (on 2 idle cores a 64x64
-frame's throughput is 1.95x one thread's). With one thread, or a backend whose contexts
-stay in one thread (anything but EGL), frames are drawn in the caller's thread, in order.
-
-Threads over processes: a process would need each environment's state shipped to it and
-its frame shipped back each step, and a model of its own to draw; threads share both, and
-MuJoCo's drawing already runs outside the GIL. The caller's Python work per frame (the
-draw function's own, under the GIL) is what keeps the speed-up below the thread count.
+Environment i is always drawn on thread i % count, so its renderers (its `mjcf.Physics`'s
+own) are only ever current in that thread and the caller's; every thread releases its
+OpenGL context before another may use them (`mjcf.sim.rendering.release_context`). The
+environments of one thread share one OpenGL context
+(`mjcf.sim.rendering.context_group(threads.group(i))`, which the caller wraps around what
+may make environment i's renderers, such as its reset). With one thread, or a backend
+whose contexts stay in one thread (anything but EGL), frames are drawn in the caller's
+thread, in order. Why threads rather than processes, and what they gain:
+docs/performance_profile.md, "Costs behind choices".
 """
 
 from __future__ import annotations
@@ -32,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from mjcf import rendering
+from mjcf.sim import rendering
 
 Draw = Callable[[int], np.ndarray]
 # Environments, by index: a sequence or an array of ints.
@@ -79,7 +72,7 @@ class RenderThreads:
         self._stop: weakref.finalize | None = None
 
     def group(self, i: int) -> object:
-        """The context group (`mjcf.rendering.context_group`) of environment i's renderers."""
+        """The context group (`mjcf.sim.rendering.context_group`) of environment i's renderers."""
         return self._groups[int(i) % self.count]
 
     def draw(self, ids: Ids, draw: Draw) -> list[np.ndarray]:

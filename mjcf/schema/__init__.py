@@ -24,8 +24,8 @@ from pathlib import Path
 
 import mujoco
 
-from mjcf import values as _values
 from mjcf.schema import _refusals
+from mjcf.schema import values as _values
 
 __all__ = [
     "DATA_FILE",
@@ -116,7 +116,7 @@ class AttributeSpec:
         self.blank: bool = bool(data.get("blank", kind.takes_blank))
         self.trims: bool = bool(data.get("trims", False))
         # How two models' values merge when one is attached to the other ('min', 'max',
-        # 'or'), where MuJoCo's documentation says (see mjcf.global_settings).
+        # 'or'), where MuJoCo's documentation says (see mjcf.compose.global_settings).
         self.merge: str | None = data.get("merge")
         # Text mjcf refuses though MuJoCo's reader takes it, and why (see _refusals);
         # why it refuses infinite or NaN numbers here, if it does.
@@ -364,7 +364,7 @@ def _load() -> tuple[ElementSpec, dict[str, ElementSpec]]:
             stacklevel=3,
         )
     specs = {key: ElementSpec(key, value) for key, value in data["elements"].items()}
-    _refusals.apply(specs)
+    _refusals.apply(specs, Rule)
     for key, value in data["elements"].items():
         spec = specs[key]
         for child_key in value["children"]:

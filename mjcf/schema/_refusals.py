@@ -30,10 +30,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
-from mjcf.values import converter_for
+from mjcf.schema.values import converter_for
 
 if TYPE_CHECKING:
-    from mjcf.schema import ElementSpec
+    from mjcf.schema import ElementSpec, Rule
 
 _CRASH = "MuJoCo 4.0.0 crashes on it"
 
@@ -76,10 +76,9 @@ FINITE: dict[str, str] = {
 _PLUGIN_NEEDS = ("plugin", "instance")
 
 
-def apply(specs: Mapping[str, ElementSpec]) -> None:
-    """Add the refusals above to the loaded element specs."""
-    from mjcf.schema import Rule  # cycle: the schema's loader calls this module
-
+def apply(specs: Mapping[str, ElementSpec], rule_class: type[Rule]) -> None:
+    """Add the refusals above to the loaded element specs (`rule_class`: `schema.Rule`,
+    from the schema's loader, which this module cannot import: it imports this one)."""
     for key, names in EMPTY_NAME_IS_FIRST_UNNAMED.items():
         spec = specs[key]
         for name in names:
@@ -125,7 +124,7 @@ def apply(specs: Mapping[str, ElementSpec]) -> None:
     for spec in specs.values():
         if spec.tag != "plugin" or not set(_PLUGIN_NEEDS) <= spec.attributes.keys():
             continue
-        rule = Rule(
+        rule = rule_class(
             {
                 "one_of": [[name] for name in _PLUGIN_NEEDS],
                 "blank_is_none": True,  # instance="" names none: it crashes MuJoCo too

@@ -103,7 +103,7 @@ def test_profile_charges_each_sample_to_its_innermost_python_function_and_our_li
     raw = "\n".join(
         [
             "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
-            "step (composer/environment.py:300);step (mjcf/physics.py:346);"
+            "step (composer/environment.py:300);step (mjcf/sim/physics.py:346);"
             "mj_step2 (mujoco/libmujoco.so.4.0.0) 6",
             "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
             "step (composer/environment.py:301);clip (numpy/_core/fromnumeric.py:49) 3",
@@ -111,25 +111,25 @@ def test_profile_charges_each_sample_to_its_innermost_python_function_and_our_li
             "_left_out (bench/profiles.py:80);reset (composer/environment.py:250) 50",
             "main (bench/profiles.py:1);_timed_loop (bench/profiles.py:70) 40",
             "main (bench/profiles.py:1);_sampled_loop (bench/profiles.py:90);"
-            "from_path (mjcf/parser.py:79);os_fspath (libpython3.11.so.1.0);"
+            "from_path (mjcf/io/parser.py:79);os_fspath (libpython3.11.so.1.0);"
             "gc_collect_main (libpython3.11.so.1.0);free (libc.so.6) 2",
         ]
     )
     found = profiles.charge(raw)
     assert found["total"]["all"] == 11  # resets and the timed stretch left out
     assert found["self"] == {
-        "mjcf/physics.py:step": 6,
+        "mjcf/sim/physics.py:step": 6,
         "numpy/_core/fromnumeric.py:clip": 3,
         profiles.GARBAGE: 2,
     }
-    assert found["mujoco"] == {"mjcf/physics.py:step": 6}
+    assert found["mujoco"] == {"mjcf/sim/physics.py:step": 6}
     assert found["lines"] == {
-        "mjcf/physics.py:346 (step)": 6,
+        "mjcf/sim/physics.py:346 (step)": 6,
         "composer/environment.py:301 (step)": 3,
         profiles.GARBAGE: 2,
     }
     assert found["inclusive"]["composer/environment.py:step"] == 9
-    assert found["inclusive"]["mjcf/parser.py:from_path"] == 2
+    assert found["inclusive"]["mjcf/io/parser.py:from_path"] == 2
 
 
 def test_cprofile_profiles_a_step(capsys):

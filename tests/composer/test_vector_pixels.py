@@ -132,7 +132,7 @@ def test_stable_baselines3_trains_a_cnn_policy_on_pixel_vector_environments():
 
 
 def test_simplified_meshes_in_a_shared_context_equal_pixel_environments():
-    """ArmPushBox's meshes are drawn simplified in small frames (mjcf.render_meshes), by
+    """ArmPushBox's meshes are drawn simplified in small frames (mjcf.sim.render_meshes), by
     renderers that share one OpenGL context per render thread: each draws into its own
     buffers, as a single environment's renderer does."""
     options = dict(pixels=True, width=32, height=24, time_limit=0.1)

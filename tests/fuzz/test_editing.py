@@ -30,7 +30,7 @@ from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
 from lxml import etree
 
 import mjcf
-from mjcf.naming import GENERATED
+from mjcf.compose.naming import GENERATED
 from tests.fuzz.oracle import ISOLATED, UNNAMED, Oracle
 from tests.mjcf.compare import model_differences
 

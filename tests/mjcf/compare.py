@@ -5,7 +5,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from mjcf.naming import GENERATED
+from mjcf.compose.naming import GENERATED
 
 # Fields that hold where files were found, not what the model is.
 _PATH_FIELDS = frozenset({"paths", "name_pathadr", "npaths", "nbuffer"})

@@ -1,12 +1,14 @@
-"""The architecture of `mjcf`, checked on its real source (ast), so that it cannot drift
-silently (the package docstring describes it):
+"""The architecture of `mjcf`, checked on its real source (ast, tests/imports.py), so that
+it cannot drift silently (docs/architecture.md describes it):
 
-- module-level imports go down the layers the package docstring lists, never up;
-- no import circle between mjcf's modules, neither at module level nor through imports
-  inside functions: a lower layer calls up only through `mjcf.upcalls`, which the package
-  fills when imported;
-- an import inside a function is one that a module-level import would make circular,
-  and it says so in a comment;
+- every module is in one layer's folder (`mjcf/schema`, `mjcf/tree`, `mjcf/compose`,
+  `mjcf/io`, `mjcf/sim`, bottom to top), but the package's front door: `mjcf/__init__`,
+  `mjcf/errors` (the exceptions every layer raises) and dm_control's module paths
+  (`mjcf.element`, `mjcf.physics` ...), short re-exports that no layer imports;
+- a module imports only from its own layer and the layers below it, and no import circle
+  joins mjcf's modules;
+- a module calls a layer above it only through `mjcf.tree.above`, the one module that
+  imports inside functions, each of its functions naming the one it calls;
 - a private member of an object of another module is used only as the internal protocol
   of its class allows: by the modules it names, and changed only by those it lets.
 """
@@ -15,92 +17,71 @@ from __future__ import annotations
 
 import ast
 import functools
-import re
 from collections.abc import Iterator
-from pathlib import Path
 
-import pytest
+from tests import imports
 
-import mjcf
-from mjcf import upcalls
-from tests.composer.test_import_graph import _circles
+LAYERS = ("schema", "tree", "compose", "io", "sim")  # bottom to top
+FOUNDATION = "mjcf.errors"
+LATE_IMPORTS = "mjcf.tree.above"  # the one module that imports inside functions
+# dm_control's module paths: short re-exports of the layers' names, for user code only.
+DM_CONTROL_PATHS = frozenset(
+    f"mjcf.{name}"
+    for name in (
+        "base", "constants", "debugging", "element", "namescope", "parser", "physics",
+        "traversal_utils",
+    )
+)  # fmt: skip
 
-PACKAGE = Path(mjcf.__file__).parent
-
-ANY = None  # every mjcf module
-# The modules that make elements and fill them (`_make`, `_attrs`, `_children`, `_register`):
-# the reading functions are read-only views, and the public setters would check again, for
-# every element, what a builder has checked (the parser: the whole document at once).
-TREE_BUILDERS = frozenset(
-    {"parser", "copying", "default_sections", "defaults", "attachment", "root", "global_settings"}
-)
-# The modules that read and write a physics' state for bindings and named access: every read
-# tests `_stale` and calls `_refresh()` inline, the per-read path (bench bind), where a call
-# more would cost; they read the raw MjModel and MjData through `model` and `data`.
-SIMULATION = frozenset({"binding", "named", "frame_binding", "frame_poses"})
-# A model's references state is `mjcf.references`' own, kept on the model (one reach, the
-# state's only reader); the reader and copies set it up through that module's functions.
-REFERENCES = frozenset({"references"})
-# Element's bases and the tree modules below it, which `mjcf.element` imports: they cannot
-# import its reading functions, and are part of what an element is.
-BELOW_ELEMENT = frozenset({"element_names", "element_rules", "element_list", "references"})
-# The writer's per-element loop reads the slots: the reading protocol's calls there cost a
-# fifth of a write (bench parse: write_ms).
-WRITER = frozenset({"serializer"})
-# `mjcf.element` imports `mjcf.assets` (to read file attributes into Assets), which so cannot
-# import the reading functions: it reads which of a mesh's attributes are set in `_attrs`.
-IMPORTED_BY_ELEMENT = frozenset({"assets"})
-# The internal protocols: private member -> (the class that documents it, the modules that
-# may use it, the modules that may change it: assign it, or mutate what it holds).
-PROTOCOL: dict[str, tuple[str, frozenset[str] | None, frozenset[str]]] = {
-    "_spec": ("element.Element", WRITER, frozenset()),
-    "_parent": ("element.Element", BELOW_ELEMENT, frozenset()),
-    "_attrs": (
-        "element.Element",
-        TREE_BUILDERS | BELOW_ELEMENT | WRITER | IMPORTED_BY_ELEMENT,
-        TREE_BUILDERS | {"references"},
+# At most this many uses of a private member of another module's object (`element._attrs`
+# outside `mjcf.tree.element`): each module keeps its objects' state, and others ask it.
+MOST_PRIVATE_REACHES = 30
+# The modules that use private members of other modules' objects: those members, whether
+# they may change them, and why. No other module does.
+REACHING: dict[str, tuple[frozenset[str], bool, str]] = {
+    "builder": (
+        frozenset({"_make", "_attrs", "_children", "_register", "_unregister_subtree",
+                   "_implicit", "_keep", "_cut", "_defer", "_source", "_text"}),
+        True,
+        "the one module, but mjcf.tree.element itself, that writes an element's slots",
     ),
-    "_children": ("element.Element", TREE_BUILDERS | BELOW_ELEMENT | WRITER, TREE_BUILDERS),
-    "_source": (
-        "element.Element",
-        frozenset({"parser", "copying"}),
-        frozenset({"parser", "copying"}),
+    "serializer": (
+        frozenset({"_text", "_spec", "_attrs", "_children"}),
+        False,
+        "its per-element loop reads the slots: a reading function's call each would cost "
+        "a fifth of writing an unchanged model (bench parse: write_ms)",
     ),
-    "_implicit": ("element_names.ElementNames", TREE_BUILDERS, frozenset()),
-    "_keep": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_make": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_register": ("element_names.ElementNames", TREE_BUILDERS | {"element"}, frozenset()),
-    "_unregister_subtree": ("element_names.ElementNames", TREE_BUILDERS, frozenset()),
-    "_cut": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_text": ("element.Element", frozenset({"serializer"}), frozenset({"serializer"})),
-    "_xml": ("element.Element", frozenset({"namescope", "root"}), frozenset()),
-    "_defer": ("element.Element", TREE_BUILDERS, frozenset()),
-    "_resolve": ("root.RootElement", frozenset({"namescope"}), frozenset()),
-    "_early": ("root.RootElement", frozenset({"element"}), frozenset({"element"})),
-    "_child_built_from": ("element.Element", frozenset({"root"}), frozenset()),
-    "_version": (
-        "root.RootElement",
-        frozenset({"element", "copying"}),
-        frozenset({"element", "copying"}),
+    "element": (
+        frozenset({"_version"}),
+        True,
+        "counts each change of an element in its model's version, on every set",
     ),
-    "_frame": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
-    "_attachments": ("root.RootElement", frozenset({"attachment"}), frozenset({"attachment"})),
-    "_numbering": ("root.RootElement", frozenset({"naming"}), frozenset({"naming"})),
-    "_composed": ("root.RootElement", frozenset({"composition"}), frozenset({"composition"})),
-    "_confine_to": ("root.RootElement", frozenset({"assets", "parser"}), frozenset({"parser"})),
-    "_references": ("root.RootElement", REFERENCES, frozenset()),
-    "_before_name_change": ("root.RootElement", frozenset({"namescope"}), frozenset()),
-    "_stale": ("physics.Physics", SIMULATION, frozenset({"binding"})),
-    "_refresh": ("physics.Physics", SIMULATION, frozenset()),
-    "_compute_on_demand": ("physics.Physics", SIMULATION, frozenset()),
-    "_update_constants": ("physics.Physics", frozenset({"binding"}), frozenset()),
-    "_live_bindings": ("physics.Physics", frozenset({"binding"}), frozenset({"binding"})),
-    "_raise_if_invalid": ("physics.Physics", frozenset({"validity"}), frozenset()),
-    "_frame_poses": ("physics.Physics", frozenset({"frame_poses"}), frozenset({"frame_poses"})),
-    "_detach": ("binding.Binding", frozenset({"physics"}), frozenset()),
-    "_refuse_writes": ("binding.Binding", frozenset({"physics"}), frozenset()),
-    "_writeback": ("binding.WriteThrough", frozenset({"named"}), frozenset({"named"})),
-}
+    "namescope": (
+        frozenset({"_resolve"}),
+        False,
+        "asks its model to build the element of a name read but not built yet",
+    ),
+    "references": (
+        frozenset({"_references", "_attrs"}),
+        False,
+        "keeps its state of a model on the model; pins text references in place",
+    ),
+    "assets": (
+        frozenset({"_confine_to"}),
+        False,
+        "reads the folder `strict_paths` confines a model's files to (set by the reader)",
+    ),
+    "frame_poses": (
+        frozenset({"_frame_poses"}),
+        True,
+        "keeps the frame poses of a physics' current model on the physics",
+    ),
+    "validity": (
+        frozenset({"_raise_if_invalid"}),
+        False,
+        "asks the physics to raise if its state is invalid, after a checked block",
+    ),
+}  # fmt: skip
 _MUTATORS = frozenset(
     {"add", "append", "clear", "discard", "extend", "insert", "pop", "remove", "setdefault",
      "sort", "update"}
@@ -110,91 +91,74 @@ _MUTATORS = frozenset(
 class _File:
     """One source file: its text and syntax tree."""
 
-    def __init__(self, path: Path) -> None:
-        self.text = path.read_text()
-        self.tree = ast.parse(self.text, str(path))
+    def __init__(self, module: str) -> None:
+        self.tree, lines = imports.syntax(imports.modules("mjcf")[module])
+        self.lines = lines
 
     def line(self, lineno: int) -> str:
-        return self.text.splitlines()[lineno - 1]
+        return self.lines[lineno - 1]
+
+
+def _layer(module: str) -> int | None:
+    """The index of a module's layer in LAYERS; None for the front door."""
+    parts = module.split(".")
+    return LAYERS.index(parts[1]) if len(parts) > 2 and parts[1] in LAYERS else None
 
 
 @functools.cache
 def _modules() -> dict[str, list[_File]]:
-    """{module name: its files}: each mjcf/*.py, and the schema package as one module."""
-    found = {path.stem: [_File(path)] for path in PACKAGE.glob("*.py")}
-    del found["__init__"]
-    found["schema"] = [_File(path) for path in sorted((PACKAGE / "schema").glob("*.py"))]
+    """{module's short name: its files}: each module of the layers (the schema package's
+    `__init__` as `schema`), for the check of private members."""
+    found: dict[str, list[_File]] = {}
+    for module in imports.modules("mjcf"):
+        if module.count(".") < 2 and module != "mjcf.schema":
+            continue  # the front door, the foundation and the layers' empty __init__s
+        found.setdefault(module.rsplit(".", 1)[-1], []).append(_File(module))
     return found
 
 
-def _layer_list() -> list[list[str]]:
-    """The modules of each layer, as the package docstring lists them."""
-    layers: list[list[str]] = []
-    for line in (mjcf.__doc__ or "").splitlines():
-        match = re.fullmatch(r" {4}(\w+):\s+([\w ]+)", line)
-        if match:
-            layers.append(match.group(2).split())
-        elif layers and re.fullmatch(r" {6,}[\w ]+", line):
-            layers[-1].extend(line.split())
-    return layers
+def test_every_module_is_in_a_layer_or_the_front_door() -> None:
+    known = imports.modules("mjcf")
+    top = {m for m in known if m.count(".") == 1}
+    layer_packages = {f"mjcf.{layer}" for layer in LAYERS}
+    assert top - layer_packages == DM_CONTROL_PATHS | {FOUNDATION}
+    assert all(_layer(m) is not None for m in known if m.count(".") > 1)
 
 
-def _layers() -> dict[str, int]:
-    """{module: its layer's index}."""
-    return {module: index for index, modules in enumerate(_layer_list()) for module in modules}
+def test_dm_control_paths_only_re_export() -> None:
+    """dm_control's module paths define nothing but names bound to what the layers define
+    (and constants), and are short."""
+    for module in DM_CONTROL_PATHS:
+        tree, lines = imports.syntax(imports.modules("mjcf")[module])
+        defined = [n for n in tree.body if isinstance(n, ast.FunctionDef | ast.ClassDef)]
+        assert defined == [], module
+        assert len(lines) <= 50, module
 
 
-def _parents(tree: ast.AST) -> dict[ast.AST, ast.AST]:
-    return {child: node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
+def test_imports_go_down_the_layers() -> None:
+    known = imports.modules("mjcf")
+    upward = []
+    for statement in imports.imports("mjcf"):
+        layer = _layer(statement.module)
+        if layer is None or statement.where == "typing" or statement.module == LATE_IMPORTS:
+            continue  # the late imports: see the next test
+        for target in statement.targets(known):
+            if not target.startswith("mjcf") or target == FOUNDATION:
+                continue
+            target_layer = _layer(target)
+            if target_layer is None and target != f"mjcf.{LAYERS[layer]}":
+                if target not in [f"mjcf.{name}" for name in LAYERS]:
+                    upward.append(f"{statement}: imports the front door {target}")
+            elif target_layer is not None and target_layer > layer:
+                upward.append(f"{statement}: imports {target}, a layer above")
+    assert upward == []
 
 
-def _targets(node: ast.Import | ast.ImportFrom) -> list[str]:
-    """The mjcf modules an import statement imports ('' for one outside mjcf)."""
-    if isinstance(node, ast.ImportFrom):
-        module = node.module or ""
-        if node.level or not (module == "mjcf" or module.startswith("mjcf.")):
-            return [""]
-        if module == "mjcf":
-            return [alias.name for alias in node.names]
-        return [module.split(".")[1]]
-    return [
-        alias.name.split(".")[1] if alias.name.startswith("mjcf.") else "" for alias in node.names
-    ]
+def test_no_import_circle_at_module_level() -> None:
+    assert imports.circles(imports.graph("mjcf", deferred=False)) == []
 
 
-def _imports() -> Iterator[tuple[str, str, str, ast.stmt, _File]]:
-    """(module, imported mjcf module or '', 'top' | 'function', statement, file) for every
-    import outside `if TYPE_CHECKING:` blocks."""
-    for module, files in _modules().items():
-        for file in files:
-            parents = _parents(file.tree)
-            for node in ast.walk(file.tree):
-                if not isinstance(node, ast.Import | ast.ImportFrom):
-                    continue
-                where, parent = "top", parents.get(node)
-                while parent is not None:
-                    if isinstance(parent, ast.If) and "TYPE_CHECKING" in ast.unparse(parent.test):
-                        where = "typing"
-                    if isinstance(parent, ast.FunctionDef | ast.AsyncFunctionDef):
-                        where = "function"
-                    parent = parents.get(parent)
-                if where != "typing":
-                    for target in _targets(node):
-                        if target != module:
-                            yield module, target, where, node, file
-
-
-@functools.cache
-def _graph() -> dict[str, set[str]]:
-    """Module-level imports between mjcf modules."""
-    graph: dict[str, set[str]] = {module: set() for module in _modules()}
-    for module, target, where, _, _ in _imports():
-        if where == "top" and target:
-            graph[module].add(target)
-    return graph
-
-
-def _reaches(start: str, goal: str) -> bool:
+def _reaches(graph: dict[str, frozenset[str]], start: str, goal: str) -> bool:
     seen, stack = set(), [start]
     while stack:
         module = stack.pop()
@@ -202,109 +166,68 @@ def _reaches(start: str, goal: str) -> bool:
             return True
         if module not in seen:
             seen.add(module)
-            stack.extend(_graph().get(module, ()))
+            stack.extend(graph.get(module, ()))
     return False
 
 
-def test_every_module_has_one_layer() -> None:
-    listed = [module for layer in _layer_list() for module in layer]
-    assert len(_layer_list()) == 5
-    assert sorted(listed) == sorted(_modules()), "list each mjcf module in one layer"
-
-
-def test_module_level_imports_go_down_the_layers() -> None:
-    layers = _layers()
-    upward = [
-        f"{module} (layer {layers[module]}) imports {target} (layer {layers[target]})"
-        for module, targets in _graph().items()
-        for target in targets
-        if layers[target] > layers[module]
-    ]
-    assert upward == []
-
-
-def test_imports_inside_functions_are_the_ones_a_cycle_forces() -> None:
+def test_only_the_late_import_module_imports_inside_functions() -> None:
+    """`mjcf.tree.above` is where a layer calls the layers above it: each of its functions
+    imports one function of a module above the tree and calls it. No other module imports
+    inside a function (a reader follows every other call by its module-level import)."""
+    known = imports.modules("mjcf")
     problems = []
-    for module, target, where, node, file in _imports():
-        if where != "function":
+    for statement in imports.imports("mjcf"):
+        if statement.where != "function":
             continue
-        if not target:
-            problems.append(f"{module}:{node.lineno}: {ast.unparse(node)}: import it at the top")
-        elif not _reaches(target, module):
-            problems.append(f"{module}:{node.lineno}: {target} does not import {module}: no cycle")
-        elif "# cycle: " not in file.line(node.lineno):
-            problems.append(f"{module}:{node.lineno}: say which cycle ('# cycle: ...')")
+        if statement.module != LATE_IMPORTS:
+            problems.append(f"{statement}: import it at the top (or call through {LATE_IMPORTS})")
+            continue
+        for target in statement.targets(known):
+            layer = _layer(target)
+            if layer is None or layer <= LAYERS.index("tree"):
+                problems.append(f"{statement}: {target} is no layer above the tree")
     assert problems == []
+    tree, _ = imports.syntax(known[LATE_IMPORTS])
+    for function in tree.body:
+        if isinstance(function, ast.FunctionDef):
+            code = [n for n in function.body if not isinstance(n, ast.Expr | ast.Return)]
+            assert len(code) == 1 and isinstance(code[0], ast.ImportFrom), function.name
+            assert len(function.body) == 3, f"{function.name}: a docstring, an import, a call"
 
 
-def _runtime_graph(deferred: bool) -> dict[str, frozenset[str]]:
-    """mjcf's module imports of each other at run time: at module level, and with
-    `deferred` inside functions too."""
-    graph: dict[str, set[str]] = {module: set() for module in _modules()}
-    for module, target, where, _, _ in _imports():
-        if not target:
-            continue
-        if where == "top" or (deferred and where == "function"):
-            graph[module].add(target)
-    return {module: frozenset(targets) for module, targets in graph.items()}
-
-
-def test_no_import_circle_at_module_level() -> None:
-    assert _circles(_runtime_graph(deferred=False)) == []
-
-
-def test_no_import_circle_through_imports_inside_functions() -> None:
-    assert _circles(_runtime_graph(deferred=True)) == []
-
-
-def test_every_upcall_is_installed() -> None:
-    """Every call the tree makes up (`mjcf.upcalls.Above`) has its function, the one its
-    docstring names."""
-    names = list(upcalls.Above.__annotations__)
-    missing = [name for name in names if not hasattr(upcalls.ABOVE, name)]
-    assert missing == []
-    assert upcalls.ABOVE.find is mjcf.traversal.find
-    assert upcalls.ABOVE.root_class is mjcf.RootElement
-    assert all(f"`{name}`" in (upcalls.Above.__doc__ or "") for name in names)
-
-
-def test_private_members_of_other_modules_are_used_through_their_protocol() -> None:
+def test_private_members_of_other_modules_are_few_and_listed() -> None:
+    uses = list(_private_uses())
+    assert len(uses) <= MOST_PRIVATE_REACHES
     problems = []
-    for module, name, changes, lineno in _private_uses():
-        protocol = PROTOCOL.get(name)
+    for module, name, changes, lineno in uses:
+        members, may_change, _ = REACHING.get(module, (frozenset(), False, ""))
         where = f"{module}:{lineno}: {name}"
-        if protocol is None:
-            problems.append(f"{where} belongs to another module and to no internal protocol")
-            continue
-        _, users, changers = protocol
-        if users is not ANY and module not in users:
-            problems.append(f"{where}: the protocol does not let {module} use it")
-        elif changes and module not in changers:
-            problems.append(f"{where}: the protocol does not let {module} change it")
+        if name not in members:
+            problems.append(f"{where} belongs to another module: ask that module")
+        elif changes and not may_change:
+            problems.append(f"{where}: {module} only reads it")
     assert problems == []
-
-
-@pytest.mark.parametrize("name", sorted(PROTOCOL))
-def test_protocol_members_are_documented_by_their_class(name: str) -> None:
-    owner = PROTOCOL[name][0]
-    module_name, class_name = owner.split(".")
-    module = __import__(f"mjcf.{module_name}", fromlist=[class_name])
-    cls = getattr(module, class_name)
-    assert f"`{name}" in (cls.__doc__ or ""), f"{owner}'s docstring should describe {name}"
-    assert name in _owned(_modules()[module_name]), f"{name} is not {module_name}'s"
 
 
 def test_the_check_sees_what_it_should() -> None:
     """The checks above find what they look for: a real cross-module access and an upward
     import would be reported, and so would a circle."""
     uses = {(module, name) for module, name, _, _ in _private_uses()}
-    assert {("serializer", "_text"), ("binding", "_stale"), ("copying", "_attrs")} <= uses
-    assert _reaches("serializer", "assets")
-    graph = _runtime_graph(deferred=True)
-    assert "attachment" in graph["copying"] and "element" in graph["root"]
-    looped = {**graph, "element": graph["element"] | {"attachment"}}
-    assert any({"element", "attachment", "root"} <= set(circle) for circle in _circles(looped))
-    assert _layers()["physics"] > _layers()["element"] and "element" in _graph()["physics"]
+    assert {
+        ("serializer", "_text"),
+        ("builder", "_attrs"),
+        ("validity", "_raise_if_invalid"),
+    } <= uses
+    assert ("binding", "_stale") not in uses  # the protocol binding defines
+    graph = imports.graph("mjcf", deferred=True)
+    assert _reaches(graph, "mjcf.io.serializer", "mjcf.tree.assets")
+    assert "mjcf.compose.attachment" in graph["mjcf.compose.copying"]
+    assert "mjcf.tree.element" in graph["mjcf.tree.root"]
+    element, attachment = "mjcf.tree.element", "mjcf.compose.attachment"
+    looped = {**graph, element: graph[element] | {attachment}}
+    assert any({element, attachment, "mjcf.tree.root"} <= set(c) for c in imports.circles(looped))
+    assert _layer("mjcf.sim.physics") > _layer("mjcf.tree.element")  # type: ignore[operator]
+    assert "mjcf.tree.element" in graph["mjcf.sim.physics"]
 
 
 # -- helpers ------------------------------------------------------------------------------
@@ -364,6 +287,10 @@ def _foreign_names(tree: ast.Module) -> set[str]:
         elif isinstance(node, ast.ImportFrom) and not (node.module or "").startswith("mjcf"):
             names.update(a.asname or a.name for a in node.names)
     return names
+
+
+def _parents(tree: ast.AST) -> dict[ast.AST, ast.AST]:
+    return {child: node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
 
 
 def _private_uses() -> Iterator[tuple[str, str, bool, int]]:

@@ -165,7 +165,7 @@ def test_every_name_of_an_asset_is_the_one_written(menagerie, tmp_path: Path) ->
     scene.attach(_part("a", {"part.stl": pad}))
     scene.attach(_part("c", {"part.stl": driver}))  # another file of the same name
     twin = _part("a", {"part.stl": pad})
-    scene.attach(twin)  # 'a_1': compiled once with 'a' (mjcf.sharing)
+    scene.attach(twin)  # 'a_1': compiled once with 'a' (mjcf.compose.sharing)
     scene.asset.add("texture", name="dots", type="2d", file=mjcf.Asset(DOTS_PNG, ".png"))
     recipe = _menagerie_recipe(scene)  # asked before anything is written
     xml = scene.to_xml_string()

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import fields
+from mjcf.sim import fields
 from tests.conftest import ROBOTIQ, UR5E, gym_model
 
 Obj = mujoco.mjtObj

@@ -10,9 +10,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjcf import errors, fields
-from mjcf.binding import Binding, WriteThrough
+from mjcf import errors
 from mjcf.physics import Physics
+from mjcf.sim import fields
+from mjcf.sim.binding import Binding, WriteThrough
 from tests.conftest import ROBOTIQ as GRIPPER
 from tests.conftest import UR5E
 

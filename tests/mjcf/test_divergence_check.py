@@ -7,7 +7,8 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjcf import Physics, errors, validity
+from mjcf import Physics, errors
+from mjcf.sim import validity
 
 # A pendulum with a strong motor and a free box falling onto the floor: contacts, a
 # constraint solver, and accelerations a large control makes non-finite. The whip's

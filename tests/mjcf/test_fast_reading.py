@@ -17,7 +17,7 @@ from lxml import etree
 
 import mjcf
 from bench import real_models, synthetic
-from mjcf import parser, xsd
+from mjcf.io import fast_reader, xsd
 from tests import dm_control_wheel
 from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA, ORIGINAL_MENAGERIE
 
@@ -33,14 +33,14 @@ NAMESPACES = ("body", "joint", "geom", "site", "mesh", "texture", "material", "a
 
 @pytest.fixture(autouse=True)
 def fast_from_the_first_document(monkeypatch):
-    """Read fast from the first document on (see `parser._ELEMENTS_BEFORE_SCHEMA`)."""
-    monkeypatch.setattr(parser, "_ELEMENTS_BEFORE_SCHEMA", 0)
+    """Read fast from the first document on (see `fast_reader._ELEMENTS_BEFORE_SCHEMA`)."""
+    monkeypatch.setattr(fast_reader, "_ELEMENTS_BEFORE_SCHEMA", 0)
 
 
 @pytest.fixture
 def element_by_element(monkeypatch):
     """Read every document element by element, as before the fast way existed."""
-    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    monkeypatch.setattr(fast_reader, "read", lambda *args: False)
 
 
 def _read_both(
@@ -55,10 +55,10 @@ def _read_both(
         return mjcf.from_xml_string(text, model_dir=str(path.parent))
 
     taken = []
-    fast_reader = parser._read_fast
-    monkeypatch.setattr(parser, "_read_fast", lambda *a: taken.append(fast_reader(*a)) or taken[0])
+    read_fast = fast_reader.read
+    monkeypatch.setattr(fast_reader, "read", lambda *a: taken.append(read_fast(*a)) or taken[0])
     fast = read()
-    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    monkeypatch.setattr(fast_reader, "read", lambda *args: False)
     slow = read()
     monkeypatch.undo()
     assert taken == [True], "the fast way should read every shipped model"
@@ -154,7 +154,7 @@ REPEATED = {
 def test_repeated_sections_merge_as_element_by_element(case: str, monkeypatch) -> None:
     xml = f"<mujoco>{REPEATED[case]}<worldbody><geom size='1'/></worldbody></mujoco>"
     fast = mjcf.from_xml_string(xml)
-    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    monkeypatch.setattr(fast_reader, "read", lambda *args: False)
     slow = mjcf.from_xml_string(xml)
     _assert_same_model(fast, slow)
     compiled = mjcf.Physics.from_mjcf_model(fast).model
@@ -222,7 +222,7 @@ def test_errors_are_raised_at_parse_time_as_element_by_element(case: str, monkey
     xml = f"<mujoco><worldbody>{body}</worldbody></mujoco>"
     with pytest.raises(mjcf.Error, match=match) as fast:
         mjcf.from_xml_string(xml)
-    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    monkeypatch.setattr(fast_reader, "read", lambda *args: False)
     with pytest.raises(mjcf.Error) as slow:
         mjcf.from_xml_string(xml)
     assert (type(fast.value), str(fast.value)) == (type(slow.value), str(slow.value))
@@ -306,7 +306,8 @@ def _all_specs():
 
 _FIRST_READS = """
 import mjcf
-from mjcf import parser, xsd
+from mjcf.io import fast_reader
+from mjcf.io import xsd
 path = {path!r}
 first = mjcf.from_path(path).to_xml_string()
 assert not xsd.is_made(), "the first model is read element by element"
@@ -314,7 +315,7 @@ reads = 1
 while not xsd.is_made():
     assert mjcf.from_path(path).to_xml_string() == first
     reads += 1
-print(reads, parser._elements_read_slowly, parser._ELEMENTS_BEFORE_SCHEMA)
+print(reads, fast_reader._elements_read_slowly, fast_reader._ELEMENTS_BEFORE_SCHEMA)
 """
 
 

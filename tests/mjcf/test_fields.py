@@ -1,4 +1,4 @@
-"""mjcf.fields covers every indexed MjModel/MjData field of the installed mujoco, correctly.
+"""mjcf.sim.fields covers every indexed MjModel/MjData field of the installed mujoco, correctly.
 
 The model below has at least one object of every kind, so that iterating the installed
 fields exercises every kind and every address scheme; the checks compare against MuJoCo's own
@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 from mujoco.introspect import structs
 
-from mjcf import errors, fields, tracking
+from mjcf import errors
 from mjcf.physics import Physics
+from mjcf.sim import fields, staleness
 from tests.conftest import MUJOCO_TESTDATA
 
 Obj = mujoco.mjtObj
@@ -197,7 +198,7 @@ def test_every_first_extent_is_classified(every_kind):
     for _, name, extent in installed_array_fields(every_kind.model, every_kind.data):
         seen.add(extent)
         assert extent in kind_sizes | addressed | UNINDEXED_EXTENTS, (
-            f"{name} has first axis {extent}: index it in mjcf/fields.py or list it in "
+            f"{name} has first axis {extent}: index it in mjcf/sim/fields.py or list it in "
             "UNINDEXED_EXTENTS with the reason"
         )
     assert not UNINDEXED_EXTENTS - seen, "stale UNINDEXED_EXTENTS entries"
@@ -379,44 +380,44 @@ def test_names_of_unnamed_objects_are_empty():
     assert names[0] == "floor" and "" in names
 
 
-# -- what writes make stale (mjcf.tracking), and column names ----------------------------------
+# -- what writes make stale (mjcf.sim.staleness), and column names -------------------------
 
 
 def test_state_fields_are_mujocos_state_components() -> None:
     model = mujoco.MjModel.from_xml_path(str(MUJOCO_TESTDATA / "model.xml"))
     data = mujoco.MjData(model)
-    for name, component in tracking.STATE_FIELDS.items():
+    for name, component in staleness.STATE_FIELDS.items():
         size = mujoco.mj_stateSize(model, component)
         assert np.size(getattr(data, name)) == size, name
     singles = [c for c in mujoco.mjtState.__members__.values() if bin(int(c)).count("1") == 1]
-    assert sorted(tracking.STATE_FIELDS.values(), key=int) == sorted(singles, key=int)
-    assert {"ctrl", "qfrc_applied", "xfrc_applied"} == tracking.STEP_INPUT_FIELDS
+    assert sorted(staleness.STATE_FIELDS.values(), key=int) == sorted(singles, key=int)
+    assert {"ctrl", "qfrc_applied", "xfrc_applied"} == staleness.STEP_INPUT_FIELDS
 
 
 def test_every_derived_field_has_a_stage_from_mjdata_h() -> None:
-    assert tracking.read_stage("xpos") == tracking.Stage.POSITION
-    assert tracking.read_stage("cvel") == tracking.Stage.POSITION  # velocity: same half-step
-    assert tracking.read_stage("qacc") == tracking.Stage.ACCELERATION
-    assert tracking.read_stage("actuator_force") == tracking.Stage.ACCELERATION
-    assert tracking.read_stage("qpos") == tracking.Stage.NONE
+    assert staleness.read_stage("xpos") == staleness.Stage.POSITION
+    assert staleness.read_stage("cvel") == staleness.Stage.POSITION  # velocity: same half-step
+    assert staleness.read_stage("qacc") == staleness.Stage.ACCELERATION
+    assert staleness.read_stage("actuator_force") == staleness.Stage.ACCELERATION
+    assert staleness.read_stage("qpos") == staleness.Stage.NONE
     unparsed = [
         name for name in fields.indexed_fields("data")
-        if name not in tracking.STATE_FIELDS and name not in tracking._DATA_STAGES
+        if name not in staleness.STATE_FIELDS and name not in staleness._DATA_STAGES
     ]  # fmt: skip
-    assert unparsed == ["sensordata"]  # a stage per sensor: tracking.sensor_stage
-    assert tracking.ON_DEMAND["cfrc_ext"] == ("flg_rnepost", "mj_rnePostConstraint")
-    assert tracking.ON_DEMAND["subtree_linvel"] == ("flg_subtreevel", "mj_subtreeVel")
+    assert unparsed == ["sensordata"]  # a stage per sensor: staleness.sensor_stage
+    assert staleness.ON_DEMAND["cfrc_ext"] == ("flg_rnepost", "mj_rnePostConstraint")
+    assert staleness.ON_DEMAND["subtree_linvel"] == ("flg_subtreevel", "mj_subtreeVel")
 
 
 def test_model_write_effects_follow_mj_setconst_inputs() -> None:
-    effect = {name: tracking.write_effect(f) for name, f in fields.indexed_fields("model").items()}
-    constant = tracking.Effect.MODEL_CONSTANT
+    effect = {name: staleness.write_effect(f) for name, f in fields.indexed_fields("model").items()}
+    constant = staleness.Effect.MODEL_CONSTANT
     for name in ("body_pos", "body_ipos", "body_mass", "geom_pos", "geom_quat", "geom_size",
                  "site_pos", "jnt_axis", "qpos0"):  # fmt: skip
         assert effect[name] == constant, name
-    assert effect["geom_friction"] == effect["dof_damping"] == tracking.Effect.MODEL
-    assert effect["geom_rgba"] == effect["mat_rgba"] == tracking.Effect.VISUAL
-    assert len(tracking.SETCONST_INPUTS) > 50
+    assert effect["geom_friction"] == effect["dof_damping"] == staleness.Effect.MODEL
+    assert effect["geom_rgba"] == effect["mat_rgba"] == staleness.Effect.VISUAL
+    assert len(staleness.SETCONST_INPUTS) > 50
 
 
 def test_column_names_cover_dm_controls() -> None:

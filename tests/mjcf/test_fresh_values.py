@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import fields
 from mjcf.physics import Physics
+from mjcf.sim import fields
 from tests.conftest import MUJOCO_TESTDATA, gym_model
 
 Obj = mujoco.mjtObj

@@ -1,4 +1,4 @@
-"""Global settings of composed models (`mjcf.global_settings`): an attached model's
+"""Global settings of composed models (`mjcf.compose.global_settings`): an attached model's
 `<option>`, `<size>`, `<visual>`, `<statistic>` and `<compiler>` merge into the model it
 goes into by dm_control's rules (MuJoCo's documented merging table, where dm_control has
 none), every conflict is named in one error, and values written on either model after
@@ -23,8 +23,8 @@ import pytest
 import composer
 import mjcf
 from entities import robots
-from mjcf import global_settings
-from mjcf.settings import OWN_COMPILER_SETTINGS
+from mjcf.compose import global_settings
+from mjcf.compose.settings import OWN_COMPILER_SETTINGS
 from tests import dm_control_wheel
 from tests.conftest import GYM_ASSETS, UR5E, gym_model
 

@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mjcf
-from mjcf import parser
+from mjcf.io import parser
 from tests.conftest import GYM_ASSETS, MUJOCO_TESTDATA
 
 XXE = """<?xml version="1.0"?>
@@ -298,12 +298,12 @@ def test_files_above_the_size_limit_are_refused(tmp_path: Path, monkeypatch) -> 
     )
     (tmp_path / "m.msh").write_bytes((MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes())
     model = mjcf.from_path(model_file)
-    monkeypatch.setattr(mjcf.assets, "FILE_SIZE_LIMIT", 2_000)
+    monkeypatch.setattr(mjcf.tree.assets, "FILE_SIZE_LIMIT", 2_000)
     with pytest.raises(mjcf.AssetError, match=r"more than 2000 bytes.*FILE_SIZE_LIMIT"):
         mjcf.Physics.from_mjcf_model(model)
     with pytest.raises(mjcf.AssetError, match="more than 2000 bytes"):
         model.get_assets()
-    monkeypatch.setattr(mjcf.assets, "FILE_SIZE_LIMIT", 100)
+    monkeypatch.setattr(mjcf.tree.assets, "FILE_SIZE_LIMIT", 100)
     with pytest.raises(mjcf.ParseError, match="more than 100 bytes"):
         mjcf.from_path(model_file)
     monkeypatch.undo()

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import assets
+from mjcf.tree import assets
 from tests.conftest import MENAGERIE
 
 PAD = MENAGERIE / "robotiq_2f85" / "assets" / "pad.stl"

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mjcf
-from mjcf import parser
+from mjcf.io import fast_reader
 from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA
 
 TWO_JOINTS = """<mujoco>
@@ -159,12 +159,12 @@ _NAMESPACES = ("body", "joint", "geom", "site", "tendon", "material", "mesh", "d
 
 def _read_eagerly(path: Path) -> mjcf.RootElement:
     """Read element by element, every reference resolved at once, as dm_control reads."""
-    fast = parser._read_fast
-    parser._read_fast = lambda *args: False  # type: ignore[assignment]
+    fast = fast_reader.read
+    fast_reader.read = lambda *args: False  # type: ignore[assignment]
     try:
         model = mjcf.from_path(path)
     finally:
-        parser._read_fast = fast  # type: ignore[assignment]
+        fast_reader.read = fast  # type: ignore[assignment]
     model.resolve_references()
     return model
 

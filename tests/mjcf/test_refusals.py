@@ -12,7 +12,7 @@ import mujoco
 import pytest
 
 import mjcf
-from mjcf import parser
+from mjcf.io import fast_reader
 from mjcf.schema import _refusals
 from tests.conftest import MENAGERIE
 
@@ -55,7 +55,7 @@ def test_what_crashes_mujoco_is_refused(case: str, monkeypatch) -> None:
     assert _mujoco_compiles(xml) == -signal.SIGSEGV  # the entry is still needed
     with pytest.raises(mjcf.Error, match="crashes on it"):
         mjcf.from_xml_string(xml)
-    monkeypatch.setattr(parser, "_read_fast", lambda *args: False)
+    monkeypatch.setattr(fast_reader, "read", lambda *args: False)
     with pytest.raises(mjcf.Error, match="crashes on it"):
         mjcf.from_xml_string(xml)
 

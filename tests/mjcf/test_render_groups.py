@@ -1,4 +1,4 @@
-"""Renderers sharing an OpenGL context (`mjcf.rendering.context_group`) and drawing from
+"""Renderers sharing an OpenGL context (`mjcf.sim.rendering.context_group`) and drawing from
 other threads (`release_context`): each draws, pixel for pixel, what a renderer with a
 context of its own draws, whatever the order, size, model or thread; closing one leaves the
 others drawing. The reference is each physics' renderer made outside any group."""
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import rendering
+from mjcf.sim import rendering
 from tests.conftest import gym_model
 
 # (model, height, width): two models, three sizes, one model twice

@@ -1,4 +1,4 @@
-"""Meshes drawn with fewer triangles in small images (`mjcf.render_meshes`): the UR5e's
+"""Meshes drawn with fewer triangles in small images (`mjcf.sim.render_meshes`): the UR5e's
 121,783 triangles are simplified for a 64x64 frame, the frame looks as the full meshes' frame
 does, and nothing but the render context's triangles changes: not the model, not the
 simulation's rays, not what is written to the model at run time, not larger images, not
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import render_meshes, rendering
+from mjcf.sim import render_meshes, rendering
 from tests.conftest import UR5E, gym_model
 
 SIZE = 64

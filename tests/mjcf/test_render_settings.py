@@ -1,4 +1,4 @@
-"""Render settings fitted to the image size (`mjcf.rendering.frame_settings`): a model that
+"""Render settings fitted to the image size (`mjcf.sim.rendering.frame_settings`): a model that
 leaves `<visual>` to MuJoCo's defaults renders small frames without shadows and
 multisampling and large ones as MuJoCo draws them, on an offscreen buffer of the image's
 size; whatever the MJCF sets is kept; the model itself never changes.
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import mjcf
-from mjcf import rendering
+from mjcf.sim import rendering
 from tests.conftest import gym_model
 
 DEFAULTS = {"shadowsize": 4096, "offsamples": 4, "offwidth": 640, "offheight": 480}

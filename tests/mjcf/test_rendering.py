@@ -24,7 +24,8 @@ LINUX_ONLY = pytest.mark.skipif(platform.system() != "Linux", reason="Linux's ba
 SCRIPT = """
 import json, os, sys
 import mujoco  # first, as a user's notebook may: MuJoCo has then read MUJOCO_GL
-from mjcf import errors, rendering
+from mjcf import errors
+from mjcf.sim import rendering
 from mjcf.physics import Physics
 
 physics = Physics.from_xml_path(sys.argv[1])

@@ -14,9 +14,11 @@ from pathlib import Path
 from mjcf import schema
 from tests.conftest import INSTALLED_PACKAGES, REPO, gym_model
 
-# The schema, and the refusals applied on top of it when it loads (what crashes MuJoCo).
+# The schema, the refusals applied on top of it when it loads (what crashes MuJoCo), and
+# the attribute values it is made of (the bottom layer of mjcf).
 RUNTIME_SCHEMA = {
-    "mjcf/schema/__init__.py", "mjcf/schema/_refusals.py", "mjcf/schema/mjcf_schema.json"
+    "mjcf/schema/__init__.py", "mjcf/schema/_refusals.py", "mjcf/schema/mjcf_schema.json",
+    "mjcf/schema/values.py",
 }  # fmt: skip
 
 

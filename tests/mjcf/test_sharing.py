@@ -1,4 +1,4 @@
-"""Copies of a model compose with their meshes and textures compiled once (mjcf.sharing):
+"""Copies of a model compose with their meshes and textures compiled once (mjcf.compose.sharing):
 the compiled scene is what the unshared scene is, but for the duplicated assets, and the
 copies' trees and names are untouched."""
 

@@ -13,7 +13,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 import composer
 import mjcf
-from composer.batched import BATCHABLE
+from composer.batch.protocol import BATCHABLE
 from composer.observation import Observable
 from tasks.push import TARGET_WINDOW
 from tasks.rewards import squared_norms, tolerance

@@ -82,7 +82,7 @@ PLAIN_STRINGS: frozenset[str] = frozenset(
 )
 
 # String attributes the reader reads by a grammar of its own, by attribute name:
-# the name of the grammar in `mjcf.values.TEXT_FORMATS` (checked against the reader).
+# the name of the grammar in `mjcf.schema.values.TEXT_FORMATS` (checked against the reader).
 TEXT_FORMATS: dict[str, str] = {"memory": "memory size", "eulerseq": "three characters"}
 
 # Where an attribute name means something else in one element (element key,

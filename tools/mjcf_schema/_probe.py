@@ -65,7 +65,7 @@ NAMED_PRELUDE = (
     '<contact><exclude name="p" body1="p" body2="world"/></contact>'
     '<keyframe><key name="p"/></keyframe><custom><numeric name="p" data="1"/></custom>'
     # The model probes name; the default class only where named, since a second
-    # top-level <default> is read differently (see mjcf.default_sections).
+    # top-level <default> is read differently (see mjcf.io.default_sections).
     + PRELUDES[_MODEL_NAME]
 )
 

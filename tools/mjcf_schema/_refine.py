@@ -28,7 +28,7 @@ import itertools
 import re
 import struct
 
-from mjcf import values as _values
+from mjcf.schema import values as _values
 from tools.mjcf_schema import _annotations, _probe, _reader
 from tools.mjcf_schema._docs import Attribute, Element, SchemaError
 from tools.mjcf_schema._probe import Probe, note

@@ -42,8 +42,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from composer import batched, errors
-from composer.batch_of_one import BatchOfOne
+from composer import errors
+from composer.batch import protocol
+from composer.batch.single import BatchOfOne
 
 Bounds = tuple[Any, Any]
 Corruptor = Callable[..., Any]
@@ -193,7 +194,7 @@ class Observable:
         """dm_control's name for `reader`: the uncorrupted reading function."""
         return reader_of(self, physics)
 
-    def batch_reader(self, physics: batched.BatchPhysics) -> Callable[[], np.ndarray] | None:
+    def batch_reader(self, physics: protocol.BatchPhysics) -> Callable[[], np.ndarray] | None:
         """A function returning the current values of the n environments of `physics`,
         shape (n, *shape), resolved once per compile; or None when they cannot be read at
         once (then each environment's is read with `reader`). None here."""
@@ -231,8 +232,8 @@ class Observable:
 def reader_of(observable: Observable, physics: Any) -> Callable[[], np.ndarray]:
     """How one environment reads `observable` from its `physics`: its `batch_reader` with a
     batch of one where that is the form it defines (on the class defining `reader` or a
-    subclass, as `composer.batched` decides for task methods), else its `reader`."""
-    if batched.prefers_batched(type(observable), "reader", "batch_reader"):
+    subclass, as `composer.batch` decides for task methods), else its `reader`."""
+    if protocol.prefers_batched(type(observable), "reader", "batch_reader"):
         return Observable.reader(observable, physics)
     return observable.reader(physics)
 
@@ -339,8 +340,8 @@ class BatchGeneric(Observable):
 
     def __init__(
         self,
-        function: Callable[[batched.BatchPhysics], Any],
-        batch_function: Callable[[batched.BatchPhysics], Any] | None = None,
+        function: Callable[[protocol.BatchPhysics], Any],
+        batch_function: Callable[[protocol.BatchPhysics], Any] | None = None,
         **options: Any,
     ) -> None:
         """Call `function(batch_physics)` at each sample; options as `Observable`.
@@ -360,7 +361,7 @@ class BatchGeneric(Observable):
             function = batch_function
         self.batch_function = function
 
-    def batch_reader(self, physics: batched.BatchPhysics) -> Callable[[], np.ndarray]:
+    def batch_reader(self, physics: protocol.BatchPhysics) -> Callable[[], np.ndarray]:
         """A closure over the batch physics."""
         function = self.batch_function
         return lambda: np.asarray(function(physics))

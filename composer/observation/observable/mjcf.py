@@ -9,7 +9,7 @@
 Options are `Observable`'s (`composer.observation.observable.base`). A camera renders through
 the physics' renderer of its size, made once per compile: frames up to 128 pixels a side are
 drawn without shadows and multisampling unless the model's `<visual>` sets them
-(`mjcf.rendering`), at about a plain frame's cost on a software rasterizer.
+(`mjcf.sim.rendering`), at about a plain frame's cost on a software rasterizer.
 """
 
 from __future__ import annotations

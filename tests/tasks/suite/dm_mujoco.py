@@ -7,7 +7,7 @@ the suite needs little of it: a Physics class to subclass (with `from_xml_string
 hook and attribute dm_control's adds, `_reload_from_data` and `contexts`), the
 actuators' `action_spec`, and `wrapper.mjbindings` for MuJoCo's enums and functions, which
 the `mujoco` bindings provide under the same names (`.ptr` of our model and data is the
-object itself, `mjcf.raw_access`).
+object itself, `mjcf.sim.raw_access`).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 from dm_env import specs
 
 import mjcf
-from mjcf.binding import ACC_BEHIND
+from mjcf.sim.binding import ACC_BEHIND
 
 
 class Physics(mjcf.Physics):

@@ -1,0 +1,341 @@
+"""VectorPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays.
+
+    def get_reward_batch(self, physics):                 # a Task's batched method
+        hinge = physics.bind(self.pendulum.hinge)        # bound once, cached
+        return -np.abs(hinge.qpos[:, 0])                 # (n,): one row per environment
+    physics.bind(self.arm.actuators).ctrl = u            # writes state fields, (n, nu)
+    physics.field('time')                                # a whole MjData field, (n,)
+    physics.ids, physics.tasks, physics.random_states    # who the n rows are
+
+The `composer.BatchPhysics` a VectorEnvironment passes to batched methods (the contract is
+`composer.batch`'s). Each covers a fixed set of environments (`ids`, ascending):
+`Simulations.physics(ids)` gives the one of the environments of a call, and
+`Simulations.physics()` the one of every environment, kept with its bindings; all share
+the `Simulations`, which knows what of the batch is fresh.
+`bind(elements)` takes elements of the first environment's model, as `mjcf.Physics.bind`
+does, and gives their fields with a leading environment axis: `bind(joint).qpos` is (n, 1)
+for a hinge. Reads are copies. MjData fields come from MuJoCo's batch
+(`mujoco.batch.Batch.bind`): state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied
+...) are the simulations' state and can be assigned; derived fields (xpos, sensordata ...)
+are read-only and describe the current state, as `mjcf.Physics` bindings' do: positions and
+velocities are computed after each step, and acceleration-dependent fields (qacc, touch
+sensors ...), or anything after a write of state, are recomputed for the environments read
+(`Batch.forward`) when first read. Fields MuJoCo computes only for sensors (cfrc_ext,
+subtree_linvel ...) are read per environment. MjModel fields (mass, geom_size ...) are
+read from each environment's own model, one at a time.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+from mujoco import batch as mujoco_batch
+
+import mjcf
+from composer.batch import protocol
+from mjcf.sim import fields, staleness
+
+_ACC = staleness.Stage.ACCELERATION
+
+if TYPE_CHECKING:
+    from composer.environment import Environment
+    from composer.task import Task
+
+
+class _Field:
+    """One bound field: where its rows are in the batch (`key`: a slice where they are a
+    run), the per-environment shape, the stage a read needs fresh and what a write
+    changes."""
+
+    __slots__ = ("effect", "key", "model_name", "rows", "shape", "source", "stage", "writable")
+
+    def __init__(
+        self,
+        source: np.ndarray | None,
+        model_name: str,
+        rows: np.ndarray,
+        shape: tuple,
+        stage: staleness.Stage,
+        effect: staleness.Effect,
+    ) -> None:
+        self.source = source  # (num_envs, ...) batch array; None for an MjModel field
+        self.model_name = model_name
+        self.rows = rows
+        run = rows.size > 0 and bool((np.diff(rows) == 1).all())
+        self.key = slice(int(rows[0]), int(rows[-1]) + 1) if run else rows
+        self.shape = shape
+        self.stage = stage
+        self.effect = effect
+        self.writable = source is not None and source.flags.writeable
+
+
+class BatchBinding(protocol.Binding):
+    """Fields of bound elements in the environments of a VectorPhysics, (n, ...) each.
+    Raises mjcf.BindingError for a field the elements' kind does not have."""
+
+    __slots__ = ("_elements", "_fields", "_physics")
+
+    _physics: VectorPhysics
+    _elements: Any  # an element or a tuple of elements of one kind
+    _fields: dict[str, _Field]
+
+    def __init__(self, physics: VectorPhysics, elements: Any, fields: dict[str, _Field]) -> None:
+        """Bind `elements` (of the first environment's model) in the environments of
+        `physics`; `fields` holds their fields as resolved, shared by every view."""
+        object.__setattr__(self, "_physics", physics)
+        object.__setattr__(self, "_elements", elements)
+        object.__setattr__(self, "_fields", fields)
+
+    def _field(self, name: str) -> _Field:
+        found = self._fields.get(name)
+        if found is None:
+            found = self._fields[name] = self._physics.simulations._resolve(self._elements, name)
+        return found
+
+    def _get(self, name: str) -> np.ndarray:
+        return self._physics._read(self._field(name))
+
+    def _set(self, name: str, value: Any) -> None:
+        self._physics._write(self._field(name), name, value)
+
+    def __repr__(self) -> str:
+        return f"<BatchBinding of {self._elements!r}>"
+
+
+class Simulations:
+    """The simulations of a VectorEnvironment, and which of their derived fields in the
+    batch lag their state: what every VectorPhysics over them shares.
+
+        simulations = Simulations(batch, envs)
+        simulations.physics()           # the VectorPhysics of every environment
+        simulations.physics(ids)        # of environments `ids` (ascending)
+        simulations.stepped(ids, True, True)  # the environment stepped them, stages too
+        simulations.changed(i)          # it wrote environment i's state from its MjData
+    """
+
+    def __init__(self, batch: mujoco_batch.Batch, envs: Sequence[Environment]) -> None:
+        """Serve `batch`, whose simulation i is `envs[i]`; the first environment's physics
+        resolves elements."""
+        self.batch = batch
+        self.envs = envs
+        self.template = envs[0].physics
+        self.nsim = batch.nsim
+        # Per simulation: whether the batch's derived fields lag its state rows, for the
+        # position/velocity stages and for the acceleration stage.
+        self._pos_stale = np.ones(batch.nsim, dtype=bool)
+        self._acc_stale = np.ones(batch.nsim, dtype=bool)
+        self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
+        # Whether a derived field (not state) was ever bound: until then a step need not
+        # compute the stages of the new state (`stepped`).
+        self.reads_derived = False
+        # Per bound elements: their binding class (None: no elements) and resolved fields.
+        self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
+        self._every = VectorPhysics(self, None)
+
+    def physics(self, ids: np.ndarray | None = None) -> VectorPhysics:
+        """The VectorPhysics of environments `ids` (ascending; None: every one)."""
+        if ids is None or len(ids) == self.nsim:
+            return self._every
+        return VectorPhysics(self, ids)
+
+    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: bool) -> None:
+        """Simulations `ids` (None: all) were stepped. `consistent` (reads must describe
+        the new state): with the stages of the new state `computed` (mjSTAGE_VEL), only
+        their acceleration stage lags, else every stage does; not `consistent`: their
+        fields lag as mj_step leaves them, which reads then give."""
+        rows = slice(None) if ids is None else ids
+        self._pos_stale[rows] = consistent and not computed
+        self._acc_stale[rows] = consistent
+
+    def changed(self, ids: Any) -> None:
+        """The state rows of simulations `ids` were written from outside the batch."""
+        self._pos_stale[ids] = True
+        self._acc_stale[ids] = True
+
+    def _wrote(self, ids: np.ndarray | None, effect: staleness.Effect) -> None:
+        """Batched methods wrote the state rows of simulations `ids` (None: all)."""
+        written = slice(None) if ids is None else ids
+        self._acc_stale[written] = True
+        if effect != staleness.Effect.STEP_INPUT:
+            self._pos_stale[written] = True
+
+    def _refresh(self, ids: np.ndarray, stage: staleness.Stage) -> None:
+        """Recompute the derived fields of simulations `ids` that lag for `stage`."""
+        stale = self._pos_stale[ids]
+        if stage == _ACC:
+            stale = stale | self._acc_stale[ids]
+        if not stale.any():
+            return
+        which = ids[stale]
+        batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
+        # Simulations that raise here failed their step already, and are truncated.
+        with contextlib.suppress(mujoco_batch.SimulationError):
+            self.batch.forward(None if len(which) == self.nsim else which, batch_stage)
+        self._pos_stale[which] = False
+        if stage == _ACC:
+            self._acc_stale[which] = False
+
+    def _source(self, name: str) -> np.ndarray:
+        """MjData field `name` of every simulation, as the batch holds it. Raises
+        BatchError for a field the batch does not hold."""
+        source = self._sources.get(name)
+        if source is not None:
+            return source
+        protocol.check_source(name)
+        source = self._sources[name] = self.batch.bind(name)
+        if name not in protocol.STATE_FIELDS:
+            # MuJoCo's batch copies an output out at each call from its first bind on:
+            # until the next call it holds nothing, whatever the stages say.
+            self._pos_stale[:] = True
+            self._acc_stale[:] = True
+            self.reads_derived = True
+        return source
+
+    def _binding(self, key: Any) -> tuple[type[BatchBinding] | None, dict[str, _Field]]:
+        """How elements `key` (an element or a tuple of them) bind: their binding class
+        (None for no elements) and their fields resolved so far. Raises mjcf.BindingError
+        for elements of another model."""
+        found = self._bound.get(key)
+        if found is None:
+            template = self.template.bind(key)
+            if template is mjcf.sim.binding.EMPTY:
+                found = (None, {})
+            else:
+                found = (protocol.binding_class(BatchBinding, template.kind), {})
+            self._bound[key] = found
+        return found
+
+    def _resolve(self, elements: Any, name: str) -> _Field:
+        """Field `name` of `elements`; raises mjcf.BindingError for one their kind has not."""
+        model = self.template.model
+        template = self.template.bind(list(elements) if isinstance(elements, tuple) else elements)
+        value = getattr(template, name)  # raises mjcf.BindingError for an unknown field
+        spec = fields.kind_fields(template.kind)[name]
+        ids = np.atleast_1d(np.asarray(template.ids))
+        rows, _ = fields.row_index(model, spec.address, ids)
+        source = self._source(spec.name) if spec.struct == "data" else None
+        if spec.name == "sensordata":
+            stage = staleness.sensor_stage(model, ids)
+        else:
+            stage = staleness.field_stage(spec)
+        effect = staleness.write_effect(spec)
+        return _Field(source, spec.name, rows, np.shape(value), stage, effect)
+
+
+class VectorPhysics(protocol.BatchPhysics):
+    """Numpy access to the simulations of some environments of a VectorEnvironment (see
+    the module docstring); made by `Simulations.physics`."""
+
+    def __init__(self, simulations: Simulations, ids: np.ndarray | None) -> None:
+        """Cover environments `ids` (ascending; None: every one) of `simulations`."""
+        self.simulations = simulations
+        self._ids = ids
+        self._every = np.arange(simulations.nsim) if ids is None else ids
+        self._count = len(self._every)
+        self._bindings: dict[Any, protocol.Binding | protocol.EmptyBinding] = {}
+        self._stages: dict[str, staleness.Stage] = {}  # of the fields `field` read
+
+    # -- who the rows are ----------------------------------------------------------------
+
+    @property
+    def ids(self) -> np.ndarray:
+        """The environments covered, ascending: row k is environment ids[k]."""
+        return self._every.copy()
+
+    @property
+    def num_envs(self) -> int:
+        """n, the number of rows."""
+        return self._count
+
+    @property
+    def tasks(self) -> list[Task]:
+        """Each row's task (per-episode state a task keeps on itself is read here)."""
+        envs = self.simulations.envs
+        return [envs[i].task for i in self._every]
+
+    @property
+    def random_states(self) -> list[np.random.RandomState]:
+        """Each row's RandomState: draw from these to stay reproducible per environment."""
+        envs = self.simulations.envs
+        return [envs[i].random_state for i in self._every]
+
+    @property
+    def batch(self) -> mujoco_batch.Batch:
+        """The underlying `mujoco.batch.Batch`, every environment (not only those covered)."""
+        return self.simulations.batch
+
+    # -- access --------------------------------------------------------------------------
+
+    def bind(self, elements: Any) -> protocol.Binding | protocol.EmptyBinding:
+        """The fields of `elements` (one element or an iterable of one kind, of the first
+        environment's model, as `mjcf.Physics.bind` takes them), cached; no elements give
+        fields of shape (n, 0). Raises mjcf.BindingError as `mjcf.Physics.bind`."""
+        key = elements if isinstance(elements, mjcf.Element) else tuple(elements)
+        found = self._bindings.get(key)
+        if found is None:
+            cls, fields = self.simulations._binding(key)
+            found = protocol.EmptyBinding(self) if cls is None else cls(self, key, fields)
+            self._bindings[key] = found
+        return found
+
+    def field(self, name: str) -> np.ndarray:
+        """See `composer.BatchPhysics.field`."""
+        simulations = self.simulations
+        source = simulations._source(name)
+        stage = self._stages.get(name)
+        if stage is None:
+            stage = staleness.read_stage(name)
+            if name == "sensordata":
+                model = simulations.template.model
+                stage = staleness.sensor_stage(model, np.arange(model.nsensor))
+            self._stages[name] = stage
+        if stage:
+            simulations._refresh(self._every, stage)
+        return source.copy() if self._ids is None else source[self._ids]
+
+    def _read(self, found: _Field) -> np.ndarray:
+        """The rows of bound field `found` of the environments covered, a new array."""
+        if found.stage:
+            self.simulations._refresh(self._every, found.stage)
+        ids, source = self._ids, found.source
+        if source is None:
+            models = [self.simulations.envs[i].physics.model for i in self._every]
+            rows = [getattr(model, found.model_name)[found.rows] for model in models]
+            return np.stack(rows).reshape(len(rows), *found.shape)
+        if ids is None:
+            values = source[:, found.key]
+            if type(found.key) is slice:  # a view of a run of rows: copied
+                values = values.copy()
+        else:
+            values = source[ids[:, None], found.rows]
+        return values.reshape(len(values), *found.shape)
+
+    def _write(self, found: _Field, name: str, value: Any) -> None:
+        """Write `value`, (n, ...) rows, to bound field `found` (named `name`) of the
+        environments covered. Raises BatchError for a field batched methods cannot
+        assign, mjcf.BindingError for values that do not fit."""
+        source = found.source
+        if not found.writable or source is None:  # no source: not writable
+            raise protocol.not_writable(name, model_field=source is None)
+        n = self.num_envs
+        rows = protocol.rows_to_write(value, n, found.shape, name)
+        rows = rows.reshape(n, len(found.rows), *source.shape[2:])
+        if self._ids is None:
+            source[:, found.rows] = rows
+        else:
+            source[self._ids[:, None], found.rows] = rows
+        self.simulations._wrote(self._ids, found.effect)
+
+    def set_control(self, controls: Any) -> None:
+        """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
+        ctrl = self.simulations._source("ctrl")
+        rows = protocol.rows_to_write(controls, self._count, ctrl.shape[1:], "ctrl")
+        if self._ids is None:
+            ctrl[...] = rows
+        else:
+            ctrl[self._ids] = rows
+        self.simulations._wrote(self._ids, staleness.Effect.STEP_INPUT)
