@@ -18,8 +18,9 @@ rule, which `Task.set_timesteps` checks too). An environment resolves it once pe
 counts steps or seconds (the step limit, render fps, a VectorEnvironment) reads that.
 
 A control step, in either environment (each runs it for its environments):
-1. The action is checked (`ActionRule`): the wrong shape or a NaN/infinite value raises
-   EpisodeError before anything changes; values outside the action space are clipped.
+1. The action is checked (`ActionRule`): the wrong shape, values that are not real numbers
+   (strings, objects, complex numbers) or NaN/infinite raise EpisodeError before anything
+   changes; values outside the action space are clipped.
 2. The task's `before_step` applies it (its batched form over the environments, or its
    single form per environment: `TaskStep`), then the entities' `before_step` hooks run.
 3. The physics steps (`physics_steps`): with substep hooks, one at a time between the
@@ -110,6 +111,10 @@ def resolve_timing(task: Task, physics: mjcf.Physics, n_sub_steps: int | None = 
     return Timing(n_sub_steps, n_sub_steps * timestep)
 
 
+# numpy's kinds of real numbers: booleans, signed and unsigned integers, floats.
+_REAL = frozenset("biuf")
+
+
 class ActionRule:
     """What an action must be: the action space's shape (with a row per environment for
     `num_envs`), finite, and within its bounds (clipped to them)."""
@@ -122,17 +127,33 @@ class ActionRule:
         self.shape = space.shape if num_envs is None else (num_envs, *space.shape)
 
     def shaped(self, actions: Any) -> np.ndarray:
-        """`actions` as a float64 array; raises EpisodeError if its shape is not `shape`."""
-        actions = np.asarray(actions, dtype=np.float64)
-        if actions.shape != self.shape:
-            if self._batch:
-                what, hint = "actions have", "a row per environment"
-            else:
-                what, hint = "action has", "one value per actuator"
+        """`actions` as a float64 array; raises EpisodeError if it is not an array of real
+        numbers (strings, objects and complex numbers are refused, never converted: an
+        imaginary part would be dropped) or its shape is not `shape`."""
+        try:
+            given = np.asarray(actions)
+        except (ValueError, TypeError) as e:  # ragged rows
+            raise errors.EpisodeError(f"{self._what('is')} not an array of numbers: {e}") from None
+        if given.dtype.kind not in _REAL:
+            held = "complex numbers (an imaginary part cannot be applied, nor is it dropped)" if (
+                given.dtype.kind == "c") else f"values of type {given.dtype}"  # fmt: skip
             raise errors.EpisodeError(
-                f"{what} shape {actions.shape}, expected {self.shape} ({hint})"
+                f"{self._what('holds')} {held}: actions are real numbers, an array of shape "
+                f"{self.shape}"
+            )
+        actions = given.astype(np.float64, copy=False)
+        if actions.shape != self.shape:
+            hint = "a row per environment" if self._batch else "one value per actuator"
+            raise errors.EpisodeError(
+                f"{self._what('has')} shape {actions.shape}, expected {self.shape} ({hint})"
             )
         return actions
+
+    def _what(self, verb: str) -> str:
+        """'the action has' or 'the actions have' (for `verb` 'has'; 'is', 'holds' too)."""
+        if not self._batch:
+            return f"the action {verb}"
+        return "the actions " + {"has": "have", "is": "are", "holds": "hold"}[verb]
 
     def clipped(self, actions: np.ndarray, ids: np.ndarray | None = None) -> np.ndarray:
         """`actions` clipped to the bounds; raises EpisodeError, naming the indices (or

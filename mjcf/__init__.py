@@ -35,7 +35,8 @@ bindings). `mjcf.element`, `mjcf.physics`, `mjcf.parser`, `mjcf.traversal_utils`
 are dm_control's module paths, re-exporting these names.
 """
 
-# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.element`).
+# dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.element`), and the
+# limits on untrusted input users set (`mjcf.archives.LIMITS`, `mjcf.budget.LIMITS`).
 from mjcf import base as base
 from mjcf import constants as constants
 from mjcf import debugging as debugging
@@ -57,6 +58,7 @@ from mjcf.errors import (
     AttachmentError,
     AttributeValueError,
     BindingError,
+    BudgetError,
     CompileError,
     Error,
     InvalidReferenceError,
@@ -70,10 +72,13 @@ from mjcf.errors import (
     SchemaError,
     StateError,
     UnknownAttributeError,
+    UnpackLimitError,
 )
 from mjcf.errors import deprecated_name as _deprecated_name
+from mjcf.io import archives as archives
 from mjcf.io.export import export_with_assets, export_with_assets_as_zip, from_zip
 from mjcf.io.parser import from_file, from_path, from_xml_string
+from mjcf.sim import budget as budget
 from mjcf.sim.physics import Physics
 from mjcf.tree.assets import Asset
 from mjcf.tree.debugging import disable_debug_mode, enable_debug_mode, is_debug_mode
@@ -89,6 +94,7 @@ __all__ = [
     "AttachmentFrame",
     "AttributeValueError",
     "BindingError",
+    "BudgetError",
     "CompileError",
     "Element",
     "Error",
@@ -105,6 +111,7 @@ __all__ = [
     "SchemaError",
     "StateError",
     "UnknownAttributeError",
+    "UnpackLimitError",
     "commit_defaults",
     "disable_debug_mode",
     "enable_debug_mode",

@@ -81,6 +81,11 @@ class ParseError(Error, ValueError):
     message names the file and line."""
 
 
+class UnpackLimitError(ParseError):
+    """A zip entry that unpacks to more than the limits on untrusted archives allow (a
+    decompression bomb), or a limit that is not a size or ratio: see `mjcf.archives`."""
+
+
 class MissingFileError(ParseError, FileNotFoundError):
     """An included file found neither in the `assets` given nor on disk: a ParseError,
     and a `FileNotFoundError` (an `OSError`, which dm_control raises)."""
@@ -104,6 +109,12 @@ class AssetError(Error, ValueError):
 class CompileError(Error):
     """MuJoCo rejected the model; in debug mode the message names the element and the
     Python line that created it."""
+
+
+class BudgetError(CompileError, ValueError):
+    """A model that asks MuJoCo for more elements or memory than `mjcf.budget` allows (a
+    tiny file that would compile for minutes or allocate gigabytes), or a budget that is
+    not a number."""
 
 
 class PhysicsError(Error):

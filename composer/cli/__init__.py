@@ -21,7 +21,7 @@ engine's library (stable-baselines3, torch, Ray, TensorBoard). tests/cli/test_cl
 checks this on the real source.
 
     foundation:  errors arguments output progress video plot recipes catalog rollout describe
-    contract:    engines.base
+    contract:    engines.base engines.untrusted
     engines:     engines.sb3.files engines.sb3.encoder engines.sb3.policy engines.sb3.training
                  engines.sb3
                  engines.ray.files engines.ray.policy engines.ray.algorithm
@@ -33,7 +33,8 @@ checks this on the real source.
 `recipes` holds the recipe type and registry (each task's recipes live with the task:
 `tasks/recipes.py`), `catalog` the registered tasks, `rollout` episodes, `describe` results
 in words, `output` checked output paths, `arguments` the parser's rules; `engines` is the
-registry of training engines and `engines.base` their contract (`composer.cli.engines`);
+registry of training engines and `engines.base` their contract (`composer.cli.engines`),
+`engines.untrusted` how their plain policy readers check a stranger's file;
 `run_folder` keeps the rules of a training run's folder for every engine.
 """
 

@@ -16,7 +16,9 @@ import re
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn
 
+import mjcf
 from composer.cli.errors import CliError
+from mjcf import archives
 
 
 class UsageError(CliError):
@@ -61,6 +63,22 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
     return value
+
+
+def byte_size(text: str) -> int:
+    """An argparse type: a number of bytes, with K, M, G or T after it if you like."""
+    try:
+        return archives.parse_size(text)
+    except mjcf.UnpackLimitError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def ratio(text: str) -> float:
+    """An argparse type: a number of at least 1."""
+    try:
+        return archives.parse_ratio(text)
+    except mjcf.UnpackLimitError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 def did_you_mean(word: str, known: Sequence[str], quote: str = "") -> str:

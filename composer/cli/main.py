@@ -31,7 +31,7 @@ from typing import Any
 import mjcf
 from composer import errors, registration
 from composer.cli import catalog, engines, recipes, rollout, video
-from composer.cli.arguments import Parser, UsageError, did_you_mean, positive_int
+from composer.cli.arguments import Parser, UsageError, byte_size, did_you_mean, positive_int, ratio
 
 INTERRUPTED = 130
 USAGE_ERROR = 2
@@ -156,6 +156,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return USAGE_ERROR
     try:
         catalog.import_modules(args.imports)
+        _limit_unpacking(args)
         if "task" in args:  # found before the command's module imports torch: fails fast
             args.info = catalog.find(args.task)
             if getattr(args, "pixels", False):
@@ -265,6 +266,32 @@ def _trust_policy(command: argparse.ArgumentParser) -> None:
         "run code: only for files from a source you trust (default: weights and plain "
         "settings only; see SECURITY.md)",
     )  # fmt: skip
+    limits = mjcf.archives
+    command.add_argument(
+        "--unpack-limit", type=byte_size, metavar="SIZE",
+        help="bytes a policy file may unpack to without --trust-policy, e.g. 2G (default: "
+        f"${limits.SIZE_VARIABLE}, else {limits.DEFAULT_SIZE >> 30}G)",
+    )  # fmt: skip
+    command.add_argument(
+        "--unpack-ratio", type=ratio, metavar="N",
+        help="times its compressed size each part of a policy file may unpack to without "
+        f"--trust-policy (default: ${limits.RATIO_VARIABLE}, else {limits.DEFAULT_RATIO:g})",
+    )  # fmt: skip
+
+
+def _limit_unpacking(args: argparse.Namespace) -> None:
+    """Make --unpack-limit and --unpack-ratio, where given, the limits of mjcf.archives
+    for this process (over the environment's)."""
+    size, times = getattr(args, "unpack_limit", None), getattr(args, "unpack_ratio", None)
+    if size is not None or times is not None:
+        try:
+            limits = mjcf.archives.current_limits()
+        except mjcf.UnpackLimitError as e:
+            raise errors.Error(str(e)) from None
+        mjcf.archives.LIMITS = limits._replace(
+            size=limits.size if size is None else size,
+            ratio=limits.ratio if times is None else times,
+        )
 
 
 def _subcommands(top: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:

@@ -287,17 +287,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         each. Returns (observations, info). Raises EpisodeError for a bad mask or seeds."""
         options = dict(options or {})
         mask = options.pop("reset_mask", None)
-        if isinstance(seed, int | np.integer):
-            super().reset(seed=int(seed))
-            seeds: list[int | None] = [int(seed) + i for i in range(self.num_envs)]
-        elif seed is None:
-            seeds = [None] * self.num_envs
-        else:
-            seeds = list(seed)
-            if len(seeds) != self.num_envs:
-                raise errors.EpisodeError(
-                    f"seed must be an int or {self.num_envs} seeds, got {len(seeds)}"
-                )
+        seeds = _seeds(seed, self.num_envs)
+        if seed is not None and _is_seed(seed):
+            super().reset(seed=seeds[0])
         if mask is None:
             ids = np.arange(self.num_envs)
         else:
@@ -655,6 +647,29 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             threads.close()
         for env in getattr(self, "_envs", ()):
             env.close()
+
+
+def _is_seed(seed: Any) -> bool:
+    """Whether `seed` is one seed: an int (numpy's too) of at least 0, as Gymnasium takes."""
+    return isinstance(seed, int | np.integer) and bool(seed >= 0)
+
+
+def _seeds(seed: Any, n: int) -> list[int | None]:
+    """The seed of each of `n` environments that `seed` gives (see `reset`); raises
+    EpisodeError, before any environment is reset, for anything else."""
+    if seed is None or _is_seed(seed):
+        return [None if seed is None else int(seed) + i for i in range(n)]
+    if (
+        isinstance(seed, list | tuple | np.ndarray)
+        and len(seed) == n
+        and all(s is None or _is_seed(s) for s in seed)
+    ):
+        return [None if s is None else int(s) for s in seed]
+    shown = repr(seed) if len(repr(seed)) <= 80 else repr(seed)[:77] + "..."
+    raise errors.EpisodeError(
+        f"seed must be None, an int of at least 0 (environment i gets seed + i) or {n} of "
+        f"them (or None), got {shown}"
+    )
 
 
 def _multiply_discounts(discounts: np.ndarray, info: dict[str, Any], ids: np.ndarray) -> None:

@@ -16,7 +16,8 @@ written:
   `mjcf.compose.settings`): `angle` (euler, axisangle, and the range/ref/springref of
   hinge and ball joints, attachment frames included) and `eulerseq` (euler becomes quat)
   are converted element by element to the output model's, and an attached model's
-  `settotalmass` becomes its densities, masses and inertias scaled;
+  `settotalmass` becomes its own densities, masses and inertias scaled (the models
+  attached inside it keep theirs);
 - unnamed elements are written with the names `mjcf.compose.naming` gives them
   ('child//unnamed_geom_0'), in every output, so the compiled names are the written
   ones;
@@ -357,16 +358,13 @@ class Composition:
             context.seal(tuple(shared.get(model, ())), before.get(model))
 
     def _scale_masses(self) -> None:
-        """Give each attached model with a settotalmass (and the models attached inside
-        it, which it scales too) the scale it applies when compiled alone."""
+        """Give each attached model with a settotalmass the scale it applies to its own
+        bodies alone; the models attached inside it keep their masses (`mjcf.settings`)."""
         for model in self._models[1:]:
             total = settings.setting(model, "settotalmass")
             if total is None or total <= 0:
                 continue
-            scale = float(total) / settings.unscaled_mass(model)
-            for scaled in (model, *attached_models(model)):
-                context = self._contexts[scaled]
-                context.mass_scale = (context.mass_scale or 1.0) * scale
+            self._contexts[model].mass_scale = float(total) / settings.unscaled_mass(model)
 
     def check(self) -> None:
         """Raise mjcf.AttachmentError if the compiler settings each model keeps cannot be
@@ -374,7 +372,9 @@ class Composition:
         if self._checked:
             return
         if self.has_attachments:
-            problems = settings.compiler_problems(self.root, self._models[1], inertia=False)
+            problems = settings.compiler_problems(
+                self.root, self._models[1], inertia=False, output=True
+            )
             if problems:
                 raise errors.AttachmentError(
                     f"model {self.root.model!r} cannot be written with the models attached "

@@ -17,8 +17,11 @@ would:
 - `inertiafromgeom` takes a value under which every body of every model gets its
   inertia the same way as alone ("true" and "auto" agree for a model without
   `<inertial>`), else it is an `AttachmentError`;
-- an attached model's `settotalmass` becomes its densities, masses and inertias scaled
-  by what it would scale them by alone (`unscaled_mass` compiles it once to know);
+- an attached model's `settotalmass` becomes its own densities, masses and inertias
+  scaled by what it would scale them by alone (`unscaled_mass` compiles it once to know);
+  the models attached inside it keep their own masses (MuJoCo's attach leaves them, and
+  a robot's mass never changes with where it is attached); the written model's own
+  `settotalmass` with models attached is an AttachmentError, since it would scale them;
 - settings that do not change an attached model's compiled values (`usethread`,
   `passthrough` ...) are the output model's; files are resolved per model, so
   `meshdir`, `texturedir`, `assetdir` and `strippath` are never written.
@@ -95,18 +98,24 @@ def merged(models: list[RootElement], tag: str, inertia: str | None = None) -> M
     return result
 
 
-def compiler_problems(parent: RootElement, child: RootElement, inertia: bool = True) -> list[str]:
+def compiler_problems(
+    parent: RootElement, child: RootElement, inertia: bool = True, output: bool = False
+) -> list[str]:
     """What keeps `child` from being composed into `parent` among the compiler settings
-    each model keeps (see `OWN_COMPILER_SETTINGS`): a `settotalmass` of the output model,
-    which would scale the attached models' masses too, and inertia settings that cannot
-    be reconciled (checked unless `inertia` is false); empty if nothing does."""
+    each model keeps (see `OWN_COMPILER_SETTINGS`): inertia settings that cannot be
+    reconciled (checked unless `inertia` is false), and (`output`: `parent` is the model
+    written, attached to none) a `settotalmass` of `parent`, which would scale the
+    attached models' masses too; empty if nothing does. The settotalmass is refused when
+    written, not at attach, so that the order of attaching does not decide."""
     problems = []
     total = setting(parent, "settotalmass")
-    if parent.parent_model is None and total is not None and total > 0:
+    # A model attached elsewhere is written alone only to know its own masses.
+    if output and parent.parent_model is None and total is not None and total > 0:
         problems.append(
             f"<compiler settotalmass={total!r}> of model {parent.model!r} would scale the "
-            "masses of attached models too; remove it (MuJoCo deprecates it), or scale the "
-            "masses of its own bodies"
+            "masses of attached models too (MuJoCo's would); attach it into another model, "
+            "which keeps each model's masses as alone, or remove it (MuJoCo deprecates it) "
+            "and scale the masses of its own bodies"
         )
     if inertia:
         try:
@@ -235,9 +244,9 @@ _unscaled_masses: dict[bytes, float] = {}
 
 
 def unscaled_mass(model: RootElement) -> float:
-    """The total body mass of `model` (with the models attached to it) compiled alone
-    without its settotalmass; raises mjcf.AttachmentError if that cannot be scaled by
-    element attributes."""
+    """The total mass of `model`'s own bodies (not those of the models attached to it,
+    which keep their own masses) compiled without its settotalmass; raises
+    mjcf.AttachmentError if that cannot be scaled by element attributes."""
     for element in model.iter():
         if element.spec.tag in _UNSCALABLE:
             raise errors.AttachmentError(
@@ -245,7 +254,8 @@ def unscaled_mass(model: RootElement) -> float:
                 f"the mass of a <{element.tag}> cannot be scaled to match it when the "
                 "model is attached; scale its masses instead of using settotalmass"
             )
-    xml, assets, _, _ = above.serialize_for_compile(model)
+    xml, assets, composition, _ = above.serialize_for_compile(model)
+    prefixes = tuple(context.prefix for context in composition.attached_contexts())
     key = _compile_key(xml, assets)
     total = _unscaled_masses.get(key)
     if total is None:
@@ -257,15 +267,27 @@ def unscaled_mass(model: RootElement) -> float:
             raise errors.CompileError(
                 f"model {model.model!r} (compiled alone to apply its settotalmass): {error}"
             ) from None
-        total = float(compiled.body_mass[1:].sum())
+        total = float(sum(
+            compiled.body_mass[i]
+            for i in range(1, compiled.nbody)
+            if not _attached_body(mujoco.mj_id2name(compiled, mujoco.mjtObj.mjOBJ_BODY, i),
+                                  prefixes)
+        ))  # fmt: skip
         if len(_unscaled_masses) > 256:
             _unscaled_masses.clear()
         _unscaled_masses[key] = total
     if total <= 0:
         raise errors.AttachmentError(
-            f"model {model.model!r} sets <compiler settotalmass> but has no mass to scale"
+            f"model {model.model!r} sets <compiler settotalmass> but its own bodies have no "
+            "mass to scale (the models attached to it keep their own masses)"
         )
     return total
+
+
+def _attached_body(name: str | None, prefixes: tuple[str, ...]) -> bool:
+    """Whether the body `name` is an attached model's ('arm/upper'), not its attachment
+    frame ('arm/', its parent model's)."""
+    return name is not None and any(name.startswith(p) and name != p for p in prefixes)
 
 
 def _compile_key(xml: str, assets: dict[str, bytes]) -> bytes:

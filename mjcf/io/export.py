@@ -6,7 +6,7 @@
     mjcf.export_with_assets_as_zip(model, 'scene.zip')  # scene/model.xml + assets
     mjcf.export_with_assets_as_zip(model, out_dir='out/', model_name='arm')  # out/arm.zip
     mjcf.export_with_assets(mjcf_model=model, out_dir='out/', out_file_name='arm.xml')
-    model = mjcf.from_zip('scene.zip')
+    model = mjcf.from_zip('scene.zip')                  # unpacked within mjcf.archives' limits
 
 The exported XML is `to_xml_string()` and the files beside it are `get_assets()`: the
 same plain, readable, unique names (see `mjcf.tree.assets`). dm_control's keyword names
@@ -21,17 +21,15 @@ import io
 import os
 import posixpath
 import zipfile
-import zlib
 
 from mjcf import errors
-from mjcf.io import serializer
+from mjcf.io import archives, serializer
 from mjcf.io.parser import from_xml_string
 from mjcf.tree import assets as _assets
 from mjcf.tree.assets import plain_file_name
 from mjcf.tree.root import RootElement
 
 _MAX_ZIP_ENTRIES = 100_000
-_MAX_ZIP_BYTES = 4 << 30
 _DEFAULT_FILENAME = "model.xml"
 _UNSET: object = object()  # tells a keyword not given from one given as None
 
@@ -182,37 +180,39 @@ def export_with_assets_as_zip(
 
 
 def from_zip(
-    zip_path: str | os.PathLike | io.IOBase, escape_separators: bool = True
+    zip_path: str | os.PathLike | io.IOBase,
+    escape_separators: bool = True,
+    *,
+    limits: archives.Limits | None = None,
 ) -> RootElement:
     """Read a model from a zip written by `export_with_assets_as_zip` (or any zip with
     one MJCF file at its top, or in one top folder, and its assets). A composed model
     comes back as one model whose names keep their scopes, escaped ('arm\\/base', see
-    `from_xml_string`); it compiles to the same model. Raises mjcf.ParseError for a
-    zip that is not such an archive or that is unsafe."""
-    try:
-        if isinstance(zip_path, str | os.PathLike):
+    `from_xml_string`); it compiles to the same model. The archive is unpacked within
+    `limits` (default: `mjcf.archives.current_limits()`, 1 GiB in all and 100 times an
+    entry's compressed size), checked while unpacking. Raises mjcf.ParseError for a zip
+    that is not such an archive or that is unsafe, mjcf.UnpackLimitError (a ParseError)
+    for one that unpacks to more than the limits."""
+    where = f"zip {zip_path!r}"
+    if isinstance(zip_path, str | os.PathLike):
+        try:
             _assets.check_file(os.fspath(zip_path))  # not a device or FIFO, not too large
-        archive = zipfile.ZipFile(zip_path)
-    except (OSError, zipfile.BadZipFile, errors.AssetError) as error:
-        raise errors.ParseError(f"cannot read zip {zip_path!r}: {error}") from None
+        except errors.AssetError as error:
+            raise errors.ParseError(f"cannot read {where}: {error}") from None
+    archive = archives.open_archive(zip_path, where)  # type: ignore[arg-type]
+    unpacker = archives.Unpacker(limits)
     with archive:
         infos = [info for info in archive.infolist() if not info.is_dir()]
-        if len(infos) > _MAX_ZIP_ENTRIES or sum(i.file_size for i in infos) > _MAX_ZIP_BYTES:
-            raise errors.ParseError(f"zip {zip_path!r} is too large to be a model")
+        if len(infos) > _MAX_ZIP_ENTRIES:
+            raise errors.ParseError(
+                f"{where} has {len(infos):,} entries, more than a model's {_MAX_ZIP_ENTRIES:,}"
+            )
         files: dict[str, bytes] = {}
         for info in infos:
             name = posixpath.normpath(info.filename.replace("\\", "/"))
             if name.startswith(("../", "/")) or name == ".." or ":" in name.split("/", 1)[0]:
-                raise errors.ParseError(
-                    f"zip {zip_path!r} has an entry outside it: {info.filename!r}"
-                )
-            try:
-                files[name] = archive.read(info)
-            except (OSError, EOFError, RuntimeError, NotImplementedError, zipfile.BadZipFile,
-                    zlib.error) as error:  # fmt: skip
-                raise errors.ParseError(
-                    f"zip {zip_path!r}: cannot read {info.filename!r}: {error}"
-                ) from None
+                raise errors.ParseError(f"{where} has an entry outside it: {info.filename!r}")
+            files[name] = unpacker.read(archive, info, where)
     model_file = _find_model_file(files, zip_path)
     folder = posixpath.dirname(model_file)
     assets = {}

@@ -9,8 +9,9 @@ names with a "did you mean", wrong numbers, bad keywords, duplicate names, and
 references to elements that do not exist); errors name the file, line and element.
 
 One path, read top to bottom in `_parse`: lxml reads the text (refusing DTDs and
-entities: no external entity, no "billion laughs", never the network, nesting depth
-limited), `<include>`s are merged, the model is made, and then the document is read one
+entities: no external entity, no "billion laughs", never the network, and documents
+nested deeper than MuJoCo's reader reads, `MAX_DEPTH` elements: the writer refuses the
+same), `<include>`s are merged, the model is made, and then the document is read one
 of two ways, decided once: the fast way (`mjcf.io.fast_reader`: checked whole, elements
 built when first used; about as fast as MuJoCo's own `MjSpec.from_file`), or, when it
 declines, element by element (`mjcf.io.element_reader`), which raises the error naming
@@ -33,9 +34,14 @@ from mjcf.tree.namescope import PREFIX_SEPARATOR
 from mjcf.tree.root import RootElement, confine_files
 
 _MAX_INCLUDES = 1000
+# How many elements deep MuJoCo's XML reader (tinyxml2) reads a document, <mujoco> the first:
+# a model nested deeper is refused when read (mjcf.ParseError) and when written
+# (mjcf.SchemaError), as MuJoCo refuses it (tests/mjcf/test_hostile_input.py checks both
+# against MuJoCo's reader).
+MAX_DEPTH = 499
 
 
-def _xml_parser() -> etree.XMLParser:
+def _xml_parser(huge: bool = False) -> etree.XMLParser:
     return etree.XMLParser(
         resolve_entities=False,
         no_network=True,
@@ -43,7 +49,7 @@ def _xml_parser() -> etree.XMLParser:
         dtd_validation=False,
         remove_comments=True,
         remove_pis=True,
-        huge_tree=False,
+        huge_tree=huge,
         # Whitespace between elements and xml:id are no part of MJCF: kept, they cost
         # about a tenth of the time to read a file.
         remove_blank_text=True,
@@ -151,9 +157,12 @@ def _parse(
     if filename is not None:
         included.add(os.path.abspath(filename))
     confine = os.path.realpath(model_dir or os.getcwd()) if strict_paths else None
+    read = len(included)
     exact |= _expand_includes(
         xml_root, model_dir or os.getcwd(), filename, assets or {}, included, confine
     )
+    if len(included) > read:  # each file was measured alone: the whole is measured too
+        check_depth(xml_root, filename)
     name = xml_root.attrib.get("model")
     if name is not None and PREFIX_SEPARATOR in name:
         if not escape_separators:
@@ -184,10 +193,15 @@ def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, 
     try:
         tree = etree.fromstring(data, _xml_parser(), base_url=filename)
     except etree.XMLSyntaxError as error:
-        line = error.lineno if error.lineno is not None else "?"
-        raise errors.ParseError(
-            f"{filename or '<string>'}:{line}: malformed XML: {error.msg}"
-        ) from None
+        # libxml2 reads 256 levels unless told to read "huge" documents (2,048 levels):
+        # those between are read again, and measured against MuJoCo's depth.
+        if "Excessive depth" not in (error.msg or ""):
+            raise _malformed(error, filename) from None
+        try:
+            tree = etree.fromstring(data, _xml_parser(huge=True), base_url=filename)
+        except etree.XMLSyntaxError as deeper:
+            raise _malformed(deeper, filename) from None
+        check_depth(tree, filename)
     doctype = tree.getroottree().docinfo
     if doctype.internalDTD is not None or doctype.externalDTD is not None or doctype.doctype:
         raise errors.ParseError(
@@ -195,6 +209,25 @@ def _read_xml(data: str | bytes, filename: str | None) -> tuple[etree._Element, 
             "(or entities) are refused"
         )
     return tree, xsd.needs_exact(data, doctype.encoding)
+
+
+def _malformed(error: etree.XMLSyntaxError, filename: str | None) -> errors.ParseError:
+    line = error.lineno if error.lineno is not None else "?"
+    return errors.ParseError(f"{filename or '<string>'}:{line}: malformed XML: {error.msg}")
+
+
+def check_depth(root: etree._Element, filename: str | None) -> None:
+    """Raise mjcf.ParseError if the document under `root` nests more than MAX_DEPTH
+    elements (MuJoCo's reader refuses it)."""
+    pending = [(root, 1)]
+    while pending:
+        element, depth = pending.pop()
+        if depth > MAX_DEPTH:
+            raise errors.ParseError(
+                f"{_where(filename, element)}: <{element.tag}> is nested {depth} elements "
+                f"deep; MuJoCo reads models nested at most {MAX_DEPTH} deep"
+            )
+        pending.extend((child, depth + 1) for child in element if isinstance(child.tag, str))
 
 
 def _expand_includes(

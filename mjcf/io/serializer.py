@@ -24,6 +24,7 @@ import numpy as np
 from mjcf import errors
 from mjcf.compose import attachment, composition, defaults
 from mjcf.io.file_names import FileNamer
+from mjcf.io.parser import MAX_DEPTH
 from mjcf.schema.values import escape
 from mjcf.tree import assets as _assets
 from mjcf.tree import bulk
@@ -44,8 +45,10 @@ _SECTION_ORDER = (
     "actuator", "sensor", "keyframe",
 )  # fmt: skip
 _SETTINGS = frozenset({"compiler", "option", "size", "statistic", "visual"})
-_INDENTS = tuple("  " * depth for depth in range(512))  # lxml refuses deeper documents
-_NO_INDENTS = ("",) * 512
+# One indent for each depth MuJoCo reads (mjcf.io.parser.MAX_DEPTH): a deeper element is
+# refused (see `_Writer._element_writer`'s `write`).
+_INDENTS = tuple("  " * depth for depth in range(MAX_DEPTH))
+_NO_INDENTS = ("",) * MAX_DEPTH
 _FRAME_SPEC = attachment.FRAME_SPEC
 
 
@@ -459,7 +462,16 @@ class _Writer:
                 if text is None:
                     return
             children = element._children
-            indent = indents[depth]
+            try:
+                indent = indents[depth]
+            except IndexError:
+                path = element.path
+                if len(path) > 160:  # some 500 levels of it
+                    path = f"{path[:70]} ... {path[-70:]}"
+                raise errors.SchemaError(
+                    f"{path}: is nested {depth + 1} elements deep when written; MuJoCo "
+                    f"reads models nested at most {MAX_DEPTH} deep"
+                ) from None
             if not children:
                 if text or written_empty(element):
                     parts.append(f"{indent}<{spec.tag}{text}/>{newline}")

@@ -8,9 +8,9 @@
 The tree is written once, MuJoCo compiles the text with the assets passed in memory,
 and keyframes of attached models are filled in. The compiled model is the one stock
 MuJoCo compiles from `to_xml_string()` or an export, names included (unnamed elements
-have the names `mjcf.compose.naming` generates). A MuJoCo error becomes an
-`mjcf.CompileError` that names the element it points at and, in debug mode, the
-Python line that created it.
+have the names `mjcf.compose.naming` generates). The text is measured against
+`mjcf.budget` first (mjcf.BudgetError). A MuJoCo error becomes an `mjcf.CompileError`
+that names the element it points at and, in debug mode, the Python line that created it.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import mujoco
 from mjcf import errors
 from mjcf.compose import attachment, keyframes, naming
 from mjcf.io import serializer
+from mjcf.sim import budget
 from mjcf.tree.element import created_at
 from mjcf.tree.namescope import unescape
 
@@ -102,10 +103,14 @@ def compile_composition(root: RootElement, share_assets: bool = True) -> Compile
     copies once unless not `share_assets` (see `mjcf.compose.sharing`); raises
     mjcf.CompileError naming the offending element when MuJoCo rejects it."""
     xml, assets, composition, lines = serializer.serialize_for_compile(root, share_assets)
+    name = f"model {root.model!r}" if root.model else "the model"
+    budget.check(xml, assets, name, lambda line: _element_at(line, lines))
     try:
         model = mujoco.MjSpec.from_string(xml, assets=assets).compile()
     except ValueError as error:
         raise errors.CompileError(_explain(str(error), lines)) from None
+    except RuntimeError as error:  # MuJoCo's "Caught an unknown exception!": out of memory
+        raise errors.CompileError(unknown_failure(name, error)) from None
     ids = composition.compiled_ids  # the same for every compile of one composition
     if ids is None:
         ids = composition.compiled_ids = _generated_ids(model, composition)
@@ -159,6 +164,22 @@ _KINDS: dict[str | None, mujoco.mjtObj] = {
         "numeric", "text", "tuple", "key", "plugin",
     )
 }  # fmt: skip
+
+
+def unknown_failure(name: str, error: RuntimeError) -> str:
+    """The message of a CompileError for MuJoCo's RuntimeError `error` compiling `name`
+    (what its bindings raise for an exception of no known kind, such as running out of
+    memory)."""
+    return (
+        f"MuJoCo failed to compile {name}: {error} (most often memory ran out: see "
+        "mjcf.budget for what a model may ask)"
+    )
+
+
+def _element_at(line: int, lines: list[Element | None]) -> str:
+    """The element written on `line` of the compiled text, for a message."""
+    element = lines[line - 1] if 0 < line <= len(lines) else None
+    return f"line {line}" if element is None else element.path
 
 
 def _explain(message: str, lines: list[Element | None]) -> str:

@@ -37,6 +37,7 @@ import copy as copy_module
 import functools
 import logging
 import os
+import threading
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -47,6 +48,7 @@ import numpy as np
 from mjcf import errors
 from mjcf.sim import binding as binding_module
 from mjcf.sim import (
+    budget,
     compiler,
     fields,
     frame_binding,
@@ -178,7 +180,8 @@ class Physics(StateAccess):
             object, binding_module.Binding | frame_binding.FrameBinding
         ] = {}
         self._named: named.NamedAccess | None = None
-        self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+        # By size, and by (size, thread id) for a thread that drew while another held one.
+        self._renderers: dict[tuple[Any, ...], mujoco.Renderer] = {}
         self._state_check = validity.StateCheck(self)
 
     # -- construction --------------------------------------------------------------------
@@ -616,25 +619,48 @@ class Physics(StateAccess):
         """An image of the current state: (h, w, 3) uint8 RGB, (h, w) float depth in meters,
         or (h, w, 2) int32 segmentation (object id, object type).
 
-        camera_id -1 is the free camera; a camera id or name picks a model camera.
-        Raises RenderError when no OpenGL backend can be created or the request is invalid.
+        camera_id -1 is the free camera; a camera id or name picks a model camera. Any
+        thread may render: one that finds the renderer's OpenGL context held by another
+        thread (which drew last and did not `mjcf.sim.rendering.release_context()`) draws with
+        a renderer of its own, kept until `close()`. Raises RenderError when no OpenGL
+        backend can be created or the request is invalid.
         """
         if self._stale & POS_BEHIND:
             self._refresh()  # a picture of the state written, not of the one before
         size = (int(height), int(width))
-        renderer = self._renderers.get(size)
+        own = (size, threading.get_ident())  # a renderer this thread made for itself
+        renderer = self._renderers.get(own)
         if renderer is None:
-            compiled = self.__dict__.get("_compiled")
-            renderer = self._renderers[size] = rendering.make_renderer(
-                self._model, *size, mjcf_xml=None if compiled is None else compiled.xml
+            renderer = self._renderers.get(size)
+            if renderer is None:
+                renderer = self._renderers[size] = self._renderer(size)
+            try:
+                return rendering.render(
+                    renderer, self._data, camera_id, depth, segmentation, scene_option
+                )
+            except rendering.ContextBusyError:
+                # Its context is current in the thread that drew last (EGL's are current in
+                # one thread at a time): this thread draws with a renderer of its own.
+                renderer = self._renderers[own] = self._renderer(size)
+        try:
+            return rendering.render(
+                renderer, self._data, camera_id, depth, segmentation, scene_option
             )
-        return rendering.render(renderer, self._data, camera_id, depth, segmentation, scene_option)
+        finally:
+            # Left current, its context would outlive the thread, and no other could free it.
+            rendering.release_context()
+
+    def _renderer(self, size: tuple[int, int]) -> mujoco.Renderer:
+        compiled = self.__dict__.get("_compiled")
+        return rendering.make_renderer(
+            self._model, *size, mjcf_xml=None if compiled is None else compiled.xml
+        )
 
     def close(self) -> None:
         """Free the renderers' OpenGL resources; the physics itself stays usable."""
         renderers = self.__dict__.get("_renderers") or {}
         for renderer in renderers.values():
-            renderer.close()
+            rendering.close(renderer)
         renderers.clear()
 
     def free(self) -> None:
@@ -654,7 +680,13 @@ class Physics(StateAccess):
 
 
 def _compile(loader: Any, source: str, assets: dict[str, bytes] | None) -> mujoco.MjModel:
+    """`loader(source, assets)`: MuJoCo's; MJCF text given (`assets` not None) is measured
+    against `mjcf.budget` first. Raises CompileError (BudgetError past the budget)."""
+    if assets is not None:
+        budget.check(source, assets, "the model")
     try:
         return loader(source) if assets is None else loader(source, assets)
     except ValueError as e:
         raise errors.CompileError(f"MuJoCo could not load the model: {e}") from e
+    except RuntimeError as e:  # MuJoCo's "Caught an unknown exception!": out of memory
+        raise errors.CompileError(compiler.unknown_failure("the model", e)) from None

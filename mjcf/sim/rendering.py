@@ -21,7 +21,10 @@ What it promises:
   MuJoCo's own and child processes'. Rendering works without a display or MUJOCO_GL.
 - Threads: renderers of different physics draw at once from threads of their own (MuJoCo
   releases the GIL); on EGL (`threaded()`) a thread calls `release_context()` when it has
-  drawn; renderers made inside `context_group(key)` share one OpenGL context.
+  drawn; renderers made inside `context_group(key)` share one OpenGL context. A thread
+  that draws with a renderer whose context another thread holds gets `ContextBusyError`
+  (a RenderError), and `mjcf.Physics.render` then makes that thread a renderer of its
+  own: an environment renders from any thread.
 - Every context is checked before MuJoCo draws with it: a context that cannot be made is
   a RenderError, at every attempt, never the abort MuJoCo itself makes at the second try.
 
@@ -65,9 +68,12 @@ def make_renderer(
     try:
         if drawn is not None:
             with _swapped(drawn, chosen):
-                return _SimplifiedRenderer(model, drawn, height, width)
-        with _settings_lock, _swapped(model, chosen):
-            return _Renderer(model, height, width)
+                renderer: _Renderer = _SimplifiedRenderer(model, drawn, height, width)
+        else:
+            with _settings_lock, _swapped(model, chosen):
+                renderer = _Renderer(model, height, width)
+        renderer._drawn_in = threading.current_thread()  # its context is current here
+        return renderer
     except ValueError as e:  # larger than the model's offscreen framebuffer
         raise errors.RenderError(str(e)) from e
     except _NoContextError as e:
@@ -125,17 +131,55 @@ def render(
         renderer.update_scene(data, camera=camera_id, scene_option=scene_option)
     except ValueError as e:
         raise errors.RenderError(f"cannot render camera {camera_id!r}: {e}") from e
-    if isinstance(renderer, _Renderer):
-        renderer.select_buffers()
     if depth:
         renderer.enable_depth_rendering()
     elif segmentation:
         renderer.enable_segmentation_rendering()
     try:
-        return renderer.render()
+        if isinstance(renderer, _Renderer):
+            renderer.select_buffers()
+        frame = renderer.render()
+    except (RuntimeError, _opengl_error()) as e:  # its context cannot be made current here
+        drew = getattr(renderer, "_drawn_in", None)  # a _Renderer's
+        here = threading.current_thread()
+        if drew is not None and drew is not here:
+            raise ContextBusyError(
+                f"cannot draw in thread {here.name!r} with a renderer thread {drew.name!r} drew "
+                f"with, whose OpenGL context is current there ({type(e).__name__}); "
+                "mjcf.Physics.render draws with a renderer of the thread's own"
+            ) from e
+        raise errors.RenderError(f"cannot draw: {type(e).__name__}: {e}") from e
     finally:
         renderer.disable_depth_rendering()
         renderer.disable_segmentation_rendering()
+    if isinstance(renderer, _Renderer):
+        renderer._drawn_in = threading.current_thread()
+    return frame
+
+
+class ContextBusyError(errors.RenderError):
+    """A renderer's OpenGL context is current in the thread that drew with it last, and an
+    EGL context is current in one thread at a time: another thread cannot draw with it
+    until that thread calls `release_context()` (`mjcf.Physics.render` then draws with a
+    renderer of the calling thread's own)."""
+
+
+def _opengl_error() -> type[BaseException]:
+    """PyOpenGL's base error (EGL's errors are of it), or RuntimeError without it."""
+    module = sys.modules.get("OpenGL.error")
+    return getattr(module, "Error", RuntimeError)
+
+
+def close(renderer: mujoco.Renderer) -> None:
+    """Free `renderer`'s OpenGL resources. A renderer whose context another thread holds (one
+    that drew with it last and did not `release_context()`, perhaps ended since) cannot be
+    freed from this thread: it is kept, unused, until the process ends, rather than raise."""
+    try:
+        renderer.close()
+    except (RuntimeError, _opengl_error()):
+        if not isinstance(renderer, _Renderer):
+            raise
+        renderer.abandon()
 
 
 def release_context() -> None:
@@ -237,10 +281,25 @@ _failure: str | None = None
 _group = threading.local()
 _group_contexts: dict[tuple[type, Hashable], Any] = {}
 _group_users: dict[int, int] = {}
+# The render and OpenGL contexts of renderers whose contexts other threads hold, which
+# `close` could not free.
+_abandoned: list[tuple[Any, Any]] = []
 
 
 class _Renderer(mujoco.Renderer):
-    """A mujoco.Renderer that may share its OpenGL context with others (`context_group`)."""
+    """A mujoco.Renderer that may share its OpenGL context with others (`context_group`),
+    and knows the thread that drew with it last (`_drawn_in`), where its context is current
+    unless that thread released it."""
+
+    _drawn_in: threading.Thread | None = None
+
+    def abandon(self) -> None:
+        """Keep this renderer's contexts unfreed until the process ends (another thread
+        holds its OpenGL context, so they cannot be freed from this one), and empty it, so
+        that its __del__ does not try again (a GLContext here frees nothing by itself)."""
+        contexts: tuple[Any, Any] = (self._mjr_context, self._gl_context)  # type: ignore[has-type]
+        _abandoned.append(contexts)
+        self._mjr_context = self._gl_context = None
 
     def select_buffers(self) -> None:
         """Before a frame: when its context holds other renderers' buffers too, make it

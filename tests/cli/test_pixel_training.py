@@ -14,6 +14,7 @@ import pytest
 
 from composer import registration
 from composer.cli import catalog, engines, recipes, rollout
+from composer.cli.engines.sb3 import files
 from composer.cli.errors import RecipeError
 from composer.cli.main import main
 from composer.pixels import PixelEnvironment
@@ -97,7 +98,8 @@ def test_train_from_pixels_then_eval_and_run_the_policy(tmp_path, capsys, monkey
         ours = engines.load_policy(out, env)
         theirs = engines.load_policy(out, env, trusted=True)
         # Rewards were normalized (the checkpoint keeps their statistics), frames were not.
-        assert recipe.normalize and (out / "checkpoint" / "vecnormalize.pkl").is_file()
+        checkpoint = files.Checkpoint(out / "checkpoint")
+        assert recipe.normalize and checkpoint.normalization_path.is_file()
         assert ours.statistics is None and theirs.statistics is None
         encoder = ours.network.features_extractor
         assert isinstance(encoder, PixelEncoder)

@@ -27,6 +27,13 @@ TINY = ("--algo", "ppo", "--n-envs", "2", *EVALS)
 DURATION = r"(\d+h)?(\d+m)?\d*s?"
 
 
+def saved_files(checkpoint) -> set[str]:
+    """The files of the save a checkpoint folder's state.json names (the only save there)."""
+    state = json.loads((checkpoint / "state.json").read_text())
+    assert {p.name for p in checkpoint.iterdir()} == {"state.json", state["saved"]}
+    return {p.name for p in (checkpoint / state["saved"]).iterdir()}
+
+
 def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     temp = tmp_path / "temp"  # the system's temporary folder: left as it was
     temp.mkdir()
@@ -63,8 +70,7 @@ def test_train_writes_its_outputs_then_eval_and_run_use_them(tmp_path):
     assert metrics["recipe"]["n_envs"] == 2 and "n_steps" in metrics["recipe"]
     assert iio.imread(out / "learning_curve.png").shape[:2] == (450, 800)
     assert iio.imread(out / "video.mp4", plugin="FFMPEG").shape == (76, 240, 320, 3)
-    checkpoint = {p.name for p in (out / "checkpoint").iterdir()}
-    assert checkpoint == {"model.zip", "state.json", "vecnormalize.pkl"}  # PPO normalizes
+    assert saved_files(out / "checkpoint") == {"model.zip", "vecnormalize.pkl"}  # PPO normalizes
 
     # policy.zip carries the observation statistics, and eval's seeds are those of training's
     # evaluations: with as many episodes, eval repeats training's final evaluation.
@@ -120,10 +126,11 @@ def test_a_finished_run_is_kept_unless_resume_or_fresh_says_what_to_do(tmp_path)
     fresh = composer("train", "Reach", "--timesteps", "1024", "--out", "run", "--fresh",
                      "--no-video", *TINY, cwd=tmp_path)  # fmt: skip
     assert fresh.returncode == 0, fresh.stderr
-    assert fresh.stdout.startswith(
-        "--fresh: removed the earlier run in run: checkpoint/model.zip, "
-        "checkpoint/vecnormalize.pkl, checkpoint/state.json, policy.zip, metrics.json, "
-        "learning_curve.png\ntraining Reach with PPO to 1,024 steps"
+    assert re.match(
+        r"--fresh: removed the earlier run in run: checkpoint/000000002048-[0-9a-f]{6}/, "
+        r"checkpoint/state.json, policy.zip, metrics.json, learning_curve.png\n"
+        r"training Reach with PPO to 1,024 steps",
+        fresh.stdout,
     )
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert metrics["timesteps"] == 1024 and len(metrics["evaluations"]) == 1
@@ -192,11 +199,7 @@ def test_ctrl_c_saves_a_checkpoint_that_loads(tmp_path):
     assert "Traceback" not in stderr
     assert re.search(r"stopped at [\d,]+ steps .*checkpoint saved in run/checkpoint", stdout)
     checkpoint = tmp_path / "run" / "checkpoint"
-    assert {p.name for p in checkpoint.iterdir()} == {
-        "model.zip",
-        "replay_buffer.pkl",
-        "state.json",
-    }
+    assert saved_files(checkpoint) == {"model.zip", "replay_buffer.pkl"}
     state = json.loads((checkpoint / "state.json").read_text())
     assert state["algo"] == "sac" and not state["completed"] and state["timesteps"] > 0
     assert state["engine"] == "sb3"

@@ -29,6 +29,32 @@ def test_non_finite_actions_raise_and_leave_the_state(
     env.step(np.array([0.5]))  # the episode goes on
 
 
+@pytest.mark.parametrize(
+    ("action", "expected"),
+    [
+        (np.array([0.5 + 1e-3j]), r"complex numbers \(an imaginary part cannot be applied"),
+        ([0.5 + 0j], "complex numbers"),
+        (["0.5"], "values of type <U3: actions are real numbers, an array of shape \\(1,\\)"),
+        ("x", "values of type <U1"),
+        (np.array([object()]), "values of type object"),
+        ([None], "values of type object"),
+        ([[0.5], [0.1, 0.2]], "the action is not an array of numbers"),
+    ],
+)
+def test_actions_that_are_not_real_numbers_raise_and_leave_the_state(
+    env: composer.Environment, action, expected: str
+) -> None:
+    """Nothing is converted: a string of a number, an object, a complex number whose
+    imaginary part numpy would drop with a warning are refused, the state unchanged."""
+    qpos, ctrl = env.physics.data.qpos.copy(), env.physics.data.ctrl.copy()
+    with pytest.raises(composer.EpisodeError, match=expected):
+        env.step(action)
+    assert np.array_equal(env.physics.data.qpos, qpos)
+    assert np.array_equal(env.physics.data.ctrl, ctrl)
+    env.step([0.5])  # integers, floats of any width, lists: real numbers all
+    env.step(np.array([1], np.int8))
+
+
 def test_out_of_range_actions_are_clipped_to_ctrlrange(env: composer.Environment) -> None:
     env.step(np.array([25.0]))
     assert env.physics.data.ctrl.tolist() == [1.0]

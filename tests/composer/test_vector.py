@@ -4,6 +4,7 @@ divergence, the batch protocol and its per-environment fallback, make_vec."""
 
 from __future__ import annotations
 
+import pickle
 import warnings
 
 import gymnasium
@@ -264,8 +265,17 @@ def test_bad_use_raises_composer_errors():
         vector.step(np.zeros(1))
     with pytest.raises(composer.EpisodeError, match=r"environments \[1\]"):
         vector.step(np.array([[0.0], [np.nan]]))
-    with pytest.raises(composer.EpisodeError, match="2 seeds"):
-        vector.reset(seed=[1, 2, 3])
+    drawn = pickle.dumps(vector.environments[0].random_state)
+    for seed in (1.5, -1, "3", [1, 2, 3], [1, 2.5], np.array([0.5, 1.5]), {0: 1}):
+        # Refused before any environment is reset (the first of [1, 2.5] was reset before).
+        with pytest.raises(composer.EpisodeError, match="or 2 of them"):
+            vector.reset(seed=seed)
+        assert pickle.dumps(vector.environments[0].random_state) == drawn
+    vector.reset(seed=[1, None])
+    vector.reset(seed=np.array([1, 2]))
+    for actions in (np.zeros((2, 1), complex), [["a"], ["b"]], [[None], [0.0]], [[1], [2, 3]]):
+        with pytest.raises(composer.EpisodeError, match=r"the actions (hold|are not)"):
+            vector.step(actions)
 
 
 class WrongShapeReward(BatchedSwing):

@@ -4,13 +4,17 @@
     python tests/fuzz/fuzz_mjcf.py -max_total_time=600 tests/fuzz/corpus
 
 Seeds are the MJCF files shipped with gymnasium and mujoco (copied into the corpus
-folder on first run). The only exceptions allowed out of `mjcf` are `mjcf.Error`
+folder on first run), and a zip of one with its meshes. Each input is read as MJCF text
+(written and compiled, within `mjcf.budget`) and as a zip archive (`mjcf.from_zip`, within
+small unpacking limits). The only exceptions allowed out of `mjcf` are `mjcf.Error`
 subclasses; anything else is a crash that atheris reports with the input that caused
 it. Add each such input as a regression case to `tests/mjcf/test_hostile_input.py`.
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import shutil
 import sys
@@ -22,6 +26,7 @@ with atheris.instrument_imports():
     import mjcf
 
 REPO = Path(__file__).resolve().parents[2]
+_ZIP_LIMITS = mjcf.archives.Limits(size=1 << 24, ratio=100)
 
 
 def _seed_corpus(folder: Path) -> None:
@@ -35,16 +40,21 @@ def _seed_corpus(folder: Path) -> None:
     sources += list((Path(mujoco.__file__).parent / "testdata").glob("*.xml"))
     for source in sources:
         shutil.copy(source, folder / source.name)
+    model = mjcf.from_path(Path(mujoco.__file__).parent / "testdata" / "model.xml")
+    mjcf.export_with_assets_as_zip(model, folder / "model.zip")
 
 
 def test_one_input(data: bytes) -> None:
-    """Read, write and compile one input; only mjcf errors may escape."""
+    """Read, write and compile one input, and read it as a zip; only mjcf errors may
+    escape."""
     try:
         model = mjcf.from_xml_string(data, model_dir=str(REPO))
         model.to_xml_string()
         mjcf.Physics.from_mjcf_model(model)
     except mjcf.Error:
         pass
+    with contextlib.suppress(mjcf.Error):
+        mjcf.from_zip(io.BytesIO(data), limits=_ZIP_LIMITS)
 
 
 def main() -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import re
+import warnings
 
 import mujoco
 import numpy as np
@@ -452,10 +453,78 @@ def test_irreconcilable_inertia_settings_are_refused() -> None:
     assert parent.to_xml_string() == before
 
 
+def _masses(model: mujoco.MjModel, prefix: str) -> dict[str, float]:
+    """{body name without `prefix`: mass} of the bodies named `prefix` + a plain name (the
+    world body left out)."""
+    names = [
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, i) or "" for i in range(model.nbody)
+    ]
+    return {
+        name.removeprefix(prefix): float(model.body_mass[i])
+        for i, name in enumerate(names)
+        if i > 0
+        and name.startswith(prefix)
+        and name != prefix
+        and "/" not in name.removeprefix(prefix)
+    }
+
+
+def _spec_attached(scene: mujoco.MjSpec, body: str, child: mujoco.MjSpec, prefix: str) -> None:
+    """MuJoCo's own attachment: `child`'s top body on a frame of `scene`'s `body`."""
+    frame = (scene.worldbody if not body else scene.body(body)).add_frame()
+    frame.attach_body(child.worldbody.first_body(), prefix, "")
+
+
+@pytest.mark.parametrize("order", ["cheetah first", "hopper first"])
+def test_a_model_attached_inside_a_settotalmass_model_keeps_its_own_masses(order: str) -> None:
+    """half_cheetah sets <compiler settotalmass="14">: attached into a scene its bodies weigh
+    what they weigh alone (14 kg), and a hopper attached on its torso weighs what it weighs
+    alone, in either order of attaching; the hopper was scaled with the cheetah (its 15.8 kg
+    to 6.0). MuJoCo's own attach leaves the hopper's masses too (its compile here, with the
+    same files, is the reference); dm_control scales every model of the scene to 14 kg."""
+    hopper_alone = mujoco.MjModel.from_xml_path(str(gym_model("hopper")))
+    cheetah_alone = mujoco.MjModel.from_xml_path(str(gym_model("half_cheetah")))
+    scene = mjcf.RootElement(model="scene")
+    cheetah, hopper = mjcf.from_path(gym_model("half_cheetah")), mjcf.from_path(gym_model("hopper"))
+    hopper.option.timestep = cheetah.option.timestep  # one timestep for the composed model
+    hopper.find("geom", "floor").remove()  # a plane is static: not on the cheetah's torso
+    mount = cheetah.find("body", "torso").add("site", name="mount", pos=[0, 0, 0.5])
+    if order == "cheetah first":
+        scene.worldbody.attach(cheetah)
+        mount.attach(hopper)
+    else:
+        mount.attach(hopper)
+        scene.worldbody.attach(cheetah)
+    composed = mjcf.Physics.from_mjcf_model(scene).model
+    hopper_masses = _masses(composed, "cheetah/hopper/")
+    assert hopper_masses == pytest.approx(_masses(hopper_alone, ""), rel=1e-12)
+    assert _masses(composed, "cheetah/") == pytest.approx(_masses(cheetah_alone, ""), rel=1e-12)
+    spec = mujoco.MjSpec.from_string("<mujoco/>")
+    with warnings.catch_warnings():  # MuJoCo's "Attach conflict" of options, when compiling
+        warnings.simplefilter("ignore", UserWarning)
+        _spec_attached(spec, "", mujoco.MjSpec.from_file(str(gym_model("half_cheetah"))),
+                       "cheetah/")  # fmt: skip
+        _spec_attached(spec, "cheetah/torso", mujoco.MjSpec.from_file(str(gym_model("hopper"))),
+                       "hopper/")  # fmt: skip
+        theirs = spec.compile()
+    assert hopper_masses == pytest.approx(_masses(theirs, "hopper/"), rel=1e-12)
+
+
 def test_settotalmass_of_the_output_model_with_attachments_is_refused() -> None:
-    cheetah = mjcf.from_path(gym_model("half_cheetah"))
-    with pytest.raises(mjcf.AttachmentError, match="settotalmass"):
-        cheetah.attach(mjcf.from_path(gym_model("hopper")))
+    """Written as the output model, half_cheetah's settotalmass would scale the hopper
+    attached to it too (MuJoCo's and dm_control's do): refused when written or compiled,
+    whenever the hopper was attached; attached into a scene, it is written."""
+    cheetah, hopper = mjcf.from_path(gym_model("half_cheetah")), mjcf.from_path(gym_model("hopper"))
+    hopper.option.timestep = cheetah.option.timestep
+    cheetah.attach(hopper)
+    for write in (cheetah.to_xml_string, lambda: mjcf.Physics.from_mjcf_model(cheetah)):
+        with pytest.raises(
+            mjcf.AttachmentError, match=r"settotalmass=14\.0> of model 'cheetah' would scale"
+        ):
+            write()
+    scene = mjcf.RootElement(model="scene")
+    scene.attach(cheetah)
+    assert mjcf.Physics.from_mjcf_model(scene).model.nbody > 1
 
 
 def test_sizes_merge_to_the_largest() -> None:

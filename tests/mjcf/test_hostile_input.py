@@ -3,19 +3,25 @@ work on hostile documents, and only mjcf errors out of the public API."""
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import functools
+import io
 import os
 import subprocess
 import sys
+import tempfile
 import time
 import zipfile
 from pathlib import Path
 
+import mujoco
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mjcf
+from mjcf.io import parser
 from tests.conftest import GYM_ASSETS, MUJOCO_TESTDATA
 
 XXE = """<?xml version="1.0"?>
@@ -50,6 +56,43 @@ def test_deep_nesting_is_refused() -> None:
     text = "<mujoco><worldbody>" + "<body>" * depth + "</body>" * depth + "</worldbody></mujoco>"
     with pytest.raises(mjcf.ParseError, match="malformed XML"):
         mjcf.from_xml_string(text)
+
+
+def _nested(depth: int) -> str:
+    """A model nested `depth` elements deep: bodies in bodies, a geom in the innermost."""
+    bodies = depth - 3  # <mujoco>, <worldbody> and the geom
+    return (
+        "<mujoco><worldbody>" + "<body>" * bodies + "<geom size='.1'/>" + "</body>" * bodies
+        + "</worldbody></mujoco>"
+    )  # fmt: skip
+
+
+def test_models_are_read_and_written_as_deep_as_mujoco_reads_them(tmp_path: Path) -> None:
+    """MuJoCo's own reader is the oracle: what it compiles is read, written and compiled;
+    one level deeper it refuses, and so do the reader and the writer (with mjcf errors,
+    not the IndexError a 600-level model raised, nor libxml2's 256-level refusal)."""
+    deepest, too_deep = _nested(parser.MAX_DEPTH), _nested(parser.MAX_DEPTH + 1)
+    assert mujoco.MjModel.from_xml_string(deepest).nbody == parser.MAX_DEPTH - 2
+    with pytest.raises(ValueError, match="XML_ELEMENT_DEPTH_EXCEEDED"):
+        mujoco.MjModel.from_xml_string(too_deep)
+    for strict_paths in (False, True):  # read lazily, and element by element
+        model = mjcf.from_xml_string(deepest, strict_paths=strict_paths)
+        assert mjcf.Physics.from_mjcf_model(model).model.nbody == parser.MAX_DEPTH - 2
+        assert mjcf.from_xml_string(model.to_xml_string()).to_xml_string() == model.to_xml_string()
+        with pytest.raises(mjcf.ParseError, match="<geom> is nested 500 elements deep; MuJoCo"):
+            mjcf.from_xml_string(too_deep, strict_paths=strict_paths)
+    innermost = model.find_all("body")[-1]
+    innermost.add("body").add("geom", size=[0.1])
+    for write in (model.to_xml_string, lambda: mjcf.Physics.from_mjcf_model(model)):
+        with pytest.raises(mjcf.SchemaError, match=r"nested 500 elements deep when written"):
+            write()
+    # Two files, each within the depth, included into one that is not.
+    (tmp_path / "inner.xml").write_text(_nested(300).replace("<mujoco><worldbody>", "<mujoco>")
+                                        .replace("</worldbody></mujoco>", "</mujoco>"))  # fmt: skip
+    outer = "<mujoco><worldbody>" + "<body>" * 250 + "<include file='inner.xml'/>" + "</body>" * 250
+    (tmp_path / "outer.xml").write_text(outer + "</worldbody></mujoco>")
+    with pytest.raises(mjcf.ParseError, match="nested 500 elements deep"):
+        mjcf.from_path(tmp_path / "outer.xml")
 
 
 def test_strict_paths_refuse_includes_outside_the_model_folder(tmp_path: Path) -> None:
@@ -101,7 +144,14 @@ def _mutated(draw) -> str:
             snippet = draw(st.sampled_from(
                 ['<geom size="1"/>', "<body>", "</body>", 'name="torso"', ' class="x"',
                  ' pos="1 2"', ' type="nope"', "&amp;", "<include file='x.xml'/>",
-                 ' joint="nothing"', "<frame>", "<replicate count='2'>", "\x00", "é"]
+                 ' joint="nothing"', "<frame>", "<replicate count='2'>", "\x00", "é",
+                 # What asks MuJoCo for minutes or gigabytes (mjcf.budget refuses it):
+                 "<replicate count='100000'>", "<replicate count='100000'><geom size='1'/>",
+                 "<hfield name='h' nrow='99999' ncol='99999' size='1 1 1 1'/>",
+                 "<size memory='1T' nkey='999999999'/>", " nrow='2000000000'",
+                 "<flexcomp name='f' type='grid' count='999 999 9' dim='3'/>",
+                 "<texture name='t' builtin='flat' width='99999' height='99999'/>",
+                 "<body>" * 300]
             ))  # fmt: skip
             text = text[:position] + snippet + text[position:]
         elif kind == "replace":
@@ -135,6 +185,43 @@ def test_mutated_models_raise_only_mjcf_errors(text: str) -> None:
         physics.bind(model.worldbody).xpos  # noqa: B018
     except mjcf.Error:
         pass
+
+
+@functools.cache
+def _archive() -> bytes:
+    """A real model and its mesh files, exported as a zip."""
+    folder = Path(tempfile.mkdtemp())
+    model = mjcf.from_path(MUJOCO_TESTDATA / "model.xml")
+    model.asset.add("mesh", name="extra", file=mjcf.Asset(
+        (MUJOCO_TESTDATA / "abdomen_1_body.msh").read_bytes(), ".msh", prefix="extra"))  # fmt: skip
+    return Path(mjcf.export_with_assets_as_zip(model, folder / "model.zip")).read_bytes()
+
+
+@st.composite
+def _mutated_zip(draw) -> bytes:
+    data = bytearray(_archive())
+    for _ in range(draw(st.integers(1, 6))):
+        position = draw(st.integers(0, len(data) - 1))
+        kind = draw(st.sampled_from(["byte", "size", "cut", "insert"]))
+        if kind == "byte":
+            data[position] = draw(st.integers(0, 255))
+        elif kind == "size":  # a 32-bit field (sizes, offsets, counts) made large
+            data[position : position + 4] = draw(st.sampled_from(
+                [b"\xff\xff\xff\x7f", b"\xff\xff\xff\xff", b"\x00\x00\x00\x40"]))  # fmt: skip
+        elif kind == "cut":
+            del data[position : position + draw(st.integers(1, 64))]
+        else:
+            data[position:position] = draw(st.binary(min_size=1, max_size=16))
+    return bytes(data)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_mutated_zip())
+def test_mutated_zips_raise_only_mjcf_errors(data: bytes) -> None:
+    """A corrupted or crafted archive (sizes, offsets and counts made large, bytes cut or
+    inserted) is read or refused with an mjcf.Error, unpacking no more than the limits."""
+    with contextlib.suppress(mjcf.Error):
+        mjcf.from_zip(io.BytesIO(data), limits=mjcf.archives.Limits(size=1 << 24, ratio=100))
 
 
 def test_export_writes_only_inside_its_target(tmp_path: Path) -> None:

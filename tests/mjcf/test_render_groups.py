@@ -85,3 +85,52 @@ def test_renderers_draw_from_another_thread_after_release(egl):
     np.testing.assert_array_equal(physics.render(height, width), expected[2])
     for physics, _, _ in grouped + own:
         physics.close()
+
+
+def _in_thread(draw):
+    """`draw()` in a new thread: what it returned or raised."""
+    out: dict = {}
+
+    def run() -> None:
+        try:
+            out["frame"] = draw()
+        except Exception as e:  # reported to the test
+            out["error"] = e
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join()
+    if "error" in out:
+        raise out["error"]
+    return out["frame"]
+
+
+def test_a_physics_renders_from_a_thread_while_another_holds_its_renderer(egl):
+    """The main thread drew last and holds its renderer's context (no release_context): a
+    second thread draws the same frame with a renderer of its own, instead of raising
+    EGL_BAD_ACCESS; then the main thread draws on with its own, and closes both."""
+    physics = moved(mjcf.Physics.from_xml_path(str(gym_model("ant"))), 1)
+    abandoned = len(rendering._abandoned)
+    first = physics.render(64, 64)
+    for _ in range(2):
+        np.testing.assert_array_equal(_in_thread(lambda: physics.render(64, 64)), first)
+    np.testing.assert_array_equal(physics.render(64, 64), first)
+    assert len(physics._renderers) >= 2  # the main thread's, and the other threads'
+    # A renderer whose context another thread holds refuses with a RenderError, not EGL's.
+    renderer = physics._renderers[(64, 64)]
+    with pytest.raises(rendering.ContextBusyError, match="whose OpenGL context is current"):
+        _in_thread(lambda: rendering.render(renderer, physics.data, -1, False, False, None))
+    physics.close()
+    assert len(rendering._abandoned) == abandoned  # every renderer freed
+
+
+def test_a_physics_first_drawn_by_a_thread_that_ended_renders_and_closes(egl):
+    """The thread that made the renderer ended holding its context, which no other thread
+    can free: the main thread draws with its own, and closing keeps that one unfreed
+    instead of raising."""
+    physics = moved(mjcf.Physics.from_xml_path(str(gym_model("ant"))), 2)
+    first = _in_thread(lambda: physics.render(64, 64))
+    np.testing.assert_array_equal(physics.render(64, 64), first)
+    held = physics._renderers[(64, 64)]._gl_context
+    physics.close()
+    assert rendering._abandoned[-1][1] is held

@@ -19,12 +19,15 @@ before training (its libraries installed), its `Trainer`, and its policy loader;
 commands see engines only through it. A `Trainer` trains one run; what it offers the
 session (its timesteps, its current policy, saving) is all the session needs.
 
-A checkpoint is a folder holding the engine's own files and `state.json`: the run's
-`Progress`, which names the engine that wrote it (a state.json naming none was written by
-stable-baselines3, before there was a choice). `state.json` is written last, atomically, so
-a folder with one holds a complete checkpoint even when training was killed while saving.
-Every file an engine writes goes through `replace`: beside its target as `.NAME.partial`,
-then moved over it.
+A checkpoint is a folder holding `state.json`, the run's `Progress` (which names the
+engine that wrote it: a state.json naming none was written by stable-baselines3, before
+there was a choice), and the engine's files of the last save in a subfolder that state.json
+names (`<timesteps>-<tag>/`). `Checkpoint.save` is atomic: the new subfolder is written and
+flushed to disk whole, then state.json is replaced and flushed, then older saves are removed;
+a reader, or a run resumed after a kill or a power cut at any moment, finds the previous
+save or the new one, never the weights of one with the statistics of the other. Every file
+an engine writes goes through `replace`: beside its target as `.NAME.partial`, flushed
+(fsync), then moved over it.
 
 This module imports no engine's library.
 """
@@ -36,6 +39,8 @@ import argparse
 import dataclasses
 import json
 import os
+import re
+import secrets
 import shutil
 import signal
 import sys
@@ -115,14 +120,46 @@ def partial_path(path: Path) -> Path:
 
 
 def replace(path: Path, write: Callable[[Path], Any]) -> None:
-    """Write the file or folder `path` through `write(partial)` beside it, then move it over
-    `path` (a folder there is removed first), so `path` is never half written."""
+    """Write the file or folder `path` through `write(partial)` beside it, flush it to disk,
+    then move it over `path` (a folder there is removed first) and flush the move, so `path`
+    is never half written, even after a power cut."""
     partial = partial_path(path)
     _remove(partial)
     write(partial)
+    _flush(partial)
     if path.is_dir():
         shutil.rmtree(path)
     os.replace(partial, path)
+    _flush_folder(path.parent)
+
+
+def _flush(path: Path) -> None:
+    """fsync the file `path`, or every file and folder in the folder `path`."""
+    if path.is_dir():
+        for folder, _, names in os.walk(path):
+            for name in names:
+                _flush_file(Path(folder) / name)
+            _flush_folder(Path(folder))
+    else:
+        _flush_file(path)
+
+
+def _flush_file(path: Path) -> None:
+    with path.open("rb") as file:
+        os.fsync(file.fileno())
+
+
+def _flush_folder(path: Path) -> None:
+    """fsync the folder `path`, so that the names it holds survive a power cut (where the
+    system can: Windows cannot open a folder)."""
+    try:
+        descriptor = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
 
 
 def _remove(path: Path) -> None:
@@ -132,10 +169,15 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
+# A save's subfolder in a checkpoint, '000000020480-3fa9c1' (timesteps, then a random tag),
+# and one being written ('.000000020480-3fa9c1.partial').
+_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
+
+
 class Checkpoint(abc.ABC):
     """An engine's training checkpoint in a folder, as the run folder's rules read it (see
-    the module docstring); the engine's trainer writes it. Subclasses name their engine and
-    say which of the files there are theirs."""
+    the module docstring); the engine's trainer writes it through `save`. Subclasses name
+    their engine and say when a save holds what they need."""
 
     # The --engine that writes it.
     engine: ClassVar[str]
@@ -180,14 +222,38 @@ class Checkpoint(abc.ABC):
         state = [p for p in (self.state_path, partial_path(self.state_path)) if p.exists()]
         return [*self.engine_files(), *state]
 
-    def write_state(self, state: dict[str, Any]) -> None:
-        """Write state.json naming this engine, atomically: the last step of a save."""
-        text = json.dumps({**state, "engine": self.engine})
-        replace(self.state_path, lambda path: path.write_text(text))
+    def current(self) -> Path:
+        """The folder of the last complete save: the subfolder state.json names (or, for a
+        stable-baselines3 checkpoint written before saves had subfolders, the checkpoint
+        folder itself). Raises PolicyError for a state.json that cannot be read or names
+        something else."""
+        saved = self.state().get("saved")
+        if saved is None:
+            return self.folder
+        if not isinstance(saved, str) or not _SAVED.fullmatch(saved) or saved.startswith("."):
+            raise PolicyError(f"{self.state_path} names no save of this checkpoint: {saved!r}")
+        return self.folder / saved
 
-    @abc.abstractmethod
+    def save(self, timesteps: int, write: Callable[[Path], Any], state: dict[str, Any]) -> None:
+        """Save atomically (see the module docstring): `write(folder)` fills a new subfolder
+        with the engine's files, then state.json (`state`, naming this engine and the
+        subfolder) replaces the last one, then the older saves are removed. Raises OSError;
+        the last complete save is then still the current one."""
+        name = f"{int(timesteps):012d}-{secrets.token_hex(3)}"
+        self.folder.mkdir(parents=True, exist_ok=True)
+        replace(self.folder / name, write)
+        text = json.dumps({**state, "engine": self.engine, "saved": name})
+        replace(self.state_path, lambda path: path.write_text(text))
+        for old in self.engine_files():
+            if old.name != name:
+                _remove(old)
+
     def engine_files(self) -> list[Path]:
-        """The engine's own files and folders that are there (written ones and partial)."""
+        """The saves' subfolders that are there (complete and partial); an engine adds the
+        files it wrote before saves had subfolders."""
+        if not self.folder.is_dir():
+            return []
+        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
 
     @abc.abstractmethod
     def _complete(self) -> bool:
@@ -299,8 +365,8 @@ class Trainer(abc.ABC):
 
     @abc.abstractmethod
     def save_checkpoint(self) -> None:
-        """Save the model and then `progress` into the run's checkpoint (state.json last,
-        through `Checkpoint.write_state`); raises OutputError."""
+        """Save the model with `progress` into the run's checkpoint (through
+        `Checkpoint.save`, atomically); raises OutputError."""
 
     @abc.abstractmethod
     def save_policy(self, path: Path) -> None:

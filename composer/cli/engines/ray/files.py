@@ -16,15 +16,12 @@ RLlib writes an RLModule (`RLModule.from_checkpoint` reads it, for your own RLli
 A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
 Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
 and `state.json` (the `Progress` with the engine's layout and which subfolder is current),
-written atomically after the subfolder is complete, so a folder with a `state.json` holds
-a complete checkpoint even when training was killed while saving. Older subfolders are
-deleted after (`composer.cli.engines.ray.training` saves it).
+saved atomically by `base.Checkpoint.save` (`composer.cli.engines.ray.training` saves it).
 """
 
 from __future__ import annotations
 
 import logging
-import re
 from pathlib import Path
 
 from composer.cli.engines import base
@@ -38,9 +35,6 @@ WEIGHTS_FILE = "weights.npz"
 POLICY_FORMAT = "composer-rllib-policy"
 # policy.json's version: 2 says weights.npz and the model config are there.
 POLICY_VERSION = 2
-# A checkpoint's saves, '000000020480-3fa9c1' (timesteps, then a random tag), and those
-# being written ('.000000020480-3fa9c1.partial').
-_SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
 
 
 def require_ray(needs: str = "--engine ray needs") -> None:
@@ -80,19 +74,9 @@ class Checkpoint(base.Checkpoint):
 
     engine = NAME
 
-    def current(self) -> Path:
-        """The subfolder of the last complete save."""
-        return self.folder / str(self.state().get("saved"))
-
     def algorithm_path(self) -> Path:
         """The RLlib Algorithm checkpoint of the last complete save."""
         return self.current() / "algorithm"
 
-    def engine_files(self) -> list[Path]:
-        """The saves' subfolders, complete and partial."""
-        if not self.folder.is_dir():
-            return []
-        return sorted(p for p in self.folder.iterdir() if p.is_dir() and _SAVED.fullmatch(p.name))
-
     def _complete(self) -> bool:
-        return self.current().is_dir()
+        return self.current() != self.folder and self.current().is_dir()

@@ -25,7 +25,7 @@ from typing import Any
 import gymnasium
 import numpy as np
 
-from composer.cli.engines import base
+from composer.cli.engines import base, untrusted
 from composer.cli.engines.ray.files import (
     POLICY_FILE,
     POLICY_FORMAT,
@@ -163,17 +163,22 @@ def observation_filter(runner: Any) -> dict[str, Any] | None:
 
 def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
     """The policy saved in `folder`, checked to fit `env`'s spaces: its network built
-    from policy.json and weights.npz (see the module docstring), or, when `trusted`, read
-    by RLlib from `module/` (which unpickles). Raises PolicyError for a folder that cannot
-    be read or a policy of other spaces, UntrustedPolicyError for one that can only be
-    read by unpickling, MissingExtraError without Ray."""
+    from policy.json and weights.npz (see the module docstring; every part checked first,
+    `untrusted`), or, when `trusted`, read by RLlib from `module/` (which unpickles).
+    Raises PolicyError for a folder that cannot be read, a malformed policy or one of
+    other spaces, UntrustedPolicyError for one that can only be read by unpickling,
+    MissingExtraError without Ray."""
+    path = folder / POLICY_FILE
     try:
-        spec = json.loads((folder / POLICY_FILE).read_text())
-    except (OSError, ValueError) as e:
-        raise PolicyError(f"cannot read {folder / POLICY_FILE}: {e}") from e
+        text = path.read_bytes()
+    except OSError as e:
+        raise PolicyError(f"cannot read {path}: {e}") from e
+    spec = untrusted.json_data(text, str(path))
     if not isinstance(spec, dict) or spec.get("format") != POLICY_FORMAT:
-        raise PolicyError(f"{folder / POLICY_FILE} is not a policy written by `composer train`")
+        raise PolicyError(f"{path} is not a policy written by `composer train`")
+    # Without Ray no folder of Ray's loads: say so first, whatever else the folder holds.
     require_ray(f"{folder} was trained with --engine ray: loading it needs")
+    spec = _checked(path, spec)
     quiet_ray()
     module = _trusted_module(folder) if trusted else _module(folder, spec)
     module.eval()
@@ -182,11 +187,43 @@ def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
     return policy
 
 
+def _checked(path: Path, spec: dict[str, Any]) -> dict[str, Any]:
+    """policy.json's contents `spec` with the parts `RayPolicy` reads checked; raises
+    PolicyError naming the part otherwise."""
+    observation = untrusted.shape(spec.get("observation_shape"), f"{path}: observation_shape")
+    low = untrusted.numbers(spec.get("action_low"), f"{path}: action_low", _size(spec, "low"))
+    high = untrusted.numbers(spec.get("action_high"), f"{path}: action_high", low.shape)
+    if not np.all(low < high):
+        raise PolicyError(f"{path}: action_low must be below action_high")
+    stats = spec.get("observation_filter")
+    if stats is not None:
+        where = f"{path}: observation_filter"
+        stats = untrusted.mapping(stats, where)
+        clip = stats.get("clip")
+        stats = {
+            "mean": untrusted.numbers(stats.get("mean"), f"{where}: mean", observation).tolist(),
+            "std": untrusted.numbers(stats.get("std"), f"{where}: std", observation).tolist(),
+            "clip": None if clip is None else untrusted.number(clip, f"{where}: clip", 0),
+        }
+    version = spec.get("version", 1)
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise PolicyError(f"{path}: version must be an integer, got {version!r}")
+    return {**spec, "observation_shape": list(observation), "action_low": low.tolist(),
+            "action_high": high.tolist(), "observation_filter": stats}  # fmt: skip
+
+
+def _size(spec: dict[str, Any], bound: str) -> tuple[int, ...]:
+    """The shape of policy.json's action bounds, as written (a list of numbers)."""
+    value = spec.get(f"action_{bound}")
+    return (len(value),) if isinstance(value, list) else (-1,)
+
+
 def _module(folder: Path, spec: dict[str, Any]) -> Any:
     """The RLModule of policy.json's algorithm and model config with weights.npz's
-    weights, read without unpickling anything."""
+    weights, read without unpickling anything; the module built may hold no more numbers
+    than the weights."""
     weights_path = folder / WEIGHTS_FILE
-    if spec.get("version", 1) < POLICY_VERSION or not weights_path.is_file():
+    if spec["version"] < POLICY_VERSION or not weights_path.is_file():
         raise UntrustedPolicyError(
             f"{folder} holds its network only as RLlib's pickles ({folder / 'module'}), "
             "which run code when loaded; load it only if you trust where it came from, with "
@@ -198,9 +235,13 @@ def _module(folder: Path, spec: dict[str, Any]) -> Any:
     from ray.rllib.core.rl_module.torch import TorchRLModule
 
     configs = {"ppo": PPOConfig, "sac": SACConfig}
-    if spec.get("algo") not in configs or not isinstance(spec.get("model_config"), dict):
+    algo = spec.get("algo")
+    if not isinstance(algo, str) or algo not in configs:
+        raise PolicyError(f"{folder / POLICY_FILE}: algo must be one of {list(configs)}")
+    if not isinstance(spec.get("model_config"), dict):
         raise PolicyError(f"{folder / POLICY_FILE} names no algorithm and network to build")
-    module_spec = configs[spec["algo"]]().get_default_rl_module_spec()
+    arrays = untrusted.npz_arrays(weights_path, untrusted.unpacker())
+    module_spec = configs[algo]().get_default_rl_module_spec()
     module_spec.observation_space = gymnasium.spaces.Box(
         -np.inf, np.inf, tuple(spec["observation_shape"]), np.float32
     )
@@ -209,15 +250,20 @@ def _module(folder: Path, spec: dict[str, Any]) -> Any:
     )
     module_spec.model_config = spec["model_config"]
     module_spec.inference_only = True
+    capacity = untrusted.capacity(sum(array.size for array in arrays.values()))
     try:
-        with np.load(weights_path, allow_pickle=False) as weights:
-            state = {name: torch.from_numpy(weights[name]) for name in weights.files}
-        module = module_spec.build()
+        state = {name: torch.from_numpy(array) for name, array in arrays.items()}
+        with untrusted.at_most(torch, capacity, folder):
+            module = module_spec.build()
         if not isinstance(module, TorchRLModule):
             raise TypeError(f"RLlib built a {type(module).__name__}, not a PyTorch module")
         module.load_state_dict(state, strict=True)
-    except (OSError, ValueError, KeyError, TypeError, RuntimeError) as e:
-        raise PolicyError(f"cannot build the policy in {folder}: {e}") from e
+    except PolicyError:
+        raise
+    # The model config is a stranger's keywords to RLlib's and torch's constructors,
+    # which raise whatever they raise for a bad one.
+    except Exception as e:
+        raise PolicyError(f"cannot build the policy in {folder}: {type(e).__name__}: {e}") from e
     return module
 
 

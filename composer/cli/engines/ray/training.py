@@ -21,8 +21,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import functools
-import secrets
-import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -134,26 +132,18 @@ class Trainer(base.Trainer):
         return self.model
 
     def save_checkpoint(self) -> None:
-        """Save the algorithm and policy into a new subfolder, then the progress with the
-        layout, naming that subfolder current; then remove the older ones. Raises
-        OutputError."""
+        """Save the algorithm and policy with the progress and the layout (through
+        `Checkpoint.save`, atomically). Raises OutputError."""
         model, checkpoint, progress = self.model, self.checkpoint, self.progress
-        name = f"{int(progress.timesteps):012d}-{secrets.token_hex(3)}"
-        saved = checkpoint.folder / name
 
         def write(folder: Path) -> None:
             model.algo.save_to_path(uri(folder / "algorithm"))
             save_policy(model.algo, folder / POLICY, model.info)
 
         try:
-            checkpoint.folder.mkdir(parents=True, exist_ok=True)
-            base.replace(saved, write)
-            checkpoint.write_state({**progress.to_json(), **model.layout, "saved": name})
+            checkpoint.save(progress.timesteps, write, {**progress.to_json(), **model.layout})
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {checkpoint.folder}: {e}") from e
-        for old in checkpoint.engine_files():
-            if old != saved:
-                shutil.rmtree(old, ignore_errors=True)
 
     def save_policy(self, path: Path) -> None:
         """The algorithm's current policy, as `policy.save_policy` writes it."""

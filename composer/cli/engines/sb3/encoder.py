@@ -35,6 +35,8 @@ from composer.cli import recipes
 # The key of a model's .zip `data` (and the model attribute) holding the encoder's
 # settings: {'conv': [[channels, kernel, stride], ...], 'features': n}.
 SETTINGS_KEY = "pixel_encoder"
+# The most values one conv layer may make of a frame (the default stack's first: 4,096).
+MAX_LAYER_VALUES = 1 << 22
 
 
 class PixelEncoder(BaseFeaturesExtractor):
@@ -48,22 +50,28 @@ class PixelEncoder(BaseFeaturesExtractor):
         features: int = recipes.Recipe.features,
     ) -> None:
         """Encode observations of `observation_space` (channels, height, width). Raises
-        ValueError when the layers leave nothing of a frame that size."""
+        ValueError when the layers leave nothing of a frame that size, or make more than
+        MAX_LAYER_VALUES values of one frame (a policy file's settings could ask for
+        gigabytes a frame)."""
         super().__init__(observation_space, features)
-        channels = observation_space.shape[0]
+        channels, height, width = observation_space.shape
         layers: list[nn.Module] = []
         for out, kernel, stride in conv:
+            height, width = (height - kernel) // stride + 1, (width - kernel) // stride + 1
+            if height < 1 or width < 1:
+                raise ValueError(
+                    f"conv layers {list(conv)} do not fit frames of shape "
+                    f"{observation_space.shape} (channels first)"
+                )
+            if out * height * width > MAX_LAYER_VALUES:
+                raise ValueError(
+                    f"conv layer {[out, kernel, stride]} makes {out * height * width:,} values "
+                    f"of a frame, more than {MAX_LAYER_VALUES:,}"
+                )
             layers += [nn.Conv2d(channels, out, kernel, stride), nn.ReLU()]
             channels = out
         self.conv = nn.Sequential(*layers, nn.Flatten())
-        with torch.no_grad():
-            try:
-                size = self.conv(torch.zeros(1, *observation_space.shape)).shape[1]
-            except RuntimeError as e:
-                raise ValueError(
-                    f"conv layers {list(conv)} do not fit frames of shape "
-                    f"{observation_space.shape} (channels first): {e}"
-                ) from e
+        size = channels * height * width
         self.linear = nn.Sequential(nn.Linear(size, features), nn.ReLU())
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:

@@ -2,14 +2,18 @@
 policy file, and the observation statistics a policy is served with. Reading these needs no
 library.
 
-    checkpoint = files.Checkpoint('runs/Reach-ppo/checkpoint')   # model.zip, state.json ...
+    checkpoint = files.Checkpoint('runs/Reach-ppo/checkpoint')   # state.json, a save's folder
+    checkpoint.model_path        # its model.zip
     files.find_policy(Path('runs/Reach-ppo'))    # runs/Reach-ppo/policy.zip, or None
     files.algo_of(Path('runs/Reach-ppo/policy.zip'))   # 'ppo'
     policy = files.NormalizedPolicy(model, statistics)  # predict() normalizes first
 
-A checkpoint is a folder: `model.zip`, `replay_buffer.pkl` for off-policy algorithms,
-`vecnormalize.pkl` for normalized recipes, and `state.json` (the `Progress`), each replaced
-atomically, `state.json` last (`composer.cli.engines.base`). The policy, `policy.zip`, is
+A checkpoint is a folder: a `<timesteps>-<tag>/` subfolder holding `model.zip`,
+`replay_buffer.pkl` for off-policy algorithms and `vecnormalize.pkl` for normalized recipes,
+and `state.json` (the `Progress`, naming that subfolder), saved atomically by
+`base.Checkpoint.save`: the weights are never paired with another save's statistics or
+buffer. (Checkpoints written before saves had subfolders hold the three files beside
+state.json; they are read, and replaced by the next save.) The policy, `policy.zip`, is
 the model's .zip, whose `data` carries the training environments' observation statistics
 as plain JSON under NORMALIZATION (mean, var, epsilon, clip), so a policy normalizes what it
 is given as training did.
@@ -17,14 +21,12 @@ is given as training did.
 
 from __future__ import annotations
 
-import json
-import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from composer.cli.engines import base
+from composer.cli.engines import base, untrusted
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, PolicyError
 
 NAME = base.DEFAULT_ENGINE
@@ -36,21 +38,35 @@ NORMALIZATION = "observation_normalization"
 
 
 class Checkpoint(base.Checkpoint):
-    """A stable-baselines3 training checkpoint in a folder (see the module docstring)."""
+    """A stable-baselines3 training checkpoint in a folder (see the module docstring): the
+    paths of its files in the last complete save."""
 
     engine = NAME
+    MODEL = "model.zip"
+    BUFFER = "replay_buffer.pkl"
+    NORMALIZATION = "vecnormalize.pkl"
 
-    def __init__(self, folder: str | Path) -> None:
-        """A checkpoint at `folder` (which need not exist yet)."""
-        super().__init__(folder)
-        self.model_path = self.folder / "model.zip"
-        self.buffer_path = self.folder / "replay_buffer.pkl"
-        self.normalization_path = self.folder / "vecnormalize.pkl"
+    @property
+    def model_path(self) -> Path:
+        """The model's .zip of the last save."""
+        return self.current() / self.MODEL
+
+    @property
+    def buffer_path(self) -> Path:
+        """The replay buffer of the last save (there for off-policy algorithms)."""
+        return self.current() / self.BUFFER
+
+    @property
+    def normalization_path(self) -> Path:
+        """The VecNormalize statistics of the last save (there for normalized recipes)."""
+        return self.current() / self.NORMALIZATION
 
     def engine_files(self) -> list[Path]:
-        """model.zip, replay_buffer.pkl, vecnormalize.pkl and their partial files."""
-        saved = (self.model_path, self.buffer_path, self.normalization_path)
-        return [p for path in saved for p in (path, base.partial_path(path)) if p.is_file()]
+        """The saves' subfolders, and the files of a checkpoint written before saves had
+        subfolders (and their partial files)."""
+        earlier = [self.folder / name for name in (self.MODEL, self.BUFFER, self.NORMALIZATION)]
+        files = [p for path in earlier for p in (path, base.partial_path(path)) if p.is_file()]
+        return [*files, *super().engine_files()]
 
     def _complete(self) -> bool:
         return self.model_path.is_file()
@@ -59,21 +75,29 @@ class Checkpoint(base.Checkpoint):
 def find_policy(path: Path) -> Path | None:
     """The policy .zip `path` names: itself, or in a folder written by `composer train` its
     policy.zip, else its checkpoint's model; None when there is none."""
-    candidates = [path] if path.suffix == ".zip" else [
-        path / POLICY, path / "checkpoint" / "model.zip", path / "model.zip"
-    ]  # fmt: skip
-    return next((candidate for candidate in candidates if candidate.is_file()), None)
+    if path.suffix == ".zip":
+        return path if path.is_file() else None
+    if (path / POLICY).is_file():
+        return path / POLICY
+    for folder in (path / "checkpoint", path):
+        checkpoint = Checkpoint(folder)
+        if checkpoint.exists():
+            return checkpoint.model_path
+    return None
 
 
 def algo_of(path: Path) -> str:
     """The algorithm ('ppo', 'sac') a stable-baselines3 .zip was saved by, from the module
     of its policy class: `stable_baselines3.sac.policies` for SAC, the shared actor-critic
-    policies of `stable_baselines3.common.policies` for PPO. Raises PolicyError."""
-    try:
-        with zipfile.ZipFile(path) as archive:
-            module = json.loads(archive.read("data"))["policy_class"]["__module__"]
-    except (OSError, zipfile.BadZipFile, KeyError, TypeError, ValueError) as e:
-        raise PolicyError(f"{path} is not a stable-baselines3 policy file: {e}") from e
+    policies of `stable_baselines3.common.policies` for PPO. Its `data` is read as a
+    stranger's (`untrusted`). Raises PolicyError."""
+    with untrusted.archive(path, f"{path} as a stable-baselines3 policy file") as archive:
+        data = untrusted.entry(untrusted.unpacker(), archive, "data", path)
+    where = f"{path}: data"
+    policy_class = untrusted.mapping(untrusted.json_data(data, where), where).get("policy_class")
+    module = policy_class.get("__module__") if isinstance(policy_class, dict) else None
+    if not isinstance(module, str):
+        raise PolicyError(f"{path} does not name the module of its policy class")
     if module == "stable_baselines3.common.policies":
         algo = "ppo"
     else:

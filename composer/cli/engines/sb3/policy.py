@@ -23,11 +23,10 @@ This module imports stable-baselines3 and torch (the [train] extra).
 
 from __future__ import annotations
 
-import json
+import io
 import pickle
 import types
 import warnings
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +37,7 @@ import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.vec_env import VecTransposeImage
 
-from composer.cli.engines import base
+from composer.cli.engines import base, untrusted
 from composer.cli.engines.sb3 import encoder, files
 from composer.cli.engines.sb3.files import NORMALIZATION, NormalizedPolicy
 from composer.cli.errors import PolicyError, UntrustedPolicyError
@@ -75,24 +74,19 @@ def plain_policy(
 ) -> NormalizedPolicy:
     """The policy saved in the stable-baselines3 .zip `file` by `algorithm`, for `env`:
     built from the file's plain settings and its weights, served with its observation
-    statistics when it has them. Raises PolicyError for a file that cannot be read or does
-    not fit `env`, UntrustedPolicyError when what it needs is pickled."""
-    try:
-        with zipfile.ZipFile(file) as archive:
-            data = json.loads(archive.read("data"))
-            with archive.open("policy.pth") as weights_file, warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # torch's notes on a file not its own
-                weights = torch.load(weights_file, map_location="cpu", weights_only=True)
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as e:
-        raise PolicyError(f"cannot read the policy in {file}: {e}") from e
-    except pickle.UnpicklingError as e:  # torch refused: not only tensors
-        reason = "its policy.pth holds more than tensors"
-        raise UntrustedPolicyError(_untrusted(file, reason)) from e
-    for key in ("observation_space", "action_space"):
-        if not isinstance(data.get(key), dict) or "_shape" not in data[key]:
-            raise PolicyError(f"{file} does not say the shape of its {key.replace('_', ' ')}")
+    statistics when it has them. Every part is checked before use (`untrusted`): the file
+    is unpacked within mjcf.archives' limits, and the network built may hold no more
+    numbers than its weights. Raises PolicyError for a file that cannot be read, is
+    malformed or does not fit `env`, UntrustedPolicyError when what it needs is pickled."""
+    unpacker = untrusted.unpacker()
+    with untrusted.archive(file, f"the policy in {file}") as archive:
+        data_bytes = untrusted.entry(unpacker, archive, "data", file)
+        weight_bytes = untrusted.entry(unpacker, archive, "policy.pth", file)
+    data = untrusted.mapping(untrusted.json_data(data_bytes, f"{file}: data"), f"{file}: data")
+    untrusted.inner_archive(unpacker, weight_bytes, f"{file}: policy.pth")
+    weights = _weights(file, weight_bytes)
     saved = types.SimpleNamespace(**{
-        key: gymnasium.spaces.Box(-np.inf, np.inf, tuple(data[key]["_shape"]))
+        key: gymnasium.spaces.Box(-np.inf, np.inf, _saved_shape(file, data, key))
         for key in ("observation_space", "action_space")
     })  # fmt: skip
     base.check_spaces(file, saved, env)
@@ -102,27 +96,109 @@ def plain_policy(
         # stable-baselines3 pickles the whole dict for its class (ours, which the plain
         # settings name) and writes the rest beside it as JSON: that is read, not unpickled.
         kwargs = {k: v for k, v in kwargs.items() if k not in _ENCODER_PICKLES}
-    settings = _plain(file, {"policy_kwargs": kwargs}, "policy_kwargs", {})
+    settings = untrusted.mapping(
+        _plain(file, {"policy_kwargs": kwargs}, "policy_kwargs", {}), f"{file}: policy_kwargs"
+    )
     observation_space = env.observation_space
-    if pixel_encoder is not None and isinstance(observation_space, gymnasium.spaces.Box):
+    if pixel_encoder is not None:
+        if (
+            not isinstance(observation_space, gymnasium.spaces.Box)
+            or len(observation_space.shape) != 3
+        ):
+            raise PolicyError(f"{file} was trained from pixels: give --pixels")
         # Trained on VecTransposeImage's channels-first frames; `predict` transposes.
         observation_space = VecTransposeImage.transpose_space(observation_space)
-        settings.update(features_extractor_class=encoder.PixelEncoder,
-                        features_extractor_kwargs=pixel_encoder)  # fmt: skip
+        settings.update(
+            features_extractor_class=encoder.PixelEncoder,
+            features_extractor_kwargs=_encoder_settings(file, pixel_encoder),
+        )
         alias = "CnnPolicy"
     elif isinstance(observation_space, gymnasium.spaces.Dict):
         alias = "MultiInputPolicy"
     else:
         alias = "MlpPolicy"
     policy_class = algorithm.policy_aliases[alias]
-    settings.setdefault("use_sde", bool(_plain(file, data, "use_sde", False)))
+    use_sde = _plain(file, data, "use_sde", False)
+    if not isinstance(use_sde, bool):
+        raise PolicyError(f"{file}: use_sde must be true or false, got {use_sde!r}")
+    settings.setdefault("use_sde", use_sde)
+    capacity = untrusted.capacity(sum(int(tensor.numel()) for tensor in weights.values()))
     try:
-        policy = policy_class(observation_space, env.action_space, _no_learning, **settings)
+        with untrusted.at_most(torch, capacity, file):
+            policy = policy_class(observation_space, env.action_space, _no_learning, **settings)
         policy.load_state_dict(weights)
-    except (TypeError, ValueError, RuntimeError) as e:  # settings or weights of another net
-        raise PolicyError(f"cannot build the policy in {file}: {e}") from e
+    except PolicyError:
+        raise
+    # The settings are a stranger's keywords to stable-baselines3's and torch's
+    # constructors, which raise whatever they raise for a bad one.
+    except Exception as e:
+        raise PolicyError(f"cannot build the policy in {file}: {type(e).__name__}: {e}") from e
     policy.set_training_mode(False)
-    return NormalizedPolicy(policy, _plain(file, data, NORMALIZATION, None))
+    statistics = _statistics(file, data, env.observation_space)
+    return NormalizedPolicy(policy, statistics)
+
+
+def _weights(file: Path, data: bytes) -> dict[str, torch.Tensor]:
+    """The tensors of policy.pth's bytes `data`, by name; raises UntrustedPolicyError
+    when it holds more than tensors, PolicyError when it is not a torch file of them."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # torch's notes on a file not its own
+            weights = torch.load(io.BytesIO(data), map_location="cpu", weights_only=True)
+    except pickle.UnpicklingError as e:  # torch refused: not only tensors
+        reason = "its policy.pth holds more than tensors"
+        raise UntrustedPolicyError(_untrusted(file, reason)) from e
+    # torch's reader raises what its parts raise on a corrupt file.
+    except Exception as e:
+        raise PolicyError(f"cannot read the weights in {file}: {type(e).__name__}: {e}") from e
+    if not isinstance(weights, dict) or not all(
+        isinstance(name, str) and isinstance(value, torch.Tensor) for name, value in weights.items()
+    ):
+        raise PolicyError(f"{file}: policy.pth must hold tensors by name (a state dict)")
+    return weights
+
+
+def _saved_shape(file: Path, data: dict[str, Any], key: str) -> tuple[int, ...]:
+    """The shape of the space `key` that `data` says, checked (`untrusted.shape`)."""
+    space = data.get(key)
+    what = key.replace("_", " ")
+    if not isinstance(space, dict) or "_shape" not in space:
+        raise PolicyError(f"{file} does not say the shape of its {what}")
+    return untrusted.shape(space["_shape"], f"{file}: the shape of its {what}")
+
+
+def _encoder_settings(file: Path, settings: Any) -> dict[str, Any]:
+    """The pixel encoder's settings `settings`, checked to be `encoder.settings`' kind."""
+    where = f"{file}: {encoder.SETTINGS_KEY}"
+    settings = untrusted.mapping(settings, where)
+    conv, features = settings.get("conv"), settings.get("features")
+    triples = isinstance(conv, list) and conv and all(
+        isinstance(layer, list) and len(layer) == 3
+        and all(isinstance(n, int) and not isinstance(n, bool) and n > 0 for n in layer)
+        for layer in conv
+    )  # fmt: skip
+    if not triples or isinstance(features, bool) or not isinstance(features, int) or features < 1:
+        raise PolicyError(
+            f"{where} must be {{'conv': [[channels, kernel, stride], ...], 'features': "
+            f"units}} of positive integers, got {settings}"
+        )
+    return {"conv": conv, "features": features}
+
+
+def _statistics(file: Path, data: dict[str, Any], space: gymnasium.Space) -> dict[str, Any] | None:
+    """The observation statistics in `data` (None if absent), checked to fit `space`."""
+    statistics = _plain(file, data, NORMALIZATION, None)
+    if statistics is None:
+        return None
+    where = f"{file}: {NORMALIZATION}"
+    statistics = untrusted.mapping(statistics, where)
+    size = tuple(space.shape or ())
+    return {
+        "mean": untrusted.numbers(statistics.get("mean"), f"{where}: mean", size),
+        "var": untrusted.numbers(statistics.get("var"), f"{where}: var", size).clip(0),
+        "epsilon": untrusted.number(statistics.get("epsilon"), f"{where}: epsilon", 0),
+        "clip": untrusted.number(statistics.get("clip"), f"{where}: clip", 0),
+    }
 
 
 def _no_learning(progress: float) -> float:

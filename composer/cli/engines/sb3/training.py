@@ -255,18 +255,22 @@ class Trainer(base.Trainer):
         return NormalizedPolicy(self.model, getattr(self.model, NORMALIZATION, None))
 
     def save_checkpoint(self) -> None:
-        """Save the model (and replay buffer, and normalization), then the progress."""
+        """Save the model (and replay buffer, and normalization) with the progress (through
+        `Checkpoint.save`, atomically). Raises OutputError."""
         model, checkpoint = self.model, self.checkpoint
-        try:
-            checkpoint.folder.mkdir(parents=True, exist_ok=True)
-            keep_normalization(model)
-            base.replace(checkpoint.model_path, model.save)
+        keep_normalization(model)
+        normalize = model.get_vec_normalize_env()
+
+        def write(folder: Path) -> None:
+            folder.mkdir()
+            model.save(folder / Checkpoint.MODEL)
             if isinstance(model, OffPolicyAlgorithm):
-                base.replace(checkpoint.buffer_path, model.save_replay_buffer)
-            normalize = model.get_vec_normalize_env()
+                model.save_replay_buffer(folder / Checkpoint.BUFFER)
             if normalize is not None:
-                base.replace(checkpoint.normalization_path, lambda p: normalize.save(str(p)))
-            checkpoint.write_state(self.progress.to_json())
+                normalize.save(str(folder / Checkpoint.NORMALIZATION))
+
+        try:
+            checkpoint.save(self.progress.timesteps, write, self.progress.to_json())
         except OSError as e:
             raise OutputError(f"cannot save checkpoint in {checkpoint.folder}: {e}") from e
 
@@ -290,10 +294,8 @@ def trainer(
         ),
     )
     checkpoint = folder.checkpoint
-    saved = checkpoint.normalization_path
-    venv = vec_env(
-        info, recipe, progress.seed, saved if folder.resumes and saved.is_file() else None
-    )
+    saved = checkpoint.normalization_path if folder.resumes else None
+    venv = vec_env(info, recipe, progress.seed, saved if saved and saved.is_file() else None)
     try:
         if folder.resumes:
             model = load_model(checkpoint, recipe.algo, venv, args.tensorboard)
