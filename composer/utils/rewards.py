@@ -21,7 +21,8 @@ library's `pow` and an array with a multiplication, which can differ in the last
 float64 array (of one or more dimensions, within finite bounds) a faster way to the same
 bits: the distance clamped at 0 inside the bounds, where every sigmoid is exactly 1,
 instead of masked. tests/composer/test_utils_reference.py compares both with
-dm_control's own module.
+dm_control's own module. `tolerance` keeps the `Tolerance` of each set of parameters it
+was called with (and their types), so a reward calling it each step builds it once.
 
 Bad parameters raise `composer.utils.RewardError` (a ValueError) with dm_control's
 messages: bounds out of order, a negative margin, and, when the margin is not 0, a
@@ -280,4 +281,24 @@ def tolerance(
     for `bounds[0] > bounds[1]`, a negative margin, and, when the margin is not 0, an
     unknown sigmoid or `value_at_margin` outside (0, 1) ([0, 1) for 'cosine', 'linear'
     and 'quadratic')."""
-    return Tolerance(bounds, margin, sigmoid, value_at_margin)(x)
+    try:
+        # The parameters' types too: a numpy scalar bound equal to a Python number
+        # computes in its own dtype (NEP 50), so it is another Tolerance.
+        lower, upper = bounds
+        key: Any = (lower, type(lower), upper, type(upper), margin, type(margin), sigmoid,
+                    value_at_margin, type(value_at_margin))  # fmt: skip
+        built = _BUILT.get(key)
+    except (TypeError, ValueError):  # unhashable parameters (arrays): built for this call
+        return Tolerance(bounds, margin, sigmoid, value_at_margin)(x)
+    if built is None:
+        built = Tolerance(bounds, margin, sigmoid, value_at_margin)
+        if len(_BUILT) >= _BUILT_MAX:
+            _BUILT.clear()
+        _BUILT[key] = built
+    return built(x)
+
+
+# The Tolerances `tolerance` built, by parameters: a reward calling it each step with the
+# same few parameters pays for the checks and constants once (8 to 12 us a call, of 2).
+_BUILT: dict[Any, Tolerance] = {}
+_BUILT_MAX = 256
