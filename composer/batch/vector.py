@@ -113,7 +113,7 @@ class Simulations:
         simulations = Simulations(batch, envs)
         simulations.physics()           # the VectorPhysics of every environment
         simulations.physics(ids)        # of environments `ids` (ascending)
-        simulations.stepped(ids, True, True)  # the environment stepped them, stages too
+        simulations.stepped(ids, True, mujoco.mjtStage.mjSTAGE_VEL)  # stepped, stages too
         simulations.changed(i)          # it wrote environment i's state from its MjData
     """
 
@@ -132,6 +132,10 @@ class Simulations:
         # Whether a derived field (not state) was ever bound: until then a step need not
         # compute the stages of the new state (`stepped`).
         self.reads_derived = False
+        # Whether a read made the acceleration stage current after a step (touch sensors,
+        # accelerometers ...): from then on a step computes it (`step_stage`), in the
+        # batch's own threaded call, as it does the position and velocity stages.
+        self.reads_acceleration = False
         # Per bound elements: their binding class (None: no elements) and resolved fields.
         self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
         self._every = VectorPhysics(self, None)
@@ -142,14 +146,24 @@ class Simulations:
             return self._every
         return VectorPhysics(self, ids)
 
-    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: bool) -> None:
+    def step_stage(self, consistent: bool) -> mujoco.mjtStage:
+        """The stages a step should compute at the new state (`Batch.step`'s `stage`):
+        none while nothing reads a derived field or reads need not describe the new state
+        (not `consistent`), else those reads have needed."""
+        if not (consistent and self.reads_derived):
+            return mujoco.mjtStage.mjSTAGE_NONE
+        if self.reads_acceleration:
+            return mujoco.mjtStage.mjSTAGE_ACC
+        return mujoco.mjtStage.mjSTAGE_VEL
+
+    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: mujoco.mjtStage) -> None:
         """Simulations `ids` (None: all) were stepped. `consistent` (reads must describe
-        the new state): with the stages of the new state `computed` (mjSTAGE_VEL), only
-        their acceleration stage lags, else every stage does; not `consistent`: their
-        fields lag as mj_step leaves them, which reads then give."""
+        the new state): the stages of the new state up to `computed` (`step_stage`) are
+        current, the later ones lag; not `consistent`: their fields lag as mj_step leaves
+        them, which reads then give."""
         rows = slice(None) if ids is None else ids
-        self._pos_stale[rows] = consistent and not computed
-        self._acc_stale[rows] = consistent
+        self._pos_stale[rows] = consistent and computed == mujoco.mjtStage.mjSTAGE_NONE
+        self._acc_stale[rows] = consistent and computed != mujoco.mjtStage.mjSTAGE_ACC
 
     def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
@@ -172,6 +186,8 @@ class Simulations:
             return
         which = ids[stale]
         batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
+        if stage == _ACC:
+            self.reads_acceleration = True
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
             self.batch.forward(None if len(which) == self.nsim else which, batch_stage)
