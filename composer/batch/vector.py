@@ -128,6 +128,9 @@ class Simulations:
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
+        # Whether some row of each may be True (False: none is), so that a read of current
+        # fields, several a step, skips indexing them.
+        self._pos_any = self._acc_any = True
         self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
         # Whether a derived field (not state) was ever bound: until then a step need not
         # compute the stages of the new state (`stepped`).
@@ -162,25 +165,39 @@ class Simulations:
         current, the later ones lag; not `consistent`: their fields lag as mj_step leaves
         them, which reads then give."""
         rows = slice(None) if ids is None else ids
-        self._pos_stale[rows] = consistent and computed == mujoco.mjtStage.mjSTAGE_NONE
-        self._acc_stale[rows] = consistent and computed != mujoco.mjtStage.mjSTAGE_ACC
+        pos = consistent and computed == mujoco.mjtStage.mjSTAGE_NONE
+        acc = consistent and computed != mujoco.mjtStage.mjSTAGE_ACC
+        self._pos_stale[rows] = pos
+        self._acc_stale[rows] = acc
+        self._pos_any |= pos
+        self._acc_any |= acc
 
     def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
         self._pos_stale[ids] = True
         self._acc_stale[ids] = True
+        self._pos_any = self._acc_any = True
 
     def _wrote(self, ids: np.ndarray | None, effect: staleness.Effect) -> None:
         """Batched methods wrote the state rows of simulations `ids` (None: all)."""
         written = slice(None) if ids is None else ids
         self._acc_stale[written] = True
+        self._acc_any = True
         if effect != staleness.Effect.STEP_INPUT:
             self._pos_stale[written] = True
+            self._pos_any = True
 
     def _refresh(self, ids: np.ndarray, stage: staleness.Stage) -> None:
         """Recompute the derived fields of simulations `ids` that lag for `stage`."""
+        acc = stage == _ACC
+        if not (self._pos_any or (acc and self._acc_any)):
+            return
+        if len(ids) == self.nsim:  # every one (ids ascending): after this, none lags
+            self._pos_any = False
+            if acc:
+                self._acc_any = False
         stale = self._pos_stale[ids]
-        if stage == _ACC:
+        if acc:
             stale = stale | self._acc_stale[ids]
         if not stale.any():
             return
@@ -208,6 +225,7 @@ class Simulations:
             # until the next call it holds nothing, whatever the stages say.
             self._pos_stale[:] = True
             self._acc_stale[:] = True
+            self._pos_any = self._acc_any = True
             self.reads_derived = True
         return source
 
