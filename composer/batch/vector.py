@@ -113,7 +113,7 @@ class Simulations:
         simulations = Simulations(batch, envs)
         simulations.physics()           # the VectorPhysics of every environment
         simulations.physics(ids)        # of environments `ids` (ascending)
-        simulations.stepped(ids, True, True)  # the environment stepped them, stages too
+        simulations.stepped(ids, True, mujoco.mjtStage.mjSTAGE_VEL)  # stepped, stages too
         simulations.changed(i)          # it wrote environment i's state from its MjData
     """
 
@@ -128,10 +128,17 @@ class Simulations:
         # position/velocity stages and for the acceleration stage.
         self._pos_stale = np.ones(batch.nsim, dtype=bool)
         self._acc_stale = np.ones(batch.nsim, dtype=bool)
+        # Whether some row of each may be True (False: none is), so that a read of current
+        # fields, several a step, skips indexing them.
+        self._pos_any = self._acc_any = True
         self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
         # Whether a derived field (not state) was ever bound: until then a step need not
         # compute the stages of the new state (`stepped`).
         self.reads_derived = False
+        # Whether a read made the acceleration stage current after a step (touch sensors,
+        # accelerometers ...): from then on a step computes it (`step_stage`), in the
+        # batch's own threaded call, as it does the position and velocity stages.
+        self.reads_acceleration = False
         # Per bound elements: their binding class (None: no elements) and resolved fields.
         self._bound: dict[Any, tuple[type[BatchBinding] | None, dict[str, _Field]]] = {}
         self._every = VectorPhysics(self, None)
@@ -142,36 +149,62 @@ class Simulations:
             return self._every
         return VectorPhysics(self, ids)
 
-    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: bool) -> None:
+    def step_stage(self, consistent: bool) -> mujoco.mjtStage:
+        """The stages a step should compute at the new state (`Batch.step`'s `stage`):
+        none while nothing reads a derived field or reads need not describe the new state
+        (not `consistent`), else those reads have needed."""
+        if not (consistent and self.reads_derived):
+            return mujoco.mjtStage.mjSTAGE_NONE
+        if self.reads_acceleration:
+            return mujoco.mjtStage.mjSTAGE_ACC
+        return mujoco.mjtStage.mjSTAGE_VEL
+
+    def stepped(self, ids: np.ndarray | None, consistent: bool, computed: mujoco.mjtStage) -> None:
         """Simulations `ids` (None: all) were stepped. `consistent` (reads must describe
-        the new state): with the stages of the new state `computed` (mjSTAGE_VEL), only
-        their acceleration stage lags, else every stage does; not `consistent`: their
-        fields lag as mj_step leaves them, which reads then give."""
+        the new state): the stages of the new state up to `computed` (`step_stage`) are
+        current, the later ones lag; not `consistent`: their fields lag as mj_step leaves
+        them, which reads then give."""
         rows = slice(None) if ids is None else ids
-        self._pos_stale[rows] = consistent and not computed
-        self._acc_stale[rows] = consistent
+        pos = consistent and computed == mujoco.mjtStage.mjSTAGE_NONE
+        acc = consistent and computed != mujoco.mjtStage.mjSTAGE_ACC
+        self._pos_stale[rows] = pos
+        self._acc_stale[rows] = acc
+        self._pos_any |= pos
+        self._acc_any |= acc
 
     def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
         self._pos_stale[ids] = True
         self._acc_stale[ids] = True
+        self._pos_any = self._acc_any = True
 
     def _wrote(self, ids: np.ndarray | None, effect: staleness.Effect) -> None:
         """Batched methods wrote the state rows of simulations `ids` (None: all)."""
         written = slice(None) if ids is None else ids
         self._acc_stale[written] = True
+        self._acc_any = True
         if effect != staleness.Effect.STEP_INPUT:
             self._pos_stale[written] = True
+            self._pos_any = True
 
     def _refresh(self, ids: np.ndarray, stage: staleness.Stage) -> None:
         """Recompute the derived fields of simulations `ids` that lag for `stage`."""
+        acc = stage == _ACC
+        if not (self._pos_any or (acc and self._acc_any)):
+            return
+        if len(ids) == self.nsim:  # every one (ids ascending): after this, none lags
+            self._pos_any = False
+            if acc:
+                self._acc_any = False
         stale = self._pos_stale[ids]
-        if stage == _ACC:
+        if acc:
             stale = stale | self._acc_stale[ids]
         if not stale.any():
             return
         which = ids[stale]
         batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
+        if stage == _ACC:
+            self.reads_acceleration = True
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
             self.batch.forward(None if len(which) == self.nsim else which, batch_stage)
@@ -192,6 +225,7 @@ class Simulations:
             # until the next call it holds nothing, whatever the stages say.
             self._pos_stale[:] = True
             self._acc_stale[:] = True
+            self._pos_any = self._acc_any = True
             self.reads_derived = True
         return source
 

@@ -21,7 +21,8 @@ library's `pow` and an array with a multiplication, which can differ in the last
 float64 array (of one or more dimensions, within finite bounds) a faster way to the same
 bits: the distance clamped at 0 inside the bounds, where every sigmoid is exactly 1,
 instead of masked. tests/composer/test_utils_reference.py compares both with
-dm_control's own module.
+dm_control's own module. `tolerance` keeps the `Tolerance` of each set of parameters it
+was called with (and their types), so a reward calling it each step builds it once.
 
 Bad parameters raise `composer.utils.RewardError` (a ValueError) with dm_control's
 messages: bounds out of order, a negative margin, and, when the margin is not 0, a

@@ -17,7 +17,9 @@ What it promises:
 - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads) and leave
   derived quantities (xpos, sensordata ...) consistent with the new state, as a single
   environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
-  acceleration-dependent fields are recomputed when read). With `physics.legacy_step =
+  acceleration-dependent fields are recomputed when read, and once read, computed by
+  every step: `stage=mjSTAGE_ACC`). The batch keeps one MjData per simulation, so each
+  step continues from the stages computed after the last. With `physics.legacy_step =
   False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
   observations, rewards, terminations and discounts are numpy arrays over every
   environment, computed at once where the task writes its per-step methods in their
@@ -71,9 +73,6 @@ _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # of mjtWarning, so that their counters are a view of the batch's.
 _INVALID = slice(int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADCTRL) + 1)
 assert _INVALID.stop - _INVALID.start == 4, "BADQPOS, BADQVEL, BADQACC, BADCTRL"
-_SLEEP = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | int(mujoco.mjtEnableBit.mjENBL_IPC)
-_VEL = mujoco.mjtStage.mjSTAGE_VEL
-_NONE = mujoco.mjtStage.mjSTAGE_NONE
 _STALE, _SYNCED, _DERIVED = 0, 1, 2
 _OUTCOME = frozenset({"get_reward", "should_terminate_episode", "get_discount", "get_info"})
 
@@ -146,14 +145,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         if nthread is None:
             nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
         self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
-        self._build_batch(min(nthread, num_envs), persistent=True)
+        # One MjData per simulation (persistent), even when nothing reads a materialized
+        # MjData per step: each step continues from the stages computed after the last,
+        # where a batch of one MjData a thread computes them again (cheetah run on two
+        # threads: 12.3 -> 8.7 us a step at N = 32).
+        self._build_batch(min(nthread, num_envs))
         self.per_environment = self._per_env_parts()
         self.rendered = list(self._observations.rendered)
-        if not self.per_environment and not first.physics.model.opt.enableflags & _SLEEP:
-            # Nothing reads a materialized MjData per step: one MjData per thread suffices
-            # (measured as fast as one per simulation, which continues each step from the
-            # stages computed after the last).
-            self._build_batch(self._batch.nthread, persistent=False)
         self._state = self._batch.state
         self._warning = self._batch.warning
         self._invalid_counts = self._warning[:, _INVALID, 1]  # a view: (num_envs, 4)
@@ -168,11 +166,11 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._any_synced = False  # whether some environment may be _SYNCED
         self._started = False
 
-    def _build_batch(self, nthread: int, persistent: bool) -> None:
+    def _build_batch(self, nthread: int) -> None:
         """The batch of every environment's simulation, and the pipeline reading it."""
         first = self._envs[0]
         self._batch = mujoco_batch.Batch(
-            first.physics.model, self.num_envs, nthread=nthread, persistent=persistent
+            first.physics.model, self.num_envs, nthread=nthread, persistent=True
         )
         self._set_models()
         self._simulations = Simulations(self._batch, self._envs)
@@ -510,9 +508,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         consistent = self._envs[0].physics.legacy_step
         # The stages of the new state only once something reads them: before, the fields
         # are recomputed if read (a first read of a derived field, in this control step).
-        computed = consistent and simulations.reads_derived
+        computed = simulations.step_stage(consistent)
         try:
-            self._batch.step(None if every else ids, nstep, _VEL if computed else _NONE)
+            self._batch.step(None if every else ids, nstep, computed)
         except mujoco_batch.SimulationError as e:
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
@@ -584,9 +582,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         held = self._held[i]
         if held == _STALE:
             self._batch.get_data(int(i), physics.data)
-            if physics.legacy_step or not self._batch.persistent:
+            if physics.legacy_step:
                 # Derived fields a single environment would recompute when read: the
-                # acceleration stage (or all, from a batch that keeps no MjData).
+                # acceleration stage.
                 physics.mark_as_dirty()
         elif held == _DERIVED:
             mujoco.mj_setState(physics.model, physics.data, self._state[i], _STATE)

@@ -128,6 +128,23 @@ def test_tolerance_equals_dm_controls_to_the_last_bit(theirs, sigmoid):
     assert compared > 500
 
 
+def test_tolerance_reused_across_calls_keeps_each_parameters_types(theirs):
+    # `tolerance` reuses the Tolerance of equal parameters: equal values of other types
+    # (a numpy scalar computes in its own dtype) must still give dm_control's bits.
+    x = np.linspace(-2.0, 3.0, 11).astype(np.float32)
+    for lower, upper, margin in [
+        (0.5, 1.0, 0.7), (np.float64(0.5), np.float64(1.0), 0.7),
+        (np.float32(0.5), 1.0, np.float32(0.7)), (0.5, 1.0, 0.7), (0, 1, 1), (0.0, 1.0, 1.0),
+    ]:  # fmt: skip
+        for value in (x, x.astype(np.float64), 1.25, np.float32(-0.5)):
+            for _ in range(2):
+                ours = rewards.tolerance(value, (lower, upper), margin, "long_tail", 0.25)
+                reference = theirs.rewards.tolerance(
+                    value, (lower, upper), margin, "long_tail", 0.25
+                )
+                assert same(ours, reference), (value, lower, upper, margin)
+
+
 def test_tolerance_errors_are_dm_controls(theirs):
     cases = [
         ((1.0, 0.0), 0.1, "gaussian", 0.1),  # bounds out of order

@@ -135,7 +135,7 @@ def test_a_seed_at_construction_seeds_environment_i_with_seed_plus_i():
 def test_fast_path_needs_no_per_environment_work_and_fallback_says_what_it_loops_over():
     fast = VectorEnvironment(TASKS["batched, scheduled observables"], 2)
     assert fast.per_environment == []
-    assert not fast.batch_physics.batch.persistent  # one MjData per thread
+    assert fast.batch_physics.batch.persistent  # each step continues from the last one's stages
     slow = VectorEnvironment(TASKS["per-environment fallback"], 2)
     assert set(slow.per_environment) == {
         "task.get_reward", "task.should_terminate_episode",
