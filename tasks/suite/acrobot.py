@@ -41,22 +41,12 @@ class Balance(SuiteTask):
         self._sparse = bool(sparse)
         self.render_camera = f"{self.acrobot.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
-        self._observables: dict[str, observation.Observable] = {
-            "orientations": observation.BatchGeneric(self._orientations),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the acrobot."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`orientations` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "orientations": observation.BatchGeneric(self._orientations),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Both links' xz entries (sines), then their zz entries (cosines): (n, 4)."""

@@ -26,6 +26,7 @@ from gymnasium import spaces
 
 import composer
 import mjcf
+from composer import observation
 
 
 class SuiteTask(composer.Task):
@@ -35,6 +36,27 @@ class SuiteTask(composer.Task):
     #: The camera `render()` and `pixels=True` use: the model's first, as DrQ-v2 and CURL
     #: observe the suite (dm_control's `physics.render()` default).
     render_camera: int | str = 0
+
+    #: The domain's world, which the robot is attached to (the task's root entity).
+    _arena: composer.Arena
+    _observables: dict[str, observation.Observable]
+
+    @property
+    def root_entity(self) -> composer.Entity:
+        """The domain's world with its robot attached."""
+        return self._arena
+
+    @property
+    def task_observables(self) -> dict[str, observation.Observable]:
+        """The task's observations, dm_control's keys in its order."""
+        return self._observables
+
+    def set_observables(self, observables: dict[str, observation.Observable]) -> None:
+        """Observe `observables` (dm_control's keys in its order), each enabled; a task that
+        adds some later calls this again with the whole dict."""
+        for item in observables.values():
+            item.enabled = True
+        self._observables = observables
 
     def random_state_for_seed(self, seed: int) -> np.random.RandomState:
         """dm_control's `random=seed`: `numpy.random.RandomState(seed)`."""

@@ -56,22 +56,12 @@ class Balance(SuiteTask):
         self._swing_up = bool(swing_up)
         self._sparse = bool(sparse)
         self.use_control_timestep(control_timestep, default=None)
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(self._bounded_position),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the cart-pole."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(self._bounded_position),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The cart's position, then (cos, sin) of each pole: (n, 1 + 2 * poles)."""

@@ -43,22 +43,12 @@ class Run(SuiteTask):
             bounds=(_RUN_SPEED, float("inf")), margin=_RUN_SPEED, value_at_margin=0,
             sigmoid="linear",
         )  # fmt: skip
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the cheetah."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

@@ -70,20 +70,6 @@ class _FingerTask(SuiteTask):
             ),
         }
 
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the finger."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """The observations, dm_control's keys in its order (module docstring)."""
-        return self._observables
-
-    def _enable_observables(self) -> None:
-        for item in self._observables.values():
-            item.enabled = True
-
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Find each observation's columns of `sensordata` (read whole, once per
         observation): the x and z columns of the frame positions."""
@@ -133,7 +119,7 @@ class Spin(_FingerTask):
         """Build the scene. Raises composer.TaskError for a control timestep that is not
         a multiple of 10 ms."""
         super().__init__(control_timestep)
-        self._enable_observables()
+        self.set_observables(self._observables)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -171,7 +157,7 @@ class Turn(_FingerTask):
             lambda physics: self._from_axis(physics.field("sensordata"), self._target)
         )
         self._observables["dist_to_target"] = observation.BatchGeneric(self._dist_to_target)
-        self._enable_observables()
+        self.set_observables(self._observables)
 
     def _dist_to_target(self, physics: composer.BatchPhysics) -> np.ndarray:
         """From the tip to the target's surface (the task's radius), negative inside: (n,)."""

@@ -45,30 +45,20 @@ class _FishTask(SuiteTask):
         )
         self._arena.attach(self.fish)
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
-        self._observables: dict[str, observation.Observable] = {
-            "joint_angles": observation.BatchGeneric(
-                lambda physics: physics.bind(self.fish.joints).qpos
-            ),
-            "upright": observation.BatchGeneric(self._upright),
-            **self._more_observables(),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
+        self.set_observables(
+            {
+                "joint_angles": observation.BatchGeneric(
+                    lambda physics: physics.bind(self.fish.joints).qpos
+                ),
+                "upright": observation.BatchGeneric(self._upright),
+                **self._more_observables(),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def _more_observables(self) -> dict[str, observation.Observable]:
         """The task's observables between `upright` and `velocity`."""
         return {}
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the fish."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """dm_control's keys in its order (module docstring)."""
-        return self._observables
 
     def _upright(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The torso's z-z orientation entry: (n,)."""

@@ -48,23 +48,13 @@ class PlanarHopper(SuiteTask):
             sigmoid="linear",
         )  # fmt: skip
         self._small_control = Tolerance(margin=1, value_at_margin=0, sigmoid="quadratic")
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-            "touch": observation.BatchGeneric(self._touch),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the hopper."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position`, `velocity` and `touch`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                "touch": observation.BatchGeneric(self._touch),
+            }
+        )
 
     def _touch(self, physics: composer.BatchPhysics) -> np.ndarray:
         """log(1 + the toe's and the heel's touch force): (n, 2)."""

@@ -106,18 +106,7 @@ class Biped(SuiteTask):
         self._observables["velocity"] = observation.BatchGeneric(
             lambda physics: physics.field("qvel")
         )
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the robot."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """dm_control's keys in its order (module docstring)."""
-        return self._observables
+        self.set_observables(self._observables)
 
     def _head_height(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The head's height, (n,)."""

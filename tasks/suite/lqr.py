@@ -70,22 +70,12 @@ class LQRLevel(SuiteTask):
         self._arena.attach(self.lqr)
         self._draw_system = True  # at the first reset, seeded or not
         self.use_control_timestep(control_timestep, default=None)
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the LQR system."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     @property
     def control_cost_coef(self) -> float:

@@ -78,21 +78,9 @@ class Bring(SuiteTask):
                 "object_vel": lambda physics: physics.bind(robot.object_joints).qvel,
                 "target_pos": lambda physics: planar.body_2d_poses(physics, [robot.target])[:, 0],
             }
-        self._observables: dict[str, observation.Observable] = {
-            key: observation.BatchGeneric(function) for key, function in observables.items()
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The planar arena with the manipulator."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """dm_control's keys in its order (module docstring)."""
-        return self._observables
+        self.set_observables(
+            {key: observation.BatchGeneric(function) for key, function in observables.items()}
+        )
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

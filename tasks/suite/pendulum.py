@@ -41,24 +41,14 @@ class SwingUp(SuiteTask):
         self.render_camera = f"{self.pendulum.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
         self._upright = Tolerance(bounds=(_COSINE_BOUND, 1.0))
-        self._observables: dict[str, observation.Observable] = {
-            "orientation": observation.BatchGeneric(self._orientation),
-            "velocity": observation.BatchGeneric(
-                lambda physics: physics.bind(self.pendulum.hinge).qvel
-            ),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the pendulum."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`orientation` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "orientation": observation.BatchGeneric(self._orientation),
+                "velocity": observation.BatchGeneric(
+                    lambda physics: physics.bind(self.pendulum.hinge).qvel
+                ),
+            }
+        )
 
     def _orientation(self, physics: composer.BatchPhysics) -> np.ndarray:
         """(cos, sin) of the pole's angle from upright: its xmat's zz and xz, (n, 2)."""

@@ -46,22 +46,12 @@ class PointMass(SuiteTask):
         self.render_camera = f"{self.point_mass.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
         self._small_control = Tolerance(margin=1.0, value_at_margin=0.0, sigmoid="quadratic")
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the point mass."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Fix the reward's shape to the target's radius as compiled (1.5 cm), and find

@@ -65,7 +65,7 @@ class QuadrupedTask(SuiteTask):
         if `terrain`, the quadruped with rangefinders if `rangefinders`, and the fetch
         task's walls, target and ball if `walls_and_ball`. Raises composer.TaskError for a
         control timestep that is not a multiple of 5 ms."""
-        self._arena = QuadrupedArena(floor_size=floor_size, terrain=terrain)
+        self._arena: QuadrupedArena = QuadrupedArena(floor_size=floor_size, terrain=terrain)
         self.quadruped = Quadruped(rangefinders=rangefinders, walls_and_ball=walls_and_ball)
         self._arena.attach(self.quadruped)
         self.render_camera = f"{self.quadruped.name}/y"  # camera 2, as pixel papers use
@@ -82,20 +82,6 @@ class QuadrupedTask(SuiteTask):
                 lambda physics: np.arcsinh(physics.bind(quadruped.force_torque).sensordata)
             ),
         }
-
-    def _enable(self) -> None:
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The quadruped's world with the quadruped."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """dm_control's keys in its order (module docstring)."""
-        return self._observables
 
     def _egocentric_state(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The hinges' angles and velocities and the actuators' states, (n, 44)."""
@@ -157,7 +143,7 @@ class Move(QuadrupedTask):
             raise composer.TaskError(f"desired_speed must be > 0, got {desired_speed!r}")
         size = TIME_LIMIT * desired_speed if floor_size is None else floor_size
         super().__init__(floor_size=size, control_timestep=control_timestep)
-        self._enable()
+        self.set_observables(self._observables)
         self._upright = upright_reward(0)
         self._move = Tolerance(bounds=(desired_speed, float("inf")), margin=desired_speed,
                                value_at_margin=0.5, sigmoid="linear")  # fmt: skip
@@ -183,7 +169,7 @@ class Escape(QuadrupedTask):
                          control_timestep=control_timestep)  # fmt: skip
         self._observables["origin"] = observation.BatchGeneric(self._origin)
         self._observables["rangefinder"] = observation.BatchGeneric(self._rangefinder)
-        self._enable()
+        self.set_observables(self._observables)
         self._upright = upright_reward(20)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
@@ -224,7 +210,7 @@ class Fetch(QuadrupedTask):
         super().__init__(walls_and_ball=True, control_timestep=control_timestep)
         self._observables["ball_state"] = observation.BatchGeneric(self._ball_state)
         self._observables["target_position"] = observation.BatchGeneric(self._target_position)
-        self._enable()
+        self.set_observables(self._observables)
         self._upright = upright_reward(0)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:

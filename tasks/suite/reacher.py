@@ -50,23 +50,13 @@ class Reacher(SuiteTask):
         self._target_size = float(target_size)
         self.render_camera = f"{self.reacher.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
-        self._observables: dict[str, observation.Observable] = {
-            "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
-            "to_target": observation.BatchGeneric(self._finger_to_target),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the reacher."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`position`, `to_target` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
+                "to_target": observation.BatchGeneric(self._finger_to_target),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def _finger_to_target(self, physics: composer.BatchPhysics) -> np.ndarray:
         """x and y from the finger's centre to the target's, (n, 2)."""

@@ -46,25 +46,15 @@ class SwimToTarget(SuiteTask):
         self._arena.attach(self.swimmer)
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._near_target: Tolerance | None = None
-        self._observables: dict[str, observation.Observable] = {
-            "joints": observation.BatchGeneric(
-                lambda physics: physics.bind(self.swimmer.joints).qpos
-            ),
-            "to_target": observation.BatchGeneric(self._nose_to_target),
-            "body_velocities": observation.BatchGeneric(self._body_velocities),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the swimmer."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`joints`, `to_target` and `body_velocities`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "joints": observation.BatchGeneric(
+                    lambda physics: physics.bind(self.swimmer.joints).qpos
+                ),
+                "to_target": observation.BatchGeneric(self._nose_to_target),
+                "body_velocities": observation.BatchGeneric(self._body_velocities),
+            }
+        )
 
     def _nose_to_target(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The vector from the nose to the target, x and y in the head's frame: (n, 2)."""

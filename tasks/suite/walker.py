@@ -58,23 +58,13 @@ class PlanarWalker(SuiteTask):
                 bounds=(self._move_speed, float("inf")), margin=self._move_speed / 2,
                 value_at_margin=0.5, sigmoid="linear",
             )  # fmt: skip
-        self._observables: dict[str, observation.Observable] = {
-            "orientations": observation.BatchGeneric(self._orientations),
-            "height": observation.BatchGeneric(self._height),
-            "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-        }
-        for item in self._observables.values():
-            item.enabled = True
-
-    @property
-    def root_entity(self) -> composer.Entity:
-        """The suite's world with the walker."""
-        return self._arena
-
-    @property
-    def task_observables(self) -> dict[str, observation.Observable]:
-        """`orientations`, `height` and `velocity`, dm_control's keys in its order."""
-        return self._observables
+        self.set_observables(
+            {
+                "orientations": observation.BatchGeneric(self._orientations),
+                "height": observation.BatchGeneric(self._height),
+                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+            }
+        )
 
     def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
         """The x-x and x-z orientation entries of each body: (n, 2 * bodies)."""
