@@ -62,7 +62,7 @@ from composer.batch.vector import Simulations, VectorPhysics
 from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
-from composer.vector import info_layout
+from composer.vector import info_layout, threads
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.rendering import Ids, RenderThreads
@@ -107,7 +107,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
         `action_repeat` is `composer.Environment`'s (each step that many control steps);
         `seed` seeds environment i's random state with seed + i until a seeded reset;
-        `nthread` (physics and render threads) defaults to the CPUs this process may use;
+        `nthread` (physics and render threads) defaults to the CPUs this process may use
+        for rendering and, for the physics, to one thread while a step's physics is short
+        and those CPUs from a millisecond of it (`composer.vector.threads`; `nthread`);
         the render options are `composer.Environment`'s (`render_camera` None: the task's
         `render_camera`, else the free camera), and so are the observation options. Raises
         TaskError for a bad count, a factory that does not make new Tasks, or environments
@@ -141,15 +143,22 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._step_limit = first.timing.step_limit(time_limit, max_episode_steps)
         self._actions = stepping.ActionRule(first.action_space, num_envs)
         self._methods = stepping.TaskStep(first.task)
+        self._outcome_each = bool(_OUTCOME.intersection(self._methods.single))
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
         if nthread is None:
-            nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
-        self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
+            cpus = _cpus()
+            self._render_threads = RenderThreads(min(cpus, num_envs))
+            physics_nthread = threads.physics_threads(
+                first.physics.model, num_envs, self._substeps, cpus
+            )
+        else:
+            self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
+            physics_nthread = min(nthread, num_envs)
         # One MjData per simulation (persistent), even when nothing reads a materialized
         # MjData per step: each step continues from the stages computed after the last,
         # where a batch of one MjData a thread computes them again (cheetah run on two
         # threads: 12.3 -> 8.7 us a step at N = 32).
-        self._build_batch(min(nthread, num_envs))
+        self._build_batch(physics_nthread)
         self.per_environment = self._per_env_parts()
         self.rendered = list(self._observations.rendered)
         self._state = self._batch.state
@@ -157,8 +166,12 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._invalid_counts = self._warning[:, _INVALID, 1]  # a view: (num_envs, 4)
         self._every = np.arange(num_envs)
         self._every.flags.writeable = False
+        # Control steps since each environment's reset: _steps, plus _lag steps of every
+        # environment not yet added (`_step_counts`); _most, the largest of them.
         self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._lag = self._most = 0
         self._over = np.zeros(num_envs, dtype=bool)
+        self._ended = False  # whether some environment's episode ended (_over.any())
         # What each environment's own MjData holds of its simulation: _STALE (nothing
         # since its last physics step), _SYNCED (all of it), or _DERIVED (its derived
         # fields, but a batched write changed the state since).
@@ -268,6 +281,11 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         return self._simulations.physics()
 
     @property
+    def nthread(self) -> int:
+        """The threads MuJoCo's batch steps the simulations on."""
+        return self._batch.nthread
+
+    @property
     def control_timestep(self) -> float:
         """Seconds of simulation per `step()`."""
         return self._envs[0].timing.control_timestep
@@ -315,10 +333,20 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             self._save(i)
             self._observations.load(i, env.updater)
             self._held[i] = _SYNCED
-        self._steps[ids] = 0
+        counts = self._step_counts()
+        counts[ids] = 0
+        self._most = int(counts.max())
         self._over[ids] = False
+        self._ended = bool(self._over.any())
         self._any_synced = True
         self._set_models(ids)
+
+    def _step_counts(self) -> np.ndarray:
+        """Control steps since each environment's reset, (num_envs,) int64, up to date."""
+        if self._lag:
+            self._steps += self._lag
+            self._lag = 0
+        return self._steps
 
     def step(
         self, actions: Any
@@ -333,7 +361,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         actions = self._actions.shaped(actions)
         n = self.num_envs
         ids = self._every  # the environments stepped: all but those reset now
-        if self._over.any():
+        if self._ended:
             if self.autoreset_mode is not AutoresetMode.NEXT_STEP:
                 raise errors.EpisodeError(
                     f"the episodes of environments {np.flatnonzero(self._over).tolist()} "
@@ -346,13 +374,17 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         terminated = np.zeros(n, dtype=bool)
         truncated = np.zeros(n, dtype=bool)
         info: dict[str, Any] = {}
+        ending = False  # whether an episode may have ended in this step
         if ids.size:
-            self._step_envs(ids, actions if ids is self._every else actions[ids], rewards,
-                            terminated, truncated, info)  # fmt: skip
+            ending = self._step_envs(ids, actions if ids is self._every else actions[ids],
+                                     rewards, terminated, truncated, info)  # fmt: skip
             if self._action_repeat > 1:
                 info = self._repeat(ids, actions, rewards, terminated, truncated, info)
-        self._over = terminated | truncated
-        if self.autoreset_mode is AutoresetMode.SAME_STEP and self._over.any():
+                ending = True
+        if ending or self._ended:
+            self._over = terminated | truncated
+            self._ended = bool(np.count_nonzero(self._over))
+        if self._ended and self.autoreset_mode is AutoresetMode.SAME_STEP:
             info = self._final(np.flatnonzero(self._over), info)
         return self._observations.observation(), rewards, terminated, truncated, info
 
@@ -414,38 +446,49 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         terminated: np.ndarray,
         truncated: np.ndarray,
         info: dict[str, Any],
-    ) -> None:
+    ) -> bool:
+        """One control step of environments `ids` (`self._every`: all) with their rows of
+        `actions`; fills their rows of the results. Returns whether an episode may have
+        ended (False: every row of `terminated` and `truncated` is False)."""
         actions = self._actions.clipped(actions, ids)
         every = ids is self._every
         physics = self._simulations.physics(None if every else ids)
         self._before_step(physics, ids, actions)
-        failures, last_due = self._advance(ids, actions)
+        phases, first = self._phases(ids)
+        failures, last_due = self._advance(ids, actions, phases, first)
         self._after_step(physics, ids)
         if last_due:
-            self._sample_last(ids)
-        steps = self._steps
+            self._observations.sample(ids, phases, self._substeps, first)
         if every:
-            steps += 1
-            self._observations.finish(ids, steps * self._substeps)
+            self._lag += 1
+            self._most += 1
         else:
-            steps[ids] += 1
-            self._observations.finish(ids, steps[ids] * self._substeps)
+            counts = self._step_counts()
+            counts[ids] += 1
+            self._most = int(counts.max())
+        if self._observations.counts_steps:
+            steps = self._step_counts()
+            self._observations.finish(ids, (steps if every else steps[ids]) * self._substeps)
         errors_found = self._invalid(ids, failures)
         for i, message in errors_found.items():
             entries = stepping.diverged(message, stacklevel=3, environment=i)
             info_layout.add(info, entries, i, self.num_envs)
             truncated[i] = True
-        if not errors_found:
-            self._outcome(physics, rewards, terminated, info)
-            if every:
-                np.greater_equal(steps, self._step_limit, out=truncated)
-            else:
-                truncated[ids] = steps[ids] >= self._step_limit
-            return
-        ok = ids[~np.isin(ids, list(errors_found))]
+        ok = ids
+        if errors_found:
+            ok = ids[~np.isin(ids, list(errors_found))]
+            physics = self._simulations.physics(ok)
+        ending = bool(errors_found)
         if ok.size:
-            self._outcome(self._simulations.physics(ok), rewards, terminated, info)
-            truncated[ok] = steps[ok] >= self._step_limit
+            ending |= self._outcome(physics, rewards, terminated, info)
+            if self._most >= self._step_limit:  # some episode is at its step limit
+                steps = self._step_counts()
+                if ok is self._every:
+                    np.greater_equal(steps, self._step_limit, out=truncated)
+                else:
+                    truncated[ok] = steps[ok] >= self._step_limit
+                ending = True
+        return ending
 
     def _before_step(self, physics: VectorPhysics, ids: np.ndarray, actions: np.ndarray) -> None:
         methods = self._methods
@@ -457,19 +500,31 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
                 self._save(i)
 
-    def _phases(self, ids: np.ndarray) -> tuple[np.ndarray, int | np.ndarray]:
-        """Physics steps before this control step of environments `ids`, and their phases
-        of the observation schedule (one for all, or one each)."""
-        steps = self._steps if ids is self._every else self._steps[ids]
-        period = self._observations.period
-        return steps * self._substeps, steps % period if period > 1 else 0
+    def _phases(self, ids: np.ndarray) -> tuple[int | np.ndarray, int | np.ndarray]:
+        """The phases of the observation schedule of environments `ids` in this control
+        step (one for all, or one each), and the physics steps each ran before it (0 when
+        the schedule does not count them: `BatchObservations.counts_steps`)."""
+        observations = self._observations
+        if not observations.counts_steps:
+            return 0, 0
+        steps = self._step_counts()
+        if ids is not self._every:
+            steps = steps[ids]
+        period = observations.period
+        return (steps % period if period > 1 else 0), steps * self._substeps
 
-    def _advance(self, ids: np.ndarray, actions: np.ndarray) -> tuple[dict[int, str], bool]:
+    def _advance(
+        self,
+        ids: np.ndarray,
+        actions: np.ndarray,
+        phases: int | np.ndarray,
+        first: int | np.ndarray,
+    ) -> tuple[dict[int, str], bool]:
         """Run the control step's physics steps, sampling observables when due but after
-        the last step. Returns the MuJoCo error message of each simulation that raised
-        one, and whether observables are due after the last step (`_sample_last`)."""
+        the last step (environments `ids` in schedule `phases`, after physics steps
+        `first`). Returns the MuJoCo error message of each simulation that raised one, and
+        whether observables are due after the last step."""
         failures: dict[int, str] = {}
-        first, phases = self._phases(ids)
         sample = self._observations.sample
         around = None
         if self._hooks[0].has_substep_hooks:
@@ -477,20 +532,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             def around(before: bool) -> None:
                 self._substep_hooks(ids, actions, before)
 
-        last_due = stepping.physics_steps(
+        return failures, stepping.physics_steps(
             self._substeps,
             self._observations.offsets(phases),
             lambda nstep: self._run(ids, nstep, failures),
             lambda offset: sample(ids, phases, offset, first),
             around,
         )
-        return failures, last_due
-
-    def _sample_last(self, ids: np.ndarray) -> None:
-        """Sample what is due after the last physics step of environments `ids`, once
-        their `after_step` hooks have run (`composer.stepping`)."""
-        first, phases = self._phases(ids)
-        self._observations.sample(ids, phases, self._substeps, first)
 
     def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
         for k, i in enumerate(ids):
@@ -515,8 +563,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
         if every:
-            self._held[:] = _STALE
-            self._any_synced = False
+            if self._any_synced:  # else every environment's is _STALE already
+                self._held[:] = _STALE
+                self._any_synced = False
             simulations.stepped(None, consistent, computed)
         else:
             self._held[ids] = _STALE
@@ -551,20 +600,29 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         rewards: np.ndarray,
         terminated: np.ndarray,
         info: dict[str, Any],
-    ) -> None:
-        """Reward, termination, info entries and discount of the environments of `physics`."""
-        methods, n, ids = self._methods, self.num_envs, physics.ids
+    ) -> bool:
+        """Reward, termination, info entries and discount of the environments of
+        `physics`; whether an episode may have terminated (False: none did)."""
+        methods, n = self._methods, self.num_envs
+        ids = physics._every
+        every = slice(None) if physics.num_envs == n else ids
         rows = methods.outcome(physics)
-        every = slice(None) if len(ids) == n else ids
         if rows.rewards is not None:
             rewards[every] = rows.rewards
-        if rows.terminations is not None:
+        ending = rows.terminations is not None and rows.terminations is not False
+        if ending:
             terminated[every] = rows.terminations
         for key, values in rows.info.items():
             info_layout.put(info, key, ids, values, n)
         if rows.discounts is not None:
-            info_layout.put(info, "discount", ids, rows.discounts, n)
-        if _OUTCOME.intersection(methods.single):
+            discounts = rows.discounts
+            if type(every) is slice and not isinstance(discounts, np.ndarray):
+                info["discount"] = np.full(n, discounts, dtype=np.float64)  # Task's default
+                info["_discount"] = np.ones(n, dtype=bool)
+            else:
+                info_layout.put(info, "discount", ids, np.broadcast_to(discounts, len(ids)), n)
+        if self._outcome_each:
+            ending = True
             for i in ids:
                 task, own = self._envs[i].task, self._materialize(i)
                 reward, ended, entries = methods.outcome_each(task, own)
@@ -573,6 +631,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 if ended is not None:
                     terminated[i] = ended
                 info_layout.add(info, entries, i, n)
+        return ending
 
     # -- per-environment access ----------------------------------------------------------
 
@@ -645,6 +704,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             threads.close()
         for env in getattr(self, "_envs", ()):
             env.close()
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
 
 
 def _is_seed(seed: Any) -> bool:

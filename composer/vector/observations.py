@@ -84,6 +84,8 @@ class BatchObservations:
         self.num_envs = physics.num_envs
         self.schedule = Schedule(updater.channels, updater.substeps, self.num_envs, updater.flatten)
         self.period = self.schedule.period
+        # Whether `sample` and `finish` need the environments' phases and physics steps.
+        self.counts_steps = self.schedule.counts_steps
         channels = updater.channels
         self._rendered = [isinstance(c.observable, MJCFCamera) for c in channels]
         self._reads = [
