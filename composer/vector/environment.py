@@ -58,6 +58,7 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import errors, hooks, stepping
+from composer.batch import timer
 from composer.batch.vector import Simulations, VectorPhysics
 from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
@@ -144,7 +145,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._actions = stepping.ActionRule(first.action_space, num_envs)
         self._methods = stepping.TaskStep(first.task)
         self._outcome_each = bool(_OUTCOME.intersection(self._methods.single))
+        self._constants: dict[tuple[Any, type], np.ndarray] = {}  # of `_constant_rows`
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
+        self._resolve_hooks()
         if nthread is None:
             cpus = _cpus()
             self._render_threads = RenderThreads(min(cpus, num_envs))
@@ -253,6 +256,14 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 "vector environment needs models that differ only in values"
             ) from e
 
+    def _resolve_hooks(self) -> None:
+        """What runs per environment around a step, as the first environment's hooks say
+        (every environment's task is made alike)."""
+        task_hooks, methods = self._hooks[0], self._methods
+        self._applies_each = methods.applies_each(task_hooks)
+        self._finishes_each = methods.finishes_each(task_hooks)
+        self._substeps_hooked = task_hooks.has_substep_hooks
+
     def _per_env_parts(self) -> list[str]:
         """What runs once per environment on a materialized MjData each step."""
         parts = [f"task.{name}" for name in self._methods.single]
@@ -330,6 +341,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 env.reset(seed=seed, options=options)
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
+                if i == 0:
+                    self._resolve_hooks()
             self._save(i)
             self._observations.load(i, env.updater)
             self._held[i] = _SYNCED
@@ -494,7 +507,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         methods = self._methods
         if methods.apply(physics, actions):
             self._wrote(ids)
-        if methods.applies_each(self._hooks[0]):
+        if self._applies_each:
             for k, i in enumerate(ids):
                 env, own = self._envs[i], self._materialize(i)
                 methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
@@ -527,7 +540,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         failures: dict[int, str] = {}
         sample = self._observations.sample
         around = None
-        if self._hooks[0].has_substep_hooks:
+        if self._substeps_hooked:
 
             def around(before: bool) -> None:
                 self._substep_hooks(ids, actions, before)
@@ -558,7 +571,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         # are recomputed if read (a first read of a derived field, in this control step).
         computed = simulations.step_stage(consistent)
         try:
-            self._batch.step(None if every else ids, nstep, computed)
+            timer.untimed(self._batch.step, None if every else ids, nstep, computed)
         except mujoco_batch.SimulationError as e:
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
@@ -575,7 +588,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         methods = self._methods
         if methods.finish(physics):
             self._wrote(ids)
-        if methods.finishes_each(self._hooks[0]):
+        if self._finishes_each:
             for i in ids:
                 env, own = self._envs[i], self._materialize(i)
                 methods.finish_each(env.task, self._hooks[i], own, env.random_state)
@@ -617,8 +630,8 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         if rows.discounts is not None:
             discounts = rows.discounts
             if type(every) is slice and not isinstance(discounts, np.ndarray):
-                info["discount"] = np.full(n, discounts, dtype=np.float64)  # Task's default
-                info["_discount"] = np.ones(n, dtype=bool)
+                info["discount"] = self._constant_rows(discounts, np.float64)  # Task's default
+                info["_discount"] = self._constant_rows(True, bool)
             else:
                 info_layout.put(info, "discount", ids, np.broadcast_to(discounts, len(ids)), n)
         if self._outcome_each:
@@ -632,6 +645,15 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                     terminated[i] = ended
                 info_layout.add(info, entries, i, n)
         return ending
+
+    def _constant_rows(self, value: Any, dtype: type) -> np.ndarray:
+        """A new (num_envs,) array of `value`: a copy of one made once (a copy costs less
+        than filling one)."""
+        key = (value, dtype)
+        rows = self._constants.get(key)
+        if rows is None:
+            rows = self._constants[key] = np.full(self.num_envs, value, dtype=dtype)
+        return rows.copy()
 
     # -- per-environment access ----------------------------------------------------------
 

@@ -31,7 +31,7 @@ def step_seconds(model: mujoco.MjModel) -> float:
     first, untimed one (robust to a step the load slowed); 0.0 where MuJoCo raises."""
     data = mujoco.MjData(model)
     clock = time.thread_time
-    times = []
+    times: list[float] = []
     try:
         mujoco.mj_step(model, data)  # the first step allocates and warms the caches
         spent = 0.0
