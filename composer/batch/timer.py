@@ -8,8 +8,9 @@ microseconds of every `mj_step` of a small model, 40% of cartpole's (RK4: five p
 step), 10% of cheetah's. MuJoCo's own default, as a C program such as envpool's has it, is
 none. `untimed` unsets it for the duration of one call: every number the physics computes
 is the same (the timer only measures), the timer counts (`MjData.timer[...].number`) still
-count, their durations stay 0. A timer of the user's own (`mujoco.set_mjcb_time`) is left
-in place, and so is the bindings' one where MuJoCo's library is not found.
+count, their durations stay 0. Any other timer callback (a C function installed through
+ctypes: a batch refuses Python ones) is left in place, and so is the bindings' one where
+MuJoCo's library is not found.
 """
 
 from __future__ import annotations

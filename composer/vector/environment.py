@@ -14,7 +14,9 @@ What it promises:
   bit, as num_envs single environments reset with seeds seed + i (and, after an episode
   ends, reset without a seed). Their models must share MuJoCo's data layout; each
   simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
-- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads) and leave
+- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by default
+  one while a step's physics is short, `composer.vector.threads`; without the bindings'
+  profiling timer, `composer.batch.timer`) and leave
   derived quantities (xpos, sensordata ...) consistent with the new state, as a single
   environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
   acceleration-dependent fields are recomputed when read, and once read, computed by
