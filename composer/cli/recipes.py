@@ -51,7 +51,13 @@ ALGORITHMS = ("ppo", "sac")
 # The fields only one algorithm reads.
 _ONLY = {
     "ppo": ("n_steps", "n_epochs", "ent_coef"),
-    "sac": ("buffer_size", "learning_starts", "train_freq", "gradient_steps"),
+    "sac": (
+        "buffer_size",
+        "learning_starts",
+        "train_freq",
+        "gradient_steps",
+        "initial_temperature",
+    ),
 }
 # The fields only pixel recipes read.
 _PIXELS_ONLY = ("pixels", "conv", "features")
@@ -85,6 +91,9 @@ class Recipe:
     learning_starts: int = 5_000
     train_freq: int = 1
     gradient_steps: int = 1
+    # SAC's entropy temperature at the start, tuned towards its target entropy after
+    # (stable-baselines3 and RLlib start at 1.0, pytorch_sac at 0.1).
+    initial_temperature: float = 1.0
     # Learns from frames (`--pixels`), with this convolutional encoder (see the module
     # docstring): (out channels, kernel, stride) per layer, then `features` units.
     pixels: bool = False
@@ -137,7 +146,8 @@ def register(task: Callable[..., Any] | str, *recipes: Recipe) -> None:
     ids name (every id of it), or one Gymnasium id ('dm_control/walker-walk-v0': of tasks
     sharing a class, that one; it wins over its class's). Raises RecipeError, registering
     nothing, for a task that is neither, no recipe, a recipe of an unknown algorithm, two of
-    one algorithm, or engine changes of fields a recipe does not have."""
+    one algorithm, an initial temperature not above 0, or engine changes of fields a recipe
+    does not have."""
     if not (callable(task) or (isinstance(task, str) and "/" in task)):
         raise RecipeError(
             "recipes are registered for a task class or factory, or a Gymnasium id "
@@ -160,6 +170,11 @@ def register(task: Callable[..., Any] | str, *recipes: Recipe) -> None:
                     f"register({_name(task)}): the {recipe.algo} recipe's changes for "
                     f"engine {engine!r} name fields a Recipe does not have: {unknown}"
                 )
+        if not recipe.initial_temperature > 0:
+            raise RecipeError(
+                f"register({_name(task)}): the {recipe.algo} recipe's initial_temperature "
+                f"must be > 0, got {recipe.initial_temperature!r}"
+            )
         if recipe.pixels and recipe.vec == "batched":
             raise RecipeError(
                 f"register({_name(task)}): the {recipe.algo} pixel recipe cannot step its "

@@ -106,6 +106,7 @@ def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, see
             actor_lr=recipe.learning_rate,
             critic_lr=recipe.learning_rate,
             alpha_lr=recipe.learning_rate,
+            initial_alpha=recipe.initial_temperature,
             gamma=recipe.gamma,
             train_batch_size_per_learner=recipe.batch_size,
             replay_buffer_config={"type": "EpisodeReplayBuffer", "capacity": recipe.buffer_size},

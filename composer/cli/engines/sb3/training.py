@@ -127,6 +127,8 @@ def algo_kwargs(recipe: recipes.Recipe) -> dict[str, Any]:
         "learning_starts": recipe.learning_starts,
         "train_freq": recipe.train_freq,
         "gradient_steps": recipe.gradient_steps,
+        # "auto_X": the temperature is learned, starting from X.
+        "ent_coef": f"auto_{recipe.initial_temperature}",
     }
 
 
