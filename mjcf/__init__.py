@@ -7,7 +7,7 @@
     physics.bind(hinge).qpos = 0.3; physics.named.data.qpos['arm/shoulder']
 
 Every change is checked against MuJoCo's schema when made (an `mjcf.Error` naming element
-and attribute, the model unchanged); written models compile in stock MuJoCo to the same.
+and attribute, the model unchanged); written models compile in stock MuJoCo to the same model.
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.element`), and the

@@ -7,7 +7,7 @@
     legs.qpos[0] += 0.1; legs["qpos", 0]   # item writes write through; dm_control's [field, col]
 
 Fresh values, never stale ones: a read of a derived field catches up with tracked writes
-first. The rules, shapes, views and copies: `Binding`. Raises BindingError as it says.
+first (the rules, shapes, views and copies: `Binding`). Bad binds and writes: BindingError.
 """
 
 from __future__ import annotations

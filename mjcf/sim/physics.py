@@ -6,8 +6,8 @@
         physics.step(10)                                # positions, sensors: of the new state
 
 Bindings and named access read what `mj_forward` would compute for the current state;
-`model` and `data` stay the same objects for the physics' life; pickles and `copy()` step
-on alike. Stepping alone never checks for divergence. More, with the whole API: `Physics`.
+`model` and `data` stay the same objects for the physics' life; a pickled or copied physics
+steps on as the original. Stepping never checks for divergence. The whole story: `Physics`.
 """
 
 from __future__ import annotations

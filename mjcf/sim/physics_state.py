@@ -7,7 +7,7 @@ vector, and the controls, activations, positions and velocities.
     physics.position(), physics.velocity(), physics.activation(), physics.control()
 
 Reads return copies. Writes are tracked as writes through bindings are: after a state write,
-derived reads forward first; after a control write, only what hangs on controls is redone.
+derived reads forward first; after a control write, only what depends on it is recomputed.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Writing elements' slots without the setters' checks: the one module, but `element`, that does.
+"""Writing elements' slots without the setters' checks: besides `element`, the one module that does.
 
     element = builder.new_element(Element, spec, parent, parent.root)  # made, not placed
     builder.attributes_to_fill(element).update({'name': 'arm'})       # values as stored
