@@ -39,10 +39,11 @@ OPTION_KEYS = frozenset(
 class observable(cached_property):
     """Declare a method returning an `Observable` as one, named after the method; see the
     module docstring. On an `Observables` subclass and on an entity it is one of the
-    entity's observables; on any other object (a task, which lists it in its own
-    `task_observables`) it is dm_control's, a `cached_property`: made at first access,
-    then the same object. The method is `function(owner) -> Observable` (owner: the
-    entity, its Observables, or the task)."""
+    entity's observables (`entity.name` and `entity.observables.name` are then the same
+    object); on any other object (a task, which lists it in its own `task_observables`) it
+    is dm_control's, a `cached_property`: made at first access, then the same object. The
+    method is `function(owner) -> Observable` (owner: the entity, its Observables, or the
+    task)."""
 
     def __get__(self, instance: Any, owner: type | None = None) -> Any:
         if instance is None:
