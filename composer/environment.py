@@ -375,7 +375,7 @@ class Environment(gymnasium.Env):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
-        """Start an episode (see the module docstring for the hooks run); `seed` reseeds
+        """Start an episode (see the class docstring for the hooks run); `seed` reseeds
         the environment's random state. `options` are not used. Returns (obs, info), what
         `_reset_attempt` returns (a dm_env TimeStep from a subclass's: its observation and
         {}). Raises EpisodeInitializationError when every one of `max_reset_attempts`
