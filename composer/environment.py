@@ -42,7 +42,7 @@ __all__ = [
 
 
 class Environment(gymnasium.Env):
-    """A gymnasium.Env running a composer Task.
+    """A gymnasium.Env running a composer Task (the module docstring shows reset and step).
 
         frame = env.render()                           # (240, 320, 3) uint8
         env.physics.bind(joint).qpos                   # the live simulation

@@ -32,14 +32,14 @@ class PixelEnvironment(gymnasium.Env):
     `PixelEnvironment(env, height, width, camera, frame_stack, proprioception)` serves a
     `composer.Environment` (its actions, rewards, info, `render()`, `physics` and `task`) with
     frames of `camera` as observations (the task's render camera when made through `gym.make`),
-    in Gymnasium's image layout: a `uint8` Box of shape
-    (height, width, 3 * frame_stack) bounded to [0, 255], the `frame_stack` latest frames
-    stacked along the channels, oldest first (the layout stable-baselines3's `CnnPolicy`,
-    `VecTransposeImage` and `VecFrameStack` use). At a reset every slot holds the first frame.
-    With `proprioception=True` the observation is a Dict of 'pixels' and 'proprioception', the
-    task's observations flattened into one vector (what `MultiInputPolicy` takes). It is a
-    `gymnasium.Env` of its own, not a wrapper, so `env.unwrapped` is it and
-    `gymnasium.utils.env_checker.check_env(env.unwrapped)` checks the pixel observations.
+    in Gymnasium's image layout: a `uint8` Box of shape (height, width, 3 * frame_stack) bounded
+    to [0, 255], the `frame_stack` latest frames stacked along the channels, oldest first (the
+    layout stable-baselines3's `CnnPolicy`, `VecTransposeImage` and `VecFrameStack` use). At a
+    reset every slot holds the first frame. With `proprioception=True` the observation is a Dict
+    of 'pixels' and 'proprioception', the task's observations flattened into one vector (what
+    `MultiInputPolicy` takes). It is a `gymnasium.Env` of its own, not a wrapper, so
+    `env.unwrapped` is it and `gymnasium.utils.env_checker.check_env(env.unwrapped)` checks the
+    pixel observations.
 
     What it promises: a frame is the state after the step (or reset) it is returned by, drawn
     by the physics' renderer of that size (`mjcf.sim.rendering`: no shadows or multisampling up to

@@ -6,7 +6,7 @@
     vec = gym.make_vec('composer/Reach-v0', num_envs=8, vectorization_mode='vector_entry_point')
 
 Promises: a spec holds only strings and plain values, so it pickles into `AsyncVectorEnv`
-and SB3's `SubprocVecEnv` workers; `gym.make`'s keywords go to the task but the
+and SB3's `SubprocVecEnv` workers; `gym.make`'s keywords go to the task, except the
 `EnvironmentOptions`; one neither accepts raises RegistrationError listing what they accept.
 """
 

@@ -5,8 +5,8 @@
     episode 1: return 57.12 over 75 steps, success
 
 Close the window or press Ctrl-C to quit (`--episodes N`: after N episodes). It needs a
-display: without one it says so in one line (`composer run TASK --video FILE` records one
-instead). On macOS run it with `mjpython -m composer view ...`, as MuJoCo's viewer requires.
+display: without one it says so in one line (`composer run TASK --video FILE` records a
+video instead). On macOS run it with `mjpython -m composer view ...`, as MuJoCo's viewer requires.
 """
 
 from __future__ import annotations

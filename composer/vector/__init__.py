@@ -5,9 +5,9 @@
     obs, reward, terminated, truncated, info = venv.step(policy(obs))   # (64, ...) each
     venv.per_environment            # what runs per environment each step ([]: all batched)
 
-Promise: the trajectories of single `composer.Environment`s with the same seeds, bit for bit
-(`VectorEnvironment` states each promise); what is not batched runs per environment.
-`gym.make_vec(id, n, vectorization_mode='vector_entry_point')` makes one (`make`).
+Promise: the same trajectories, bit for bit, as single `composer.Environment`s with the same
+seeds (`VectorEnvironment` states each promise); what is not batched runs per environment.
+`gym.make_vec(id, n, vectorization_mode='vector_entry_point')` makes one.
 """
 
 from composer.batch.protocol import BatchedTask, BatchPhysics

@@ -5,9 +5,9 @@
     obs, reward, terminated, truncated, info = venv.step(venv.action_space.sample())
     obs['pendulum/orientation'].shape         # (64, 2): a leading environment axis
 
-Promises (`VectorEnvironment` states each): the trajectories and frames of num_envs single
-Environments seeded seed + i, bit for bit; Gymnasium's autoreset modes; divergence truncates
-that environment only; info is laid out as Gymnasium's (`info_layout`).
+Promises (`VectorEnvironment` states each): the same trajectories and frames, bit for bit,
+as num_envs single Environments seeded seed + i; Gymnasium's autoreset modes; a divergence
+truncates that environment only; info is laid out as Gymnasium's (`info_layout`).
 """
 
 from __future__ import annotations
