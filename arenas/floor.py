@@ -7,9 +7,7 @@
 The floor every shipped arena stands on. It builds its own world rather than
 `composer.Arena`'s dm_control settings: MuJoCo's default physics options (pyramidal
 friction cones, no noslip iterations) and compiler settings, which the shipped tasks are
-tuned for, a headlight, a checkered floor (or a plain `floor_rgba` one) and a gradient
-skybox, a top light and a fill light, a fixed overview camera `overview`, and the free
-camera's default view.
+tuned for.
 """
 
 from __future__ import annotations
@@ -21,11 +19,13 @@ import mjcf
 
 
 class Floor(composer.Arena):
-    """A floor of half sizes `size`, lights, a skybox, and the camera `overview` looking at
-    the origin from `camera_distance` m; the free camera's `azimuth`/`elevation` in
-    degrees. The checker's material is a 0.5 grey under a bright texture, so that MuJoCo's
-    lighting never saturates before the texture and the floor looks the same drawn with
-    shadows (several lighting passes) and without (one pass, small frames)."""
+    """A floor of half sizes `size` (checkered, or a plain `floor_rgba` one), a headlight, a
+    gradient skybox, a top light and a fill light, and the fixed camera `overview` looking
+    at the origin from `camera_distance` m; the free camera's default view's
+    `azimuth`/`elevation` in degrees. The checker's material is a 0.5 grey under a bright
+    texture, so that MuJoCo's lighting never saturates before the texture and the floor
+    looks the same drawn with shadows (several lighting passes) and without (one pass,
+    small frames)."""
 
     def _build(  # type: ignore[override]  # its own world: no xml_path
         self,

@@ -2,30 +2,12 @@
 
     import arenas, composer
     arena = arenas.Floor()                                 # or composer.Arena(): empty
-    robot = composer.Entity.from_path('humanoid.xml')      # default observables enabled
-    arena.add_free_entity(robot)
+    arena.add_free_entity(composer.Entity.from_path('humanoid.xml'))
     env = composer.Environment(composer.NullTask(arena), time_limit=10.0)
-    obs, info = env.reset(seed=0)
-    obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
 
-Entities own MJCF models (`composer.entity`), an Arena is the root of a scene
-(`composer.arena`), a Task says what to do (`composer.task`), and the Environment compiles
-the scene once and steps it (`composer.environment`, which states the hook order and what is
-promised). Observables, variations and initializers live in `composer.observation`,
-`composer.variation` and `composer.initializers`; `composer.VectorEnvironment` steps many
-environments of a task on MuJoCo's batch (`composer.vector`). A task's per-step methods
-written once in batched form run in both, a single environment being a batch of one
-(`composer.batch`, `composer.BatchOfOne`). `composer.PixelEnvironment` observes an
-environment through a camera (`composer.pixels`). Every error is a `composer.Error`.
-`import composer` loads what a user of one environment needs; the vector and pixel
-environments, variations and the shipped initializers load when first used, and the
-command line (`composer.cli`), Ray, stable-baselines3 and the dm_env bridge only when
-imported (docs/architecture.md).
-
-dm_control's Composer code runs with its imports changed (`from dm_control import
-composer` -> `import composer`): the same names and module paths (`composer.define`,
-`composer.observation.observable.base`, `composer.initializers.prop_initializer` ...);
-docs/dm_control_composer.md says what differs on purpose.
+Every error is a `composer.Error`; dm_control's Composer code runs with `from dm_control
+import composer` -> `import composer` (docs/dm_control_composer.md). `import composer` loads
+what one environment needs, the CLI, Ray, SB3 and dm_env only when imported (docs/architecture.md).
 """
 
 import importlib

@@ -1,23 +1,13 @@
 """Arenas: the entity at the root of a scene, holding the scene's global settings.
 
     arena = composer.Arena()                            # an empty world, as in dm_control
-    arena.mjcf_model.worldbody.add('geom', type='plane', size=[4, 4, 0.1])
     arena.attach(robot)                                 # fixed at the world origin
     frame = arena.add_free_entity(ball)                 # a frame with a free joint
     frame.pos = [0, 0, 1]                               # its initial position (qpos0)
-    arena = composer.Arena(xml_path='room.xml')         # a model of your own instead
 
-`composer.Arena` is dm_control's base arena: no floor, no lights, and the global settings
-dm_control's Composer defines (`GLOBAL_SETTINGS`: radians, xyz euler sequence, mass and
-inertia bounds, elliptic friction cones with five noslip iterations, the 2 ms timestep,
-the headlight and the sizes of drawn decorations), so that dm_control arena subclasses
-(which add their floors and lights in `_build` after `super()._build(name=...)`) build the
-world they build there. The shipped arenas (`arenas.Floor` and those built on it) make
-their own worlds, with a checkered floor, a skybox and lights.
-
-A model that floats already (a standalone robot file whose top body has a free joint,
-such as gymnasium's ant or humanoid) keeps its own free joint when added as a free
-entity, and its world body (a ground plane of its own, say) stays static.
+Promises: `Arena()` is dm_control's base arena (`GLOBAL_SETTINGS`; no floor, no lights), so
+dm_control's arena subclasses build the world they build there; `Arena(xml_path=...)` is a
+model of your own. A model that floats already keeps its own free joint when added free.
 """
 
 from __future__ import annotations
@@ -53,7 +43,16 @@ def _with_global_settings(name: str) -> mjcf.RootElement:
 
 
 class Arena(Entity):
-    """An empty world with dm_control's global settings (see the module docstring)."""
+    """An empty world with dm_control's global settings.
+
+    `composer.Arena` is dm_control's base arena: no floor, no lights, and the global settings
+    dm_control's Composer defines (`GLOBAL_SETTINGS`: radians, xyz euler sequence, mass and
+    inertia bounds, elliptic friction cones with five noslip iterations, the 2 ms timestep,
+    the headlight and the sizes of drawn decorations), so that dm_control arena subclasses
+    (which add their floors and lights in `_build` after `super()._build(name=...)`) build the
+    world they build there. The shipped arenas (`arenas.Floor` and those built on it) make
+    their own worlds, with a checkered floor, a skybox and lights.
+    """
 
     def _build(
         self, name: str | None = None, xml_path: str | os.PathLike[str] | None = None

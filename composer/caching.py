@@ -6,9 +6,8 @@
         def joints(self):                          # found once, then kept
             return self.mjcf_model.find_all('joint')
 
-The value is kept in the object's `__dict__` under the property's name; two threads reading
-it first compute it once. `composer.observable` is one too, on any object that is neither an
-entity nor its `Observables` (a task's observables: `composer.observation.entity_observables`).
+Kept in the object's `__dict__` under the property's name; two threads reading it first
+compute it once. `composer.observable` on a task is one too (`observation.entity_observables`).
 """
 
 from __future__ import annotations

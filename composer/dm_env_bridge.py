@@ -1,38 +1,13 @@
-"""dm_env bridge (the `[dm]` extra): composer environments for dm_env code, and dm_env
-specs in composer tasks.
+"""dm_env bridge (the `[dm]` extra): composer environments served to dm_env code.
 
-    from composer import dm_env_bridge
-    env = composer.Environment(task, time_limit=10.0)      # Gymnasium stays the interface
-    dm = dm_env_bridge.DmEnvAdapter(env, seed=0)           # a dm_env.Environment
+    dm = composer.dm_env_bridge.DmEnvAdapter(env, seed=0)  # a dm_env.Environment
     timestep = dm.reset()                                  # FIRST: reward, discount None
     while not timestep.last():
         timestep = dm.step(policy(timestep.observation))  # MID ... LAST
-    dm.action_spec(), dm.observation_spec()                # dm_env.specs
-    box = dm_env_bridge.space_from_spec(specs.BoundedArray((2,), float, -1, 1))
 
-Tasks: a task that defines `action_spec(physics)` returning a `dm_env.specs.Array` or
-`BoundedArray`, as dm_control tasks do, works unchanged: `Task.action_space` converts it
-(`action_space_from_spec`: a Box of the spec's shape, dtype and bounds, unbounded for an
-`Array`), the environment clips actions to it, and the adapter returns the task's own spec.
-`space_from_spec` and `spec_from_space` convert either way, nested dicts and tuples too
-(`composer.dm_env_specs`, exported here too).
-
-The adapter (`DmEnvAdapter`): `reset()` returns a FIRST TimeStep; `step(action)` a MID one,
-or LAST when the episode ends; `step` after LAST (or before any reset) starts a new episode
-and ignores the action, as dm_env asks. Observations are those of the environment (a dict
-of arrays, or one array when flattened) with specs from its spaces, named by key. Rewards
-are float64 scalars. The discount is the task's `get_discount` (`info['discount']`), except:
-- a terminated step (Gymnasium's `terminated`, from `should_terminate_episode`) has discount
-  0.0, dm_env's termination, unless the task defines `get_discount` (or
-  `get_discount_batch`) itself: then its value, as dm_control reports it (its tasks say 0.0
-  for a failure and 1.0 for an end that should bootstrap);
-- a truncated step (time limit) keeps the task's discount, dm_env's truncation;
-- a step MuJoCo diverged on ends the episode with discount 0.0, as dm_control ends it.
-A task's `get_reward_spec()` / `get_discount_spec()`, when defined and not None, are the
-reward and discount specs (dm_control's hooks); otherwise dm_env's defaults.
-
-Without the extra installed nothing here is imported: `import composer` never imports
-dm_env; importing this module raises ImportError saying how to install it.
+`DmEnvAdapter` states its TimeSteps and discounts; a task's own dm_env `action_spec` works
+unchanged, and `space_from_spec`/`spec_from_space` convert specs (`composer.dm_env_specs`).
+Without dm_env importing this raises ImportError saying how to install it.
 """
 
 from __future__ import annotations
@@ -58,7 +33,22 @@ __all__ = ["DmEnvAdapter", "action_space_from_spec", "space_from_spec", "spec_fr
 
 class DmEnvAdapter(dm_env.Environment):
     """A Gymnasium environment (a `composer.Environment`, or any with Box, Discrete, Dict or
-    Tuple spaces) as a `dm_env.Environment`; see the module docstring for the rules."""
+    Tuple spaces) as a `dm_env.Environment`.
+
+    `reset()` returns a FIRST TimeStep; `step(action)` a MID one,
+    or LAST when the episode ends; `step` after LAST (or before any reset) starts a new episode
+    and ignores the action, as dm_env asks. Observations are those of the environment (a dict
+    of arrays, or one array when flattened) with specs from its spaces, named by key. Rewards
+    are float64 scalars. The discount is the task's `get_discount` (`info['discount']`), except:
+    - a terminated step (Gymnasium's `terminated`, from `should_terminate_episode`) has discount
+      0.0, dm_env's termination, unless the task defines `get_discount` (or
+      `get_discount_batch`) itself: then its value, as dm_control reports it (its tasks say 0.0
+      for a failure and 1.0 for an end that should bootstrap);
+    - a truncated step (time limit) keeps the task's discount, dm_env's truncation;
+    - a step MuJoCo diverged on ends the episode with discount 0.0, as dm_control ends it.
+    A task's `get_reward_spec()` / `get_discount_spec()`, when defined and not None, are the
+    reward and discount specs (dm_control's hooks); otherwise dm_env's defaults.
+    """
 
     def __init__(self, env: gymnasium.Env[Any, Any], seed: int | None = None) -> None:
         """Serve `env`; its first reset uses `seed` (None: unseeded). Raises TaskError for

@@ -6,9 +6,8 @@
     action_space = dm_env_specs.action_space_from_spec(task.action_spec(physics))
     spec = dm_env_specs.actuator_spec(low, high, names)   # Task.action_spec's default
 
-`composer.Task.action_space` converts a task's dm_control `action_spec` here, and
-`composer.dm_env_bridge` (which re-exports these functions) builds its specs here. Importing
-this module imports dm_env; without it, an ImportError says how to install it.
+`composer.Task.action_space` and `composer.dm_env_bridge` convert here. Importing this module
+imports dm_env; without it, an ImportError says how to install it.
 """
 
 from __future__ import annotations
@@ -58,7 +57,8 @@ def space_from_spec(spec: Any) -> spaces.Space[Any]:
 
 def action_space_from_spec(spec: Any) -> spaces.Box:
     """The Box of a task's `action_spec` (one `Array` or `BoundedArray` of numbers, as
-    actions are one array here). Raises TaskError for any other spec."""
+    actions are one array here): the spec's shape, dtype and bounds, unbounded for an
+    `Array`; the environment clips actions to it. Raises TaskError for any other spec."""
     if isinstance(spec, specs.Array) and not isinstance(
         spec, specs.DiscreteArray | specs.StringArray
     ):

@@ -1,40 +1,13 @@
-"""dm_control's Environment internals, for subclasses of `composer.Environment` written
-against them. A helper package's environment that skips recompiles runs unchanged:
+"""dm_control's Environment internals, for subclasses of `composer.Environment` written on them.
 
-    class StaticPhysicsEnvironment(composer.Environment):
+    class Static(composer.Environment):               # skips recompiles, as mujoco_utils's
         def _reset_attempt(self):
-            if self._recompile_physics_active or not self._physics_recompiled_once:
-                self._hooks.initialize_episode_mjcf(self._random_state)
-                self._recompile_physics_and_update_observables()
-                self._physics_recompiled_once = True
-            with self._physics.reset_context():
-                self._hooks.initialize_episode(self._physics_proxy, self._random_state)
+            self._hooks.initialize_episode(self._physics_proxy, self._random_state)
             self._observation_updater.reset(self._physics_proxy, self._random_state)
-            self._reset_next_step = False
-            return dm_env.TimeStep(dm_env.StepType.FIRST, None, None,
-                                   self._observation_updater.get_observation())
+            return dm_env.restart(self._observation_updater.get_observation())
 
-    obs, info = StaticPhysicsEnvironment(task=task).reset()   # Gymnasium's (obs, info)
-
-What is kept of dm_control's contract (docs/dm_control_composer.md lists it):
-- `env._hooks` is an `EnvironmentHooks`: each hook name is a method running the task's
-  hook, the entities' and the extra ones, in the environment's order (`composer.hooks`),
-  the actions of `before_step` checked and clipped as `step()` does;
-  `refresh_entity_hooks()` after the entity tree changed; `add_extra_hook`.
-- `env._observation_updater` is an `UpdaterView` of the environment's own observation
-  pipeline: `reset(physics, random_state)`, `prepare_for_next_control_step()`, `update()`
-  after each physics step (the last one after the `after_step` hooks), `get_observation()`,
-  `observation_spec()`. A step written with them, as dm_control's `step` is, observes what
-  `step()` observes.
-- On the environment (`composer.environment`): `_reset_attempt()` (whatever an override
-  returns is what `reset` returns: an (obs, info) pair, or a dm_env TimeStep, of which
-  `reset_result` keeps the observation), `_recompile_physics_and_update_observables()`
-  (every compile goes through it, the first at construction), `_recompile_physics()`,
-  `_make_observation_updater()` (must return a `composer.observation.Updater`),
-  `_substep(action)` (an override runs for each physics step), and the attributes `_task`,
-  `_physics`, `_physics_proxy` (the physics itself), `_random_state`, `_time_limit`,
-  `_n_sub_steps`, `_reset_next_step`, `_raise_exception_on_physics_error`.
-An override the environment cannot keep raises `composer.OverrideError` naming it.
+What is kept (`env._hooks`, `env._observation_updater`, the methods and attributes) is listed
+in docs/dm_control_composer.md; an override that cannot be kept raises OverrideError.
 """
 
 from __future__ import annotations

@@ -1,37 +1,13 @@
 """Entities: robots and props that own an MJCF model, its observables and its hooks.
 
-    class Arm(composer.Entity):
-        def _build(self, length=0.5):
-            self._mjcf_root = mjcf.RootElement(model='arm')
-            body = self._mjcf_root.worldbody.add('body', name='upper')
-            self.joints = [body.add('joint', name='shoulder', axis=[0, 1, 0])]
-            body.add('geom', type='capsule', fromto=[0, 0, 0, length, 0, 0], size=[0.05])
-            self._mjcf_root.actuator.add('motor', joint=self.joints[0], ctrlrange=[-1, 1])
-            self.wrist = body.add('site', name='wrist', pos=[length, 0, 0])
-
-        @property
-        def attachment_site(self):                   # where attach() mounts by default
-            return self.wrist
-
-        @composer.observable
-        def joint_positions(self):
-            return composer.observation.MJCFFeature('qpos', self.joints)
-
-    arm = Arm(observable_options={'joint_positions': {'enabled': True}})
-    arm.attach(gripper)                              # at arm.attachment_site: the wrist
+    arm = Arm(observable_options={'joint_positions': {'enabled': True}})  # `Entity`'s Arm
+    arm.attach(gripper)                                    # at arm.attachment_site
     humanoid = composer.Entity.from_path('humanoid.xml')   # no class needed
+    humanoid.set_pose(physics, position=[0, 0, 1])         # a free entity's world pose
 
-An entity builds its model in `_build(*args, **kwargs)`, then its observables with
-`_build_observables()` (override it to return an `Observables` subclass, dm_control style;
-methods decorated with `@observable` on the entity or on that subclass become its
-observables), then applies `observable_options` (see `Observables.set_options`). Hooks (see
-`composer.hooks` for their order) are no-ops unless overridden; only overridden hooks run.
-
-Poses, as dm_control: `set_pose`/`get_pose` of an entity with a free joint are its world
-pose; of an entity attached without one, the pose of its attachment frame relative to the
-body it is attached in, read and written through `physics.bind(frame)`: a body's pos and
-quat when the frame has joints, else the frame's (a MuJoCo `<frame>`, moved with all it
-holds in the compiled simulation: `mjcf.sim.frame_binding`).
+Promises: an entity builds its model (`_build`), then its observables, then applies
+`observable_options`; only the hooks it overrides run (`composer.hooks`); its poses are
+dm_control's. A model it cannot own or pose raises EntityError.
 """
 
 from __future__ import annotations
@@ -60,7 +36,37 @@ __all__ = [
 
 
 class Entity(hooks.EpisodeHooks):
-    """A part of a scene that owns an MJCF model. Subclasses build it in `_build`."""
+    """A part of a scene that owns an MJCF model. Subclasses build it in `_build`.
+
+        class Arm(composer.Entity):
+            def _build(self, length=0.5):
+                self._mjcf_root = mjcf.RootElement(model='arm')
+                body = self._mjcf_root.worldbody.add('body', name='upper')
+                self.joints = [body.add('joint', name='shoulder', axis=[0, 1, 0])]
+                body.add('geom', type='capsule', fromto=[0, 0, 0, length, 0, 0], size=[0.05])
+                self._mjcf_root.actuator.add('motor', joint=self.joints[0], ctrlrange=[-1, 1])
+                self.wrist = body.add('site', name='wrist', pos=[length, 0, 0])
+
+            @property
+            def attachment_site(self):                   # where attach() mounts by default
+                return self.wrist
+
+            @composer.observable
+            def joint_positions(self):
+                return composer.observation.MJCFFeature('qpos', self.joints)
+
+    An entity builds its model in `_build(*args, **kwargs)`, then its observables with
+    `_build_observables()` (override it to return an `Observables` subclass, dm_control style;
+    methods decorated with `@observable` on the entity or on that subclass become its
+    observables), then applies `observable_options` (see `Observables.set_options`). Hooks (see
+    `composer.hooks` for their order) are no-ops unless overridden; only overridden hooks run.
+
+    Poses, as dm_control: `set_pose`/`get_pose` of an entity with a free joint are its world
+    pose; of an entity attached without one, the pose of its attachment frame relative to the
+    body it is attached in, read and written through `physics.bind(frame)`: a body's pos and
+    quat when the frame has joints, else the frame's (a MuJoCo `<frame>`, moved with all it
+    holds in the compiled simulation: `mjcf.sim.frame_binding`).
+    """
 
     def __init__(self, *args: Any, observable_options: Any = None, **kwargs: Any) -> None:
         """Build the entity with `_build(*args, **kwargs)`, then its observables, configured

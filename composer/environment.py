@@ -3,70 +3,11 @@
     env = composer.Environment(task, time_limit=10.0, render_mode='rgb_array')
     obs, info = env.reset(seed=0)                  # obs: {'arm/joint_positions': array, ...}
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
-    frame = env.render()                           # (240, 320, 3) uint8
-    env.physics.bind(joint).qpos                   # the live simulation
-    env.close()
 
-What it promises:
-- The scene is compiled once, at construction; `reset()` recompiles only when the
-  `initialize_episode_mjcf` hooks changed the model (its `version`), otherwise it resets
-  the same MjModel/MjData in place (no recompile, well under a millisecond).
-- Hook order: reset runs `initialize_episode_mjcf`, then (only if the model changed, and
-  at construction) compiles and runs `after_compile`, then resets the physics and runs
-  `initialize_episode`. A step runs the task's `before_step(physics, action, ...)` (which
-  applies the action), the entities' `before_step`, then per physics step `before_substep`,
-  `physics.step()`, `after_substep`, then `after_step`; then observations are sampled
-  (those due after the last physics step only now, so they show what `after_step`
-  changed, as in dm_control), and reward and termination are read. Each hook runs on
-  the task, then on every entity (`composer.hooks`).
-- `terminated` comes from `task.should_terminate_episode`; `truncated` is set when the time
-  limit is reached (after ceil(time_limit / control_timestep) control steps) or when MuJoCo
-  reported an invalid state (bad qacc, NaN): then `info['physics_error']` holds the
-  message, the reward is 0.0, a `DivergenceWarning` is emitted, and the next `reset()`
-  starts afresh.
-- `action_repeat=k` makes each `step()` k control steps with the same action (the frame
-  skip of pixel-based RL): rewards summed, discounts multiplied, the last observation;
-  an episode that ends within them ends the step.
-- Randomness: every draw the framework makes or hands on (hooks, initializers, corruptors,
-  called `corruptor(value, random_state=...)`) is from one `numpy.random.RandomState`
-  (dm_control's API) drawing from the same bit generator as `env.np_random`, never from
-  numpy's global one; `reset(seed=s)` reseeds both, so the same seed and actions give
-  bit-identical episodes (a task's `random_state_for_seed(s)` may give its own instead,
-  as the Control Suite's tasks give dm_control's `RandomState(s)`). `random_state` at
-  construction (an int, a RandomState or a Generator) is used until a seeded reset. With
-  `fixed_initial_state=True` every episode starts from the random state the environment
-  had at construction or at its last seeded reset, so its initial state is the same.
-- dm_control's options: `max_reset_attempts` retries a reset whose hooks raised
-  `composer.EpisodeInitializationError` (the last one propagates); `n_sub_steps` overrides
-  the task's physics steps per control step; `raise_exception_on_physics_error=True`
-  raises `mjcf.PhysicsError` instead of truncating; `strip_singleton_obs_buffer_dim=False`
-  and `delayed_observation_padding` shape observations as `composer.observation.Updater`
-  says; `legacy_step` is `env.physics.legacy_step`; `recompile_mjcf_every_episode=True`
-  recompiles every episode, as dm_control does, False never after the first reset (and
-  runs `initialize_episode_mjcf` only then), None (the default) only when the model
-  changed; `add_extra_hook(name, callable)` runs a callable after the task's and entities'
-  hook of that name (`before_step` and `before_substep` ones get the action too).
-- Actions: a NaN or infinite action raises `EpisodeError` (it would silently corrupt the
-  simulation); finite actions outside the action space are clipped to its bounds (the
-  actuators' ctrlrange) before the task applies them.
-- Observations are new arrays every step (safe to keep); a step's `info` holds the task's
-  `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
-- A task's per-step method written in batched form (`get_reward_batch` ...,
-  `composer.batch`) runs here with a batch of one (`composer.BatchOfOne`), so one
-  environment computes what a `VectorEnvironment` computes for each of its own, to the
-  last bit; the control step's rules are `composer.stepping`'s, which both keep.
-- Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
-  consistent with the current state, as `mj_forward` would compute them, not one physics
-  step behind as with a bare `mujoco.mj_step` (see `mjcf.Physics.step`; this costs nothing
-  over `mj_step`). `env.physics.legacy_step = False` restores bare `mj_step`s.
-- Subclasses written against dm_control's internals run: an override of `_reset_attempt`
-  (what it returns is what `reset` returns; a dm_env TimeStep gives its observation), of
-  `_recompile_physics_and_update_observables` (every compile, the first at construction,
-  goes through it), `_recompile_physics`, `_make_observation_updater` or `_substep` (run for
-  each physics step), and calls of `env._hooks` and `env._observation_updater` as
-  dm_control's own `step` makes them (`composer.dm_internals` says what is kept). One that
-  cannot be kept raises `composer.OverrideError` naming the method, when the environment is
-  made (or, for what `_reset_attempt` returns, at the reset).
+Promises (`Environment` states each, with dm_control's options): the scene compiles once, and
+again only when `initialize_episode_mjcf` changed it; hooks run in dm_control's order; the same
+seed and actions give bit-identical episodes; a diverged simulation truncates its episode
+(`info['physics_error']`); a NaN or infinite action raises EpisodeError.
 """
 
 from __future__ import annotations
@@ -101,7 +42,73 @@ __all__ = [
 
 
 class Environment(gymnasium.Env):
-    """A gymnasium.Env running a composer Task."""
+    """A gymnasium.Env running a composer Task (the module docstring shows reset and step).
+
+        frame = env.render()                           # (240, 320, 3) uint8
+        env.physics.bind(joint).qpos                   # the live simulation
+        env.close()
+
+    What it promises:
+    - The scene is compiled once, at construction; `reset()` recompiles only when the
+      `initialize_episode_mjcf` hooks changed the model (its `version`), otherwise it resets
+      the same MjModel/MjData in place (no recompile).
+    - Hook order: reset runs `initialize_episode_mjcf`, then (only if the model changed, and
+      at construction) compiles and runs `after_compile`, then resets the physics and runs
+      `initialize_episode`. A step runs the task's `before_step(physics, action, ...)` (which
+      applies the action), the entities' `before_step`, then per physics step `before_substep`,
+      `physics.step()`, `after_substep`, then `after_step`; then observations are sampled
+      (those due after the last physics step only now, so they show what `after_step`
+      changed, as in dm_control), and reward and termination are read. Each hook runs on
+      the task, then on every entity (`composer.hooks`).
+    - `terminated` comes from `task.should_terminate_episode`; `truncated` is set when the time
+      limit is reached (after ceil(time_limit / control_timestep) control steps) or when MuJoCo
+      reported an invalid state (bad qacc, NaN): then `info['physics_error']` holds the
+      message, the reward is 0.0, a `DivergenceWarning` is emitted, and the next `reset()`
+      starts afresh.
+    - `action_repeat=k` makes each `step()` k control steps with the same action (the frame
+      skip of pixel-based RL): rewards summed, discounts multiplied, the last observation;
+      an episode that ends within them ends the step.
+    - Randomness: every draw the framework makes or hands on (hooks, initializers, corruptors,
+      called `corruptor(value, random_state=...)`) is from one `numpy.random.RandomState`
+      (dm_control's API) drawing from the same bit generator as `env.np_random`, never from
+      numpy's global one; `reset(seed=s)` reseeds both, so the same seed and actions give
+      bit-identical episodes (a task's `random_state_for_seed(s)` may give its own instead,
+      as the Control Suite's tasks give dm_control's `RandomState(s)`). `random_state` at
+      construction (an int, a RandomState or a Generator) is used until a seeded reset. With
+      `fixed_initial_state=True` every episode starts from the random state the environment
+      had at construction or at its last seeded reset, so its initial state is the same.
+    - dm_control's options: `max_reset_attempts` retries a reset whose hooks raised
+      `composer.EpisodeInitializationError` (the last one propagates); `n_sub_steps` overrides
+      the task's physics steps per control step; `raise_exception_on_physics_error=True`
+      raises `mjcf.PhysicsError` instead of truncating; `strip_singleton_obs_buffer_dim=False`
+      and `delayed_observation_padding` shape observations as `composer.observation.Updater`
+      says; `legacy_step` is `env.physics.legacy_step`; `recompile_mjcf_every_episode=True`
+      recompiles every episode, as dm_control does, False never after the first reset (and
+      runs `initialize_episode_mjcf` only then), None (the default) only when the model
+      changed; `add_extra_hook(name, callable)` runs a callable after the task's and entities'
+      hook of that name (`before_step` and `before_substep` ones get the action too).
+    - Actions: a NaN or infinite action raises `EpisodeError` (it would silently corrupt the
+      simulation); finite actions outside the action space are clipped to its bounds (the
+      actuators' ctrlrange) before the task applies them.
+    - Observations are new arrays every step (safe to keep); a step's `info` holds the task's
+      `get_info(physics)` entries (e.g. 'is_success') and its `discount`.
+    - A task's per-step method written in batched form (`get_reward_batch` ...,
+      `composer.batch`) runs here with a batch of one (`composer.BatchOfOne`), so one
+      environment computes what a `VectorEnvironment` computes for each of its own, to the
+      last bit; the control step's rules are `composer.stepping`'s, which both keep.
+    - Observations, rewards and hooks see derived quantities (xpos, site_xpos, sensordata ...)
+      consistent with the current state, as `mj_forward` would compute them, not one physics
+      step behind as with a bare `mujoco.mj_step` (see `mjcf.Physics.step`; this costs nothing
+      over `mj_step`). `env.physics.legacy_step = False` restores bare `mj_step`s.
+    - Subclasses written against dm_control's internals run: an override of `_reset_attempt`
+      (what it returns is what `reset` returns; a dm_env TimeStep gives its observation), of
+      `_recompile_physics_and_update_observables` (every compile, the first at construction,
+      goes through it), `_recompile_physics`, `_make_observation_updater` or `_substep` (run for
+      each physics step), and calls of `env._hooks` and `env._observation_updater` as
+      dm_control's own `step` makes them (`composer.dm_internals` says what is kept). One that
+      cannot be kept raises `composer.OverrideError` naming the method, when the environment is
+      made (or, for what `_reset_attempt` returns, at the reset).
+    """
 
     metadata = {"render_modes": list(RENDER_MODES), "render_fps": 50}
     # A Dict of the observables, or one Box with `flatten_observations`; the task's Box.
@@ -129,7 +136,7 @@ class Environment(gymnasium.Env):
         render_width: int = 320,
         render_camera: int | str = -1,
     ) -> None:
-        """Compile `task`'s scene and build the spaces (the options: see the module
+        """Compile `task`'s scene and build the spaces (the options: see the class
         docstring). Raises TaskError for a bad time limit, render mode, option or
         timesteps, ObservableError for an observable that cannot be read,
         mjcf.CompileError when MuJoCo rejects the scene, and OverrideError for a subclass
@@ -368,7 +375,7 @@ class Environment(gymnasium.Env):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
-        """Start an episode (see the module docstring for the hooks run); `seed` reseeds
+        """Start an episode (see the class docstring for the hooks run); `seed` reseeds
         the environment's random state. `options` are not used. Returns (obs, info), what
         `_reset_attempt` returns (a dm_env TimeStep from a subclass's: its observation and
         {}). Raises EpisodeInitializationError when every one of `max_reset_attempts`

@@ -1,16 +1,13 @@
 """Episode hooks: their names, their fixed order, and dispatch to overriders only.
 
     hooks = Hooks(task)                   # after any change of the entity tree
-    for hook in hooks.before_substep:     # bound methods; empty if nobody overrides it
+    for hook in hooks.after_substep:      # bound methods; empty if nobody overrides it
         hook(physics, random_state)
 
-Order (see `composer.environment` for when each hook runs): every hook runs first on the
-task, then on each entity of `task.root_entity.iter_entities()` (the root entity, then its
-attached entities depth first, in the order they were attached), then on the
-environment's extra hooks (`Environment.add_extra_hook`). A hook is dispatched to an object
-only if its class overrides the base class's no-op, so a hook nobody overrides costs
-nothing per step. The task's `before_step` and `before_substep` receive the action, and so
-do extra hooks of those names; entities' do not (as in dm_control).
+Order (`composer.Environment` says when each runs): the task, then each entity of
+`task.root_entity.iter_entities()` (the root, then attached ones depth first, in attach
+order), then the environment's extra hooks. Only overriders are called, so an unused hook
+costs nothing per step; the task's and extra `before_step`/`before_substep` get the action.
 """
 
 from __future__ import annotations

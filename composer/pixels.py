@@ -3,30 +3,11 @@ takes it (dm_control's suite from pixels, Atari).
 
     env = gym.make('composer/CartpoleSwingup-v0', pixels=True)          # (84, 84, 3) uint8
     env = gym.make('composer/Reach-v0', pixels=True, width=64, height=64, frame_stack=3)
-    env = gym.make('composer/Reach-v0', pixels=True, proprioception=True)
-    obs['pixels'], obs['proprioception']                                 # image, state vector
+    env = gym.make('composer/Reach-v0', pixels=True, proprioception=True)   # a Dict
     model = stable_baselines3.PPO('CnnPolicy', env)                     # no glue needed
 
-`PixelEnvironment(env, height, width, camera, frame_stack, proprioception)` serves a
-`composer.Environment` (its actions, rewards, info, `render()`, `physics` and `task`) with
-frames of `camera` as observations (the task's render camera when made through `gym.make`),
-in Gymnasium's image layout: a `uint8` Box of shape
-(height, width, 3 * frame_stack) bounded to [0, 255], the `frame_stack` latest frames
-stacked along the channels, oldest first (the layout stable-baselines3's `CnnPolicy`,
-`VecTransposeImage` and `VecFrameStack` use). At a reset every slot holds the first frame.
-With `proprioception=True` the observation is a Dict of 'pixels' and 'proprioception', the
-task's observations flattened into one vector (what `MultiInputPolicy` takes). It is a
-`gymnasium.Env` of its own, not a wrapper, so `env.unwrapped` is it and
-`gymnasium.utils.env_checker.check_env(env.unwrapped)` checks the pixel observations.
-
-What it promises: a frame is the state after the step (or reset) it is returned by, drawn
-by the physics' renderer of that size (`mjcf.sim.rendering`: no shadows or multisampling up to
-128 pixels a side, unless the model's MJCF sets them); the same seed and actions give the
-same frames, bit for bit; a recompile of the scene (`initialize_episode_mjcf` changing the
-model) is drawn from the new model; each observation is a new array, safe to keep.
-`composer.vector.PixelVectorEnvironment` gives num_envs of these observations at once
-(`gym.make_vec(id, n, vectorization_mode='vector_entry_point', pixels=True)`), with the
-frame, stacking and checks of this module.
+Promises (`PixelEnvironment` states each): a frame shows the state after the step or reset
+returning it; the same seed and actions give the same frames, bit for bit; new arrays each step.
 """
 
 from __future__ import annotations
@@ -46,7 +27,29 @@ DEFAULT_SIZE = 84
 
 
 class PixelEnvironment(gymnasium.Env):
-    """A composer Environment observed through a camera (see the module docstring)."""
+    """A composer Environment observed through a camera.
+
+    `PixelEnvironment(env, height, width, camera, frame_stack, proprioception)` serves a
+    `composer.Environment` (its actions, rewards, info, `render()`, `physics` and `task`) with
+    frames of `camera` as observations (the task's render camera when made through `gym.make`),
+    in Gymnasium's image layout: a `uint8` Box of shape (height, width, 3 * frame_stack) bounded
+    to [0, 255], the `frame_stack` latest frames stacked along the channels, oldest first (the
+    layout stable-baselines3's `CnnPolicy`, `VecTransposeImage` and `VecFrameStack` use). At a
+    reset every slot holds the first frame. With `proprioception=True` the observation is a Dict
+    of 'pixels' and 'proprioception', the task's observations flattened into one vector (what
+    `MultiInputPolicy` takes). It is a `gymnasium.Env` of its own, not a wrapper, so
+    `env.unwrapped` is it and `gymnasium.utils.env_checker.check_env(env.unwrapped)` checks the
+    pixel observations.
+
+    What it promises: a frame is the state after the step (or reset) it is returned by, drawn
+    by the physics' renderer of that size (`mjcf.sim.rendering`: no shadows or multisampling up to
+    128 pixels a side, unless the model's MJCF sets them); the same seed and actions give the
+    same frames, bit for bit; a recompile of the scene (`initialize_episode_mjcf` changing the
+    model) is drawn from the new model; each observation is a new array, safe to keep.
+    `composer.vector.PixelVectorEnvironment` gives num_envs of these observations at once
+    (`gym.make_vec(id, n, vectorization_mode='vector_entry_point', pixels=True)`), with the
+    frame, stacking and checks of this module.
+    """
 
     # Gymnasium reads these from the class; an instance has its environment's.
     metadata = Environment.metadata

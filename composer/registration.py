@@ -1,38 +1,13 @@
 """Registration: composer tasks as Gymnasium ids.
 
-    from composer import registration
     registration.register('Reach', 'tasks.reach:Reach', 'planar arm tip to a target',
-                          time_limit=2.0)            # -> 'composer/Reach-v0'
+                          time_limit=2.0)                 # -> 'composer/Reach-v0'
+    env = gym.make('tasks:composer/Reach-v0', flatten_observations=True)  # imports `tasks`
+    vec = gym.make_vec('composer/Reach-v0', num_envs=8, vectorization_mode='vector_entry_point')
 
-    import gymnasium as gym
-    import tasks                                     # registers every shipped task
-    env = gym.make('composer/Reach-v0', flatten_observations=True, randomize=False)
-    env = gym.make('tasks:composer/Reach-v0')        # the same, importing `tasks` itself
-    vec = gym.make_vec('composer/Reach-v0', num_envs=8,
-                       vectorization_mode='vector_entry_point')
-    registration.registered()['composer/Reach-v0'].description
-
-Gymnasium 1.x loads no plugins, so an id exists only once the module registering it was
-imported: `import tasks` first, or use Gymnasium's module prefix `'tasks:composer/X-v0'`,
-which imports `tasks` inside `gym.make`.
-
-Rendering and pixels take Gymnasium's MuJoCo keywords: `gym.make(id, render_mode='rgb_array',
-width=64, height=64)` renders 64x64 frames (default 320x240) through `camera_name` or
-`camera_id` (one of them; default the task's `render_camera`, else the free camera);
-`pixels=True` observes the task through that camera instead (`composer.pixels`: uint8
-(height, width, 3) frames, 84x84 unless `width`/`height` say otherwise), with
-`frame_stack=k` and `proprioception=True` (a Dict of 'pixels' and the flattened state).
-
-What it promises: a registered spec holds only strings and plain values (the task as an
-import path, `'tasks.reach:Reach'`), so it pickles into `AsyncVectorEnv` workers and
-stable-baselines3's `SubprocVecEnv`. Keyword arguments of `gym.make` go to the task's
-constructor, except ENVIRONMENT_OPTIONS (`time_limit`, `flatten_observations`,
-`action_repeat`, `render_mode`, `width`, `height`, `camera_id`, `camera_name`, `pixels`,
-`frame_stack`, `proprioception`), which go to `composer.Environment` and
-`composer.pixels`; a keyword neither accepts raises `RegistrationError` naming the task
-and listing what it accepts, as do both `camera_id` and `camera_name`, or a camera the
-scene does not have. Registering an id of ours again is a no-op; one another package
-registered (Shimmy's `dm_control/...`) is replaced with a `RegistrationWarning`.
+Promises: a spec holds only strings and plain values, so it pickles into `AsyncVectorEnv`
+and SB3's `SubprocVecEnv` workers; `gym.make`'s keywords go to the task, except the
+`EnvironmentOptions`; one neither accepts raises RegistrationError listing what they accept.
 """
 
 from __future__ import annotations
@@ -86,7 +61,16 @@ _REGISTERED: dict[str, TaskInfo] = {}
 class EnvironmentOptions:
     """The keywords of `gym.make` and `gym.make_vec` that go to the environment rather than
     the task (`make_environment`, `composer.vector.make_vector_environment`), with their
-    defaults; the module docstring says what each does."""
+    defaults: `time_limit`, `flatten_observations`, `action_repeat` and `render_mode` are
+    `composer.Environment`'s.
+
+    Rendering and pixels take Gymnasium's MuJoCo keywords: `gym.make(id, render_mode='rgb_array',
+    width=64, height=64)` renders 64x64 frames (default 320x240) through `camera_name` or
+    `camera_id` (one of them; default the task's `render_camera`, else the free camera);
+    `pixels=True` observes the task through that camera instead (`composer.pixels`: uint8
+    (height, width, 3) frames, 84x84 unless `width`/`height` say otherwise), with
+    `frame_stack=k` and `proprioception=True` (a Dict of 'pixels' and the flattened state).
+    """
 
     time_limit: float | None = None
     flatten_observations: bool = False
@@ -157,7 +141,12 @@ def register(
     `flatten_observations`, `render_mode`). Registering an id of ours again is a no-op; an
     id another package registered (Shimmy's `dm_control/...` ids) is replaced with a
     RegistrationWarning naming it. Raises RegistrationError when `task` is not a
-    'module:attribute' string (a string keeps the spec picklable)."""
+    'module:attribute' string (a string keeps the spec picklable).
+
+    Gymnasium 1.x loads no plugins, so an id exists only once the module registering it was
+    imported: `import tasks` first, or use Gymnasium's module prefix `'tasks:composer/X-v0'`,
+    which imports `tasks` inside `gym.make`.
+    """
     if not isinstance(task, str) or ":" not in task:
         raise RegistrationError(
             f"register({name!r}): task must be an import path 'package.module:TaskClass', "
@@ -262,7 +251,7 @@ def make_environment(
 ) -> Environment | PixelEnvironment:
     """Build `task(**task_kwargs)` and serve it as a `composer.Environment` (Gymnasium's
     entry point for every registered id); with `pixels`, served through a
-    `composer.pixels.PixelEnvironment`. `keywords` are the `EnvironmentOptions` (the module
+    `composer.pixels.PixelEnvironment`. `keywords` are the `EnvironmentOptions` (whose
     docstring says what each does; `time_limit` None means no limit) and the task's.
     Raises RegistrationError for a keyword the task does not accept (listing those it
     does), both `camera_id` and `camera_name`, or a camera the scene does not have, and

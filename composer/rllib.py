@@ -1,41 +1,13 @@
-"""composer tasks as RLlib environments: one call registers a task id, and your own RLlib
-configs use it by name, on one machine or a Ray cluster.
-
-    import composer.rllib
-    from ray.rllib.algorithms.ppo import PPOConfig
+"""composer tasks as RLlib environments, on one machine or a Ray cluster (docs/ray.md).
 
     env = composer.rllib.register_env("tasks:composer/CartpoleSwingup-v0")
-    config = (
-        PPOConfig()
-        .environment(env, env_config={"time_limit": 5.0})     # optional keywords
-        .env_runners(num_env_runners=2, num_envs_per_env_runner=8,
-                     gym_env_vectorize_mode="vector_entry_point")
-    )
-    algo = config.build_algo()
-    algo.train()
+    config = (PPOConfig().environment(env, env_config={"time_limit": 5.0})
+              .env_runners(num_env_runners=2, num_envs_per_env_runner=8,
+                           gym_env_vectorize_mode="vector_entry_point"))   # one batch of 8
 
-`register_env(env_id)` registers the composer task behind the Gymnasium id `env_id` with
-RLlib under that same id (`'module:id'` imports the module first, as `gym.make` does) and
-returns it. RLlib ships the registration to every process of the cluster; each env runner
-imports the task from its import path, so every machine needs this package installed.
-
-What an env runner gets:
-- `num_envs_per_env_runner` > 1 with `gym_env_vectorize_mode="vector_entry_point"`: one
-  `composer.VectorEnvironment` of that many environments, stepped by MuJoCo's batch on as
-  many threads as Ray gave the runner CPUs (`num_cpus_per_env_runner`, default 1), its
-  per-step task code batched where the task declares it (`composer.vector`). Any other
-  mode: RLlib's own vector of single `composer.Environment`s (correct, but a Python loop).
-- Observations flattened into one vector (RLlib's default models take a vector); set
-  `env_config={"flatten_observations": False}` for the dict.
-- `env_config` keys are the task's keywords and the environment's (`time_limit`,
-  `flatten_observations`, `render_mode`, and `nthread` for the batch), over the defaults
-  the task was registered with; a key neither accepts raises `RegistrationError` in the
-  env runner, which RLlib reports when it builds the algorithm.
-- Seeds: RLlib resets env runner w with `seed + w`; environment i of a runner's M gets
-  seed `(seed + w) * M + i`, so no two environments of a run start from the same seed.
-
-Ray is imported here: `pip install -e '.[ray]'` (ray[rllib]); without it importing this
-module raises ImportError saying so.
+Promises (`EnvCreator` states each): every env runner builds the task from its import path
+(every machine needs this package); vectorized, one VectorEnvironment on the runner's CPUs;
+no two environments of a run share a seed. Without Ray importing this raises ImportError.
 """
 
 from __future__ import annotations
@@ -95,13 +67,31 @@ def register_env(env_id: str) -> str:
 class EnvCreator:
     """RLlib's env creator for one composer task (picklable: the task is an import path).
     Called with RLlib's env config: with a 'num_envs' entry (RLlib's vector entry point)
-    it makes a VectorEnvironment, without one a single Environment."""
+    it makes a VectorEnvironment, without one a single Environment. RLlib ships the
+    registration to every process of the cluster; each env runner imports the task from
+    its import path, so every machine needs this package installed.
+
+    What an env runner gets:
+    - `num_envs_per_env_runner` > 1 with `gym_env_vectorize_mode="vector_entry_point"`: one
+      `composer.VectorEnvironment` of that many environments, stepped by MuJoCo's batch on as
+      many threads as Ray gave the runner CPUs (`num_cpus_per_env_runner`, default 1), its
+      per-step task code batched where the task declares it (`composer.vector`). Any other
+      mode: RLlib's own vector of single `composer.Environment`s (correct, but a Python loop).
+    - Observations flattened into one vector (RLlib's default models take a vector); set
+      `env_config={"flatten_observations": False}` for the dict.
+    - `env_config` keys are the task's keywords and the environment's (`time_limit`,
+      `flatten_observations`, `render_mode`, and `nthread` for the batch), over the defaults
+      the task was registered with; a key neither accepts raises `RegistrationError` in the
+      env runner, which RLlib reports when it builds the algorithm.
+    - Seeds: RLlib resets env runner w with `seed + w`; environment i of a runner's M gets
+      seed `(seed + w) * M + i`, so no two environments of a run start from the same seed.
+    """
 
     task: str
     defaults: dict[str, Any]
 
     def __call__(self, env_config: Mapping[str, Any]) -> Environment | gymnasium.vector.VectorEnv:
-        """The environment(s) of `env_config` (see the module docstring)."""
+        """The environment(s) of `env_config` (see the class docstring)."""
         config = {"flatten_observations": True, **self.defaults, **env_config}
         num_envs = config.pop("num_envs", None)
         if num_envs is None:
@@ -114,7 +104,7 @@ class EnvCreator:
 
 class DistinctSeeds(VectorWrapper):
     """A VectorEnvironment whose `reset(seed=s)` seeds environment i with s * num_envs + i
-    (see the module docstring); a list of seeds or None passes through."""
+    (see `EnvCreator`); a list of seeds or None passes through."""
 
     env: VectorEnvironment
 

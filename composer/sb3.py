@@ -5,14 +5,9 @@
     venv = make_vec_env('tasks.locomotion:AntRun', n_envs=64, flatten_observations=True)
     model = PPO('MlpPolicy', venv).learn(1_000_000)    # VecMonitor(venv) for episode stats
 
-`VecEnvAdapter(vector_environment)` serves a `composer.VectorEnvironment` made with
-`autoreset_mode=SAME_STEP` (stable-baselines3's own convention) as a
-`stable_baselines3.common.vec_env.VecEnv`: `step` returns (obs, rewards, dones, infos)
-with `infos[i]['terminal_observation']` and `'TimeLimit.truncated'` as SB3 expects, and
-the step's info entries (discount, physics_error, the task's) per environment. Seeds set
-with `seed()` apply at the next `reset()`. `render()` tiles every environment's frame.
-This module imports stable-baselines3 (`pip install -e '.[train]'`); nothing in composer
-imports it but this module and the `composer train` engine that uses it.
+`VecEnvAdapter` returns what SB3 expects (`terminal_observation`, `TimeLimit.truncated`) and
+raises TaskError for a VectorEnvironment not made with `autoreset_mode=SAME_STEP`. This module
+imports stable-baselines3 (`pip install -e '.[train]'`); only it and `composer train` do.
 """
 
 from __future__ import annotations
@@ -30,7 +25,15 @@ from composer.vector import VectorEnvironment, make_vector_environment
 
 
 class VecEnvAdapter(VecEnv):
-    """A stable-baselines3 VecEnv over a SAME_STEP VectorEnvironment."""
+    """A stable-baselines3 VecEnv over a SAME_STEP VectorEnvironment.
+
+    Serves a `composer.VectorEnvironment` made with `autoreset_mode=SAME_STEP`
+    (stable-baselines3's own convention) as a `stable_baselines3.common.vec_env.VecEnv`:
+    `step` returns (obs, rewards, dones, infos) with `infos[i]['terminal_observation']` and
+    `'TimeLimit.truncated'` as SB3 expects, and the step's info entries (discount,
+    physics_error, the task's) per environment. Seeds set with `seed()` apply at the next
+    `reset()`. `render()` tiles every environment's frame.
+    """
 
     def __init__(self, env: VectorEnvironment) -> None:
         """Serve `env`; raises TaskError unless its autoreset mode is SAME_STEP."""

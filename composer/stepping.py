@@ -1,39 +1,13 @@
 """A control step's rules, kept once for `composer.Environment` and `composer.VectorEnvironment`.
 
-    timing = resolve_timing(task, physics)               # per compile: substeps, seconds
-    limit = timing.step_limit(time_limit)                # control steps in an episode
-    actions = ActionRule(action_space)                   # per compile
-    action = actions.clipped(actions.shaped(action))     # float64, finite, within bounds
-    methods = TaskStep(task)                             # which form of each method runs
-    due = physics_steps(substeps, offsets, advance, sample)  # physics steps, sampling
-    ...                                                  # the after_step hooks
-    if due: sample(substeps)                             # the last step's samples
-    message = invalid_state(physics)                     # None, or why MuJoCo gave up
-    info = diverged(message, stacklevel=2)               # warns; the truncated step's info
+    timing = resolve_timing(task, physics)            # per compile: substeps, step limit
+    action = actions.clipped(actions.shaped(action))  # ActionRule: float64, finite, in bounds
 
-Timing: a task's control timestep is a whole number of physics steps (`substeps`, the one
-rule, which `Task.set_timesteps` checks too). An environment resolves it once per compile
-(`resolve_timing`): the task's control timestep over the compiled model's physics timestep
-(or dm_control's `n_sub_steps`), and the control timestep those steps make; everything that
-counts steps or seconds (the step limit, render fps, a VectorEnvironment) reads that.
-
-A control step, in either environment (each runs it for its environments):
-1. The action is checked (`ActionRule`): the wrong shape, values that are not real numbers
-   (strings, objects, complex numbers) or NaN/infinite raise EpisodeError before anything
-   changes; values outside the action space are clipped.
-2. The task's `before_step` applies it (its batched form over the environments, or its
-   single form per environment: `TaskStep`), then the entities' `before_step` hooks run.
-3. The physics steps (`physics_steps`): with substep hooks, one at a time between the
-   task's and entities' `before_substep` and everyone's `after_substep`; observables are
-   sampled after the physics steps their schedule asks for, but the last.
-4. The task's `after_step`, then the entities' `after_step` hooks; then the observables
-   due after the last physics step are sampled, so an observation agrees with what those
-   hooks changed (dm_control's order: a task whose `after_step` advances a goal shows the
-   new goal in the same step's observation).
-5. If MuJoCo reported an invalid state (`invalid_state`), the episode is truncated: reward
-   0, not terminated, `info['physics_error']`, a DivergenceWarning (`diverged`). Otherwise
-   the reward, termination, discount and info entries are read (`TaskStep.outcome`), and
-   the episode is truncated once its step count reaches `step_limit`.
+A control step: 1. the action is checked (`ActionRule`; EpisodeError before anything changes
+for a wrong shape or a value not real and finite; clipped to bounds); 2. the task's (`TaskStep`)
+and entities' `before_step`; 3. the physics steps, with substep hooks, sampling observables as
+due (`physics_steps`); 4. `after_step` hooks, then the last step's samples; 5. an invalid state
+truncates (reward 0, `info['physics_error']`: `diverged`), else `TaskStep.outcome` is read.
 """
 
 from __future__ import annotations
@@ -60,8 +34,9 @@ _TOLERANCE = 1e-6
 
 def substeps(control_timestep: Any, physics_timestep: Any, owner: str = "task") -> int:
     """The physics steps in a control step of `control_timestep` seconds, with physics steps
-    of `physics_timestep` seconds. Raises TaskError, naming `owner`, if either is not a
-    positive number or the control timestep is not a whole multiple of the physics one."""
+    of `physics_timestep` seconds: the one rule of timesteps, which `Task.set_timesteps`
+    checks too. Raises TaskError, naming `owner`, if either is not a positive number or the
+    control timestep is not a whole multiple of the physics one."""
     for label, value in (("control", control_timestep), ("physics", physics_timestep)):
         if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
             raise errors.TaskError(
@@ -90,7 +65,9 @@ def step_limit(
 
 class Timing(NamedTuple):
     """How a compiled task steps: `substeps` physics steps per control step, making
-    `control_timestep` seconds of the compiled model."""
+    `control_timestep` seconds of the compiled model. An environment resolves it once per
+    compile (`resolve_timing`); everything that counts steps or seconds (the step limit,
+    render fps, a VectorEnvironment) reads it."""
 
     substeps: int
     control_timestep: float
@@ -191,7 +168,9 @@ def physics_steps(
     run one at a time, `substep_hooks(True)` before each and `substep_hooks(False)` after
     it, sampling after every one but the last. Returns whether something is due after the
     last physics step: the caller samples it, `sample(substeps)`, once the `after_step`
-    hooks have run."""
+    hooks have run, so an observation agrees with what they changed (dm_control's order: a
+    task whose `after_step` advances a goal shows the new goal in the same step's
+    observation)."""
     last_due = len(offsets) > 0 and offsets[-1] == substeps
     if substep_hooks is not None:
         for offset in range(1, substeps + 1):

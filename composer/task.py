@@ -1,35 +1,13 @@
-"""Tasks: what the agent should do in a scene of entities.
+"""Tasks: what the agent should do in a scene of entities (`Task` shows a whole one).
 
-    class Reach(composer.Task):
-        def __init__(self):
-            self._arena = composer.Arena()
-            self._arm = Arm()
-            self._arena.attach(self._arm)
-            self.set_timesteps(control_timestep=0.02, physics_timestep=0.005)  # 4 substeps
+    task = composer.NullTask(arena)                    # zero reward, never terminates
+    env = composer.Environment(task, time_limit=10.0)
+    task.action_space(env.physics)                     # every actuator's control, bounded
 
-        @property
-        def root_entity(self):
-            return self._arena
-
-        def get_reward(self, physics):
-            return -float(np.linalg.norm(physics.bind(self._arm.tip).xpos))
-
-A task names the scene's root entity, its timesteps, its reward, when an episode ends, and
-extra `task_observables`. By default the action is every actuator's control, in model
-order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
-to `physics.data.ctrl`. A task may instead override dm_control's `action_spec(physics)`
-(starting from `super().action_spec(physics)` if it likes: the [dm] extra). The hooks are
-those of entities (see `composer.hooks` for the order); the task's `before_step` and
-`before_substep` also get the action.
-
-Each per-step method (`before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
-`get_discount`, `get_info`) can be written instead in batched form, once for one
-environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
-environments and returns (n,) rows; a single Environment runs it with a batch of one, a
-`VectorEnvironment` over all its environments at once (`composer.batch`). Task's own
-single forms run the batched ones with the batch of one of the `composer.Environment`
-stepping the task, when given its physics (with its random state and bound fields), else
-with a new batch of one around the physics given.
+Promises: the default action is every actuator's control in model order, bounded by its
+ctrlrange and written to `physics.data.ctrl`; a per-step method written once in batched
+form (`get_reward_batch` ...) gives one environment and many the same values
+(`composer.batch`). Timesteps that do not divide raise TaskError.
 """
 
 from __future__ import annotations
@@ -53,6 +31,34 @@ _DEFAULT_PHYSICS_TIMESTEP = float(mujoco.MjOption().timestep)
 
 class Task(hooks.EpisodeHooks):
     """The goal: root entity, timesteps, reward, termination, observables and hooks.
+
+        class Reach(composer.Task):
+            def __init__(self):
+                self._arena = composer.Arena()
+                self._arm = Arm()
+                self._arena.attach(self._arm)
+                self.set_timesteps(control_timestep=0.02, physics_timestep=0.005)  # 4 substeps
+
+            @property
+            def root_entity(self):
+                return self._arena
+
+            def get_reward(self, physics):
+                return -float(np.linalg.norm(physics.bind(self._arm.tip).xpos))
+
+    A task names the scene's root entity, its timesteps, its reward, when an episode ends, and
+    extra `task_observables`. By default the action is every actuator's control, in model
+    order, bounded by `ctrlrange` where the actuator is control-limited; `before_step` writes it
+    to `physics.data.ctrl`. A task may instead override dm_control's `action_spec(physics)`
+    (starting from `super().action_spec(physics)` if it likes: the [dm] extra). The hooks are
+    those of entities (see `composer.hooks` for the order); the task's `before_step` and
+    `before_substep` also get the action.
+
+    Each per-step method (`before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
+    `get_discount`, `get_info`) can be written instead in batched form, once for one
+    environment and many: `get_reward_batch(physics)` gets a `composer.BatchPhysics` of n
+    environments and returns (n,) rows; a single Environment runs it with a batch of one, a
+    `VectorEnvironment` over all its environments at once (`composer.batch`).
 
     `_served_batch` is the batch of one of the environment stepping the task, which that
     environment sets at each compile (`composer.Environment`); the single forms' defaults
@@ -192,7 +198,8 @@ class Task(hooks.EpisodeHooks):
 
     def _batch_of_one(self, physics: mjcf.Physics) -> BatchOfOne:
         """What the single forms' defaults run the batched forms with: the batch of one of
-        the environment stepping this task when `physics` is its physics, else a new one."""
+        the environment stepping this task (with its random state and bound fields) when
+        `physics` is its physics, else a new one around `physics`."""
         served = self._served_batch
         if served is not None and served.physics is physics:
             return served

@@ -4,11 +4,10 @@
     speed = Clipped('qvel', joints, -VELOCITY_LIMIT, VELOCITY_LIMIT)
     height = Clipped('xpos', torso, -POSITION_LIMIT, POSITION_LIMIT, index=slice(2, 3))
 
-Every feature here has finite bounds, and its value is clipped to them, so observations
-always lie in the observation space (Gymnasium's checker rejects infinite bounds). Each is
-written once, batched (`batch_reader`): it binds its elements once per compile and then
-reads every environment of a `composer.VectorEnvironment` at once, so tasks built on them
-need no per-environment observables; a single environment reads it with a batch of one.
+Every feature has finite bounds and is clipped to them, so observations lie in the
+observation space (Gymnasium's checker rejects infinite bounds). Each is written once,
+batched (`batch_reader`, bound once per compile): a `composer.VectorEnvironment` reads all
+its environments at once, with no per-environment observables; a single one, a batch of one.
 """
 
 from __future__ import annotations

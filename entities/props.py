@@ -4,12 +4,10 @@
     arena.attach(box)                                   # free=True: it carries a free joint
     box.set_pose(physics, position=[0.5, 0, 0.05])
     fixed = Cylinder(radius=0.1, half_length=0.3, free=False)   # welded where attached
-    mug = MeshProp('mug.stl', scale=0.001, mass=0.3)
 
-Every prop is one body `body` with one geom `geom`; with `free=True` (the default) the
-body has a free joint `free`, so `set_pose`, `set_velocity` and `PropPlacer` work on it
-after a plain `attach`. Observables: `position` and `orientation` of the body, and for a
-free prop `velocity` (free-joint velocity, 6 numbers).
+Every prop is one body `body` with one geom `geom`; a free prop's (the default) free joint
+`free` lets `set_pose`, `set_velocity` and `PropPlacer` move it after a plain `attach`.
+Observables (disabled): `position`, `orientation`, for a free prop `velocity` (6 numbers).
 """
 
 from __future__ import annotations

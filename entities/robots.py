@@ -1,25 +1,13 @@
 """Robots from real MJCF files: any file, MuJoCo Menagerie folders, an arm with a gripper.
 
     arm = robots.from_path('ur5e.xml')                              # a ModelEntity
-    arm = robots.from_menagerie('universal_robots_ur5e', root='~/mujoco_menagerie')
-    gripper = robots.from_menagerie('robotiq_2f85')                 # searched, see below
-    robot = robots.ArmWithGripper(arm, gripper, attach_site='attachment_site',
-                                  tcp_site='pinch')
+    gripper = robots.from_menagerie('robotiq_2f85')   # $MENAGERIE_ROOT, then the shipped ones
+    robot = robots.ArmWithGripper(arm, gripper, attach_site='attachment_site', tcp_site='pinch')
     arena.attach(robot, attach_site=table.mount)
-    physics.bind(robot.tcp).xpos                                    # tool centre point
-    robot = robots.ur5e_with_2f85()                                 # the pair above, shipped
+    physics.bind(robot.tcp).xpos             # tool centre point; ur5e_with_2f85(): shipped
 
-`from_menagerie` looks for the folder `<name>/` in, in order: the `root` given, the
-`MENAGERIE_ROOT` environment variable (a clone of MuJoCo Menagerie, for any of its robots),
-the robots shipped with this package (`entities.menagerie`: the UR5e and the Robotiq
-2F-85), and the `mujoco_menagerie` package's download cache when that package is installed
-(`download=True` lets it download). When none has it, `RobotNotFoundError` lists every
-place it looked. In a folder, the robot is the one XML file that is not a scene
-(`scene*.xml`) or an MJX variant (`mjx_*.xml`), else `model=`.
-
-Robot entities are `composer.ModelEntity`s: observables `joint_positions`,
-`joint_velocities`, `actuator_activations` and `sensors` of their own model (enabled), and
-their actuators are the action.
+Robots are `composer.ModelEntity`s: their actuators are the action; their observables
+`joint_positions`, `joint_velocities`, `actuator_activations` and `sensors` are enabled.
 """
 
 from __future__ import annotations
@@ -117,9 +105,16 @@ def from_menagerie(
     model: str | None = None,
     download: bool = False,
 ) -> composer.ModelEntity:
-    """The Menagerie robot `name` (a folder name, e.g. 'universal_robots_ur5e'), searched
-    as the module docstring says; `model` picks the XML file in its folder. Raises
-    RobotNotFoundError listing every place looked, RobotError for an ambiguous folder."""
+    """The Menagerie robot `name` (a folder name, e.g. 'universal_robots_ur5e').
+
+    The folder `<name>/` is looked for in, in order: `root`, the `MENAGERIE_ROOT`
+    environment variable (a clone of MuJoCo Menagerie, for any of its robots), the robots
+    shipped with this package (`entities.menagerie`: the UR5e and the Robotiq 2F-85), and
+    the `mujoco_menagerie` package's download cache when that package is installed
+    (`download=True` lets it download). In a folder, the robot is the one XML file that is
+    not a scene (`scene*.xml`) or an MJX variant (`mjx_*.xml`), else `model` names it.
+    Raises RobotNotFoundError listing every place looked, RobotError for an ambiguous folder.
+    """
     looked: list[str] = []
     for base in menagerie_roots(root):
         folder = base / name

@@ -1,38 +1,13 @@
-"""mjcf: a Python object model of MuJoCo's MJCF, with composition and simulation.
+"""mjcf: a Python object model of MuJoCo's MJCF, composed and simulated (docs/architecture.md).
 
-    import mjcf
     arm = mjcf.RootElement(model='arm')
-    upper = arm.worldbody.add('body', name='upper', pos=[0, 0, 1])
-    hinge = upper.add('joint', name='shoulder', type='hinge', axis=[0, 1, 0])
-    upper.add('geom', type='capsule', size=[0.05, 0.2])
-    arm.actuator.add('motor', joint=hinge, gear=[10])        # elements as references
+    hinge = arm.worldbody.add('body', name='upper').add('joint', name='shoulder')
+    scene = mjcf.from_path('scene.xml'); scene.worldbody.attach(arm)   # names: 'arm/...'
+    physics = mjcf.Physics.from_mjcf_model(scene)                     # MjModel + MjData
+    physics.bind(hinge).qpos = 0.3; physics.named.data.qpos['arm/shoulder']
 
-    scene = mjcf.from_path('scene.xml')                      # or from_xml_string
-    scene.worldbody.attach(arm)                              # names become 'arm/...'
-    physics = mjcf.Physics.from_mjcf_model(scene)            # MjModel + MjData
-    physics.bind(hinge).qpos = 0.3                           # live, per element
-    physics.named.data.qpos['arm/shoulder']                  # or by scoped name
-
-What it promises: every change is validated against the installed MuJoCo's schema
-when it is made, and a failed change leaves the model as it was; errors are
-`mjcf.Error` subclasses naming the element and attribute. A model written with
-`to_xml_string()` compiles in stock MuJoCo to the same model, unnamed elements named
-as dm_control names them ('//unnamed_geom_0', see `mjcf.compose.naming`). Attached models
-keep their own trees; composition happens when a model is written or compiled, but for the
-global settings (`<option>`, `<size>`, `<visual>` ...), which are merged when a model is
-attached and shared from then on, as in dm_control (see `mjcf.compose.global_settings`).
-
-No exception name shadows a Python builtin, so `from mjcf import *` is safe:
-`NameClashError`, `UnknownAttributeError` and `InvalidReferenceError` were called
-`NameError`, `AttributeError` and `ReferenceError` in the previous release; those old
-names still work (`mjcf.NameError`), with a DeprecationWarning, until the next release.
-
-How the package is built (docs/architecture.md): five layers, each a folder importing
-only the ones below it: `mjcf.schema` (what MJCF allows, what a value is), `mjcf.tree`
-(elements and models), `mjcf.compose` (attaching, defaults, settings, copies, names),
-`mjcf.io` (reading and writing MJCF text) and `mjcf.sim` (compiling, `Physics`,
-bindings). `mjcf.element`, `mjcf.physics`, `mjcf.parser`, `mjcf.traversal_utils` ...
-are dm_control's module paths, re-exporting these names.
+Every change is checked against MuJoCo's schema when made (an `mjcf.Error` naming element
+and attribute, the model unchanged); written models compile in stock MuJoCo to the same model.
 """
 
 # dm_control's module paths (`mjcf.traversal_utils.get_freejoint`, `mjcf.element`), and the
@@ -133,5 +108,6 @@ __all__ = [
 def __getattr__(name: str) -> type[Error]:
     """`mjcf.NameError`, `mjcf.AttributeError` and `mjcf.ReferenceError`, the previous
     release's names of `NameClashError`, `UnknownAttributeError` and
-    `InvalidReferenceError`, with a DeprecationWarning (see `mjcf.errors`)."""
+    `InvalidReferenceError`, with a DeprecationWarning, until the next release (see
+    `mjcf.errors`)."""
     return _deprecated_name(__name__, name)

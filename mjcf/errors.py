@@ -1,26 +1,13 @@
 """Exceptions raised by `mjcf`: one base class, `mjcf.Error`, and specific subclasses.
 
-Every message names where the problem is (the element path, the attribute, the file
-and line) and what was expected, so one line is enough to find and fix it::
+Every message names where the problem is (element path, attribute, file and line) and what
+was expected, so one line is enough to find and fix it:
 
     mjcf.AttributeValueError: <worldbody>/<body name="arm">/<geom name="tip">: 'size'
     takes 1 to 3 numbers, got 4: '1 2 3 4'
 
-Errors that users catch by their builtin meaning also subclass that builtin:
-`AttributeError` (so `getattr(element, 'x', None)` and `hasattr` behave), `ValueError`
-for bad values, `KeyError` for lookups by name. An unknown namespace in `find` /
-`find_all` is a `NamespaceError`: a `NotFoundError` (so a `KeyError`, as before) that is
-also the `ValueError` dm_control raises there.
-
-No name here is a Python builtin's, so `from mjcf import *` shadows none. The previous
-release called three of them after the builtin they subclass; those names still work,
-with a DeprecationWarning, until the next release, and are not in `__all__`:
-
-    mjcf.AttributeError  ->  mjcf.UnknownAttributeError   (an AttributeError)
-    mjcf.NameError       ->  mjcf.NameClashError          (a ValueError)
-    mjcf.ReferenceError  ->  mjcf.InvalidReferenceError   (a ValueError)
-
-`did_you_mean` gives every message its suggestion of the closest names.
+Errors caught by their builtin meaning also subclass that builtin (`AttributeError`,
+`ValueError`, `KeyError`); none is named after a builtin, so `from mjcf import *` is safe.
 """
 
 from __future__ import annotations
@@ -44,7 +31,8 @@ class SchemaError(Error, ValueError, AttributeError):
 
 
 class UnknownAttributeError(Error, AttributeError):
-    """An attribute that the element's MJCF schema does not have."""
+    """An attribute that the element's MJCF schema does not have; an `AttributeError`, so
+    that `getattr(element, 'x', None)` and `hasattr` behave."""
 
 
 class AttributeValueError(Error, ValueError):
@@ -137,6 +125,11 @@ class RenderError(Error):
 
 # -- the previous release's names ---------------------------------------------------------
 
+# The previous release called three exceptions after the builtin they subclass, which
+# `from mjcf import *` then shadowed; the old names still work, with a DeprecationWarning,
+# until the next release, and are not in `__all__` (mjcf.AttributeError is now
+# mjcf.UnknownAttributeError, an AttributeError; NameError NameClashError and ReferenceError
+# InvalidReferenceError, both ValueErrors).
 DEPRECATED_NAMES: dict[str, type[Error]] = {
     "AttributeError": UnknownAttributeError,
     "NameError": NameClashError,
@@ -165,6 +158,7 @@ def __getattr__(name: str) -> type[Error]:
 
 
 def did_you_mean(word: str, choices: Iterable[str], n: int = 3) -> str:
-    """ " (did you mean 'a', 'b'?)" for up to `n` of `choices` close to `word`, or ""."""
+    """ " (did you mean 'a', 'b'?)" for up to `n` of `choices` close to `word`, or "": every
+    message's suggestion of the closest names."""
     close = difflib.get_close_matches(word, list(choices), n=n, cutoff=0.6)
     return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""

@@ -4,12 +4,9 @@
     env = gym.make('composer/AntRun-v0', arena='terrain', terrain_seed=3)    # rough ground
     env = gym.make('composer/WalkerRun-v0', gaps=[(4.0, 0.4)], walls=False)
 
-AntRun observes `quadruped/joint_positions` (8), `joint_velocities` (8), `torso_height`
-(1), `torso_orientation` (4), `torso_upright` (1) and `torso_velocity` (6): 28 numbers;
-acts with 8 torques in [-1, 1]. WalkerRun observes `walker/joint_positions` (6),
-`joint_velocities` (9), `torso_height` (1), `torso_pitch` (2): 18 numbers; acts with 6
-torques in [-1, 1]. Episodes end when the robot falls, or at `time_limit` (20 s). Each
-step's `info['forward_velocity']` is the torso's velocity along +x (m/s).
+Each observes its robot's joints and torso (AntRun 28 numbers, WalkerRun 18: the classes
+list them) and acts with torques in [-1, 1]. Episodes end when the robot falls, or at
+`time_limit` (20 s); `info['forward_velocity']` is the torso's velocity along +x (m/s).
 """
 
 from __future__ import annotations
@@ -91,6 +88,10 @@ class _Run(composer.Task):
 class AntRun(_Run):
     """Run an ant-like quadruped forward.
 
+    Observations: `quadruped/joint_positions` (8), `joint_velocities` (8), `torso_height`
+    (1), `torso_orientation` (4), `torso_upright` (1) and `torso_velocity` (6): 28 numbers.
+    Action: 8 torques in [-1, 1].
+
     Reward per step: `v_x - control_cost * sum(u^2) + alive_bonus`, with v_x the torso's
     forward velocity in m/s (defaults: control_cost 0.05, alive_bonus 0.5). Terminates
     when the torso turns over (its z axis points down) or drops below `min_height` m (into
@@ -144,6 +145,9 @@ class AntRun(_Run):
 
 class WalkerRun(_Run):
     """Run a planar biped forward.
+
+    Observations: `walker/joint_positions` (6), `joint_velocities` (9), `torso_height` (1),
+    `torso_pitch` (2): 18 numbers. Action: 6 torques in [-1, 1].
 
     Reward per step: `v_x - control_cost * sum(u^2) + alive_bonus`, with v_x the torso's
     forward velocity in m/s (defaults: control_cost 0.001, alive_bonus 1.0). Terminates

@@ -3,16 +3,10 @@
     env = gym.make('composer/ArmPushBox-v0', flatten_observations=True)
     env = gym.make('composer/ArmPushBox-v0', menagerie_root='~/mujoco_menagerie')
 
-The robots are MuJoCo Menagerie's UR5e and Robotiq 2F-85, shipped with the package
-(`entities.menagerie`), so the task needs no download; `menagerie_root` names a Menagerie
-folder to take them from first (searched as `entities.robots.from_menagerie` says).
-
-Action (7 numbers in [-1, 1]): six changes of the arm's joint targets, each scaled by
-`max_joint_step` rad (targets stay within `TARGET_WINDOW` rad of the joint angles, so they
-cannot wind up; a zero action holds them), and the gripper command (-1 open, 1 closed).
-Observations: `arm_joint_positions` (6), `arm_joint_velocities` (6), `gripper_opening`
-(1), `tcp_position` (3), `box_position` (3), `tcp_to_box` (3), `box_to_target` (2): 24
-numbers.
+The robots are MuJoCo Menagerie's, shipped with the package (`entities.menagerie`), so the
+task needs no download; `menagerie_root` names a Menagerie folder to take them from first
+(searched as `entities.robots.from_menagerie` says). 24 observations, 7 actions in [-1, 1]
+(`ArmPushBox` lists them).
 """
 
 from __future__ import annotations
@@ -37,6 +31,13 @@ REGION = ((0.05, 0.25), (-0.2, 0.2))  # x and y ranges on the table for box and 
 
 class ArmPushBox(UnitActionTask):
     """Push a box into the target disc with a real arm and gripper.
+
+    Action (7 numbers in [-1, 1]): six changes of the arm's joint targets, each scaled by
+    `max_joint_step` rad (targets stay within `TARGET_WINDOW` rad of the joint angles, so
+    they cannot wind up; a zero action holds them), and the gripper command (-1 open, 1
+    closed). Observations: `arm_joint_positions` (6), `arm_joint_velocities` (6),
+    `gripper_opening` (1), `tcp_position` (3), `box_position` (3), `tcp_to_box` (3),
+    `box_to_target` (2): 24 numbers.
 
     Reward per step, in [0, 1]: with d_reach the tool-centre-point-to-box distance and
     d_push the box-to-target distance in the table plane (m),

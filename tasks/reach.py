@@ -5,13 +5,9 @@
     obs, reward, terminated, truncated, info = env.step(action)
     info['is_success']                           # fingertip within 2 cm of the target
 
-Observations (10 numbers): `arm/joint_angles` (cos, sin of both joints; 4),
-`arm/joint_velocities` (2), `target_position` (x, y; 2) and `to_target` (target minus
-fingertip, x, y; 2), the last two in units of the arm's reach R (0.24 m), so that the
-centimetres that matter are not lost in small inputs. Action: two joint-angle changes
-in [-1, 1], scaled by `max_joint_step` (0.2 rad) and added to the current angles as the
-joint servos' targets, so a zero action holds the arm still. Episodes last `time_limit`
-(3 s: 75 steps of 0.04 s) and never terminate; success is judged at every step.
+10 observations, 2 actions in [-1, 1] (`Reach` lists them); a zero action holds the arm
+still. Episodes last `time_limit` (3 s: 75 steps of 0.04 s) and never terminate; success
+is judged at every step.
 """
 
 from __future__ import annotations
@@ -30,6 +26,13 @@ from tasks.unit_action import UnitActionTask
 
 class Reach(UnitActionTask):
     """Bring the fingertip to a target drawn uniformly in the arm's reachable disc.
+
+    Observations (10 numbers): `arm/joint_angles` (cos, sin of both joints; 4),
+    `arm/joint_velocities` (2), `target_position` (x, y; 2) and `to_target` (target minus
+    fingertip, x, y; 2), the last two in units of the arm's reach R (0.24 m), so that the
+    centimetres that matter are not lost in small inputs. Action: two joint-angle changes
+    in [-1, 1], scaled by `max_joint_step` (0.2 rad) and added to the current angles as the
+    joint servos' targets, so a zero action holds the arm still.
 
     Reward per step, in [0, 1]: with d the fingertip-target distance (m) and R the
     arm's reach, `0.5 * (1 - d / (2 R)) + 0.5 * exp(-(d / success_distance)^2)

@@ -1,13 +1,10 @@
-"""Reward shaping for the shipped tasks: `tolerance` and `Tolerance`, dm_control's smooth
-1-inside, falling-outside bump (`composer.utils.rewards` owns them; re-exported here),
-`squared_norms`, sums of squares a batched reward takes as a single one does, and
-`row_means` and `row_norms`, numpy's `mean` and `linalg.norm` along each row to their bits.
+"""Reward shaping for the shipped tasks: dm_control's `tolerance` and `Tolerance`, a smooth
+bump that is 1 inside its bounds (`composer.utils.rewards` owns them; re-exported here),
+and per-row reductions a batched reward takes to the bit as a single one does.
 
-    tolerance(0.3, bounds=(0, 0.5))                      # 1.0: inside the bounds
     tolerance(x, margin=2.0)                             # 1 at 0, 0.1 at |x| = 2, gaussian
-    tolerance(u, margin=1.0, value_at_margin=0.0, sigmoid='quadratic')   # 0 at |u| >= 1
     small_control = Tolerance(margin=1.0, value_at_margin=0.0, sigmoid='quadratic')
-    small_control(u)                                     # the same, checked once
+    small_control(u)                                     # 0 at |u| >= 1; checked once
     squared_norms(controls)                              # (n,): np.dot(u, u) of each row
     row_means(values), row_norms(vectors)                # (n,): v.mean(), np.linalg.norm(v)
 """

@@ -1,15 +1,11 @@
-"""UnitActionTask: what the goal tasks (Reach, ArmPushBox) share: the arena at the root,
-observables of the task's own, all enabled, and an action of numbers in [-1, 1] that the
-task maps to its actuators itself.
+"""UnitActionTask: what the goal tasks (Reach, ArmPushBox) share: the arena at the root, the
+task's own observables, all enabled, and an action in [-1, 1] it maps to its actuators.
 
     class Reach(UnitActionTask):
-        action_size = 2                              # the action space: Box(-1, 1, (2,))
-
+        action_size = 2                                  # the action space: Box(-1, 1, (2,))
         def __init__(self):
-            self.arena = Floor()
-            ...
+            self.arena = Floor()                         # ... and the rest of the scene
             self.observe({'to_target': observation.BatchGeneric(...)})
-
         def before_step_batch(self, physics, actions):   # actions (n, 2), in [-1, 1]
             ...
 """

@@ -4,12 +4,8 @@ and stacker): a small floor between two walls at 45 degrees, seen from far away.
     arena = PlanarArena(contact_solref=(0.005, 1))
     arena.attach(Manipulator())          # entities.suite: the arm and its props
 
-The suite's files (`manipulator.xml`, `stacker.xml`): a 0.8 x 0.4 m checkered floor, two
-checkered walls leaning in at 45 degrees whose lower edges meet the floor's, a directional
-light from above, and the `fixed` camera, 16 m away with a 4 degree field of view, which
-sees the scene almost orthographically. The files' top-level defaults give the floor and
-walls the soft contacts the robot's geoms have (`contact_solref` differs between the
-domains); the arena sets them as its own defaults, which the robot's repeat.
+The numbers are the suite's files' (`manipulator.xml`, `stacker.xml`): `PlanarArena`
+lists them.
 """
 
 from __future__ import annotations
@@ -23,7 +19,16 @@ _WALL_SIZE = [0.4, 0.2, 10]
 
 
 class PlanarArena(SuiteArena):
-    """The planar manipulation domains' world (see the module docstring)."""
+    """The planar manipulation domains' world.
+
+    The suite's files (`manipulator.xml`, `stacker.xml`): a 0.8 x 0.4 m checkered floor, two
+    checkered walls leaning in at 45 degrees whose lower edges meet the floor's, a
+    directional light from above, and the `fixed` camera, 16 m away with a 4 degree field
+    of view, which sees the scene almost orthographically. The files' top-level defaults
+    give the floor and walls the soft contacts the robot's geoms have (`contact_solref`
+    differs between the domains); the arena sets them as its own defaults, which the
+    robot's repeat.
+    """
 
     def _build(  # type: ignore[override]
         self, name: str = "world", contact_solref: Sequence[float] = (0.005, 1)

@@ -4,17 +4,8 @@
     arena.attach(quadruped)                   # entities.suite.Quadruped
     arena.shape_bowl(physics, random_state)   # the escape task's terrain, each episode
 
-The suite's world (`SuiteArena`) as the quadruped's file changes it: the floor a square
-plane of half-size `floor_size`, its contacts as the file's top-level geom defaults make
-them (solimp 0.9 0.99 0.003, solref 0.01 1), a closer near clip plane (5 mm, far 20 m),
-rangefinder beams drawn yellow, the camera `global` looking down on the robot from 10 m
-away and a 201 x 201 heightfield asset of 60 m x 60 m x 5 m (always there, as in the
-file), with `terrain` the geom showing it, 1 cm under the floor.
-
-`shape_bowl` gives the heightfield the escape task's terrain, as dm_control draws it: a
-sinusoidal bowl (0 at the centre, 1 at the rim, flat within 4% of the radius) times
-bumps, one per 2 m square, uniform in [0.15, 1], smoothed with cubic splines
-(`arenas.suite.spline_zoom`, scipy's zoom).
+The suite's world (`SuiteArena`) as the quadruped's file changes it (`QuadrupedArena`
+lists how); `shape_bowl` draws the escape task's terrain as dm_control draws it.
 """
 
 from __future__ import annotations
@@ -34,7 +25,15 @@ BUMP_SCALE = 2.0
 
 
 class QuadrupedArena(SuiteArena):
-    """The quadruped domain's world (see the module docstring)."""
+    """The quadruped domain's world.
+
+    The suite's world (`SuiteArena`) as the quadruped's file changes it: the floor a square
+    plane of half-size `floor_size`, its contacts as the file's top-level geom defaults make
+    them (solimp 0.9 0.99 0.003, solref 0.01 1), a closer near clip plane (5 mm, far 20 m),
+    rangefinder beams drawn yellow, the camera `global` looking down on the robot from 10 m
+    away and a 201 x 201 heightfield asset of 60 m x 60 m x 5 m (always there, as in the
+    file), with `terrain` the geom showing it, 1 cm under the floor.
+    """
 
     def _build(  # type: ignore[override]
         self, name: str = "world", floor_size: float = 15.0, terrain: bool = False
@@ -60,10 +59,13 @@ class QuadrupedArena(SuiteArena):
                            xyaxes=[-1, -1, 0, 1, 0, 1], mode="trackcom")  # fmt: skip
 
     def shape_bowl(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Write a new escape terrain into `physics`' heightfield (module docstring): draws
-        (bumps per side)^2 uniforms from `random_state`. A renderer uploads a heightfield
-        when it is made, so the physics' renderers are closed: the next frame's shows the
-        new terrain (dm_control uploads it again to its render context)."""
+        """Write a new escape terrain into `physics`' heightfield, as dm_control draws it: a
+        sinusoidal bowl (0 at the centre, 1 at the rim, flat within 4% of the radius) times
+        bumps, one per 2 m square, uniform in [0.15, 1], smoothed with cubic splines
+        (`arenas.suite.spline_zoom`, scipy's zoom); draws (bumps per side)^2 uniforms from
+        `random_state`. A renderer uploads a heightfield when it is made, so the physics'
+        renderers are closed: the next frame's shows the new terrain (dm_control uploads it
+        again to its render context)."""
         field = physics.bind(self.heightfield)
         resolution = int(field.nrow)
         rows, columns = np.ogrid[-1 : 1 : resolution * 1j, -1 : 1 : resolution * 1j]

@@ -5,18 +5,7 @@ default (order 3, mode 'constant', grid_mode False), to the last bit, in numpy.
 
 The Control Suite's quadruped escape task smooths random bumps into terrain with scipy's
 zoom; this is the same computation without the dependency, in the same floating-point
-operations in the same order (tests/tasks/suite compares the two on random arrays):
-
-1. Prefilter each axis in turn (rows' axis first) into B-spline coefficients (Unser, Aldroubi
-   and Eden, 1991): scale by the filter's gain, run the causal recursion with the pole
-   z = sqrt(3) - 2 from an initial value summed over the whole line as if it were mirrored
-   about its ends, then the anticausal recursion from its mirrored initial value.
-2. Sample: output index k of an axis of n inputs and m outputs sits at k * (n - 1) / (m - 1)
-   in input coordinates (nothing beyond the last input: the output there is 0, the
-   constant mode's value); each output sums its 4 x 4 neighbouring coefficients (indices
-   mirrored about the array's ends) weighted by the cubic B-spline's weights of its
-   fractional position, row taps outer, column taps inner, each term (coefficient x row
-   weight) x column weight.
+operations in the same order (tests/tasks/suite compares the two on random arrays).
 """
 
 from __future__ import annotations
@@ -32,7 +21,20 @@ _POLE = -0.267949192431122706472553658494127633
 
 def spline_zoom(values: np.ndarray, zoom: float) -> np.ndarray:
     """`values` (rows, columns) zoomed by `zoom` on both axes with cubic splines: shape
-    (round(rows * zoom), round(columns * zoom)), float64 (see the module docstring)."""
+    (round(rows * zoom), round(columns * zoom)), float64, scipy's values to the last bit.
+
+    1. Prefilter each axis in turn (rows' axis first) into B-spline coefficients (Unser,
+       Aldroubi and Eden, 1991): scale by the filter's gain, run the causal recursion with
+       the pole z = sqrt(3) - 2 from an initial value summed over the whole line as if it
+       were mirrored about its ends, then the anticausal recursion from its mirrored
+       initial value.
+    2. Sample: output index k of an axis of n inputs and m outputs sits at
+       k * (n - 1) / (m - 1) in input coordinates (nothing beyond the last input: the
+       output there is 0, the constant mode's value); each output sums its 4 x 4
+       neighbouring coefficients (indices mirrored about the array's ends) weighted by the
+       cubic B-spline's weights of its fractional position, row taps outer, column taps
+       inner, each term (coefficient x row weight) x column weight.
+    """
     values = np.asarray(values, dtype=np.float64)
     out_shape = tuple(round(size * zoom) for size in values.shape)
     coefficients = _prefilter(_prefilter(values, axis=0), axis=1)

@@ -4,14 +4,9 @@
     arena.add_light(name="light", pos=(0, 0, 6))
     arena.attach(robot)                  # entities.suite: each domain's robot
 
-Every domain of dm_control's suite includes the same three files: a gradient skybox with
-random white marks, the visual settings (headlight, near clip plane, shadow map size) and
-the materials; the checkered `grid` texture and material of the last are the world's, the
-robot's materials travel with the robot (`entities.suite.materials`). The floor is a plane
-of the domain's name (`floor`, or `ground` as some files say), size and place, with the
-attributes the domain's top-level defaults give it (`floor_attributes`: finger's solref
-...). The arena sets no physics option: those are the robot's (its model's `<option>`),
-so the composed model compiles to what the domain's own file compiles to.
+What every domain's file includes, as the suite writes it (`SuiteArena` lists it). The
+arena sets no physics option: those are the robot's (its model's `<option>`), so the
+composed model compiles to what the domain's own file compiles to.
 """
 
 from __future__ import annotations
@@ -23,7 +18,16 @@ import mjcf
 
 
 class SuiteArena(composer.Arena):
-    """A suite domain's world (see the module docstring)."""
+    """A suite domain's world.
+
+    Every domain of dm_control's suite includes the same three files: a gradient skybox
+    with random white marks, the visual settings (headlight, near clip plane, shadow map
+    size) and the materials; the checkered `grid` texture and material of the last are the
+    world's, the robot's materials travel with the robot (`entities.suite.materials`). The
+    floor is a plane of the domain's name (`floor`, or `ground` as some files say), size and
+    place, with the attributes the domain's top-level defaults give it (`floor_attributes`:
+    finger's solref ...).
+    """
 
     def _build(  # type: ignore[override]
         self,

@@ -5,38 +5,9 @@
             hinge = physics.bind(self.pendulum.hinge)        # bound once, cached
             return -np.abs(hinge.qpos[:, 0])                 # (n,): a row per environment
 
-A task writes each per-step method once, in one of two forms:
-- the single-environment form, as in dm_control: `get_reward(physics)` gets the
-  environment's `mjcf.Physics` and returns a float. Simplest; a `VectorEnvironment` runs it
-  once per environment, on that environment's materialized MjData (correct, but slower).
-- the batched form: `get_reward_batch(physics)` gets a `BatchPhysics` over n environments
-  and returns one row per environment. A `VectorEnvironment` runs it once for all of them;
-  a single `composer.Environment` runs the same method with a batch of one
-  (`composer.BatchOfOne`, n = 1). One formula, so one environment and many compute the
-  same values to the last bit.
-
-The methods are `before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
-`get_discount` and `get_info` (`BATCHABLE`; signatures in `BatchedTask`). `Task` defines
-both forms of each: its defaults are batched (write the actions to every actuator's
-`ctrl`, no termination, discount 1, no info entries, nothing after the step), and its
-single forms run the batched ones with a batch of one, so `task.get_reward(physics)` works
-whichever form a task wrote.
-
-Which form runs (`batched_method`): the batched one when it is defined on the same class as
-the single one or on a subclass of it. So a subclass that overrides only `get_reward`
-gets its own `get_reward`, not an inherited, stale `get_reward_batch`; a class defining both
-runs the batched one everywhere (its single form is then what direct calls get).
-
-A BatchPhysics is what batched methods see: `bind(elements)` gives the elements' fields
-with a leading environment axis (a hinge's `qpos` is (n, 1), a motor's `ctrl` (n,));
-reads are copies; state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied ...) can be
-assigned; `field(name)` reads a whole MjData field; `ids`, `tasks` and `random_states`
-say whose rows they are. Elements are bound on one model (the first environment's; all
-share its layout). Per-episode state a task keeps on `self` is per environment: read it
-from `physics.tasks`, or better, keep it in the simulation (a mocap body, a site). What
-MuJoCo's batch cannot give (arena arrays such as efc_*, fields MuJoCo computes only for
-sensors, assigning a derived or MjModel field) raises BatchError in a batch of one too, so
-a task that runs alone runs vectorized.
+Promises: one formula, so one environment (a batch of one) and many compute the same values
+to the last bit (`BatchedTask`); which form runs is `batched_method`'s rule; what MuJoCo's
+batch cannot give raises BatchError in a batch of one too (`BatchPhysics`).
 """
 
 from __future__ import annotations
@@ -69,9 +40,20 @@ BATCHABLE = (
 
 
 class BatchPhysics(abc.ABC):
-    """The simulations of n environments as (n, ...) numpy arrays: what batched methods get
-    (see the module docstring). `composer.vector`'s serves a VectorEnvironment;
-    `composer.BatchOfOne` serves one environment."""
+    """The simulations of n environments as (n, ...) numpy arrays: what batched methods get.
+    `composer.vector`'s serves a VectorEnvironment; `composer.BatchOfOne` serves one
+    environment.
+
+    `bind(elements)` gives the elements' fields with a leading environment axis (a hinge's
+    `qpos` is (n, 1), a motor's `ctrl` (n,)); reads are copies; state fields (qpos, qvel, act,
+    ctrl, mocap_pos, qfrc_applied ...) can be assigned; `field(name)` reads a whole MjData
+    field; `ids`, `tasks` and `random_states` say whose rows they are. Elements are bound on one
+    model (the first environment's; all share its layout). Per-episode state a task keeps on
+    `self` is per environment: read it from `physics.tasks`, or better, keep it in the
+    simulation (a mocap body, a site). What MuJoCo's batch cannot give (arena arrays such as
+    efc_*, fields MuJoCo computes only for sensors, assigning a derived or MjModel field) raises
+    BatchError in a batch of one too, so a task that runs alone runs vectorized.
+    """
 
     @property
     @abc.abstractmethod
@@ -111,8 +93,26 @@ class BatchPhysics(abc.ABC):
 
 
 class BatchedTask(Protocol):
-    """The batched forms of a Task's per-step methods (see the module docstring). Each gets
-    a BatchPhysics over the environments of the call."""
+    """The batched forms of a Task's per-step methods. Each gets a BatchPhysics over the
+    environments of the call.
+
+    A task writes each per-step method once, in one of two forms:
+    - the single-environment form, as in dm_control: `get_reward(physics)` gets the
+      environment's `mjcf.Physics` and returns a float. Simplest; a `VectorEnvironment` runs it
+      once per environment, on that environment's materialized MjData (correct, but slower).
+    - the batched form: `get_reward_batch(physics)` gets a `BatchPhysics` over n environments
+      and returns one row per environment. A `VectorEnvironment` runs it once for all of them;
+      a single `composer.Environment` runs the same method with a batch of one
+      (`composer.BatchOfOne`, n = 1). One formula, so one environment and many compute the
+      same values to the last bit.
+
+    The methods are `before_step`, `after_step`, `get_reward`, `should_terminate_episode`,
+    `get_discount` and `get_info` (`BATCHABLE`; signatures below). `Task` defines
+    both forms of each: its defaults are batched (write the actions to every actuator's
+    `ctrl`, no termination, discount 1, no info entries, nothing after the step), and its
+    single forms run the batched ones with a batch of one, so `task.get_reward(physics)` works
+    whichever form a task wrote.
+    """
 
     def before_step_batch(self, physics: BatchPhysics, actions: np.ndarray) -> None:
         """Apply `actions`, (n, action size) float64, already clipped to the action space."""
@@ -155,8 +155,14 @@ def prefers_batched(cls: type, single: str, batched: str) -> bool:
 
 
 def batched_method(task: Any, name: str) -> Callable[..., Any] | None:
-    """`task`'s bound `<name>_batch` when it is the form of per-step method `name` that runs
-    (see the module docstring), else None: the single-environment form runs."""
+    """`task`'s bound `<name>_batch` when it is the form of per-step method `name` that runs,
+    else None: the single-environment form runs.
+
+    The batched form runs when it is defined on the same class as the single one or on a
+    subclass of it. So a subclass that overrides only `get_reward` gets its own
+    `get_reward`, not an inherited, stale `get_reward_batch`; a class defining both runs the
+    batched one everywhere (its single form is then what direct calls get).
+    """
     if prefers_batched(type(task), name, f"{name}_batch"):
         return getattr(task, f"{name}_batch")
     return None

@@ -6,20 +6,8 @@
     view.bind(motor).ctrl = [[0.5]]                  # writes through physics.bind(motor)
     task.get_reward_batch(view)[0]                   # the reward of this one environment
 
-A single `composer.Environment` runs a task's batched methods (`composer.batch`) with
-its view (made at each compile, with its task and random state; the task's own single
-forms run their batched forms with it too), so one environment computes what a
-`VectorEnvironment` computes for each of its environments, bit for bit. It reads and
-writes through the physics' own bindings (cached, fresh as `mjcf.sim.binding` promises), adding
-the leading axis of one row: reads are new arrays (state fields as mjtNum, as MuJoCo's batch
-holds them), writes take (1, ...) rows or anything that broadcasts to them.
-
-A strict view (the default) gives exactly what MuJoCo's batch gives a `VectorEnvironment`
-(`composer.protocol.check_source`): the same fields readable, the same state fields
-writable, the same BatchErrors otherwise, so a batched method that runs here runs
-vectorized. Observables are read through a permissive one (`strict=False`, every field
-`mjcf.Physics` reads), since a VectorEnvironment reads the ones its batch cannot serve per
-environment, through that same single-environment reader.
+Promise: one environment computes what a `VectorEnvironment` computes for each of its own,
+bit for bit; a strict view (the default) raises the BatchErrors MuJoCo's batch would.
 """
 
 from __future__ import annotations
@@ -60,7 +48,7 @@ class _Field:
 
 
 class _Binding(protocol.Binding):
-    """Fields of bound elements with a leading axis of one row (see the module docstring)."""
+    """Fields of bound elements with a leading axis of one row (see `BatchOfOne`)."""
 
     __slots__ = ("_binding", "_fields", "_reads", "_strict")
 
@@ -137,8 +125,23 @@ class _Binding(protocol.Binding):
 
 
 class BatchOfOne(protocol.BatchPhysics):
-    """One environment's simulation as a `composer.BatchPhysics` of one row (see the
-    module docstring)."""
+    """One environment's simulation as a `composer.BatchPhysics` of one row.
+
+    A single `composer.Environment` runs a task's batched methods (`composer.batch`) with
+    its view (made at each compile, with its task and random state; the task's own single
+    forms run their batched forms with it too), so one environment computes what a
+    `VectorEnvironment` computes for each of its environments, bit for bit. It reads and
+    writes through the physics' own bindings (cached, fresh as `mjcf.sim.binding` promises), adding
+    the leading axis of one row: reads are new arrays (state fields as mjtNum, as MuJoCo's batch
+    holds them), writes take (1, ...) rows or anything that broadcasts to them.
+
+    A strict view (the default) gives exactly what MuJoCo's batch gives a `VectorEnvironment`
+    (`composer.protocol.check_source`): the same fields readable, the same state fields
+    writable, the same BatchErrors otherwise, so a batched method that runs here runs
+    vectorized. Observables are read through a permissive one (`strict=False`, every field
+    `mjcf.Physics` reads), since a VectorEnvironment reads the ones its batch cannot serve per
+    environment, through that same single-environment reader.
+    """
 
     num_envs = 1
 
@@ -150,7 +153,7 @@ class BatchOfOne(protocol.BatchPhysics):
         strict: bool = True,
     ) -> None:
         """Serve `physics`; `task` and `random_state()` (a function returning the current
-        RandomState) are what `tasks` and `random_states` give. `strict` (see the module
+        RandomState) are what `tasks` and `random_states` give. `strict` (see the class
         docstring): only what MuJoCo's batch gives."""
         self._physics = physics
         self._task = task

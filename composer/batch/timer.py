@@ -1,16 +1,9 @@
-"""MuJoCo's profiling timer, left out of the physics a VectorEnvironment's batch computes.
+"""untimed: a call into MuJoCo without the Python bindings' profiling timer.
 
     untimed(batch.step, None, nstep, stage)   # batch.step(...), MuJoCo's timer unset
 
-mujoco's Python bindings install a C timer callback (`mjcb_time`, the clock behind
-`MjData.timer`'s durations), which MuJoCo calls around every section of a step: about 2
-microseconds of every `mj_step` of a small model, 40% of cartpole's (RK4: five passes a
-step), 10% of cheetah's. MuJoCo's own default, as a C program such as envpool's has it, is
-none. `untimed` unsets it for the duration of one call: every number the physics computes
-is the same (the timer only measures), the timer counts (`MjData.timer[...].number`) still
-count, their durations stay 0. Any other timer callback (a C function installed through
-ctypes: a batch refuses Python ones) is left in place, and so is the bindings' one where
-MuJoCo's library is not found.
+The physics computes the same numbers (the timer only measures `MjData.timer`'s
+durations), faster: `untimed` says what it changes and what it leaves alone.
 """
 
 from __future__ import annotations
@@ -44,7 +37,15 @@ _BINDINGS = _MJCB_TIME.value if _MJCB_TIME is not None and mujoco.get_mjcb_time(
 
 
 def untimed(call: Callable[..., T], *arguments: Any) -> T:
-    """`call(*arguments)` with the bindings' timer callback unset, restored after it."""
+    """`call(*arguments)` with the bindings' timer callback unset, restored after it.
+
+    mujoco's Python bindings install a C timer callback (`mjcb_time`, the clock behind
+    `MjData.timer`'s durations) that MuJoCo calls around every section of a step, a
+    sizeable part of a small model's step (docs/performance_profile.md, section 8); C
+    MuJoCo's own default, as envpool's C++ has it, is none. Inside the call the timer
+    counts (`MjData.timer[...].number`) still count and their durations stay 0. Any other
+    timer callback (a C function installed through ctypes: MuJoCo's batch refuses Python
+    ones) is left in place, as is the bindings' one where MuJoCo's library is not found."""
     callback = _MJCB_TIME
     if _BINDINGS is None or callback is None or callback.value != _BINDINGS:
         return call(*arguments)

@@ -1,28 +1,13 @@
-"""VectorPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays.
+"""VectorPhysics: the simulations of a VectorEnvironment as (n, ...) numpy arrays, the
+`composer.BatchPhysics` it passes to batched methods (the contract is `composer.batch`'s).
 
     def get_reward_batch(self, physics):                 # a Task's batched method
-        hinge = physics.bind(self.pendulum.hinge)        # bound once, cached
-        return -np.abs(hinge.qpos[:, 0])                 # (n,): one row per environment
+        return -np.abs(physics.bind(self.pendulum.hinge).qpos[:, 0])   # (n,): a row each
     physics.bind(self.arm.actuators).ctrl = u            # writes state fields, (n, nu)
     physics.field('time')                                # a whole MjData field, (n,)
-    physics.ids, physics.tasks, physics.random_states    # who the n rows are
 
-The `composer.BatchPhysics` a VectorEnvironment passes to batched methods (the contract is
-`composer.batch`'s). Each covers a fixed set of environments (`ids`, ascending):
-`Simulations.physics(ids)` gives the one of the environments of a call, and
-`Simulations.physics()` the one of every environment, kept with its bindings; all share
-the `Simulations`, which knows what of the batch is fresh.
-`bind(elements)` takes elements of the first environment's model, as `mjcf.Physics.bind`
-does, and gives their fields with a leading environment axis: `bind(joint).qpos` is (n, 1)
-for a hinge. Reads are copies. MjData fields come from MuJoCo's batch
-(`mujoco.batch.Batch.bind`): state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied
-...) are the simulations' state and can be assigned; derived fields (xpos, sensordata ...)
-are read-only and describe the current state, as `mjcf.Physics` bindings' do: positions and
-velocities are computed after each step, and acceleration-dependent fields (qacc, touch
-sensors ...), or anything after a write of state, are recomputed for the environments read
-(`Batch.forward`) when first read. Fields MuJoCo computes only for sensors (cfrc_ext,
-subtree_linvel ...) are read per environment. MjModel fields (mass, geom_size ...) are
-read from each environment's own model, one at a time.
+Promise: derived fields (xpos, sensordata ...) describe the current state, as
+`mjcf.Physics` bindings' do; reads are copies (`VectorPhysics` says what is read how).
 """
 
 from __future__ import annotations
@@ -301,8 +286,23 @@ class Simulations:
 
 
 class VectorPhysics(protocol.BatchPhysics):
-    """Numpy access to the simulations of some environments of a VectorEnvironment (see
-    the module docstring); made by `Simulations.physics`."""
+    """Numpy access to the simulations of some environments of a VectorEnvironment; made by
+    `Simulations.physics`. Each covers a fixed set of environments (`ids`, ascending):
+    `Simulations.physics(ids)` gives the one of the environments of a call, and
+    `Simulations.physics()` the one of every environment, kept with its bindings; all share
+    the `Simulations`, which knows what of the batch is fresh.
+    `bind(elements)` takes elements of the first environment's model, as `mjcf.Physics.bind`
+    does, and gives their fields with a leading environment axis: `bind(joint).qpos` is (n, 1)
+    for a hinge. Reads are copies. MjData fields come from MuJoCo's batch
+    (`mujoco.batch.Batch.bind`): state fields (qpos, qvel, act, ctrl, mocap_pos, qfrc_applied
+    ...) are the simulations' state and can be assigned; derived fields (xpos, sensordata ...)
+    are read-only and describe the current state, as `mjcf.Physics` bindings' do: positions and
+    velocities are computed after each step, and acceleration-dependent fields (qacc, touch
+    sensors ...), or anything after a write of state, are recomputed for the environments read
+    (`Batch.forward`) when first read. Fields MuJoCo computes only for sensors (cfrc_ext,
+    subtree_linvel ...) are read per environment. MjModel fields (mass, geom_size ...) are
+    read from each environment's own model, one at a time.
+    """
 
     def __init__(self, simulations: Simulations, ids: np.ndarray | None) -> None:
         """Cover environments `ids` (ascending; None: every one) of `simulations`."""

@@ -4,15 +4,9 @@
     info = catalog.find('reach')             # by name, any case, or by id 'composer/Reach-v0'
     env = catalog.make(info, render_mode='rgb_array')   # observations flattened by default
     info = catalog.with_pixels(info)         # `--pixels`: observed through its camera
+    catalog.import_modules(['mypkg.tasks'])  # a user's own, from the current folder first
 
-`find` raises UnknownTaskError with a did-you-mean and the known names. Extra modules that
-register tasks (a user's own) are imported with `catalog.import_modules(['mypkg.tasks'])`,
-from the current folder first, as `python -m` finds them.
-
-`--pixels` (of `train`, `run` and `eval`) observes a task through its camera, as its pixel
-recipes were measured: `with_pixels(info)` is the task as
-`gym.make(id, pixels=True, width=64, height=64, frame_stack=3)` makes it (PIXELS; see
-`composer.pixels`), named NAME-pixels (its runs' default folder: runs/NAME-pixels-ALGO).
+`find` raises UnknownTaskError with a did-you-mean and the known names.
 """
 
 from __future__ import annotations
@@ -36,6 +30,8 @@ SHIPPED = "tasks"
 SHADOW_SIZE = 1024
 # `--pixels`: 64x64 frames of the task's camera (small enough for a CNN on a CPU), the latest
 # three stacked so a policy sees motion.
+# `--pixels` (of `train`, `run` and `eval`): the task observed through its camera as its
+# pixel recipes were measured, as `gym.make(id, **PIXELS)` makes it (`composer.pixels`).
 PIXELS = {"pixels": True, "width": 64, "height": 64, "frame_stack": 3}
 PIXELS_SUFFIX = "-pixels"
 
@@ -95,7 +91,7 @@ def find(name: str) -> registration.TaskInfo:
 
 def with_pixels(info: registration.TaskInfo) -> registration.TaskInfo:
     """`info`'s task observed through its camera as `--pixels` says (PIXELS over its
-    defaults), named NAME-pixels."""
+    defaults), named NAME-pixels (its runs' default folder: runs/NAME-pixels-ALGO)."""
     if observes_pixels(info):
         return info
     return dataclasses.replace(

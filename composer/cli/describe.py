@@ -7,12 +7,6 @@ duration and a count.
     describe.evaluation(result)      # '   200,000 steps  1m32s  return 44.38 ± 14.73  success 0.50'
     describe.duration(92)            # '1m32s'
     describe.count(16, 'environment')   # '16 environments'
-
-A summary (`rollout.summary`) and an evaluation (a summary with the timesteps and wall time
-it was taken at) hold the same measures: the mean and spread of the returns, then the
-success rate and the forward speed of the tasks that report them (None for the others).
-`summary` writes them in full; `evaluation` writes them as short columns, for a line under
-the progress bar of `composer train` that fits an 80-column terminal.
 """
 
 from __future__ import annotations
@@ -41,7 +35,9 @@ def episode(episode: Episode) -> str:
 
 def summary(stats: dict[str, Any], compact: bool = False) -> str:
     """'return 12.30 ± 4.50 over 10 episodes, success rate 0.90, forward speed 1.20 m/s';
-    `compact`: 'return 12.30 ± 4.50  success 0.90  1.20 m/s' (no episode count)."""
+    `compact`: 'return 12.30 ± 4.50  success 0.90  1.20 m/s' (no episode count). `stats`
+    (`rollout.summary`) holds the mean and spread of the returns, then the success rate and
+    the forward speed of the tasks that report them (None for the others)."""
     text = f"return {stats['mean_return']:.2f} ± {stats['std_return']:.2f}"
     if not compact:
         text += f" over {count(stats['episodes'], 'episode')}"
@@ -53,7 +49,8 @@ def summary(stats: dict[str, Any], compact: bool = False) -> str:
 
 def evaluation(result: dict[str, Any]) -> str:
     """An evaluation during training (a summary with 'timesteps' and 'wall_time'):
-    '   200,000 steps  1m32s  return 44.38 ± 14.73  success 0.50'."""
+    '   200,000 steps  1m32s  return 44.38 ± 14.73  success 0.50', in short columns, for a
+    line under the progress bar of `composer train` that fits an 80-column terminal."""
     when = f"{result['timesteps']:>10,} steps {duration(result['wall_time']):>6}"
     return f"{when}  {summary(result, compact=True)}"
 

@@ -5,10 +5,8 @@
     CartpoleSwingup  composer/CartpoleSwingup-v0    5    1  Swing a hanging pole up and ...
     Reach            composer/Reach-v0             10    2  Move a planar 2-link arm's ...
 
-composer's own tasks come first, then the Control Suite's (`dm_control/DOMAIN-TASK-v0`),
-a group per domain. Each task is built once to read its sizes; a task that cannot be built
-(say, a robot whose model files are not installed) is listed with the reason instead of
-sizes.
+composer's own tasks come first, then the Control Suite's (`dm_control/DOMAIN-TASK-v0`), a
+group per domain; a task that cannot be built is listed with the reason instead of sizes.
 """
 
 from __future__ import annotations
@@ -23,7 +21,9 @@ from composer.cli import catalog
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the table of tasks; returns the exit status."""
+    """Print the table of tasks; returns the exit status. Each task is built once to read
+    its sizes; one that cannot be built (say, a robot whose model files are not installed)
+    is listed with the reason instead of sizes."""
     rows: list[tuple[str, ...]] = []
     known = catalog.tasks()
     registered = {env_id: i for i, env_id in enumerate(registration.registered())}

@@ -3,21 +3,11 @@
     composer list                              # tasks with observation/action sizes
     composer show Reach --out reach.png        # the scene, and a rendered frame
     composer run Reach --episodes 3 --video reach.mp4
-    composer view AntRun                       # MuJoCo's interactive viewer
     composer train                             # the default task with its tuned recipe
     composer eval Reach runs/Reach-ppo
 
-Each command is a module (`composer.cli.listing`, `show`, `run`, `view`, `train`,
-`evaluate`) with a `run(args) -> exit status` (`args.info`: the TaskInfo of `args.task`,
-found first), imported only when chosen: `list`, `show`, `run` and `view` never import
-stable-baselines3, torch or Ray unless given a trained policy. The training engines
-(`composer.cli.engines`) give `composer train` their options and `--engine` its choices.
-
-Options are matched exactly (argparse's abbreviations are off: `--time` is not
-`--timesteps`). A usage mistake (an unknown option, with the closest known one suggested; a
-bad value) and every `composer.Error` (an unknown task, a missing optional dependency, an
-unwritable output) are printed as one line on stderr with exit status 2; Ctrl-C exits with
-130. Rendering needs no MUJOCO_GL: `mjcf.sim.rendering` chooses a backend that works here.
+Promises: options match exactly (`--time` is not `--timesteps`); a usage mistake or a
+`composer.Error` prints one line on stderr and exits with status 2; Ctrl-C exits with 130.
 """
 
 from __future__ import annotations
@@ -35,7 +25,11 @@ from composer.cli.arguments import Parser, UsageError, byte_size, did_you_mean, 
 
 INTERRUPTED = 130
 USAGE_ERROR = 2
-# Each command's module, imported when the command is chosen.
+# Each command's module, imported when the command is chosen, with a `run(args) -> exit
+# status` (`args.info`: the TaskInfo of `args.task`, found first): so `list`, `show`, `run`
+# and `view` never import stable-baselines3, torch or Ray unless given a trained policy. The
+# training engines (`composer.cli.engines`) give `train` their options and `--engine` its
+# choices.
 COMMANDS = {
     "list": "composer.cli.listing",
     "show": "composer.cli.show",

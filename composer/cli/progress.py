@@ -8,19 +8,6 @@ counted, on a terminal only.
         ...
     progress.say(bar, "   24,576 steps  12s  return 41.02")  # a line above the bar
     bar.close()
-    24,576/100,352 steps  24% |████▉               | 00:12<03:47, 341 steps/s
-
-The time left (`Estimate`) is the steps left at the speed training has run in this session,
-the time spent evaluating taken out, plus the evaluations still due at the time the last
-one took; until one has been timed it says how many are to come ('02:40 + 8 evaluations').
-The speed is that of training alone, so an evaluation neither stalls it nor makes it jump.
-The final evaluation after training, the random policy's episodes and the video come after
-the bar (the announcement says so).
-
-The total is where the run will end (`composer.cli.engines.base.Collection.end`): an
-algorithm that collects whole rollouts ends past `--timesteps`, and the bar says so from
-its first line. Should the steps pass the total all the same, the total grows to them, so
-the bar ends full, at the true count ("102,400/102,400", never "102,400/99,280").
 """
 
 from __future__ import annotations
@@ -37,7 +24,15 @@ FORMAT = "{n:,}/{total:,} steps {percentage:3.0f}% |{bar}| {elapsed}<{left}, {sp
 
 
 class Estimate:
-    """How long a run has left (see the module docstring), from the durations it is told."""
+    """How long a run has left, from the durations it is told.
+
+    The time left is the steps left at the speed training has run in this session,
+    the time spent evaluating taken out, plus the evaluations still due at the time the last
+    one took; until one has been timed it says how many are to come ('02:40 + 8 evaluations').
+    The speed is that of training alone, so an evaluation neither stalls it nor makes it jump.
+    The final evaluation after training, the random policy's episodes and the video come after
+    the bar (the announcement says so).
+    """
 
     def __init__(self, total: int, done: int, evaluations: int) -> None:
         """A run at `done` of `total` steps with `evaluations` still due before its end."""
@@ -110,7 +105,15 @@ class _Meter(tqdm):
 
 
 class Bar:
-    """A tqdm bar of the run's steps (see the module docstring)."""
+    """A tqdm bar of the run's steps:
+
+        24,576/100,352 steps  24% |████▉               | 00:12<03:47, 341 steps/s
+
+    The total is where the run will end (`composer.cli.engines.base.Collection.end`): an
+    algorithm that collects whole rollouts ends past `--timesteps`, and the bar says so from
+    its first line. Should the steps pass the total all the same, the total grows to them, so
+    the bar ends full, at the true count ("102,400/102,400", never "102,400/99,280").
+    """
 
     def __init__(
         self,

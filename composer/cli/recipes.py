@@ -1,40 +1,13 @@
 """Training recipes: how `composer train` trains a task with no flags. Each task's recipes
-live with the task, registered for its class; the CLI finds them through the task's
-registration.
+live with the task, registered for its class (`register`: its first recipe the default).
 
     from composer.cli.recipes import Recipe, register
     register(MyTask, Recipe('ppo', timesteps=200_000, n_envs=8, net=(64, 64),
                             learning_rate=3e-4, batch_size=256, normalize=True))
-
-    recipe = recipes.for_task(info)                   # the task's default (its first recipe)
-    recipe = recipes.for_task(info, 'sac')            # that algorithm's, or its generic one
-    recipe = recipes.for_task(info, 'ppo', engine='ray')   # with what that engine changes
-    recipe = recipe.replace(timesteps=2048, n_envs=2) # command-line overrides
+    recipe = recipes.for_task(info, 'sac', engine='ray')   # else the generic one (GENERIC)
     recipe = recipes.for_task(catalog.with_pixels(info))   # its pixel recipe (`--pixels`)
 
-`register(task, *recipes)` gives the task class (or factory) that a registered id names
-its recipes, the first its default; call it where the task is registered: the shipped
-tasks' are in `tasks/recipes.py`, and a module given to `composer --import` registers its
-own tasks' the same way. Registering a task again replaces its recipes. A task without a
-recipe for an algorithm trains with the algorithm's GENERIC one.
-
-A task observed through its camera (`composer train TASK --pixels`, or an id registered
-with `pixels=True`: see `catalog.observes_pixels`) trains with its pixel recipes
-(`pixels=True`), the first of them its default, else GENERIC_PIXELS. A pixel recipe's
-network is a small convolutional encoder (`conv`: (channels, kernel, stride) per layer,
-ReLU after each, then a linear layer of `features` units; `composer.cli.engines.sb3.encoder`)
-under the `net` heads; frames are scaled to [0, 1] by the policy, so a pixel recipe's
-`normalize` scales rewards only, and its environments are stepped one by one ('dummy' or
-'subproc': the batch has no camera observations).
-
-A recipe is written as stable-baselines3 reads it (per-environment rollout length, replay
-size ...); each engine translates it (`composer.cli.engines`). Where an engine was measured
-to do better with other values, `engine_changes` says which (`{'ray': {'n_envs': 32}}`).
-`vec` picks how stable-baselines3 steps the K environments: 'dummy' in this process
-(fastest for cheap tasks), 'subproc' one process each (for costly physics), 'batched' all
-on MuJoCo's thread pool (`composer.vector` through `composer.sb3`; it pays off when the
-task declares batched rewards and observations: without them Reach ran at 4,000 steps/s
-batched against 5,700 in-process with 8 environments on 2 cores).
+A bad recipe raises RecipeError, registering nothing; `Recipe` says how engines read one.
 """
 
 from __future__ import annotations
@@ -51,7 +24,13 @@ ALGORITHMS = ("ppo", "sac")
 # The fields only one algorithm reads.
 _ONLY = {
     "ppo": ("n_steps", "n_epochs", "ent_coef"),
-    "sac": ("buffer_size", "learning_starts", "train_freq", "gradient_steps"),
+    "sac": (
+        "buffer_size",
+        "learning_starts",
+        "train_freq",
+        "gradient_steps",
+        "initial_temperature",
+    ),
 }
 # The fields only pixel recipes read.
 _PIXELS_ONLY = ("pixels", "conv", "features")
@@ -62,7 +41,14 @@ DEFAULT_TASK = "Reach"
 
 @dataclasses.dataclass(frozen=True)
 class Recipe:
-    """How to train: algorithm, budget, parallel environments and hyperparameters."""
+    """How to train: algorithm, budget, parallel environments and hyperparameters.
+
+    A recipe is written as stable-baselines3 reads it (per-environment rollout length,
+    replay size ...); each engine translates it (`composer.cli.engines`). Where an engine
+    was measured to do better with other values, `engine_changes` says which
+    (`{'ray': {'n_envs': 32}}`). A task observed through its camera trains with its pixel
+    recipes (`pixels=True`), the first of them its default, else GENERIC_PIXELS.
+    """
 
     algo: str
     timesteps: int
@@ -71,6 +57,10 @@ class Recipe:
     learning_rate: float
     batch_size: int
     gamma: float = 0.99
+    # How stable-baselines3 steps the n_envs environments: 'dummy' in this process (fastest
+    # for cheap tasks), 'subproc' one process each (for costly physics), 'batched' all on
+    # MuJoCo's thread pool (`composer.vector` through `composer.sb3`; it pays off when the
+    # task declares batched rewards and observations: docs/performance_profile.md).
     vec: str = "dummy"
     # Observations and rewards scaled by running statistics (VecNormalize); the observation
     # statistics are saved inside the policy .zip, so `run` and `eval` apply them too. A
@@ -85,8 +75,13 @@ class Recipe:
     learning_starts: int = 5_000
     train_freq: int = 1
     gradient_steps: int = 1
-    # Learns from frames (`--pixels`), with this convolutional encoder (see the module
-    # docstring): (out channels, kernel, stride) per layer, then `features` units.
+    # SAC's entropy temperature at the start, tuned towards its target entropy after
+    # (stable-baselines3 and RLlib start at 1.0, pytorch_sac at 0.1).
+    initial_temperature: float = 1.0
+    # Learns from frames (`--pixels`) with a small convolutional encoder under the `net`
+    # heads (`composer.cli.engines.sb3.encoder`): (out channels, kernel, stride) per layer,
+    # ReLU after each, then a linear layer of `features` units. Its environments are stepped
+    # one by one ('dummy' or 'subproc': the batch has no camera observations).
     pixels: bool = False
     conv: tuple[tuple[int, int, int], ...] = ((16, 4, 4), (32, 3, 2), (32, 3, 1))
     features: int = 128
@@ -135,9 +130,13 @@ _RECIPES: dict[Callable[..., Any] | str, tuple[Recipe, ...]] = {}
 def register(task: Callable[..., Any] | str, *recipes: Recipe) -> None:
     """Give `task` its recipes, the first its default: the class or factory registered task
     ids name (every id of it), or one Gymnasium id ('dm_control/walker-walk-v0': of tasks
-    sharing a class, that one; it wins over its class's). Raises RecipeError, registering
-    nothing, for a task that is neither, no recipe, a recipe of an unknown algorithm, two of
-    one algorithm, or engine changes of fields a recipe does not have."""
+    sharing a class, that one; it wins over its class's). Call it where the task is
+    registered: the shipped tasks' are in `tasks/recipes.py`, and a module given to
+    `composer --import` registers its own tasks' the same way. Registering a task again
+    replaces its recipes; a task without a recipe for an algorithm trains with the
+    algorithm's GENERIC one. Raises RecipeError, registering nothing, for a task that is
+    neither, no recipe, a recipe of an unknown algorithm, two of one algorithm, an initial
+    temperature not above 0, or engine changes of fields a recipe does not have."""
     if not (callable(task) or (isinstance(task, str) and "/" in task)):
         raise RecipeError(
             "recipes are registered for a task class or factory, or a Gymnasium id "
@@ -160,6 +159,11 @@ def register(task: Callable[..., Any] | str, *recipes: Recipe) -> None:
                     f"register({_name(task)}): the {recipe.algo} recipe's changes for "
                     f"engine {engine!r} name fields a Recipe does not have: {unknown}"
                 )
+        if not recipe.initial_temperature > 0:
+            raise RecipeError(
+                f"register({_name(task)}): the {recipe.algo} recipe's initial_temperature "
+                f"must be > 0, got {recipe.initial_temperature!r}"
+            )
         if recipe.pixels and recipe.vec == "batched":
             raise RecipeError(
                 f"register({_name(task)}): the {recipe.algo} pixel recipe cannot step its "

@@ -4,11 +4,8 @@
     episodes = rollout.run_episodes(env, policy, episodes=5, seed=0, frames=[])
     rollout.summary(episodes)   # {'episodes': 5, 'mean_return': ..., 'success_rate': ...}
 
-Episode i starts from `env.reset(seed=seed + i)`, so the same seed gives the same episodes.
-An episode succeeded when the `info` of its last step says `is_success`; tasks that never
-report it have no success rate (None). Its forward speed is the mean of the
-`info['forward_velocity']` (m/s) of its steps, for the tasks that report one (the runners):
-their displacement over the time they ran; None for the others.
+Episode i starts from `env.reset(seed=seed + i)`, so the same seed gives the same episodes;
+success and forward speed are None for tasks that do not report them (`Episode`).
 """
 
 from __future__ import annotations
@@ -41,7 +38,10 @@ EVAL_SEED = 1_000_000
 
 @dataclasses.dataclass(frozen=True)
 class Episode:
-    """One finished episode."""
+    """One finished episode. It succeeded when the `info` of its last step says
+    `is_success` (None: the task never reports it). Its forward speed is the mean of the
+    `info['forward_velocity']` (m/s) of its steps, for the tasks that report one (the
+    runners): their displacement over the time they ran; None for the others."""
 
     episode_return: float
     length: int

@@ -4,11 +4,9 @@
     episode 1: return 16.15 over 75 steps, no success
     episode 2: return 21.36 over 75 steps, no success
     Reach, random policy: return 18.76 ± 2.61 over 2 episodes, success rate 0.00
-    video: reach.mp4 (6.1 s)
 
-`--policy random` (the default) needs no training extras; `--policy PATH` loads a policy
-trained by `composer train` (its output folder, its policy, or a checkpoint folder) with the
-engine that wrote it, which needs that engine's extra.
+`--policy random` (the default) needs no training extras; `--policy PATH` (a `composer train`
+folder, policy or checkpoint) is loaded by the engine that wrote it, which needs its extra.
 """
 
 from __future__ import annotations

@@ -5,23 +5,8 @@ the same for every engine.
     progress, recipe = folder.start(args, new_recipe)        # the run resumed, or a new one
     run_folder.clear_if_fresh(folder, engine)                # --fresh: once training starts
 
-`prepare` keeps the rules, reading the folder and writing nothing:
-- A folder that holds a finished run (a checkpoint marked completed, or results and no
-  checkpoint) is never trained over silently: it says what is there and refuses, unless
-  `--resume` (train it on, to a larger `--timesteps`) or `--fresh` (replace it) says what
-  to do. A run that was stopped before it finished resumes without a flag.
-- `--fresh` removes only what the engine writes: its checkpoint's files, its policy, and
-  the results every engine writes (metrics.json, learning_curve.png, the video), and only
-  when the new run is ready to train (`clear_if_fresh`), so a run that cannot start (Ray
-  unreachable, say) leaves the earlier one in place.
-- `--resume` needs a checkpoint, contradicts `--fresh`, and `--resume DIR` an `--out`
-  elsewhere. A resumed run keeps its task and algorithm (others are refused) and its
-  recipe, environments and seed (a note says so when others are given).
-- A run trains on only to more than its timesteps: a finished run needs a larger
-  `--timesteps`; a stopped one may be given its own total even when its last update passed
-  it (the same command then evaluates it and writes the results), but no smaller one.
-- A folder holding another engine's checkpoint or policy is refused, even with `--resume`
-  or `--fresh`: the engine that wrote it resumes or replaces it.
+Promise (`prepare` states each rule): a finished run is never trained over silently, nor
+another engine's run; `--fresh` removes only what the engine wrote, once the new run is ready.
 """
 
 from __future__ import annotations
@@ -46,8 +31,26 @@ CHOICES = "--resume continues it (to a larger --timesteps), --fresh replaces it,
 def prepare(args: argparse.Namespace, engine: Engine[CheckpointType]) -> RunFolder[CheckpointType]:
     """The output folder of `composer train` with `engine` (--resume DIR, --out, or
     runs/TASK-ALGO, with '-ENGINE' for other engines than the default), checked against
-    the rules of the module docstring. Raises CliError (a PolicyError for a checkpoint that
-    cannot be resumed); writes nothing."""
+    these rules. Raises CliError (a PolicyError for a checkpoint that cannot be resumed);
+    writes nothing.
+
+    - A folder that holds a finished run (a checkpoint marked completed, or results and no
+      checkpoint) is never trained over silently: it says what is there and refuses, unless
+      `--resume` (train it on, to a larger `--timesteps`) or `--fresh` (replace it) says what
+      to do. A run that was stopped before it finished resumes without a flag.
+    - `--fresh` removes only what the engine writes: its checkpoint's files, its policy, and
+      the results every engine writes (metrics.json, learning_curve.png, the video), and only
+      when the new run is ready to train (`clear_if_fresh`), so a run that cannot start (Ray
+      unreachable, say) leaves the earlier one in place.
+    - `--resume` needs a checkpoint, contradicts `--fresh`, and `--resume DIR` an `--out`
+      elsewhere. A resumed run keeps its task and algorithm (others are refused) and its
+      recipe, environments and seed (a note says so when others are given).
+    - A run trains on only to more than its timesteps: a finished run needs a larger
+      `--timesteps`; a stopped one may be given its own total even when its last update passed
+      it (the same command then evaluates it and writes the results), but no smaller one.
+    - A folder holding another engine's checkpoint or policy is refused, even with `--resume`
+      or `--fresh`: the engine that wrote it resumes or replaces it.
+    """
     if args.resume and args.fresh:
         raise CliError("--resume and --fresh contradict each other; give one of them")
     resume = args.resume if isinstance(args.resume, str) else None  # --resume alone: True

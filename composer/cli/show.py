@@ -4,21 +4,10 @@ also a rendered frame (without it nothing is written).
     $ composer show Reach --out reach.png
     Reach (composer/Reach-v0): Move a planar 2-link arm's fingertip to a random target
     timesteps: physics 0.005 s, control 0.04 s (8 substeps); time limit 3 s (75 steps)
-    entities
-      floor (Floor)
-        bodies     world, target
-        arm (PlanarArm)
-          bodies     arm/upper, arm/lower
-          joints     arm/shoulder hinge, arm/elbow hinge [-2.8, 2.8]
-          actuators  arm/shoulder -> arm/shoulder, arm/elbow -> arm/elbow
-    observations (10 values)
-      arm/joint_angles      (4,)  float64
-      ...
+    entities ...                           (each one's bodies, joints and actuators)
+    observations (10 values) ...           (each one's name, shape and dtype)
     actions (2 values): Box(-1.0, 1.0, (2,), float32)
     frame: reach.png (320x240)
-
-Bodies, joints and actuators are read from the compiled model and grouped under the entity
-whose name scope they carry ('arm/...'); the root entity owns the unscoped ones.
 """
 
 from __future__ import annotations
@@ -88,7 +77,17 @@ def _timesteps(env: Environment | PixelEnvironment, time_limit: float | None) ->
 
 
 def scene_lines(env: Environment | PixelEnvironment) -> Iterator[str]:
-    """Lines describing each entity and the bodies, joints and actuators it owns."""
+    """Lines describing each entity and the bodies, joints and actuators it owns, read from
+    the compiled model and grouped under the entity whose name scope they carry ('arm/...');
+    the root entity owns the unscoped ones:
+
+        floor (Floor)
+          bodies     world, target
+          arm (PlanarArm)
+            bodies     arm/upper, arm/lower
+            joints     arm/shoulder hinge, arm/elbow hinge [-2.8, 2.8]
+            actuators  arm/shoulder -> arm/shoulder, arm/elbow -> arm/elbow
+    """
     root = env.task.root_entity
     scopes = {entity: entity.scope_in(root) for entity in root.iter_entities()}
     owned: dict[Entity, dict[str, list[str]]] = {e: {} for e in scopes}

@@ -6,30 +6,8 @@ on this machine (the default) or with RLlib on Ray (`--engine ray`, docs/ray.md)
     $ composer train CartpoleSwingup --engine ray --workers 2
     $ composer train CartpoleSwingup --pixels     # from 64x64 camera frames (docs/training)
 
-Writes into the output folder (default runs/TASK-ALGO, with Ray runs/TASK-ALGO-ray) the
-policy (`policy.zip`, with Ray the folder `policy/`; for `composer run` and `composer
-eval`), `learning_curve.png`, `video.mp4` of the trained policy, `metrics.json` (engine,
-timesteps, wall and CPU time, env steps per second, evaluations, final and random-policy
-returns, success rate where the task reports `is_success`, forward speed where it reports
-`forward_velocity`, and the engine's own keys) and `checkpoint/`. Ctrl-C saves a
-checkpoint and exits with status 130; the same command then resumes it, up to
-`--timesteps` in all. A folder holding a finished run is refused unless `--resume` (train
-it on to a larger `--timesteps`) or `--fresh` (replace it) says what to do, and one holding
-another engine's run is refused (`composer.cli.run_folder` keeps these rules).
-Evaluations (deterministic actions, fixed seeds) run every `--eval-every` timesteps, a
-tenth of `--timesteps` by default, and once more after training; each saves a checkpoint.
-The announcement says where the run will end (PPO collects whole rollouts, so
-`--timesteps 5000` on 8 environments of 256 steps trains 6,144: it says so, and why) and
-how often it evaluates; the progress bar's time left counts the evaluations
-(`composer.cli.progress`). `--pixels` observes the task through
-its camera (`catalog.with_pixels`) and trains with its pixel recipe, into
-runs/TASK-pixels-ALGO; `composer run` and `composer eval` take `--pixels` for its policy.
-
-This module is the command, one for every engine: it sees them only through their contract
-(`composer.cli.engines`): the chosen engine's checks, trainer and policy name. An option of
-one engine is refused with another: `--n-envs`, `--vec` and `--tensorboard DIR`
-(stable-baselines3's TensorBoard scalars, with the evaluations as `eval/...`) are
-stable-baselines3's, `--workers`, `--envs-per-worker` and `--address` Ray's.
+Writes the policy, learning curve, video and metrics into the output folder (`_finish`);
+Ctrl-C saves a checkpoint and exits with 130; the same command resumes it (`run_folder`).
 """
 
 from __future__ import annotations
@@ -63,7 +41,9 @@ VIDEO_SECONDS = 3.0  # the trained policy's video: whole episodes, at least this
 
 
 def run(args: argparse.Namespace) -> int:
-    """Train, then write the policy, curve, video and metrics; returns the exit status."""
+    """Train, then write the policy, curve, video and metrics; returns the exit status.
+    One command for every engine, which it sees only through their contract
+    (`composer.cli.engines`): the chosen engine's checks, trainer and policy name."""
     engine = engines.get(args.engine)
     check_options(args, engine)
     folder = run_folder.prepare(args, engine)
@@ -81,7 +61,10 @@ def run(args: argparse.Namespace) -> int:
 
 def check_options(args: argparse.Namespace, engine: Engine[Any]) -> None:
     """Raise CliError for options of an engine other than `engine`: they belong to the
-    default engine (and `engine` may say what to give instead), or need their own."""
+    default engine (and `engine` may say what to give instead), or need their own.
+    `--n-envs`, `--vec` and `--tensorboard DIR` (stable-baselines3's TensorBoard scalars,
+    with the evaluations as `eval/...`) are stable-baselines3's, `--workers`,
+    `--envs-per-worker` and `--address` Ray's."""
     for other in engines.every():
         given = [name for name in other.options if getattr(args, name, None) is not None]
         if other.name == engine.name or not given:
@@ -103,7 +86,10 @@ def _train(
     args: argparse.Namespace,
 ) -> int:
     """Announce the run, train it until done or Ctrl-C, save it, and finish it (or say how
-    to resume it); the exit status."""
+    to resume it); the exit status. Evaluations (deterministic actions, fixed seeds) run
+    every `--eval-every` timesteps, a tenth of `--timesteps` by default, and once more after
+    training; each saves a checkpoint. Ctrl-C saves a checkpoint and exits with status 130;
+    the same command then resumes it, up to `--timesteps` in all."""
     progress, recipe = trainer.progress, trainer.recipe
     session = Session(
         progress, eval_env,
@@ -136,7 +122,9 @@ def _train(
 
 def _plan(trainer: Trainer, session: Session) -> list[str]:
     """What the announcement says after its first line: why the run ends past the
-    recipe's timesteps (its algorithm collects whole batches), and when it evaluates."""
+    recipe's timesteps (its algorithm collects whole batches: PPO's whole rollouts, so
+    `--timesteps 5000` on 8 environments of 256 steps trains 6,144), and when it evaluates
+    (the progress bar's time left counts the evaluations: `composer.cli.progress`)."""
     lines = []
     collection, target, done = trainer.collection, trainer.recipe.timesteps, trainer.timesteps
     end = trainer.end()
@@ -160,7 +148,13 @@ def _finish(
     info: TaskInfo, trainer: Trainer, session: Session, policy: Path, episodes: int, record: bool
 ) -> None:
     """After training: a final evaluation beside a random policy, then the output files
-    (the policy at `policy`, the rest beside it)."""
+    (the policy at `policy`, the rest beside it). The output folder (default
+    runs/TASK-ALGO, with Ray runs/TASK-ALGO-ray) gets the policy (`policy.zip`, with Ray the
+    folder `policy/`; for `composer run` and `composer eval`), `learning_curve.png`,
+    `video.mp4` of the trained policy, `metrics.json` (engine, timesteps, wall and CPU time,
+    env steps per second, evaluations, final and random-policy returns, success rate where
+    the task reports `is_success`, forward speed where it reports `forward_velocity`, and
+    the engine's own keys) beside `checkpoint/`."""
     progress, out = session.progress, policy.parent
     final = session.evaluate(trainer)
     env = session.eval_env

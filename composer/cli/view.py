@@ -3,15 +3,10 @@
     $ composer view AntRun                                # random actions
     $ composer view Reach --policy runs/Reach-ppo         # a policy from `composer train`
     episode 1: return 57.12 over 75 steps, success
-    ...
 
-The viewer shows the environment's own simulation, stepped by the policy at real-time pace
-(one action per control step); when an episode ends the next starts, from the next seed.
-Close the window, or press Ctrl-C, to quit; `--episodes N` quits after N episodes. The
-view starts at the task's render camera, if it names one (Esc frees the camera); Tab and
-Shift+Tab show MuJoCo's panels. It needs a display: without one it says so in one line
-(record a video with `composer run TASK --video FILE` instead). On macOS, run it with
-`mjpython -m composer view ...`, as MuJoCo's viewer requires there.
+Close the window or press Ctrl-C to quit (`--episodes N`: after N episodes). It needs a
+display: without one it says so in one line (`composer run TASK --video FILE` records a
+video instead). On macOS run it with `mjpython -m composer view ...`, as MuJoCo's viewer requires.
 """
 
 from __future__ import annotations
@@ -81,7 +76,12 @@ def watch(
     episodes: int | None = None,
 ) -> int:
     """Run episodes of `policy` in `env` shown by `viewer` (`mujoco.viewer`) at real-time
-    pace, until the window closes or `episodes` have ended; returns the episodes ended."""
+    pace, until the window closes or `episodes` have ended; returns the episodes ended.
+
+    The viewer shows the environment's own simulation, one action per control step; when an
+    episode ends the next starts, from the next seed. The view starts at the task's render
+    camera, if it names one (Esc frees the camera); Tab and Shift+Tab show MuJoCo's panels.
+    """
     observation, _ = env.reset(seed=seed)
     window = _Window.open(env, viewer)
     done, tally = 0, rollout.Tally()

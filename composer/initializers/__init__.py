@@ -1,13 +1,11 @@
-"""Initializers: set entities' initial state each episode (dm_control's
-`composer.initializers`).
+"""Initializers: set entities' initial state each episode (dm_control's `composer.initializers`).
 
     placer = composer.initializers.PropPlacer(props=[box], position=variation.Uniform(...))
     tcp = composer.initializers.ToolCenterPointInitializer(hand=hand, arm=arm, position=...)
-
     def initialize_episode(self, physics, random_state):    # in a Task
         placer(physics, random_state)
 
-`prop_initializer` and `tcp_initializer` say what each promises. An initializer that finds
+`PropPlacer` and `ToolCenterPointInitializer` state their promises. An initializer finding
 no valid state raises `composer.EpisodeInitializationError`, which the environment answers
 by retrying the episode (up to its `max_reset_attempts`).
 """

@@ -3,23 +3,11 @@
     placer = composer.initializers.PropPlacer(
         props=[box, ball],                                  # free entities (add_free_entity)
         position=variation.Uniform([-0.5, -0.5, 0.1], [0.5, 0.5, 0.3]),
-        quaternion=variation.rotations.UniformQuaternion(),  # default: upright (identity)
-        settle_physics=True,                                # let them come to rest
-    )
+        settle_physics=True)                                # let them come to rest
+    placer(physics, random_state)                           # in a Task's initialize_episode
 
-    def initialize_episode(self, physics, random_state):    # in a Task
-        placer(physics, random_state)
-
-Rejection sampling, as dm_control's: the props' contacts are switched off, then each prop
-in turn gets its contacts back and draws poses until, after `mj_forward`, no contact with a
-distance <= 0 involves it (contacts with props still to be placed, and with
-`ignore_contacts_with_entities`, cannot happen: theirs are off). After
-`max_attempts_per_prop` draws it raises PlacementError (an EpisodeInitializationError,
-so the environment retries the episode). Every prop's contacts are back when the call
-returns, whether it succeeded or not. With `settle_physics`, the simulation then runs (the
-other joints held still) until the props' joints move slower than the tolerances, up to
-`max_settle_physics_time` seconds, placing again up to `max_settle_physics_attempts`
-times; the physics time is restored afterwards.
+Promise: dm_control's rejection sampling (`PropPlacer` says how); no valid pose raises
+PlacementError (an EpisodeInitializationError); every prop's contacts are back on return.
 """
 
 from __future__ import annotations
@@ -55,7 +43,19 @@ _SETTLING_PHYSICS_FAILED = (
 
 
 class PropPlacer(Initializer):
-    """Places props at random poses where they collide with nothing (see the module)."""
+    """Places props at random poses where they collide with nothing.
+
+    Rejection sampling, as dm_control's: the props' contacts are switched off, then each prop
+    in turn gets its contacts back and draws poses until, after `mj_forward`, no contact with a
+    distance <= 0 involves it (contacts with props still to be placed, and with
+    `ignore_contacts_with_entities`, cannot happen: theirs are off). After
+    `max_attempts_per_prop` draws it raises PlacementError (an EpisodeInitializationError,
+    so the environment retries the episode). Every prop's contacts are back when the call
+    returns, whether it succeeded or not. With `settle_physics`, the simulation then runs (the
+    other joints held still) until the props' joints move slower than the tolerances, up to
+    `max_settle_physics_time` seconds, placing again up to `max_settle_physics_attempts`
+    times; the physics time is restored afterwards.
+    """
 
     def __init__(
         self,

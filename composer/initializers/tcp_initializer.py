@@ -6,14 +6,8 @@
     )
     initializer(physics, random_state)                      # in initialize_episode
 
-The arm must have dm_control's `RobotArm` interface: `joints`, `wrist_site` and
-`set_site_to_xpos(physics, random_state, site, target_pos, target_quat, max_ik_attempts)`;
-the hand (or None: the arm's wrist is the tool) a `tool_center_point` site. A target pose is
-drawn, the arm solves for it, and the pose is kept unless a contact at distance <= 0
-joins two of the arm's geoms, the arm and the hand, or the arm or hand and something
-without a free joint. After `max_rejection_samples` targets it raises
-EpisodeInitializationError (the environment retries the episode), the arm's joints put
-back as they were.
+Promise: a pose is kept only if the arm and hand touch nothing they may not (the class says
+what); none found raises EpisodeInitializationError, the arm's joints put back as they were.
 """
 
 from __future__ import annotations
@@ -38,7 +32,17 @@ _REJECTION_SAMPLING_FAILED = (
 
 
 class ToolCenterPointInitializer(Initializer):
-    """Sets the pose of a hand's tool center point (see the module docstring)."""
+    """Sets the pose of a hand's tool center point.
+
+    The arm must have dm_control's `RobotArm` interface: `joints`, `wrist_site` and
+    `set_site_to_xpos(physics, random_state, site, target_pos, target_quat, max_ik_attempts)`;
+    the hand (or None: the arm's wrist is the tool) a `tool_center_point` site. A target pose is
+    drawn, the arm solves for it, and the pose is kept unless a contact at distance <= 0
+    joins two of the arm's geoms, the arm and the hand, or the arm or hand and something
+    without a free joint. After `max_rejection_samples` targets it raises
+    EpisodeInitializationError (the environment retries the episode), the arm's joints put
+    back as they were.
+    """
 
     def __init__(
         self,

@@ -6,9 +6,8 @@ options, the shape and bounds of what the observation shows, and its reduction.
     channel.needed(step, substeps)           # whether a sample at `step` is ever shown
     channel.reduce_rows(buffers)             # (n, buffer_size, *shape) -> (n, *output_shape)
 
-A channel holds no samples and reads nothing: `composer.observation.schedule` keeps the
-samples of every environment, and each environment reads its own way. Observations with one
-sample, on time and unchanged (`direct`) are copied straight to the output.
+A channel holds no samples and reads nothing (`composer.observation.schedule` keeps every
+environment's samples); one that is `direct` is copied straight to the output.
 """
 
 from __future__ import annotations
@@ -56,6 +55,7 @@ class Channel:
         else:
             self.output_shape = (self.buffer_size, *self.shape)
         self.low, self.high = self._bounds(observable, value)
+        # One sample, on time and unchanged: copied straight to the output.
         self.direct = (
             self.output_shape == self.shape and self.delay == 0 and self.corruptor is None
             and self.reduce is None

@@ -1,20 +1,13 @@
 """The observables of one entity: `entity.observables` (dm_control's `composer.Observables`).
 
     class ArmObservables(composer.Observables):
-        @composer.observable
+        @composer.observable                         # on a task: a cached property
         def joint_positions(self):
             return observation.MJCFFeature('qpos', self._entity.joints)
+    arm.observables.set_options({'joint_positions': {'enabled': True, 'buffer_size': 2}})
+    arm.observables.dict_keys.joint_positions        # 'arm/joint_positions' once attached
 
-    arm.observables.joint_positions.enabled = True
-    arm.observables.set_options({'joint_positions': {'buffer_size': 2}})
-    arm.observables.as_dict()              # {'arm/joint_positions': ...} once attached
-    arm.observables.dict_keys.joint_positions   # 'arm/joint_positions'
-
-Every `@observable` of the entity's class and of the Observables class is made when the
-entity builds its observables, in name order (one that reads another through `self.name`
-gets it made first). `Observables` is also a read-only mapping by name. The decorator
-`observable` is dm_control's `composer.define.observable` (re-exported there); on a task,
-which is no entity, it is dm_control's cached property (`composer.define`).
+An unknown name raises ObservableNotFoundError (a KeyError), a name taken ObservableError.
 """
 
 from __future__ import annotations
@@ -37,12 +30,13 @@ OPTION_KEYS = frozenset(
 
 
 class observable(cached_property):
-    """Declare a method returning an `Observable` as one, named after the method; see the
-    module docstring. On an `Observables` subclass and on an entity it is one of the
-    entity's observables; on any other object (a task, which lists it in its own
-    `task_observables`) it is dm_control's, a `cached_property`: made at first access,
-    then the same object. The method is `function(owner) -> Observable` (owner: the
-    entity, its Observables, or the task)."""
+    """Declare a method returning an `Observable` as one, named after the method
+    (dm_control's `composer.define.observable`, re-exported there). On an `Observables`
+    subclass and on an entity it is one of the entity's observables (`entity.name` and
+    `entity.observables.name` are then the same object); on any other object (a task, which
+    lists it in its own `task_observables`) it is dm_control's, a `cached_property`: made at
+    first access, then the same object. The method is `function(owner) -> Observable`
+    (owner: the entity, its Observables, or the task)."""
 
     def __get__(self, instance: Any, owner: type | None = None) -> Any:
         if instance is None:
@@ -98,7 +92,8 @@ class Observables(Mapping[str, Observable]):
     `self._entity`."""
 
     def __init__(self, entity: Entity) -> None:
-        """Make every `@observable` of `entity`'s class and of this class. Raises
+        """Make every `@observable` of `entity`'s class and of this class, in name order
+        (one that reads another through `self.name` gets it made first). Raises
         ObservableError for one that returns something else than an Observable."""
         self._entity = entity
         self._items: dict[str, Observable] = {}

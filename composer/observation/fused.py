@@ -2,20 +2,11 @@
 together, one gather per field, into their outputs.
 
     plan = FusedRead.plan(observable, value, physics)   # None: read it with its reader
-    fused = FusedRead(physics, [(plan, column), ...], row)   # row: the outputs' float64 row
+    fused = FusedRead(physics, [(plan, column), ...], row, readers)  # row: float64 outputs
     fused.read()                                        # writes every one's current value
 
-An observable saying what its value is (`Observable.field_rows`: rows of one MjData field
-of bound elements, maybe as (cos, sin), maybe clipped) costs a single environment a chain
-of closures and a one-row copy when read with its reader; here it is a column of index
-arrays resolved at compile, and all of them together cost a few numpy calls: a `take`
-per MjData field, cos and sin, one clip, one scatter into the outputs. The values are the
-reader's, bit for bit: the same elementwise operations on the same numbers. Each plan is
-checked against the value its reader gave at the compile (`plan` returns None if they
-differ), and only for an observable whose `field_rows` is defined on the class defining
-its reader or a subclass of it, so a subclass that reads otherwise is read its own way.
-Derived fields are brought up to date as bindings do it, by reading the field of the
-latest stage through its binding first.
+Promise: the values are the readers', bit for bit; each plan is checked against its reader's
+value at the compile, and an observable that reads otherwise is read its own way.
 """
 
 from __future__ import annotations
@@ -74,8 +65,20 @@ def _stage(physics: Any, spec: fields.Field, ids: np.ndarray) -> staleness.Stage
 
 
 class FusedRead:
-    """Reads observables planned by `plan` into their columns of one float64 row (see the
-    module docstring)."""
+    """Reads observables planned by `plan` into their columns of one float64 row.
+
+    An observable saying what its value is (`Observable.field_rows`: rows of one MjData field
+    of bound elements, maybe as (cos, sin), maybe clipped) costs a single environment a chain
+    of closures and a one-row copy when read with its reader; here it is a column of index
+    arrays resolved at compile, and all of them together cost a few numpy calls: a `take`
+    per MjData field, cos and sin, one clip, one scatter into the outputs. The values are the
+    reader's, bit for bit: the same elementwise operations on the same numbers. Each plan is
+    checked against the value its reader gave at the compile (`plan` returns None if they
+    differ), and only for an observable whose `field_rows` is defined on the class defining
+    its reader or a subclass of it, so a subclass that reads otherwise is read its own way.
+    Derived fields are brought up to date as bindings do it, by reading the field of the
+    latest stage through its binding first.
+    """
 
     @staticmethod
     def plan(observable: Observable, value: Any, physics: Any) -> Plan | None:

@@ -3,26 +3,11 @@
     schedule = Schedule(channels, substeps=5, num_envs=n, flatten=False)
     schedule.restart(k, ALL, value, random_states, zero_padding=False)  # at a reset
     for offset in schedule.offsets(phase):      # phase: control steps since reset % period
-        ...                                     # run the physics up to step `offset`
-        schedule.sample(phase, offset, ALL, steps, read, random_states)
+        schedule.sample(phase, offset, ALL, steps, read, random_states)  # after step offset
     schedule.finish(ALL, steps)                 # the observation after physics step `steps`
-    schedule.observation()                      # every environment's, new arrays
-    schedule.row(0)                             # one environment's
 
-The one schedule of `composer.Environment` (a schedule of one environment) and
-`composer.VectorEnvironment` (of num_envs): every array has a leading environment axis, and
-every per-step method takes the environments it concerns as `rows`, `ALL` (every one) or
-ascending indices, with their physics steps since each one's reset (`steps`: one number for
-all, or one each). Environments reset at different times, so each has its own ring of
-samples and its own phase of the schedule (`phases`: one for all, or one each).
-
-The schedule samples only what some observation will show (`Channel.needed`): with the
-default options an observable is read once per control step, after the last physics step,
-and copied straight to the output. It repeats every `period` control steps, the least
-common multiple of each observable's interval with the substeps, counted in control steps.
-A sample is corrupted when it is taken, with its environment's random state
-(`corruptor(value, random_state=state)`); the buffer of the newest visible samples is
-reduced when an observation is finished (`Channel.reduce_rows`).
+The one schedule of `composer.Environment` (of one environment) and `VectorEnvironment` (of
+num_envs), each environment on its own phase; it samples only what an observation shows.
 """
 
 from __future__ import annotations
@@ -150,7 +135,23 @@ class _Ring:
 
 class Schedule:
     """The sampling schedule of `channels` and the samples and outputs of `num_envs`
-    environments (see the module docstring)."""
+    environments.
+
+    The one schedule of `composer.Environment` (a schedule of one environment) and
+    `composer.VectorEnvironment` (of num_envs): every array has a leading environment axis, and
+    every per-step method takes the environments it concerns as `rows`, `ALL` (every one) or
+    ascending indices, with their physics steps since each one's reset (`steps`: one number for
+    all, or one each). Environments reset at different times, so each has its own ring of
+    samples and its own phase of the schedule (`phases`: one for all, or one each).
+
+    The schedule samples only what some observation will show (`Channel.needed`): with the
+    default options an observable is read once per control step, after the last physics step,
+    and copied straight to the output. It repeats every `period` control steps, the least
+    common multiple of each observable's interval with the substeps, counted in control steps.
+    A sample is corrupted when it is taken, with its environment's random state
+    (`corruptor(value, random_state=state)`); the buffer of the newest visible samples is
+    reduced when an observation is finished (`Channel.reduce_rows`).
+    """
 
     def __init__(
         self,

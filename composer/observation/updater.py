@@ -2,29 +2,12 @@
 preallocated arrays.
 
     updater = Updater({'arm/qpos': qpos, ...}, physics, substeps=5, flatten=False)
-    updater.observation_space                      # spaces.Dict of Boxes (or one Box)
     obs = updater.reset(random_state)              # samples at step 0
-    done = 0                                       # control step k, from physics step first:
-    for offset in updater.offsets(k):              # after these of its physics steps,
-        physics.step(offset - done)
-        updater.sample(k, first, offset)           # sample what is due
-        done = offset
+    for offset in updater.offsets(k):              # control step k, from physics step first:
+        updater.sample(k, first, offset)           # after stepping the physics up to offset
     obs = updater.observation(last_step)           # fresh arrays, safe to keep
 
-Each observable is resolved here, once per compile: its reader (`observation.reader_of`:
-its batched reader with a batch of one where that is the form it defines) and its channel
-(`observation.channel`: shape, type, bounds). Observables whose value is empty (e.g.
-activations of a model with none) are left out. Those whose value is rows of bound MjData
-fields (`Observable.field_rows`), shown as sampled, are read together, a gather per field
-(`observation.fused`), instead of one by one through their readers: the same values.
-What is sampled when, and the samples themselves, are kept by `observation.schedule`, the
-schedule a `VectorEnvironment` keeps for all its environments; here it is a schedule of
-one environment.
-
-Two choices dm_control offers: `strip_singleton_buffer_dim=False` gives an observation of
-`buffer_size` 1 (and no aggregator) its leading buffer axis of length 1, and
-`padding=ObservationPadding.ZERO` fills the buffer with zeros before the first samples are
-visible, where by default (INITIAL_VALUE) the reset value fills it.
+An observable that cannot be read raises ObservableError naming it; empty ones are left out.
 """
 
 from __future__ import annotations
@@ -54,7 +37,23 @@ class ObservationPadding(enum.Enum):
 
 class Updater:
     """Samples one environment's enabled observables into preallocated arrays on their
-    schedule."""
+    schedule.
+
+    Each observable is resolved here, once per compile: its reader (`observation.reader_of`:
+    its batched reader with a batch of one where that is the form it defines) and its channel
+    (`observation.channel`: shape, type, bounds). Observables whose value is empty (e.g.
+    activations of a model with none) are left out. Those whose value is rows of bound MjData
+    fields (`Observable.field_rows`), shown as sampled, are read together, a gather per field
+    (`observation.fused`), instead of one by one through their readers: the same values.
+    What is sampled when, and the samples themselves, are kept by `observation.schedule`, the
+    schedule a `VectorEnvironment` keeps for all its environments; here it is a schedule of
+    one environment.
+
+    Two choices dm_control offers: `strip_singleton_buffer_dim=False` gives an observation of
+    `buffer_size` 1 (and no aggregator) its leading buffer axis of length 1, and
+    `padding=ObservationPadding.ZERO` fills the buffer with zeros before the first samples are
+    visible, where by default (INITIAL_VALUE) the reset value fills it.
+    """
 
     def __init__(
         self,

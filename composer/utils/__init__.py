@@ -1,24 +1,13 @@
-"""dm_control's utilities that Composer code imports next to `composer` and `mjcf`, as
-`composer.utils`: a dm_control user changes `from dm_control.utils import rewards` to
-`from composer.utils import rewards`.
+"""dm_control's utilities that Composer code imports, as `composer.utils`: `from
+dm_control.utils import rewards` becomes `from composer.utils import rewards`.
 
     from composer.utils import inverse_kinematics, rewards, transformations
-
     reward = rewards.tolerance(height, bounds=(1.2, float("inf")), margin=0.6)
     quat = transformations.euler_to_quat([0.1, 0.2, 0.3], ordering="XYZ")
     result = inverse_kinematics.qpos_from_site_pose(physics, "arm/grip", target_pos=[0.3, 0, 0.4])
 
-- `rewards`: `tolerance` with all of dm_control's sigmoids (and `Tolerance`, the same
-  built once for every step).
-- `transformations`: quaternion, Euler angle, axis-angle and rotation matrix conversions
-  and products.
-- `inverse_kinematics`: `qpos_from_site_pose` and `nullspace_method` on an `mjcf.Physics`.
-
-Each gives dm_control's values (tests/composer/test_utils_reference.py compares them with
-dm_control's own modules, and tests/composer/test_dm_control_utils.py runs dm_control's
-tests of them on these). The modules are imported when asked for (`composer.utils.rewards`
-too): `import composer` loads none of them; `composer.variation`, loaded on first use,
-brings `transformations` for its rotations, as dm_control's does.
+Promise: each gives dm_control's values (tests/composer/test_utils_reference.py); each module
+is imported when first asked for, so `import composer` loads none of them.
 """
 
 from __future__ import annotations
@@ -33,6 +22,8 @@ from composer.errors import (
     TransformationError,
 )
 
+# Imported on first use, so `import composer` loads none of them (`composer.variation`,
+# itself loaded on first use, imports `transformations` for its rotations, as dm_control's).
 _MODULES = ("inverse_kinematics", "rewards", "transformations")
 
 __all__ = [

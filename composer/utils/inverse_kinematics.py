@@ -1,31 +1,13 @@
 """dm_control's inverse kinematics on an `mjcf.Physics`: joint positions that put a site at
-a target position, orientation or both. `from dm_control.utils import inverse_kinematics`
-becomes `from composer.utils import inverse_kinematics`.
+a target position, orientation or both (`from composer.utils import inverse_kinematics`).
 
     result = inverse_kinematics.qpos_from_site_pose(
         physics, "arm/pinch", target_pos=[0.4, 0.0, 0.3], target_quat=[0, 1, 0, 0],
-        joint_names=["arm/shoulder", "arm/elbow", "arm/wrist"],
-    )
-    if result.success:                      # IKResult(qpos, err_norm, steps, success)
-        physics.data.qpos[:] = result.qpos  # or pass inplace=True
+        joint_names=["arm/shoulder", "arm/elbow", "arm/wrist"], inplace=True)
+    result.success, result.err_norm, result.qpos   # an IKResult; qpos: the physics' now
 
-Each step measures the error (the site's position error, plus `rot_weight` times its
-rotation error as an angular velocity over one second), and stops with success once it is
-below `tol`. Otherwise it solves for a joint update from the site's Jacobian over the given
-joints' degrees of freedom (`nullspace_method`: least squares, damped by
-`regularization_strength` while the error is above `regularization_threshold`), gives up
-if the error is more than `progress_thresh` times the update (stuck), scales the update
-down to `max_update_norm`, and integrates it into the positions (quaternions of ball and
-free joints included). Joint limits are not considered, as in dm_control. After
-`max_steps` steps without success a warning is logged (the
-`composer.utils.inverse_kinematics` logger).
-
-The values are dm_control's to the last bit: the same MuJoCo functions and numpy linear
-algebra in the same order (tests/composer/test_utils_reference.py runs dm_control's own
-module on the same physics). Without `inplace` the physics is not changed (a copy of its
-MjData is worked on); with it, its positions are the result's, its position-dependent
-quantities in `physics.data` are those of the result (as `mj_fwdPosition` leaves them),
-and it is marked dirty, so that bindings and named access recompute the rest when read.
+Promise: dm_control's values to the last bit; without `inplace` the physics is not changed
+(`qpos_from_site_pose` says each step, and what `inplace` leaves).
 """
 
 from __future__ import annotations
@@ -104,9 +86,26 @@ def qpos_from_site_pose(
 ) -> IKResult:
     """Joint positions that put site `site_name` at `target_pos` (3,) and/or
     `target_quat` (4,) (None: not constrained), moving only `joint_names` (None: every
-    joint); see the module docstring for the steps and the options, which are
-    dm_control's. Returns an IKResult; its `qpos` is a copy unless `inplace`, which
-    leaves the result in the physics (a view of its qpos).
+    joint); the steps and the options are dm_control's. Returns an IKResult; its `qpos` is
+    a copy unless `inplace`, which leaves the result in the physics (a view of its qpos).
+
+    Each step measures the error (the site's position error, plus `rot_weight` times its
+    rotation error as an angular velocity over one second), and stops with success once it is
+    below `tol`. Otherwise it solves for a joint update from the site's Jacobian over the given
+    joints' degrees of freedom (`nullspace_method`: least squares, damped by
+    `regularization_strength` while the error is above `regularization_threshold`), gives up
+    if the error is more than `progress_thresh` times the update (stuck), scales the update
+    down to `max_update_norm`, and integrates it into the positions (quaternions of ball and
+    free joints included). Joint limits are not considered, as in dm_control. After
+    `max_steps` steps without success a warning is logged (the
+    `composer.utils.inverse_kinematics` logger).
+
+    The values are dm_control's to the last bit: the same MuJoCo functions and numpy linear
+    algebra in the same order (tests/composer/test_utils_reference.py runs dm_control's own
+    module on the same physics). Without `inplace` the physics is not changed (a copy of its
+    MjData is worked on); with it, its positions are the result's, its position-dependent
+    quantities in `physics.data` are those of the result (as `mj_fwdPosition` leaves them),
+    and it is marked dirty, so that bindings and named access recompute the rest when read.
 
     Raises InverseKinematicsError for no target, `joint_names` of another type than a
     list, tuple or numpy array (or naming none) and `max_steps` below 1;

@@ -1,33 +1,13 @@
 """dm_control's reward shaping: `tolerance`, 1 inside bounds and a sigmoid of the distance
-to them outside. `from dm_control.utils import rewards` becomes `from composer.utils import
-rewards`.
+to them outside (`from composer.utils import rewards`).
 
-    rewards.tolerance(0.3, bounds=(0, 0.5))                          # 1.0: inside
     rewards.tolerance(x, margin=2.0)                                 # 1 at 0, 0.1 at |x| = 2
     rewards.tolerance(u, margin=1, value_at_margin=0, sigmoid="quadratic")   # 0 at |u| >= 1
     standing = rewards.Tolerance(bounds=(1.2, float("inf")), margin=0.6)     # built once
     standing(heights)                                                # every step, any shape
 
-Outside `bounds` the value falls with the distance to the nearest bound, measured in
-margins: one margin out it is `value_at_margin`. The sigmoids are dm_control's: 'gaussian',
-'hyperbolic', 'long_tail', 'reciprocal', 'cosine', 'linear', 'quadratic', 'tanh_squared'
-(`SIGMOIDS`). A number gives a float, an array (0-d too) an array.
-
-Values are dm_control's to the last bit, for numbers and arrays of any dtype: the same
-formulas in the same order on the same numpy types (a float32 array stays float32 where
-dm_control's does). One consequence is dm_control's own: numpy squares a number with the C
-library's `pow` and an array with a multiplication, which can differ in the last bit, so
-`tolerance(x)` of a number and of an array holding it can too. `Tolerance` computes a
-float64 array (of one or more dimensions, within finite bounds) a faster way to the same
-bits: the distance clamped at 0 inside the bounds, where every sigmoid is exactly 1,
-instead of masked. tests/composer/test_utils_reference.py compares both with
-dm_control's own module. `tolerance` keeps the `Tolerance` of each set of parameters it
-was called with (and their types), so a reward calling it each step builds it once.
-
-Bad parameters raise `composer.utils.RewardError` (a ValueError) with dm_control's
-messages: bounds out of order, a negative margin, and, when the margin is not 0, a
-`value_at_margin` outside (0, 1) ([0, 1) for 'cosine', 'linear' and 'quadratic') or an
-unknown sigmoid.
+Promise: dm_control's values to the last bit, with its sigmoids (`SIGMOIDS`); bad parameters
+raise `composer.utils.RewardError` (a ValueError) with dm_control's messages.
 """
 
 from __future__ import annotations
@@ -277,10 +257,20 @@ def tolerance(
     bound divided by `margin`, which is `value_at_margin` at one margin out. `x` is a
     number (a float back) or an array of any shape (an array back, elementwise).
 
-    dm_control's `rewards.tolerance`, to the last bit. Raises RewardError (a ValueError)
-    for `bounds[0] > bounds[1]`, a negative margin, and, when the margin is not 0, an
-    unknown sigmoid or `value_at_margin` outside (0, 1) ([0, 1) for 'cosine', 'linear'
-    and 'quadratic')."""
+    Values are dm_control's to the last bit, for numbers and arrays of any dtype: the same
+    formulas in the same order on the same numpy types (a float32 array stays float32 where
+    dm_control's does). One consequence is dm_control's own: numpy squares a number with the C
+    library's `pow` and an array with a multiplication, which can differ in the last bit, so
+    `tolerance(x)` of a number and of an array holding it can too. `Tolerance` computes a
+    float64 array (of one or more dimensions, within finite bounds) a faster way to the same
+    bits: the distance clamped at 0 inside the bounds, where every sigmoid is exactly 1,
+    instead of masked. tests/composer/test_utils_reference.py compares both with
+    dm_control's own module. `tolerance` keeps the `Tolerance` of each set of parameters it
+    was called with (and their types), so a reward calling it each step builds it once.
+
+    Raises RewardError (a ValueError) with dm_control's messages for `bounds[0] >
+    bounds[1]`, a negative margin, and, when the margin is not 0, an unknown sigmoid or
+    `value_at_margin` outside (0, 1) ([0, 1) for 'cosine', 'linear' and 'quadratic')."""
     key = _parameters_key(bounds, margin, sigmoid, value_at_margin)
     built = None if key is None else _BUILT.get(key)
     if built is None:

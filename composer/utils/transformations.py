@@ -1,29 +1,13 @@
 """dm_control's rotation helpers: quaternions ([w, x, y, z], MuJoCo's order), rotation
-matrices, Euler angles and axis-angle vectors. `from dm_control.utils import
-transformations` becomes `from composer.utils import transformations`.
+matrices, Euler angles and axis-angle vectors (`from composer.utils import transformations`).
 
     quat = transformations.euler_to_quat([0.1, 0.2, 0.3], ordering="XYZ")
     transformations.quat_mul(quat, transformations.quat_inv(quat))   # [1, 0, 0, 0]
-    transformations.quat_rotate(quat, [1.0, 0.0, 0.0])               # the rotated vector
-    transformations.quat_to_mat(quat)                                # 4x4 homogeneous
-    transformations.rmat_to_euler(matrix, ordering="ZYX")            # angles back
     transformations.quat_dist(quats_a, quats_b)                      # (n, 1): batched
 
-Every public function of dm_control's module, with its signature, its batching (the
-functions saying "over leading axes" take any number of them; the others one rotation)
-and its values to the last bit: the same formulas in the same order, the quaternion product
-included (`mjcf.sim.frame_poses.multiply`, which mjcf's frames use too).
-tests/composer/test_utils_reference.py compares them with dm_control's own module.
-
-Euler orderings: `euler_to_rmat` takes any three axes ('XYZ', 'ZXZ' ...), composing
-`rot(first) @ rot(second) @ rot(third)`; `rmat_to_euler`, `quat_to_euler` and
-`euler_to_quat` the seven dm_control inverts: 'XYZ', 'XYX', 'ZYX', 'XZY', 'YZX', 'ZXY',
-'YXZ'. Near a pole (gimbal lock) the first angle is set to 0 and a warning is logged (the
-`composer.utils.transformations` logger, at most once a minute per message).
-
-Raises TransformationError (a ValueError) for a quaternion whose scalar part is outside
-[-1, 1] by more than the tolerance, EulerOrderingError (a KeyError too) for an ordering
-not listed; where dm_control fails on a Python list or a 0-d array, these take them.
+Promise: every public function of dm_control's module, its values to the last bit. Raises
+TransformationError (a ValueError) for a quaternion whose scalar part is outside [-1, 1],
+EulerOrderingError (a KeyError too) for an ordering it cannot invert.
 """
 
 from __future__ import annotations
@@ -107,6 +91,7 @@ def quat_inv(quat: Any) -> np.ndarray:
 def quat_mul(quat1: Any, quat2: Any) -> np.ndarray:
     """The Hamilton products `quat1 * quat2` (..., 4): the rotation `quat2`, then
     `quat1`. Over leading axes of either."""
+    # dm_control's formula in its order, shared with mjcf's frames: its values to the last bit.
     return multiply(quat1, quat2)
 
 
@@ -383,7 +368,9 @@ def rmat_to_euler(rmat: Any, ordering: str = "ZXZ") -> np.ndarray:
     part of a 4x4 transform): `euler_to_rmat` inverted, angles in (-pi, pi] (the middle
     one in [-pi/2, pi/2], or [0, pi] for 'XYX'). Raises EulerOrderingError for an
     ordering other than 'XYZ', 'XYX', 'ZYX', 'XZY', 'YZX', 'ZXY', 'YXZ': the default,
-    'ZXZ', is dm_control's, which it does not invert either, so pass one."""
+    'ZXZ', is dm_control's, which it does not invert either, so pass one. Near a pole
+    (gimbal lock) the first angle is set to 0 and a warning is logged (the
+    `composer.utils.transformations` logger, at most once a minute per message)."""
     to_euler = _eulermap.get(ordering)
     if to_euler is None:
         raise EulerOrderingError(

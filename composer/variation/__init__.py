@@ -1,41 +1,13 @@
-"""Variation: values drawn anew each episode, for MJCF attributes, physics fields,
-initial poses and observation noise (dm_control's `composer.variation`, module for module).
+"""Variation: values drawn anew each episode, for MJCF attributes, physics fields, initial
+poses and observation noise (dm_control's `composer.variation`, module for module).
 
-    from composer import variation
-    from composer.variation import distributions, noises, rotations, colors
-    size = distributions.Uniform(0.05, 0.1)                  # shaped like the attribute
-    variator = variation.MJCFVariator()
-    hue = distributions.Uniform(0, 1, single_sample=True)     # one number, not one per rgba
-    variator.bind_attributes(geom, size=size, rgba=colors.HsvVariation(h=hue, s=0.8, v=0.9))
+    variator = variation.MJCFVariator()                      # `variators` shows one in full
+    variator.bind_attributes(geom, size=distributions.Uniform(0.05, 0.1))
     variator.apply_variations(random_state)                  # in initialize_episode_mjcf
-    mass = noises.Multiplicative(distributions.LogNormal(0, 0.1))   # PhysicsVariator
-    observable.corruptor = noises.Additive(distributions.Normal(0, 0.01))
-    quat = rotations.UniformQuaternion()                     # e.g. for PropPlacer
-    value = variation.evaluate((size, [1.0, quat]), random_state=random_state)
 
-A variation is any callable `f(initial_value=None, current_value=None, random_state=None)`
-(`base.Variation` gives arithmetic: `2 * Normal() + 1`, `-v`, `v[0]`); plain values stand
-for themselves. Modules, as in dm_control:
-- `base`: `Variation` and the operations combining variations.
-- `distributions`: `Uniform`, `UniformInteger`, `UniformChoice`, `UniformPointOnSphere`,
-  `Normal`, `LogNormal`, `Exponential`, `Poisson`, `Bernoulli`, `BiasedRandomWalk`, and
-  our `Choice` (weighted, returns the choice itself); all take `single_sample`.
-- `noises`: `Additive`, `Multiplicative` (of the initial or current value).
-- `rotations`: `UniformQuaternion`, `QuaternionFromAxisAngle`, `QuaternionPreMultiply`,
-  `QuaternionRotate`, `IDENTITY_QUATERNION`.
-- `colors`: `RgbVariation`, `HsvVariation`, `GrayVariation` (RGBA arrays).
-- `deterministic`: `Constant`, `Sequence`, `Identity`.
-- `math`: `Log`, `Max`, `Min`, `Norm` of variations (`MathOp` to add one).
-- `variation_values`: `evaluate` over nested lists, tuples and dicts.
-- `variation_broadcaster`: `VariationBroadcaster`, one draw shared by many users.
-- `variators`: `MJCFVariator` (before compiling) and `PhysicsVariator` (after).
-
-Randomness: every draw comes from the `random_state` passed in. The environment passes its
-own (seeded by `reset(seed=...)`) to hooks, variators, initializers and corruptors, the
-last by keyword (`corruptor(value, random_state=...)`) as dm_control does; a variation
-called without one draws from numpy's global state, as in dm_control. Bad parameters raise
-`composer.VariationError` (a ValueError), an attribute an element lacks
-`VariationAttributeError` (also an AttributeError).
+Every draw comes from the `random_state` passed in (numpy's global one without, as in
+dm_control). Bad parameters raise `composer.VariationError` (a ValueError), an attribute an
+element lacks `VariationAttributeError` (an AttributeError too).
 """
 
 from composer.variation import (

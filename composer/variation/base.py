@@ -5,12 +5,8 @@
     first = UniformPointOnSphere()[0]       # a GetItemOperation
     value = scaled(initial_value=..., current_value=..., random_state=random_state)
 
-A variation is called as `variation(initial_value, current_value, random_state)`: the value
-the varied attribute had at first (when bound, or when compiled), its value now, and the
-numpy random state to draw from. Each argument may be omitted (None) by variations that do
-not use it. `+ - * / // **`, unary `-` and `[index]` make new variations; each operand that
-is a variation (or any callable) is evaluated with the same arguments, left operand first,
-and the operator is applied to the values as they are (lists are not turned into arrays).
+Promise: each operand that is a variation is evaluated with the call's arguments, left
+operand first, and the operator applied to the values as they are (`Variation` says more).
 """
 
 from __future__ import annotations
@@ -48,7 +44,15 @@ def equal(first: Any, second: Any) -> bool:
 
 
 class Variation(metaclass=abc.ABCMeta):
-    """A value drawn anew at each call; subclasses implement `__call__`."""
+    """A value drawn anew at each call; subclasses implement `__call__`.
+
+    A variation is called as `variation(initial_value, current_value, random_state)`: the value
+    the varied attribute had at first (when bound, or when compiled), its value now, and the
+    numpy random state to draw from. Each argument may be omitted (None) by variations that do
+    not use it. `+ - * / // **`, unary `-` and `[index]` make new variations; each operand that
+    is a variation (or any callable) is evaluated with the same arguments, left operand first,
+    and the operator is applied to the values as they are (lists are not turned into arrays).
+    """
 
     @abc.abstractmethod
     def __call__(

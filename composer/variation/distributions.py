@@ -1,24 +1,12 @@
 """Distributions: variations that draw from a numpy random state.
 
     size = Uniform(0.05, 0.1)                      # shaped like the varied attribute
-    color = Uniform([0, 0, 0, 1], [1, 1, 1, 1])    # parameters broadcast
     count = UniformInteger(1, 5)                   # 1 to 4
-    axis = UniformPointOnSphere()
     angle = Normal(0, 0.1, single_sample=True)     # one number, whatever the attribute
     value = size(initial_value=[0.1, 0.2], random_state=random_state)   # two draws
 
-A distribution called with an `initial_value` draws an array of its shape, unless
-`single_sample=True`; without one, it draws the broadcast shape of its parameters.
-Parameters may themselves be variations, evaluated first (keywords by sorted name, as
-dm_control does). Each draw is one call of the random state's method of the same name
-(`uniform`, `randint`, `choice`, `normal` ...), so a seeded `numpy.random.RandomState`
-gives exactly the values dm_control gives; a `numpy.random.Generator` works too. Called
-without a random state, a distribution draws from numpy's global one, as dm_control's do:
-the environment always passes its own (`composer.Environment.random_state`).
-Parameters numpy refuses raise `composer.VariationError` (a ValueError) naming them.
-
-Subclasses implement `_callable(random_state)`, returning the function called as
-`f(*args, size=size, **kwargs)` with the evaluated constructor parameters.
+Promise: a seeded `numpy.random.RandomState` gives exactly dm_control's draws (`Distribution`
+says how); parameters numpy refuses raise `composer.VariationError` naming them.
 """
 
 from __future__ import annotations
@@ -39,7 +27,21 @@ _NEGATIVE_TIMESCALE = "`timescale` must be >= 0, got {}."
 
 
 class Distribution(base.Variation, metaclass=abc.ABCMeta):
-    """A parametrized distribution; parameters are constants or variations."""
+    """A parametrized distribution; parameters are constants or variations.
+
+    A distribution called with an `initial_value` draws an array of its shape, unless
+    `single_sample=True`; without one, it draws the broadcast shape of its parameters.
+    Parameters may themselves be variations, evaluated first (keywords by sorted name, as
+    dm_control does). Each draw is one call of the random state's method of the same name
+    (`uniform`, `randint`, `choice`, `normal` ...), so a seeded `numpy.random.RandomState`
+    gives exactly the values dm_control gives; a `numpy.random.Generator` works too. Called
+    without a random state, a distribution draws from numpy's global one, as dm_control's do:
+    the environment always passes its own (`composer.Environment.random_state`).
+    Parameters numpy refuses raise `composer.VariationError` (a ValueError) naming them.
+
+    Subclasses implement `_callable(random_state)`, returning the function called as
+    `f(*args, size=size, **kwargs)` with the evaluated constructor parameters.
+    """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         """Keep the parameters (`single_sample=True` draws one value whatever the shape of
@@ -51,7 +53,7 @@ class Distribution(base.Variation, metaclass=abc.ABCMeta):
     def __call__(
         self, initial_value: Any = None, current_value: Any = None, random_state: Any = None
     ) -> Any:
-        """A draw (see the module docstring); raises VariationError for parameters numpy
+        """A draw (see the class docstring); raises VariationError for parameters numpy
         refuses."""
         size = None if self._single_sample or initial_value is None else np.shape(initial_value)
         args = evaluate(self._args, initial_value, current_value, random_state)

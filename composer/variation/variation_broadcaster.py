@@ -5,10 +5,7 @@
     variator.bind_attributes(left_wheel, size=left)
     variator.bind_attributes(right_wheel, size=right)      # both get the same draw
 
-The broadcaster draws in rounds: a proxy that has seen every value drawn so far draws a new
-one (with the random state it is called with) and queues it for every proxy; each proxy
-returns its queue's oldest value. With each proxy called once per episode, they all get
-the same value each episode. A proxy no longer referenced stops receiving values.
+Promise: proxies each called once per episode all get the same value each episode.
 """
 
 from __future__ import annotations
@@ -22,7 +19,13 @@ from composer.variation.variation_values import evaluate
 
 
 class VariationBroadcaster:
-    """Shares the values of `wrapped_variation` between the proxies it makes."""
+    """Shares the values of `wrapped_variation` between the proxies it makes.
+
+    The broadcaster draws in rounds: a proxy that has seen every value drawn so far draws a new
+    one (with the random state it is called with) and queues it for every proxy; each proxy
+    returns its queue's oldest value. With each proxy called once per episode, they all get
+    the same value each episode. A proxy no longer referenced stops receiving values.
+    """
 
     def __init__(self, wrapped_variation: Any) -> None:
         """Broadcast the values of `wrapped_variation` (a variation or constant)."""

@@ -5,10 +5,7 @@ every callable replaced by what it returns.
     evaluate((Uniform(0, 1), [2.0, Normal()]), random_state=rs)   # (draw, [2.0, draw])
     evaluate(3.0)                                                 # 3.0
 
-Lists, tuples, named tuples and mappings are traversed (numpy arrays, strings and sets are
-values); the result has the structure's types. Callables are called in dm_control's
-order (dm-tree's): depth first, a mapping's entries by sorted key, so a seeded random
-state gives the same draws as there.
+Promise: callables are called in dm_control's order, so a seeded random state gives its draws.
 """
 
 from __future__ import annotations
@@ -20,7 +17,13 @@ from typing import Any
 
 def evaluate(structure: Any, *args: Any, **kwargs: Any) -> Any:
     """`structure` with each callable in it replaced by `callable(*args, **kwargs)`; the
-    arguments are usually `initial_value, current_value, random_state` (see `base`)."""
+    arguments are usually `initial_value, current_value, random_state` (see `base`).
+
+    Lists, tuples, named tuples and mappings are traversed (numpy arrays, strings and sets are
+    values); the result has the structure's types. Callables are called in dm_control's
+    order (dm-tree's): depth first, a mapping's entries by sorted key, so a seeded random
+    state gives the same draws as there.
+    """
     if callable(structure):
         return structure(*args, **kwargs)
     if isinstance(structure, list):

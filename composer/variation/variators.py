@@ -1,27 +1,13 @@
 """Variators: apply variations to MJCF attributes (before compiling) or to physics fields
 (after compiling), once per episode.
 
-    class Ball(composer.Entity):
-        def _build(self):
-            ...
-            self._mjcf_variator = MJCFVariator()
-            self._mjcf_variator.bind_attributes(self.geom, size=Uniform(0.05, 0.1),
-                                                rgba=Uniform([0, 0, 0, 1], [1, 1, 1, 1]))
-            self._physics_variator = PhysicsVariator()
-            self._physics_variator.bind_attributes(self.body, mass=LogNormal(0, 0.2))
+    variator = MJCFVariator()                     # in an entity's _build
+    variator.bind_attributes(geom, size=Uniform(0.05, 0.1), rgba=colors.GrayVariation(0.5))
+    variator.apply_variations(random_state)       # in initialize_episode_mjcf: recompiles
+    physics_variator.apply_variations(physics, random_state)   # in initialize_episode
 
-        def initialize_episode_mjcf(self, random_state):
-            self._mjcf_variator.apply_variations(random_state)     # model changes: recompile
-
-        def initialize_episode(self, physics, random_state):
-            self._physics_variator.apply_variations(physics, random_state)   # no recompile
-
-A variation is a fixed value or any callable `f(initial_value, current_value,
-random_state)`: `initial_value` is the attribute's value when bound (MJCF), or the field's
-value in the compiled model when first applied (physics), and `current_value` its value
-now. Binding an attribute again replaces its variation; binding it to None forgets it.
-Each element's attributes are evaluated in the order bound, elements in the order first
-bound, so a seeded random state gives dm_control's values.
+Promise: attributes are evaluated in the order bound, so a seeded random state gives
+dm_control's values; one an element lacks raises VariationAttributeError.
 """
 
 from __future__ import annotations
@@ -63,16 +49,34 @@ def _bind(
 
 class MJCFVariator:
     """Varies attributes of MJCF elements; a changed model is recompiled by the environment
-    at the next reset."""
+    at the next reset. An entity using both kinds of variator:
+
+        class Ball(composer.Entity):
+            def _build(self):
+                ...
+                self._mjcf_variator = MJCFVariator()
+                self._mjcf_variator.bind_attributes(self.geom, size=Uniform(0.05, 0.1),
+                                                    rgba=Uniform([0, 0, 0, 1], [1, 1, 1, 1]))
+                self._physics_variator = PhysicsVariator()
+                self._physics_variator.bind_attributes(self.body, mass=LogNormal(0, 0.2))
+
+            def initialize_episode_mjcf(self, random_state):
+                self._mjcf_variator.apply_variations(random_state)     # model changes: recompile
+
+            def initialize_episode(self, physics, random_state):
+                self._physics_variator.apply_variations(physics, random_state)   # no recompile
+    """
 
     def __init__(self) -> None:
         """An empty variator."""
         self._variations: dict[mjcf.Element, dict[str, _Bound]] = {}
 
     def bind_attributes(self, element: mjcf.Element, **variations: Any) -> None:
-        """Vary `element.<attribute>` by each variation (a value or callable); its current
-        value is the initial value. Raises VariationAttributeError for an attribute the
-        element does not have (nothing is bound then)."""
+        """Vary `element.<attribute>` by each variation (a value or callable
+        `f(initial_value, current_value, random_state)`); its current value is the initial
+        value. Binding an attribute again replaces its variation; binding it to None
+        forgets it. Raises VariationAttributeError for an attribute the element does not
+        have (nothing is bound then)."""
         initial = {}
         for name in variations:
             try:
@@ -84,8 +88,10 @@ class MJCFVariator:
                 self._variations.setdefault(element, {})[name] = _Bound(variation, initial[name])
 
     def apply_variations(self, random_state: Any) -> None:
-        """Set every bound attribute to a new value. Raises VariationError naming the
-        element and attribute when a value is invalid for it; then no attribute changes."""
+        """Set every bound attribute to a new value: each element's attributes evaluated in
+        the order bound, elements in the order first bound, so a seeded random state gives
+        dm_control's values. Raises VariationError naming the element and attribute when a
+        value is invalid for it; then no attribute changes."""
         updates = []
         for element, attributes in self._variations.items():
             values = {}
@@ -133,13 +139,15 @@ class PhysicsVariator:
 
     def bind_attributes(self, element: mjcf.Element, **variations: Any) -> None:
         """Vary field `<name>` of `element`'s binding by each variation (a value or
-        callable); the field is checked when first applied."""
+        callable); the field is checked when first applied. Binding a field again replaces
+        its variation; binding it to None forgets it."""
         for name, variation in variations.items():
             if _bind(self._variations, element, name, variation):
                 self._variations.setdefault(element, {})[name] = _Bound(variation)
 
     def apply_variations(self, physics: mjcf.Physics, random_state: Any) -> None:
-        """Write a new value to every bound field. Raises VariationAttributeError for a
+        """Write a new value to every bound field, evaluated in the order
+        `MJCFVariator.apply_variations` says. Raises VariationAttributeError for a
         field the element's binding does not have, VariationError for a value it cannot
         take (then no field changes)."""
         if physics.model is not self._model:  # compiled anew: its values are the initial ones

@@ -4,44 +4,10 @@
     obs, info = venv.reset(seed=0)            # environment i is seeded 0 + i
     obs, reward, terminated, truncated, info = venv.step(venv.action_space.sample())
     obs['pendulum/orientation'].shape         # (64, 2): a leading environment axis
-    frames = venv.render()                    # a frame each, with render_mode='rgb_array'
-    venv.rendered                             # camera observables, drawn on render threads
 
-What it promises:
-- Each environment is a `composer.Environment` of its own task (`task_factory()` is called
-  num_envs times): it compiles, resets and runs its episode hooks exactly as that single
-  environment would, so the same seeds and actions give the same trajectories, bit for
-  bit, as num_envs single environments reset with seeds seed + i (and, after an episode
-  ends, reset without a seed). Their models must share MuJoCo's data layout; each
-  simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
-- Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by default
-  one while a step's physics is short, `composer.vector.threads`; without the bindings'
-  profiling timer, `composer.batch.timer`) and leave
-  derived quantities (xpos, sensordata ...) consistent with the new state, as a single
-  environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
-  acceleration-dependent fields are recomputed when read, and once read, computed by
-  every step: `stage=mjSTAGE_ACC`). The batch keeps one MjData per simulation, so each
-  step continues from the stages computed after the last. With `physics.legacy_step =
-  False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
-  observations, rewards, terminations and discounts are numpy arrays over every
-  environment, computed at once where the task writes its per-step methods in their
-  batched form and its observables are batchable (`composer.batch`, `.observations`);
-  the rest runs per environment on a materialized MjData. A control step keeps the order
-  and rules of a single environment's (`composer.stepping`).
-- Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
-  (default: the step after an episode ends resets that environment, ignores its action
-  and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
-  info['final_obs'] and info['final_info']) or DISABLED (reset with
-  `reset(options={'reset_mask': mask})`).
-- Camera observables (`MJCFCamera`) and `render()` draw each environment's frame with its
-  own physics' renderers, as that single environment does (the same frames, bit for bit),
-  on render threads that draw environments in parallel (`composer.vector.rendering`,
-  `nthread` threads); a reset's first frame is drawn by its environment's reset, in turn.
-- Divergence truncates that environment only, with its reward 0 and the message in
-  info['physics_error'], and a `DivergenceWarning`; MuJoCo errors in a simulation (e.g.
-  arena overflow) are reported the same way instead of raising.
-- info holds the task's `get_info` entries and 'discount', as (num_envs,) arrays each with
-  a boolean mask '_<key>' of the environments that have it (gymnasium's convention).
+Promises (`VectorEnvironment` states each): the same trajectories and frames, bit for bit,
+as num_envs single Environments seeded seed + i; Gymnasium's autoreset modes; a divergence
+truncates that environment only; info is laid out as Gymnasium's (`info_layout`).
 """
 
 from __future__ import annotations
@@ -81,9 +47,49 @@ _OUTCOME = frozenset({"get_reward", "should_terminate_episode", "get_discount", 
 
 
 class VectorEnvironment(gymnasium.vector.VectorEnv):
-    """num_envs environments of one task, stepped together (see the module docstring).
-    `per_environment` lists what runs once per environment each step, on a materialized
-    MjData ([] when the task and its observables are fully batched)."""
+    """num_envs environments of one task, stepped together. `per_environment` lists what runs
+    once per environment each step, on a materialized MjData ([] when the task and its
+    observables are fully batched).
+
+        frames = venv.render()                    # a frame each, with render_mode='rgb_array'
+        venv.rendered                             # camera observables, drawn on render threads
+
+    What it promises:
+    - Each environment is a `composer.Environment` of its own task (`task_factory()` is called
+      num_envs times): it compiles, resets and runs its episode hooks exactly as that single
+      environment would, so the same seeds and actions give the same trajectories, bit for
+      bit, as num_envs single environments reset with seeds seed + i (and, after an episode
+      ends, reset without a seed). Their models must share MuJoCo's data layout; each
+      simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
+    - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by
+      default one while a step call's physics is short, `composer.vector.threads`; without
+      the bindings' profiling timer, `composer.batch.timer`) and leave derived quantities
+      (xpos, sensordata ...) consistent with the new state, as a single
+      environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
+      acceleration-dependent fields are recomputed when read, and once read, computed by
+      every step: `stage=mjSTAGE_ACC`). The batch keeps one MjData per simulation, so each
+      step continues from the stages computed after the last. With `physics.legacy_step =
+      False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
+      observations, rewards, terminations and discounts are numpy arrays over every
+      environment, computed at once where the task writes its per-step methods in their
+      batched form and its observables are batchable (`composer.batch`, `.observations`);
+      the rest runs per environment on a materialized MjData. A control step keeps the order
+      and rules of a single environment's (`composer.stepping`).
+    - Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
+      (default: the step after an episode ends resets that environment, ignores its action
+      and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
+      info['final_obs'] and info['final_info']) or DISABLED (reset with
+      `reset(options={'reset_mask': mask})`).
+    - Camera observables (`MJCFCamera`) and `render()` draw each environment's frame with its
+      own physics' renderers, as that single environment does (the same frames, bit for bit),
+      on render threads that draw environments in parallel (`composer.vector.rendering`,
+      `nthread` threads); a reset's first frame is drawn by its environment's reset, in turn.
+    - Divergence truncates that environment only, with its reward 0 and the message in
+      info['physics_error'], and a `DivergenceWarning`; MuJoCo errors in a simulation (e.g.
+      arena overflow) are reported the same way instead of raising.
+    - info holds the task's `get_info` entries and 'discount', as (num_envs,) arrays each with
+      a boolean mask '_<key>' of the environments that have it (gymnasium's convention).
+    """
 
     metadata = {"render_modes": list(RENDER_MODES), "autoreset_mode": AutoresetMode.NEXT_STEP}
 
@@ -367,7 +373,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self, actions: Any
     ) -> tuple[dict[str, np.ndarray] | np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict]:
         """Advance every environment one control step with its row of `actions` (see the
-        module docstring for autoreset). Returns (observations, rewards, terminations,
+        class docstring for autoreset). Returns (observations, rewards, terminations,
         truncations, info). Raises EpisodeError before reset(), for actions of the wrong
         shape or not finite, and (autoreset DISABLED) for an environment whose episode
         ended."""

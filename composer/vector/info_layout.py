@@ -6,9 +6,7 @@
     kept, moved = split(info, mask)                # e.g. into info and info['final_info']
     replace_rows(info, newer, ids)                 # environments ids' entries: newer's
 
-`add` makes each key's array as `gymnasium.vector.SyncVectorEnv` does for the same
-entries (of the entry's type for a Python or numpy number, of its shape and dtype for an
-array, of objects otherwise; a dict entry nests), so our info equals its info.
+Promise: `add` makes each key's array as `gymnasium.vector.SyncVectorEnv` does.
 """
 
 from __future__ import annotations
@@ -30,7 +28,10 @@ def put(info: dict[str, Any], key: str, ids: np.ndarray, values: np.ndarray, n: 
 
 
 def add(info: dict[str, Any], entries: dict[str, Any], i: int, n: int) -> None:
-    """Put environment i's info `entries` into the info of `n` environments."""
+    """Put environment i's info `entries` into the info of `n` environments, making each
+    key's array as `gymnasium.vector.SyncVectorEnv` does for the same entries (of the
+    entry's type for a Python or numpy number, of its shape and dtype for an array, of
+    objects otherwise; a dict entry nests), so our info equals its info."""
     for key, value in entries.items():
         if isinstance(value, dict):
             nested = info.setdefault(key, {})

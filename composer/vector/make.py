@@ -6,10 +6,8 @@
     vec = gym.make_vec('composer/Reach-v0', num_envs=16, vectorization_mode='vector_entry_point',
                        pixels=True, width=64, height=64)             # a PixelVectorEnvironment
 
-Keywords are those of `composer.registration.make_environment` (time limit, flattening,
-render mode, size and camera, `pixels`, `frame_stack` and `proprioception`; the rest go to
-the task), plus Gymnasium's `max_episode_steps` and the VectorEnvironment's
-`autoreset_mode` and `nthread`.
+Keywords are `make_environment`'s (the `EnvironmentOptions`, the rest the task's) plus
+`max_episode_steps`, `autoreset_mode` and `nthread`; a bad one raises RegistrationError.
 """
 
 from __future__ import annotations

@@ -1,15 +1,11 @@
-"""SameModels: whether the simulations of a VectorEnvironment can all run on one MjModel.
+"""SameModels: whether the simulations of a VectorEnvironment can all run on one MjModel
+(which MuJoCo's batch steps faster than a model each: docs/performance_profile.md).
 
     same = SameModels(num_envs)
     same.update(models, changed)      # after resets: `changed` environments' models may differ
     same.identical                    # True: every model is models[0], bit for bit
 
-MuJoCo's batch steps simulations on models of their own a few percent slower than on one
-model for all (each thread reads one model's arrays instead of n copies of them). The
-environments' models are compiled apart, and tasks and variations may edit them at each
-reset: they are compared as MuJoCo saves them (`mj_saveModel`, every field and asset), and
-shared only while all are the same. A model larger than `LARGEST` is never compared: saving
-it costs more than sharing saves.
+Promise: `identical` only when every model equals the first as MuJoCo saves it.
 """
 
 from __future__ import annotations
@@ -19,6 +15,7 @@ from collections.abc import Iterable, Sequence
 import mujoco
 import numpy as np
 
+# A model larger than this is never compared: saving it costs more than sharing saves.
 LARGEST = 8 << 20  # bytes of a saved model (mj_sizeModel)
 
 
@@ -32,7 +29,10 @@ def _saved(model: mujoco.MjModel, into: np.ndarray | None = None) -> np.ndarray:
 
 
 class SameModels:
-    """Which of n models are the first one's, bit for bit (see the module docstring)."""
+    """Which of n models are the first one's, bit for bit. The environments' models are
+    compiled apart, and tasks and variations may edit them at each reset: they are compared
+    as MuJoCo saves them (`mj_saveModel`, every field and asset), and shared only while all
+    are the same; a model larger than `LARGEST` is never compared."""
 
     def __init__(self, num_envs: int) -> None:
         """Know nothing yet: no model is taken to be the first one's."""

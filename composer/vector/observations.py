@@ -2,16 +2,10 @@
 
     speed = BatchGeneric(lambda physics: physics.field('qvel')[:, :1])   # (n, 1)
 
-An observable is read for all environments in one call when its `batch_reader(physics)`
-gives a function of no arguments returning a (num_envs, *shape) array (as `BatchGeneric`
-and `entities.features` do), or it is an `MJCFFeature` of an MjData field MuJoCo's batch
-binds (automatic: qpos, qvel, xpos, sensordata ...). Others are read once per environment
-from its materialized MjData, with the reader a single environment uses. The schedule,
-buffers, corruption and reduction are `composer.observation.schedule`'s, the same a single
-`Environment` keeps (as a schedule of one environment), here over num_envs: environments
-reset at different steps, so each keeps its own phase and ring of samples. Corruptors run
-once per environment with its random state (`corruptor(value, random_state=state)`); named
-aggregators reduce every environment at once, callable ones run once per environment.
+Batched observables (a `batch_reader`, or an `MJCFFeature` of a field MuJoCo's batch binds)
+are read for all environments in one call, the others per environment with a single
+environment's reader; `BatchObservations` says how they are buffered and corrupted. A batch
+reader of the wrong shape raises BatchError.
 """
 
 from __future__ import annotations
@@ -66,7 +60,19 @@ def _batch_reader(
 
 class BatchObservations:
     """The observation pipeline of a VectorEnvironment: every environment's enabled
-    observables, sampled on its own schedule into (num_envs, ...) arrays."""
+    observables, sampled on its own schedule into (num_envs, ...) arrays.
+
+    An observable is read for all environments in one call when its `batch_reader(physics)`
+    gives a function of no arguments returning a (num_envs, *shape) array (as `BatchGeneric`
+    and `entities.features` do), or it is an `MJCFFeature` of an MjData field MuJoCo's batch
+    binds (automatic: qpos, qvel, xpos, sensordata ...). Others are read once per environment
+    from its materialized MjData, with the reader a single environment uses. The schedule,
+    buffers, corruption and reduction are `composer.observation.schedule`'s, the same a single
+    `Environment` keeps (as a schedule of one environment), here over num_envs: environments
+    reset at different steps, so each keeps its own phase and ring of samples. Corruptors run
+    once per environment with its random state (`corruptor(value, random_state=state)`); named
+    aggregators reduce every environment at once, callable ones run once per environment.
+    """
 
     def __init__(
         self,

@@ -6,14 +6,8 @@ observations of num_envs `composer.pixels.PixelEnvironment`s in one VectorEnviro
     vec = gym.make_vec('composer/CartpoleSwingup-v0', num_envs=16,
                        vectorization_mode='vector_entry_point', pixels=True)
 
-Each environment's frame is drawn by its own physics' renderer (`composer.pixels.frame`,
-what a PixelEnvironment draws), every environment's on the render threads at once
-(`composer.vector.rendering`), after the control step (or reset) it is returned by; stacks
-and spaces are PixelEnvironment's with a leading environment axis. The same seeds and
-actions give the same frames, bit for bit, as num_envs PixelEnvironments in Gymnasium's
-`SyncVectorEnv` with the same autoreset mode: an environment reset (NEXT_STEP's step after
-its end, SAME_STEP's step that ends it, a `reset_mask`) holds its first frame in every
-slot, and SAME_STEP's info['final_obs'] holds the stack with the last frame.
+Promise: the same frames, bit for bit, as num_envs PixelEnvironments in Gymnasium's
+`SyncVectorEnv` with the same seeds, actions and autoreset mode.
 """
 
 from __future__ import annotations
@@ -40,8 +34,18 @@ from composer.vector.environment import VectorEnvironment
 
 
 class PixelVectorEnvironment(VectorEnvironment):
-    """A VectorEnvironment whose observations are camera frames (see the module
-    docstring); its other results, `render()` and `environments` are VectorEnvironment's."""
+    """A VectorEnvironment whose observations are camera frames; its other results,
+    `render()` and `environments` are VectorEnvironment's.
+
+    Each environment's frame is drawn by its own physics' renderer (`composer.pixels.frame`,
+    what a PixelEnvironment draws), every environment's on the render threads at once
+    (`composer.vector.rendering`), after the control step (or reset) it is returned by; stacks
+    and spaces are PixelEnvironment's with a leading environment axis. The same seeds and
+    actions give the same frames, bit for bit, as num_envs PixelEnvironments in Gymnasium's
+    `SyncVectorEnv` with the same autoreset mode: an environment reset (NEXT_STEP's step after
+    its end, SAME_STEP's step that ends it, a `reset_mask`) holds its first frame in every
+    slot, and SAME_STEP's info['final_obs'] holds the stack with the last frame.
+    """
 
     def __init__(
         self,

@@ -4,15 +4,10 @@
     frames = threads.draw([0, 1, 2, 3], lambda i: envs[i].physics.render(64, 64))  # 4 frames
     threads.close()
 
-Environment i is always drawn on thread i % count, so its renderers (its `mjcf.Physics`'s
-own) are only ever current in that thread and the caller's; every thread releases its
-OpenGL context before another may use them (`mjcf.sim.rendering.release_context`). The
-environments of one thread share one OpenGL context
-(`mjcf.sim.rendering.context_group(threads.group(i))`, which the caller wraps around what
-may make environment i's renderers, such as its reset). With one thread, or a backend
-whose contexts stay in one thread (anything but EGL), frames are drawn in the caller's
-thread, in order. Why threads rather than processes, and what they gain:
-docs/performance_profile.md, "Costs behind choices".
+Promise: environment i is always drawn on thread i % count, in one OpenGL context per thread
+(`RenderThreads`); `draw` raises the error of the first environment whose draw failed. Why
+threads rather than processes, and what they gain: docs/performance_profile.md, "Costs behind
+choices".
 """
 
 from __future__ import annotations
@@ -60,8 +55,18 @@ class _Job:
 
 
 class RenderThreads:
-    """Threads drawing environments' frames, environment i on thread i % count (see the
-    module docstring); started at the first `draw` that uses them."""
+    """Threads drawing environments' frames, environment i on thread i % count; started at
+    the first `draw` that uses them.
+
+    Environment i is always drawn on thread i % count, so its renderers (its `mjcf.Physics`'s
+    own) are only ever current in that thread and the caller's; every thread releases its
+    OpenGL context before another may use them (`mjcf.sim.rendering.release_context`). The
+    environments of one thread share one OpenGL context
+    (`mjcf.sim.rendering.context_group(threads.group(i))`, which the caller wraps around what
+    may make environment i's renderers, such as its reset). With one thread, or a backend
+    whose contexts stay in one thread (anything but EGL), frames are drawn in the caller's
+    thread, in order.
+    """
 
     def __init__(self, count: int) -> None:
         """Up to `count` threads (at least 1)."""

@@ -2,15 +2,8 @@
 
     physics_threads(model, num_envs=32, substeps=5, cpus=2)   # 1, or min(num_envs, cpus)
 
-A thread of MuJoCo's batch that finishes its share of a call waits for the next call
-spinning, about 0.1 ms of CPU a call (measured: cheetah run, 8 simulations, 2 threads), and
-under load a thread that has to wait for a core holds up the whole call. So a second thread
-pays when a call's physics is long: then the spin is a small part of it and an idle core
-nearly halves the wall time. One thread is chosen while the physics of a call
-(`num_envs` x `substeps` x one `mj_step` of the model, timed on a scratch MjData of the
-model) is below `SPLIT_FROM` (1 ms: the spin is then more than a tenth of it); from there,
-min(num_envs, cpus). The threads never change a result (MuJoCo's batch is bit-identical at
-any thread count), only its speed.
+One thread while a step call's physics is short, the CPUs from `SPLIT_FROM` (1 ms) of it
+(`physics_threads` says why); the count never changes a result, only its speed.
 """
 
 from __future__ import annotations
@@ -47,8 +40,14 @@ def step_seconds(model: mujoco.MjModel) -> float:
 
 def physics_threads(model: mujoco.MjModel, num_envs: int, substeps: int, cpus: int) -> int:
     """The threads to step `num_envs` simulations of `model` by `substeps` physics steps a
-    call on, with `cpus` CPUs at hand: 1 while a call's physics is under `SPLIT_FROM`
-    seconds (see the module docstring), else min(num_envs, cpus)."""
+    call on, with `cpus` CPUs at hand: 1 while a call's physics (num_envs x substeps x
+    `step_seconds(model)`) is under `SPLIT_FROM` seconds, else min(num_envs, cpus).
+
+    A thread of MuJoCo's batch that has finished its share of a call waits for the next
+    one spinning (about 0.1 ms of CPU a call), and on a loaded machine a call waits for
+    its slowest thread to get a core. A second thread pays only where the physics of a
+    call is long: there its spin is under a tenth of the work, and an idle core nearly
+    halves the wall time. (Measurements: docs/performance_profile.md, section 8.)"""
     most = max(1, min(num_envs, cpus))
     if most == 1:
         return 1

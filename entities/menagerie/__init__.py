@@ -4,12 +4,10 @@
     menagerie.ROOT / 'universal_robots_ur5e' / 'ur5e.xml'    # a real file, for any loader
     robots.from_menagerie('robotiq_2f85')                    # found here (see robots)
 
-`universal_robots_ur5e` (UR5e arm, BSD-3-Clause, ROS Industrial Consortium) and
-`robotiq_2f85` (Robotiq 2F-85 gripper, BSD-2-Clause, ROS-Industrial) are MuJoCo Menagerie's
-files with their LICENSE files; `composer/ArmPushBox-v0` uses them, so it works on any
-install with no download. The 2F-85 is unchanged; the UR5e's OBJ meshes were converted to
-MuJoCo's binary MSH format by `entities.menagerie.convert`, which compiles to the identical
-MjModel (31 MB of text -> 10 MB). README.md here lists the originals' SHA-256 sums.
+The UR5e arm and the Robotiq 2F-85 gripper are MuJoCo Menagerie's files under their own
+LICENSE files, so `composer/ArmPushBox-v0` works with no download. The UR5e's meshes are
+MSH files that compile to the identical MjModel (`entities.menagerie.convert`); README.md
+here gives the licenses, what changed and the originals' SHA-256 sums.
 """
 
 from pathlib import Path

@@ -4,13 +4,9 @@ prove it: the converted robot must compile to the same MjModel as the original.
     $ python -m entities.menagerie.convert ~/mujoco_menagerie/universal_robots_ur5e \\
           entities/menagerie/universal_robots_ur5e
 
-MuJoCo reads each number of an OBJ file into a float32; an MSH file holds those float32s
-(vertices, per-vertex normals) and the int32 face indices as they are, so the UR5e's 31 MB
-of OBJ text become 10 MB. Only OBJ files MSH can carry unchanged are converted: triangles
-whose normal index equals their vertex index (`f 1//1 2//2 3//3`), or no normals at all;
-texture coordinates, polygons and other elements raise ConversionError. `convert_robot`
-then compiles the original and the converted robot and raises ConversionError naming
-every MjModel field that differs (file paths aside), so a converted folder is exact.
+An MSH file holds the float32s MuJoCo reads from the OBJ text, so nothing is rounded;
+OBJ files MSH cannot carry unchanged raise ConversionError (see `obj_to_msh`), and so
+does a converted folder that compiles to a different MjModel (file paths aside).
 """
 
 from __future__ import annotations
@@ -37,8 +33,14 @@ class ConversionError(composer.EntityError):
 
 
 def obj_to_msh(text: str, source: str = "<obj>") -> bytes:
-    """The MSH file for the OBJ `text` (read from `source`, named in errors). Raises
-    ConversionError for anything MSH cannot carry unchanged (see the module docstring)."""
+    """The MSH file for the OBJ `text` (read from `source`, named in errors).
+
+    MuJoCo reads each number of an OBJ file into a float32; an MSH file holds those
+    float32s (vertices, per-vertex normals) and the int32 face indices as they are (the
+    UR5e's 31 MB of OBJ text become 10 MB). Only what MSH carries unchanged is converted:
+    triangles whose normal index equals their vertex index (`f 1//1 2//2 3//3`), or no
+    normals at all. Raises ConversionError for texture coordinates, polygons and other
+    elements."""
     vertices: list[list[float]] = []
     normals: list[list[float]] = []
     faces: list[list[int]] = []
@@ -107,8 +109,9 @@ def model_differences(original: mujoco.MjModel, converted: mujoco.MjModel) -> li
 
 def convert_robot(source: str | os.PathLike[str], target: str | os.PathLike[str]) -> list[Path]:
     """Copy the robot folder `source` to `target` with every OBJ mesh converted to MSH and
-    the XML files' `file="*.obj"` references renamed; returns the XML files checked. Raises
-    ConversionError when a compiled XML file differs from its original."""
+    the XML files' `file="*.obj"` references renamed; returns the XML files checked. Each is
+    compiled beside its original, so a converted folder is exact. Raises ConversionError
+    naming every MjModel field that differs (file paths aside)."""
     source, target = Path(source), Path(target)
     shutil.copytree(source, target, ignore=shutil.ignore_patterns("*.obj"), dirs_exist_ok=True)
     for obj in sorted(source.rglob("*.obj")):

@@ -5,11 +5,8 @@
     physics.bind(acrobot.joints).qpos             # shoulder and elbow angles
     physics.bind([acrobot.tip, acrobot.target]).xpos   # the tip and where it should be
 
-The numbers are the suite's (`acrobot.xml`, Coulom's acrobot rather than Spong's): two
-1 m capsules of 1 kg, the shoulder 2 m above the floor, both hinges damped at 0.05, a
-2 N m motor at the elbow, RK4 at 10 ms, no constraints. The target site, 0.2 m in radius,
-is where the tip is when both links point straight up; the camera `fixed` looks at it
-from the front, `lookat` follows the upper arm.
+The numbers are the suite's (`acrobot.xml`, Coulom's acrobot rather than Spong's):
+`Acrobot` lists them.
 """
 
 from __future__ import annotations
@@ -20,7 +17,14 @@ from entities.suite.materials import add_materials
 
 
 class Acrobot(composer.Entity):
-    """The suite's acrobot (see the module docstring)."""
+    """The suite's acrobot.
+
+    The numbers are the suite's (`acrobot.xml`, Coulom's acrobot rather than Spong's): two
+    1 m capsules of 1 kg, the shoulder 2 m above the floor, both hinges damped at 0.05, a
+    2 N m motor at the elbow, RK4 at 10 ms, no constraints. The target site, 0.2 m in
+    radius, is where the tip is when both links point straight up; the camera `fixed` looks
+    at it from the front, `lookat` follows the upper arm.
+    """
 
     def _build(self, name: str = "acrobot") -> None:
         """Make the model named `name`."""

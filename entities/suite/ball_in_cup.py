@@ -5,12 +5,7 @@
     physics.bind(ball_in_cup.ball_joints).qpos    # the ball's x and z
     physics.bind(ball_in_cup.target).xpos         # the inside of the cup
 
-The numbers are the suite's (`ball_in_cup.xml`): a cup of five capsules of 8 mm radius,
-10 cm wide and deep, 0.6 m up, on two slide joints (x, z) held by springs of stiffness 20
-and damped at 3, each driven by a motor of gear 5; a ball of 2.5 cm radius on two
-unactuated slide joints, tied to the bottom of the cup by a 0.3 m string (a spatial tendon
-limited to its length); MuJoCo's default options (2 ms steps, gravity). The box site
-`target` is the inside of the cup. The cameras `cam0` and `cam1` look at it from the front.
+The numbers are the suite's (`ball_in_cup.xml`): `BallInCup` lists them.
 """
 
 from __future__ import annotations
@@ -27,7 +22,16 @@ _CUP_OUTLINE = ((-0.05, 0), (-0.05, -0.075), (-0.025, -0.1), (0.025, -0.1), (0.0
 
 
 class BallInCup(composer.Entity):
-    """The suite's ball in cup (see the module docstring)."""
+    """The suite's ball in cup.
+
+    The numbers are the suite's (`ball_in_cup.xml`): a cup of five capsules of 8 mm radius,
+    10 cm wide and deep, 0.6 m up, on two slide joints (x, z) held by springs of stiffness
+    20 and damped at 3, each driven by a motor of gear 5; a ball of 2.5 cm radius on two
+    unactuated slide joints, tied to the bottom of the cup by a 0.3 m string (a spatial
+    tendon limited to its length); MuJoCo's default options (2 ms steps, gravity). The box
+    site `target` is the inside of the cup. The cameras `cam0` and `cam1` look at it from
+    the front.
+    """
 
     def _build(self, name: str = "ball_in_cup") -> None:
         """Make the model named `name`."""

@@ -5,10 +5,7 @@
     physics.bind(cartpole.slider).qpos            # the cart's position on the rail
     physics.bind(cartpole.hinges).qpos            # each pole's angle from upright
 
-The numbers are the suite's (`cartpole.xml`): a 1 kg cart on a slide joint limited to
-+-1.8 m, poles of 1 m and 0.1 kg on undamped-but-for-2e-6 hinges, a 10 N motor on the
-cart, RK4 at 10 ms, no contacts. Each pole after the first hangs from the previous one's
-tip. The cameras `fixed` and `lookatcart` move back as the chain grows.
+The numbers are the suite's (`cartpole.xml`): `Cartpole` lists them.
 """
 
 from __future__ import annotations
@@ -19,7 +16,13 @@ from entities.suite.materials import add_materials
 
 
 class Cartpole(composer.Entity):
-    """A cart-pole of `num_poles` poles (see the module docstring)."""
+    """A cart-pole of `num_poles` poles.
+
+    The numbers are the suite's (`cartpole.xml`): a 1 kg cart on a slide joint limited to
+    +-1.8 m, poles of 1 m and 0.1 kg on undamped-but-for-2e-6 hinges, a 10 N motor on the
+    cart, RK4 at 10 ms, no contacts. Each pole after the first hangs from the previous one's
+    tip. The cameras `fixed` and `lookatcart` move back as the chain grows.
+    """
 
     def _build(self, name: str = "cartpole", num_poles: int = 1) -> None:
         """Make the model named `name` with `num_poles` poles (1 or more). Raises

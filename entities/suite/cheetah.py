@@ -5,12 +5,7 @@
     physics.bind(cheetah.speed_sensor).sensordata      # the torso subtree's linear velocity
     physics.bind(cheetah.joints).qpos                  # rootx, rootz, rooty, then the legs
 
-The numbers are the suite's (`cheetah.xml`): capsules of radius 0.046 with friction 0.4,
-scaled to a total mass of 14 kg (`_scale_to_total_mass`); the torso slides in x and z and
-turns about y, freely; each leg's thigh, shin and foot hinges are limited, sprung
-(stiffness 240 ... 60) and damped, and driven by motors of gear 120, 90, 60 (back) and
-90, 60, 30 (front); 10 ms steps. A light and the cameras `side` and `back` follow the
-torso's centre of mass.
+The numbers are the suite's (`cheetah.xml`): `Cheetah` lists them.
 """
 
 from __future__ import annotations
@@ -41,7 +36,15 @@ _TOTAL_MASS = 14.0
 
 
 class Cheetah(composer.Entity):
-    """The suite's half cheetah (see the module docstring)."""
+    """The suite's half cheetah.
+
+    The numbers are the suite's (`cheetah.xml`): capsules of radius 0.046 with friction 0.4,
+    scaled to a total mass of 14 kg (`_scale_to_total_mass`); the torso slides in x and z
+    and turns about y, freely; each leg's thigh, shin and foot hinges are limited, sprung
+    (stiffness 240 ... 60) and damped, and driven by motors of gear 120, 90, 60 (back) and
+    90, 60, 30 (front); 10 ms steps. A light and the cameras `side` and `back` follow the
+    torso's centre of mass.
+    """
 
     def _build(self, name: str = "cheetah") -> None:
         """Make the model named `name`."""

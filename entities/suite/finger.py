@@ -5,15 +5,7 @@
     physics.bind(finger.sensors).sensordata       # every observation the tasks make
     physics.bind(finger.hinge).qpos               # the spinner's angle
 
-The numbers are the suite's (`finger.xml`): a finger of a 17 cm and a 16 cm capsule on
-hinges limited to +-110 degrees (the proximal one's reference at -90), damped at 2.5, its
-motors of gear 30 and 15; a spinner of two capsules of 4 cm radius on an unactuated hinge
-with friction loss 0.1 and damping 0.5, a `tip` site 13 cm from its axis; no gravity,
-soft contacts (solimp 0 0.9 0.01, solref 0.02 1, which the world's floor shares), an
-elliptic friction cone, 200 solver iterations, Euler at 10 ms. Two touch sensors sit at
-the fingertip. Every observation the suite's tasks make is a sensor (in the file's order,
-`sensors`), so that they can be finite-differenced. The world's `target` site marks where
-the tip should go. The cameras `cam0` and `cam1` look at it from the front.
+The numbers are the suite's (`finger.xml`): `Finger` lists them.
 """
 
 from __future__ import annotations
@@ -27,7 +19,19 @@ SOLIMP, SOLREF = (0.0, 0.9, 0.01), (0.02, 1.0)
 
 
 class Finger(composer.Entity):
-    """The suite's finger and spinner (see the module docstring)."""
+    """The suite's finger and spinner.
+
+    The numbers are the suite's (`finger.xml`): a finger of a 17 cm and a 16 cm capsule on
+    hinges limited to +-110 degrees (the proximal one's reference at -90), damped at 2.5,
+    its motors of gear 30 and 15; a spinner of two capsules of 4 cm radius on an unactuated
+    hinge with friction loss 0.1 and damping 0.5, a `tip` site 13 cm from its axis; no
+    gravity, soft contacts (solimp 0 0.9 0.01, solref 0.02 1, which the world's floor
+    shares), an elliptic friction cone, 200 solver iterations, Euler at 10 ms. Two touch
+    sensors sit at the fingertip. Every observation the suite's tasks make is a sensor (in
+    the file's order, `sensors`), so that they can be finite-differenced. The world's
+    `target` site marks where the tip should go. The cameras `cam0` and `cam1` look at it
+    from the front.
+    """
 
     def _build(self, name: str = "finger") -> None:
         """Make the model named `name`."""

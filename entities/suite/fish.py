@@ -7,15 +7,7 @@ fluid without gravity, and the target it swims to.
     physics.bind([fish.target, fish.mouth]).xpos     # where the target and the mouth are
     physics.bind(fish.torso).xmat                    # the torso's orientation
 
-The numbers are the suite's (`fish.xml`): a torso of ellipsoids whose mass is a box's
-(`torso_massive`, hidden in group 4), moving freely in a fluid of density 5000 with no
-gravity and no constraints, in 4 ms steps; the tail turns (`tail1`), twists
-(`tail_twist`) and bends again (`tail2`, sprung); each fin rolls and pitches, the rolls
-driven together through the tendon `fins_flap` and held symmetric by the sprung tendon
-`fins_sym`. Five position servos (`tail`, `tail_twist`, `fins_flap`, `finleft_pitch`,
-`finright_pitch`) take controls in [-1, 1]. A velocimeter and a gyro at the torso. The
-world's cameras (`tracking_top`, `tracking_x`, `tracking_y` following the fish, and
-`fixed_top`) and the target sphere are the fish's too, since they belong to its task.
+The numbers are the suite's (`fish.xml`): `Fish` lists them.
 """
 
 from __future__ import annotations
@@ -54,7 +46,18 @@ _SERVOS = (
 
 
 class Fish(composer.Entity):
-    """The suite's fish and its target (see the module docstring)."""
+    """The suite's fish and its target.
+
+    The numbers are the suite's (`fish.xml`): a torso of ellipsoids whose mass is a box's
+    (`torso_massive`, hidden in group 4), moving freely in a fluid of density 5000 with no
+    gravity and no constraints, in 4 ms steps; the tail turns (`tail1`), twists
+    (`tail_twist`) and bends again (`tail2`, sprung); each fin rolls and pitches, the rolls
+    driven together through the tendon `fins_flap` and held symmetric by the sprung tendon
+    `fins_sym`. Five position servos (`tail`, `tail_twist`, `fins_flap`, `finleft_pitch`,
+    `finright_pitch`) take controls in [-1, 1]. A velocimeter and a gyro at the torso. The
+    world's cameras (`tracking_top`, `tracking_x`, `tracking_y` following the fish, and
+    `fixed_top`) and the target sphere are the fish's too, since they belong to its task.
+    """
 
     def _build(self, name: str = "fish") -> None:
         """Make the model named `name`."""

@@ -5,12 +5,7 @@
     physics.bind(hopper.touch_sensors).sensordata      # the toe's and the heel's contact force
     physics.bind([hopper.torso, hopper.foot]).xipos    # centres of mass of torso and foot
 
-The numbers are the suite's (`hopper.xml`): capsules of the suite's material on hinges
-damped 0.05 with armature 0.2, each limited (waist +-30 degrees, hip -170 to 10, knee 5 to
-150, ankle +-45) and driven by a motor (gear 30, 40, 30, 10); the torso slides in x and z
-and turns about y, freely; touch sensors at the toe and the heel; 5 ms steps. The cameras
-`cam0` and `back` stand in the world and follow the hopper's centre of mass, as does its
-light.
+The numbers are the suite's (`hopper.xml`): `Hopper` lists them.
 """
 
 from __future__ import annotations
@@ -30,7 +25,15 @@ _LEG = (
 
 
 class Hopper(composer.Entity):
-    """The suite's hopper (see the module docstring)."""
+    """The suite's hopper.
+
+    The numbers are the suite's (`hopper.xml`): capsules of the suite's material on hinges
+    damped 0.05 with armature 0.2, each limited (waist +-30 degrees, hip -170 to 10, knee 5
+    to 150, ankle +-45) and driven by a motor (gear 30, 40, 30, 10); the torso slides in x
+    and z and turns about y, freely; touch sensors at the toe and the heel; 5 ms steps. The
+    cameras `cam0` and `back` stand in the world and follow the hopper's centre of mass, as
+    does its light.
+    """
 
     def _build(self, name: str = "hopper") -> None:
         """Make the model named `name`."""

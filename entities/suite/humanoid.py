@@ -5,14 +5,7 @@
     physics.bind(humanoid.head).xpos              # the head's position
     physics.bind(humanoid.subtree_velocity).sensordata   # the centre of mass' velocity
 
-The numbers are the suite's (`humanoid.xml`): a torso with a free joint 1.5 m up, a
-waist of two bodies (abdomen z, y, x), two legs of thigh (hip x, z, y), shin (knee) and
-foot (ankle y, x) with two toe capsules, two arms of upper arm (two shoulder joints),
-lower arm (elbow) and hand; 21 motors of unit control range, 5 ms steps. Sites of the
-class `touch` cover each part (a touch sensor each), `force-torque` sites sit at the hips,
-knees and ankles (force and torque sensors); the torso's root site carries an IMU
-(accelerometer, velocimeter, gyro). The light `top` and the cameras `back` and `side`
-follow the torso's centre of mass; `egocentric` looks out of the head.
+The numbers are the suite's (`humanoid.xml`): `Humanoid` lists them.
 """
 
 from __future__ import annotations
@@ -38,9 +31,19 @@ _FORCE_TORQUE_SITES = (
 
 
 class Humanoid(composer.Entity):
-    """The suite's humanoid (see the module docstring). Attributes: `torso`, `head`,
-    `hands` and `feet` (left, right), `root` (the free joint), `joints` (the 21 hinges in
-    model order), `subtree_velocity` (the torso's subtree linear velocity sensor)."""
+    """The suite's humanoid. Attributes: `torso`, `head`, `hands` and `feet` (left, right),
+    `root` (the free joint), `joints` (the 21 hinges in model order), `subtree_velocity`
+    (the torso's subtree linear velocity sensor).
+
+    The numbers are the suite's (`humanoid.xml`): a torso with a free joint 1.5 m up, a
+    waist of two bodies (abdomen z, y, x), two legs of thigh (hip x, z, y), shin (knee) and
+    foot (ankle y, x) with two toe capsules, two arms of upper arm (two shoulder joints),
+    lower arm (elbow) and hand; 21 motors of unit control range, 5 ms steps. Sites of the
+    class `touch` cover each part (a touch sensor each), `force-torque` sites sit at the
+    hips, knees and ankles (force and torque sensors); the torso's root site carries an IMU
+    (accelerometer, velocimeter, gyro). The light `top` and the cameras `back` and `side`
+    follow the torso's centre of mass; `egocentric` looks out of the head.
+    """
 
     def _build(self, name: str = "humanoid") -> None:
         """Make the model named `name`."""

@@ -5,16 +5,7 @@
     physics.bind(humanoid.thorax).xmat            # the frame its observations use
     physics.bind(humanoid.subtree_velocity).sensordata   # the thorax subtree's velocity
 
-The numbers are the suite's (`humanoid_CMU.xml`, built of capsules, spheres and ellipsoids:
-no mesh files): a pelvis body `root` with a free joint 1 m up, lying on its back in its own
-frame (rotated 90 degrees about x), whose y axis runs up the spine; two legs (hip, femur,
-tibia, foot, toes), a spine (lower back, upper back, thorax), a neck of two bodies, the head,
-and two arms (clavicle, humerus, radius, wrist, hand, fingers, thumb). Joints are named for
-their body and axis (`lfemurrx`: the left femur about x), limited, damped and sprung by
-three stiffness classes; a motor drives each, unit control range, listed by name as the
-file lists them. Sensors: the thorax subtree's linear velocity, an IMU at the root site
-(velocimeter, gyro, accelerometer) and touch sensors on the toes and feet. The clavicles do
-not collide with each other or with the neck. MuJoCo's default 2 ms step.
+The numbers are the suite's (`humanoid_CMU.xml`, no mesh files): `HumanoidCMU` lists them.
 """
 
 from __future__ import annotations
@@ -146,10 +137,22 @@ _EXCLUDED = (("lclavicle", "rclavicle"), ("lowerneck", "lclavicle"), ("lowerneck
 
 
 class HumanoidCMU(composer.Entity):
-    """The suite's CMU humanoid (see the module docstring). Attributes: `pelvis` (the
-    body `root`), `root` (its free joint), `thorax`, `head`, `hands` and `feet` (left,
-    right), `joints` (the 56 hinges in model order), `subtree_velocity` (the thorax
-    subtree's linear velocity sensor)."""
+    """The suite's CMU humanoid. Attributes: `pelvis` (the body `root`), `root` (its free
+    joint), `thorax`, `head`, `hands` and `feet` (left, right), `joints` (the 56 hinges in
+    model order), `subtree_velocity` (the thorax subtree's linear velocity sensor).
+
+    The numbers are the suite's (`humanoid_CMU.xml`, built of capsules, spheres and
+    ellipsoids: no mesh files): a pelvis body `root` with a free joint 1 m up, lying on its
+    back in its own frame (rotated 90 degrees about x), whose y axis runs up the spine; two
+    legs (hip, femur, tibia, foot, toes), a spine (lower back, upper back, thorax), a neck
+    of two bodies, the head, and two arms (clavicle, humerus, radius, wrist, hand, fingers,
+    thumb). Joints are named for their body and axis (`lfemurrx`: the left femur about x),
+    limited, damped and sprung by three stiffness classes; a motor drives each, unit control
+    range, listed by name as the file lists them. Sensors: the thorax subtree's linear
+    velocity, an IMU at the root site (velocimeter, gyro, accelerometer) and touch sensors
+    on the toes and feet. The clavicles do not collide with each other or with the neck.
+    MuJoCo's default 2 ms step.
+    """
 
     def _build(self, name: str = "humanoid_CMU") -> None:
         """Make the model named `name`."""

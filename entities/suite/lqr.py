@@ -6,13 +6,7 @@ first few pushed by motors (dm_control's procedurally generated `lqr` model).
     system.draw_system(random_state)     # each spring's stiffness (and damping): dm_control's draws
     physics.bind(system.joints).qpos      # each sphere's offset, relative to the one before
 
-The numbers are the suite's (`lqr.xml` and its generator): spheres of 10 cm radius, 25 cm
-apart along x (the first 10 cm up), each on a slide joint along y relative to the one
-before; joint i's stiffness is drawn uniformly from `stiffness_range` and its damping from
-`damping_range` (both drawn, body after body, even when the range is a point); motors of
-unit gear and unlimited control on the first `n_actuators` joints; constraints disabled,
-30 ms steps. Tendons between neighbouring spheres are drawn only. Until `draw_system` runs
-the springs hold the middle of the ranges.
+The numbers are the suite's (`lqr.xml` and its generator): `LQR` lists them.
 """
 
 from __future__ import annotations
@@ -27,9 +21,17 @@ from entities.suite.materials import add_materials
 
 
 class LQR(composer.Entity):
-    """A chain of `n_bodies` spring-mounted spheres, the first `n_actuators` actuated (see
-    the module docstring). Attributes: `bodies`, `joints`, `sites` (one per sphere, in
-    chain order), `motors`."""
+    """A chain of `n_bodies` spring-mounted spheres, the first `n_actuators` actuated.
+    Attributes: `bodies`, `joints`, `sites` (one per sphere, in chain order), `motors`.
+
+    The numbers are the suite's (`lqr.xml` and its generator): spheres of 10 cm radius,
+    25 cm apart along x (the first 10 cm up), each on a slide joint along y relative to the
+    one before; joint i's stiffness is drawn uniformly from `stiffness_range` and its
+    damping from `damping_range` (both drawn, body after body, even when the range is a
+    point); motors of unit gear and unlimited control on the first `n_actuators` joints;
+    constraints disabled, 30 ms steps. Tendons between neighbouring spheres are drawn only.
+    Until `draw_system` runs the springs hold the middle of the ranges.
+    """
 
     def _build(
         self,

@@ -2,16 +2,12 @@
 peg), the prop's ghostly target and, to insert it, a receptacle (a cup or a slot).
 
     manipulator = Manipulator(use_peg=False, insert=True)     # ball, cup, target ball
-    arena.attach(manipulator)
-    physics.bind(manipulator.arm.joints).qpos                  # entities.suite.planar_arm
+    arena.attach(manipulator)                 # manipulator.arm: entities.suite.planar_arm
     physics.bind(manipulator.object_joints).qpos               # the prop's x, z and angle
     physics.bind(manipulator.target).pos                       # where the target is drawn
 
-dm_control's `manipulator.xml` holds every prop and its task removes those it does not
-use; here only the task's are built, in the file's order (ball, peg, slot, cup, target
-ball, target peg), so the model is the one the suite's task compiles. The props slide
-in x and z and turn about y (joints `<prop>_x`, `_z`, `_y`); targets and receptacles
-are static bodies a task moves by editing the model (their `body_pos` and `body_quat`).
+dm_control's `manipulator.xml` holds every prop and its task removes those it does not use;
+here only the task's are built, so the model is the one the suite's task compiles.
 """
 
 from __future__ import annotations
@@ -26,7 +22,12 @@ CONTACT_SOLREF = (0.005, 1)
 
 
 class Manipulator(composer.Entity):
-    """The planar arm with its prop, target and receptacle (see the module docstring).
+    """The planar arm with its prop, target and receptacle.
+
+    The props are built in the file's order (ball, peg, slot, cup, target ball, target peg).
+    They slide in x and z and turn about y (joints `<prop>_x`, `_z`, `_y`); targets and
+    receptacles are static bodies a task moves by editing the model (their `body_pos` and
+    `body_quat`).
 
     Attributes: `arm` (a PlanarArm), `object` (the prop's body), `object_joints` (its x, z
     and y joints, in that order), `target` (the target's body), `receptacle` (the cup's or

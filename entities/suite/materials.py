@@ -6,16 +6,16 @@
 
 dm_control's suite models include one file of materials (`common/materials.xml`); the world
 half of it (the checkered `grid`) is the suite arena's (`arenas.suite.SuiteArena`), this half
-belongs to the robot, whose geoms name these materials. The `*_default` and `*_highlight`
-pairs are what a task blends `self`, `effector` and `target` between when it colours them by
-the reward (`visualize_reward`).
+belongs to the robot, whose geoms name these materials.
 """
 
 from __future__ import annotations
 
 import mjcf
 
-# (name, rgba) in the suite's order: a compiled model's materials keep it.
+# (name, rgba) in the suite's order: a compiled model's materials keep it. The `*_default`
+# and `*_highlight` pairs are what a task blends `self`, `effector` and `target` between when
+# it colours them by the reward (`visualize_reward`).
 MATERIALS: tuple[tuple[str, tuple[float, float, float, float]], ...] = (
     ("self", (0.7, 0.5, 0.3, 1.0)),
     ("self_default", (0.7, 0.5, 0.3, 1.0)),

@@ -5,9 +5,7 @@
     physics.bind(pendulum.hinge).qpos             # the pole's angle from upright
     physics.bind(pendulum.pole).xmat              # its orientation: zz is cos(angle)
 
-The numbers are the suite's (`pendulum.xml`): a massless 0.5 m pole, a 1 kg sphere of 5 cm
-radius at its tip, a hinge 0.6 m above the floor damped at 0.1, a 1 N m motor, Euler at
-20 ms, no contacts. The camera `fixed` looks at it from the front, `lookat` follows it.
+The numbers are the suite's (`pendulum.xml`): `Pendulum` lists them.
 """
 
 from __future__ import annotations
@@ -18,7 +16,13 @@ from entities.suite.materials import add_materials
 
 
 class Pendulum(composer.Entity):
-    """The suite's pendulum (see the module docstring)."""
+    """The suite's pendulum.
+
+    The numbers are the suite's (`pendulum.xml`): a massless 0.5 m pole, a 1 kg sphere of
+    5 cm radius at its tip, a hinge 0.6 m above the floor damped at 0.1, a 1 N m motor,
+    Euler at 20 ms, no contacts. The camera `fixed` looks at it from the front, `lookat`
+    follows it.
+    """
 
     def _build(self, name: str = "pendulum") -> None:
         """Make the model named `name`."""

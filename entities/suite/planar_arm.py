@@ -6,14 +6,8 @@ manipulator and stacker domains share (dm_control's `manipulator.xml` and `stack
     physics.bind(arm.touch_sensors).sensordata             # palm, finger, thumb, tips
     physics.bind(arm.grasp).xpos         # the site between the fingers' tips
 
-The numbers are the suite's: an arm rooted at 0.4 m on an unlimited hinge, three limited
-hinges (+-160, +-160, +-140 degrees), a hand whose thumb and finger are coupled by a
-tendon equality so that one motor (`grasp`) closes both, five touch sensors and five
-motors (gears 12, 8, 4, 2 and 2 on the grasp tendon, controls in [-1, 1]). The model's
-top-level defaults (soft contacts, hidden sites) apply to everything in the model, props
-included; only the contacts' `solref` differs between the two domains. A grey-blue
-backdrop plane (`background`) behind the scene comes first, as in the suite's files,
-with its texture and material after the suite's robot materials.
+The numbers are the suite's (`add_planar_arm` lists them). The model's top-level defaults
+apply to everything in it, props included; only the contacts' `solref` differs by domain.
 """
 
 from __future__ import annotations
@@ -96,9 +90,17 @@ def _add_digit(
 
 
 def add_planar_arm(root: mjcf.RootElement, contact_solref: Sequence[float]) -> PlanarArm:
-    """Add the planar arm (module docstring) to `root`: its options, defaults (contacts
-    with `contact_solref`), materials, backdrop, bodies, tendons, coupling, touch sensors
-    and motors. Returns its elements; props go into `root`'s world body after it."""
+    """Add the planar arm to `root`: its options, defaults (contacts with
+    `contact_solref`), materials, backdrop, bodies, tendons, coupling, touch sensors and
+    motors. Returns its elements; props go into `root`'s world body after it.
+
+    The numbers are the suite's: an arm rooted at 0.4 m on an unlimited hinge, three
+    limited hinges (+-160, +-160, +-140 degrees), a hand whose thumb and finger are coupled
+    by a tendon equality so that one motor (`grasp`) closes both, five touch sensors and
+    five motors (gears 12, 8, 4, 2 and 2 on the grasp tendon, controls in [-1, 1]). A
+    grey-blue backdrop plane (`background`) behind the scene comes first, as in the suite's
+    files, with its texture and material after the suite's robot materials.
+    """
     root.option.set_attributes(timestep=0.001, cone="elliptic")
     _add_defaults(root, list(contact_solref))
     add_materials(root)

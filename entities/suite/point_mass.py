@@ -5,13 +5,7 @@
     physics.bind(point_mass.joints).qpos          # its x and y
     physics.bind(point_mass.target).xpos          # the target it should reach
 
-The numbers are the suite's (`point_mass.xml`): a 0.3 kg ball of 1 cm radius on two
-slide joints limited to +-0.29 m, damped at 1, inside the 0.6 m square of walls
-(`entities.suite.walls`), Euler at 20 ms, no contacts. Each motor (gear 0.1) pulls a fixed
-tendon, `t1` along x and `t2` along y: a task may change the tendons' coefficients
-(MjModel `wrap_prm`) so that each motor pushes along another direction. The target is a
-1.5 cm sphere at the centre. The camera `fixed` looks down on the square, `cam0` rides
-with the ball.
+The numbers are the suite's (`point_mass.xml`): `PointMass` lists them.
 """
 
 from __future__ import annotations
@@ -23,7 +17,16 @@ from entities.suite.walls import add_walls
 
 
 class PointMass(composer.Entity):
-    """The suite's point mass (see the module docstring)."""
+    """The suite's point mass.
+
+    The numbers are the suite's (`point_mass.xml`): a 0.3 kg ball of 1 cm radius on two
+    slide joints limited to +-0.29 m, damped at 1, inside the 0.6 m square of walls
+    (`entities.suite.walls`), Euler at 20 ms, no contacts. Each motor (gear 0.1) pulls a
+    fixed tendon, `t1` along x and `t2` along y: a task may change the tendons' coefficients
+    (MjModel `wrap_prm`) so that each motor pushes along another direction. The target is a
+    1.5 cm sphere at the centre. The camera `fixed` looks down on the square, `cam0` rides
+    with the ball.
+    """
 
     def _build(self, name: str = "point_mass") -> None:
         """Make the model named `name`."""

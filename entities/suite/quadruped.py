@@ -5,22 +5,8 @@
     physics.bind(quadruped.hinges).qpos          # the 16 leg joints' angles
     physics.bind(quadruped.velocimeter).sensordata   # the torso's velocity, in its frame
 
-The numbers are the suite's (`quadruped.xml`): an ellipsoid torso on a free joint, 0.57 m
-up, with two eyes; four legs (front left, front right, back right, back left) of hip (yaw,
-pitch), knee and ankle hinges ending in a toe sphere. Each leg's pitch, knee and ankle are
-coupled by an equality on a tendon; its 12 actuators are first-order filters with position
-feedback (yaw on the yaw joint, lift and extend on tendons over the pitch, knee and ankle).
-Sensors: an IMU (accelerometer, gyro, velocimeter) at the torso's site, force and torque
-at each toe, the torso subtree's centre of mass, and with `rangefinders` 20 rangefinders
-looking ahead from the face (their sites are there either way, as in the suite's file).
-The cameras `x` and `y` and the light follow the torso's centre of mass; `egocentric`
-looks out of the face. 5 ms steps.
-
-With `walls_and_ball` the model also has what the suite's fetch task adds to the world:
-four inclined walls around a 15 m floor, the `target` site at the origin and a free
-`ball`. They are this model's elements, not an arena's, because they wear the suite's
-materials (`decoration`, `target`, `ball`), which live in this model as in the suite's
-file; in the composed model they are world elements all the same.
+The numbers are the suite's (`quadruped.xml`): `Quadruped` lists them; with `walls_and_ball`
+the model also has what the suite's fetch task adds to the world.
 """
 
 from __future__ import annotations
@@ -51,13 +37,30 @@ _WALLS = (
 
 
 class Quadruped(composer.Entity):
-    """The suite's quadruped (see the module docstring). Attributes: `torso`, `root` (the
-    free joint), `hinges` (the 16 leg joints in model order), `toes` (bodies, in the legs'
-    order), `workspace` (the site ahead of the torso the fetch task brings the ball to),
-    `imu` (accelerometer, gyro), `velocimeter`, `force_torque` (force then torque sensors
-    of each toe), `rangefinders` (sensors; empty without them), and with
-    `walls_and_ball` `ball` (a body), `ball_root` (its free joint), `ball_geom` and
-    `target` (a site)."""
+    """The suite's quadruped. Attributes: `torso`, `root` (the free joint), `hinges` (the 16
+    leg joints in model order), `toes` (bodies, in the legs' order), `workspace` (the site
+    ahead of the torso the fetch task brings the ball to), `imu` (accelerometer, gyro),
+    `velocimeter`, `force_torque` (force then torque sensors of each toe), `rangefinders`
+    (sensors; empty without them), and with `walls_and_ball` `ball` (a body), `ball_root`
+    (its free joint), `ball_geom` and `target` (a site).
+
+    The numbers are the suite's (`quadruped.xml`): an ellipsoid torso on a free joint,
+    0.57 m up, with two eyes; four legs (front left, front right, back right, back left) of
+    hip (yaw, pitch), knee and ankle hinges ending in a toe sphere. Each leg's pitch, knee
+    and ankle are coupled by an equality on a tendon; its 12 actuators are first-order
+    filters with position feedback (yaw on the yaw joint, lift and extend on tendons over
+    the pitch, knee and ankle). Sensors: an IMU (accelerometer, gyro, velocimeter) at the
+    torso's site, force and torque at each toe, the torso subtree's centre of mass, and with
+    `rangefinders` 20 rangefinders looking ahead from the face (their sites are there either
+    way, as in the suite's file). The cameras `x` and `y` and the light follow the torso's
+    centre of mass; `egocentric` looks out of the face. 5 ms steps.
+
+    With `walls_and_ball` the model also has what the suite's fetch task adds to the world:
+    four inclined walls around a 15 m floor, the `target` site at the origin and a free
+    `ball`. They are this model's elements, not an arena's, because they wear the suite's
+    materials (`decoration`, `target`, `ball`), which live in this model as in the suite's
+    file; in the composed model they are world elements all the same.
+    """
 
     def _build(
         self, name: str = "quadruped", rangefinders: bool = False, walls_and_ball: bool = False

@@ -5,12 +5,7 @@
     physics.bind(reacher.joints).qpos             # shoulder and wrist angles
     physics.bind([reacher.finger, reacher.target]).xpos
 
-The numbers are the suite's (`reacher.xml`): an arm of two 1 cm capsules, 12 and 10 cm
-long, on hinges about z damped at 0.01 (the wrist limited to +-160 degrees), with a 1 cm
-sphere `finger` 12 cm beyond the wrist, in the 0.6 m square of walls
-(`entities.suite.walls`), two motors of gear 0.05, Euler at 20 ms, no contacts. The target
-is a sphere in the plane of the arm, 5 cm in radius as compiled (a task may resize and
-move it). The camera `fixed` looks down on the square, `hand` follows the finger.
+The numbers are the suite's (`reacher.xml`): `Reacher` lists them.
 """
 
 from __future__ import annotations
@@ -22,7 +17,16 @@ from entities.suite.walls import add_walls
 
 
 class Reacher(composer.Entity):
-    """The suite's reacher (see the module docstring)."""
+    """The suite's reacher.
+
+    The numbers are the suite's (`reacher.xml`): an arm of two 1 cm capsules, 12 and 10 cm
+    long, on hinges about z damped at 0.01 (the wrist limited to +-160 degrees), with a 1 cm
+    sphere `finger` 12 cm beyond the wrist, in the 0.6 m square of walls
+    (`entities.suite.walls`), two motors of gear 0.05, Euler at 20 ms, no contacts. The
+    target is a sphere in the plane of the arm, 5 cm in radius as compiled (a task may
+    resize and move it). The camera `fixed` looks down on the square, `hand` follows the
+    finger.
+    """
 
     def _build(self, name: str = "reacher") -> None:
         """Make the model named `name`."""

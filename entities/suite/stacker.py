@@ -7,10 +7,7 @@ target box showing where the top of the stack should be.
     physics.bind(stacker.target).pos           # where the target is drawn
 
 dm_control's `stacker.xml` holds four boxes and its task removes those past `n_boxes`;
-here only the task's are built. Box i (4.4 cm cubes) starts at x = 0.5 - 0.1 i, z = 0.4
-and slides in x and z and turns about y (joints `box<i>_x`, `_z`, `_y`, in that order in
-the model); the target is a static body a task moves by editing the model. The contacts
-are a little softer than the manipulator's (`solref` 0.01 s).
+here only the task's are built, so the model is the one the suite's task compiles.
 """
 
 from __future__ import annotations
@@ -26,7 +23,12 @@ _BOX_X = (0.5, 0.4, 0.3, 0.2)  # box i's starting x, as the file writes it
 
 
 class Stacker(composer.Entity):
-    """The planar arm with `n_boxes` boxes and the target (see the module docstring).
+    """The planar arm with `n_boxes` boxes and the target.
+
+    Box i (4.4 cm cubes) starts at x = 0.5 - 0.1 i, z = 0.4 and slides in x and z and turns
+    about y (joints `box<i>_x`, `_z`, `_y`, in that order in the model); the target is a
+    static body a task moves by editing the model. The contacts are a little softer than the
+    manipulator's (`solref` 0.01 s).
 
     Attributes: `arm` (a PlanarArm), `boxes` (the boxes' bodies), `box_sites` (a site at
     each box's centre), `box_joints` (each box's x, y and z joints in turn: dm_control's

@@ -1,5 +1,4 @@
-"""The Control Suite's swimmer: a planar chain of `n_links` links in a viscous fluid, and the
-target it swims to.
+"""The Control Suite's swimmer: a planar chain of links in a viscous fluid, and its target.
 
     swimmer = Swimmer(n_links=6)
     arena.attach(swimmer)
@@ -7,16 +6,8 @@ target it swims to.
     physics.bind(swimmer.velocity_sensors).sensordata  # each link's velocity and rotation
     physics.bind([swimmer.target, swimmer.nose]).xpos
 
-dm_control writes this model for any number of links from its file (`swimmer.xml`, the
-head) by code; so does this class, with the same numbers: a head with a nose and eyes,
-then links of 0.1 m, each a box of 10 g (invisible) and a capsule (seen), hinged at its
-front end to the previous one within +-360/n_links degrees and driven by a motor of gear
-5e-4. The head slides in x and y and turns about z freely. A fluid of density 3000, no
-contacts, 2 ms steps. Sensors: the nose's and the target's positions, the head's x and y
-axes, then a velocimeter and a gyro on the head and on every link. The cameras
-`tracking1` and `tracking2` follow the swimmer's centre of mass from further away the
-longer it is (by n_links / 6); `eyes` looks forward from the head. The target sphere
-and its light are the swimmer's too, since they belong to its task.
+dm_control generates this model for any number of links from `swimmer.xml`; so does
+`Swimmer`, with the same numbers (its docstring lists them).
 """
 
 from __future__ import annotations
@@ -31,7 +22,19 @@ _LINK_LENGTH = 0.1
 
 
 class Swimmer(composer.Entity):
-    """The suite's swimmer of `n_links` links (see the module docstring)."""
+    """The suite's swimmer of `n_links` links.
+
+    dm_control writes this model for any number of links from its file (`swimmer.xml`, the
+    head) by code; so does this class, with the same numbers: a head with a nose and eyes,
+    then links of 0.1 m, each a box of 10 g (invisible) and a capsule (seen), hinged at its
+    front end to the previous one within +-360/n_links degrees and driven by a motor of gear
+    5e-4. The head slides in x and y and turns about z freely. A fluid of density 3000, no
+    contacts, 2 ms steps. Sensors: the nose's and the target's positions, the head's x and y
+    axes, then a velocimeter and a gyro on the head and on every link. The cameras
+    `tracking1` and `tracking2` follow the swimmer's centre of mass from further away the
+    longer it is (by n_links / 6); `eyes` looks forward from the head. The target sphere and
+    its light are the swimmer's too, since they belong to its task.
+    """
 
     def _build(self, name: str = "swimmer", n_links: int = 6) -> None:
         """Make the model named `name` of `n_links` links, the head among them. Raises

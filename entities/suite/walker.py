@@ -6,11 +6,7 @@
     physics.bind(walker.bodies).xmat                 # each body's orientation
     physics.bind(walker.speed_sensor).sensordata     # the torso subtree's linear velocity
 
-The numbers are the suite's (`walker.xml`): capsules with friction 0.7 that collide with
-the floor but not with each other; hinges about -y, damped 0.1 with armature 0.01 and soft
-limits (hip -20 to 100 degrees, knee -150 to 0, ankle +-45), each driven by a motor (gear
-100, 50, 20); the torso slides in z and x and turns about y, freely (in that order); 2.5 ms
-steps. A light and the cameras `side` and `back` follow the torso's centre of mass.
+The numbers are the suite's (`walker.xml`): `Walker` lists them.
 """
 
 from __future__ import annotations
@@ -34,7 +30,15 @@ FLOOR_FRICTION = (0.7, 0.1, 0.1)
 
 
 class Walker(composer.Entity):
-    """The suite's planar walker (see the module docstring)."""
+    """The suite's planar walker.
+
+    The numbers are the suite's (`walker.xml`): capsules with friction 0.7 that collide with
+    the floor but not with each other; hinges about -y, damped 0.1 with armature 0.01 and
+    soft limits (hip -20 to 100 degrees, knee -150 to 0, ankle +-45), each driven by a motor
+    (gear 100, 50, 20); the torso slides in z and x and turns about y, freely (in that
+    order); 2.5 ms steps. A light and the cameras `side` and `back` follow the torso's
+    centre of mass.
+    """
 
     def _build(self, name: str = "walker") -> None:
         """Make the model named `name`."""

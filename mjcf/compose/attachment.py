@@ -1,22 +1,13 @@
-"""Attaching one model to another.
+"""Attaching one model to another, at an `AttachmentFrame` of the parent.
 
-    arm = mjcf.from_path('ur5e.xml')
-    gripper = mjcf.from_path('2f85.xml')
+    arm, gripper = mjcf.from_path('ur5e.xml'), mjcf.from_path('2f85.xml')
     frame = arm.find('site', 'attachment_site').attach(gripper)   # or body.attach, model.attach
     arm.find('actuator', '2f85/fingers_actuator')                 # scoped names
     scene.attach(arm).add('freejoint')                             # a free-floating model
     gripper.detach()                                               # or frame.detach()
 
-The child model keeps its own tree and name scope; the parent holds an
-`AttachmentFrame` where the child's world body goes. The frame is written as a MuJoCo
-`<frame>` (so the child's free joints stay free), or as a `<body>` once joints or an
-inertial are added to it. A model is attached in one place at a time; attach a
-`copy.deepcopy` of it to use it twice. A model whose name is taken where it is attached
-(the same file loaded twice) is renamed 'name_1', 'name_2', ... as in dm_control.
-
-This module owns the link between a frame and its model (the frame's model, the model's
-frame, the parent's attachments and the child's scope in the parent's): `link` makes it,
-for `attach` and for copies alike, and `detach` undoes it; nothing else writes it.
+The child keeps its own tree and name scope; it is attached in one place at a time (attach
+a `copy.deepcopy` to use it twice), and a taken name becomes 'name_1', as in dm_control.
 """
 
 from __future__ import annotations
@@ -57,7 +48,9 @@ FRAME_SPEC, _BODY_ONLY, _FRAME_ONLY = _frame_spec()
 
 class AttachmentFrame(Element):
     """Where an attached model sits in its parent: a frame with a pose, that may get
-    joints (`frame.add('freejoint')`), an inertial and a name."""
+    joints (`frame.add('freejoint')`), an inertial and a name. It is written as a MuJoCo
+    `<frame>` (so the child's free joints stay free), or as a `<body>` once joints or an
+    inertial are added to it."""
 
     __slots__ = ("_attached",)
 
@@ -161,8 +154,10 @@ def attach(place: Element, child: RootElement) -> AttachmentFrame:
 
 def link(frame: AttachmentFrame, child: RootElement) -> None:
     """Make `frame` (new, of the parent model) hold model `child` (not attached): the
-    one place the link between them is made. Raises mjcf.NameClashError, changing
-    nothing, if a model of `child`'s name is attached to the parent already."""
+    one place the link between them (the frame's model, the model's frame, the parent's
+    attachments and the child's scope in the parent's) is made, for `attach` and copies
+    alike; `detach` undoes it, and nothing else writes it. Raises mjcf.NameClashError,
+    changing nothing, if a model of `child`'s name is attached to the parent already."""
     frame.root.namescope.add_child(child.namescope)
     object.__setattr__(frame, "_attached", child)
     set_frame(child, frame)

@@ -1,28 +1,13 @@
-"""How attached models are composed into one MJCF document.
+"""How attached models are composed into one MJCF document: each keeps its own tree, and only
+what is written is composed, every model as its `ModelContext` says.
 
-A model attached to another keeps its own tree; only its serialization is composed.
-For each model in the output, a `ModelContext` says how its names and values are
-written:
+    composition = composition_of(scene)        # the last one, while no model changed
+    composition.context(arm).prefix            # 'arm/': arm's names, scoped in scene's
 
-- names are scoped by the model's prefix relative to the output model ('arm/');
-- default classes stay isolated: an attached model's global defaults become a class
-  named after its scope ('arm/'), set as `childclass` on its attachment frame and as
-  `class` on its elements outside the world body; if the output model itself has
-  global defaults and attachments, they move to a class '/' the same way, so that no
-  model's defaults leak into another's;
-- global settings are the output model's, which the models attached into it share
-  (merged when each was attached: see `mjcf.compose.global_settings`), but for the
-  compiler settings each model keeps, as in MuJoCo's own attachment (see
-  `mjcf.compose.settings`): `angle` (euler, axisangle, and the range/ref/springref of
-  hinge and ball joints, attachment frames included) and `eulerseq` (euler becomes quat)
-  are converted element by element to the output model's, and an attached model's
-  `settotalmass` becomes its own densities, masses and inertias scaled (the models
-  attached inside it keep theirs);
-- unnamed elements are written with the names `mjcf.compose.naming` gives them
-  ('child//unnamed_geom_0'), in every output, so the compiled names are the written
-  ones;
-- a mesh or texture that compiles exactly like one of a model written before is
-  written once, references to it naming the first (see `mjcf.compose.sharing`).
+The document compiles each model's elements as that model alone would: names scoped, default
+classes kept apart, the output model's settings but for those each model keeps, unnamed
+elements named by `mjcf.compose.naming`, an asset that compiles like an earlier one written
+once (`mjcf.compose.sharing`). Raises mjcf.AttachmentError for settings it cannot reconcile.
 """
 
 from __future__ import annotations
@@ -56,7 +41,27 @@ _DEFAULT_DENSITY = 1000.0
 
 
 class ModelContext:
-    """How one model's elements are written in one output document."""
+    """How one model's elements are written in one output document:
+
+    - names are scoped by the model's prefix relative to the output model ('arm/');
+    - default classes stay isolated: an attached model's global defaults become a class
+      named after its scope ('arm/'), set as `childclass` on its attachment frame and as
+      `class` on its elements outside the world body; if the output model itself has
+      global defaults and attachments, they move to a class '/' the same way, so that no
+      model's defaults leak into another's;
+    - global settings are the output model's, which the models attached into it share
+      (merged when each was attached: see `mjcf.compose.global_settings`), but for the
+      compiler settings each model keeps, as in MuJoCo's own attachment (see
+      `mjcf.compose.settings`): `angle` (euler, axisangle, and the range/ref/springref of
+      hinge and ball joints, attachment frames included) and `eulerseq` (euler becomes quat)
+      are converted element by element to the output model's, and an attached model's
+      `settotalmass` becomes its own densities, masses and inertias scaled (the models
+      attached inside it keep theirs);
+    - unnamed elements are written with the names `mjcf.compose.naming` gives them
+      ('child//unnamed_geom_0'), in every output, so the compiled names are the written
+      ones;
+    - a mesh or texture that compiles exactly like one of a model written before is
+      written once, references to it naming the first (see `mjcf.compose.sharing`)."""
 
     __slots__ = (
         "angle_scale",

@@ -1,20 +1,12 @@
-"""Copies: `include_copy`, which merges a copy of another model (or element) into this
-one without a name scope, as MuJoCo's `<include>` would, and `copy.deepcopy` of models.
+"""Copies: `include_copy`, which merges a copy of another model (or element) into this one
+without a name scope, as MuJoCo's `<include>` would, and `copy.deepcopy` of models.
 
     scene.include_copy(mjcf.from_path('floor.xml'))     # its names join scene's
     body.include_copy(other_body)                         # same-tag elements too
     twin = copy.deepcopy(arm); twin.model = 'right'       # a detached copy, to attach again
 
-Attributes are merged (a value both sides set differently is an error, unless
-`override_attributes`), children are copied, names must not collide (with
-`override_attributes`, a child named as an element of the same parent is merged into it,
-as dm_control does). Everything is checked before anything changes.
-
-`copy.deepcopy(model)` copies the model with the models attached to it; the copy is
-not attached anywhere, even if the original is. References between elements point at
-the copies, and other objects copied in the same `deepcopy` call (an entity holding a
-model and some of its elements) keep pointing at the copied elements. Deep-copying an
-element copies its whole model and returns the element's copy.
+Everything is checked before anything changes. References in a copy point at the copies,
+and objects copied in the same `deepcopy` call keep pointing at the copied elements.
 """
 
 from __future__ import annotations
@@ -47,10 +39,13 @@ _E = TypeVar("_E", bound=Element)
 
 
 def include_copy(target: Element, source: Element, override_attributes: bool = False) -> None:
-    """Merge a copy of `source` into `target` (see module docstring). Raises
-    mjcf.SchemaError for elements of different tags, mjcf.AttachmentError for
-    conflicting attribute values and mjcf.NameClashError for names already taken; the
-    tree is unchanged then."""
+    """Merge a copy of `source` into `target`, as MuJoCo's `<include>` would: attributes
+    are merged (a value both sides set differently is an error, unless
+    `override_attributes`), children are copied, names must not collide (with
+    `override_attributes`, a child named as an element of the same parent is merged into
+    it, as dm_control does). Raises mjcf.SchemaError for elements of different tags,
+    mjcf.AttachmentError for conflicting attribute values and mjcf.NameClashError for
+    names already taken; everything is checked first, and the tree is unchanged then."""
     if target.tag != source.tag or isinstance(target, RootElement) != isinstance(
         source, RootElement
     ):
@@ -269,7 +264,11 @@ def _copied_value(element: Element, name: str, value: Any) -> Any:
 
 @bulk.whole_tree
 def deepcopy_element(element: _E, memo: dict[int, Any]) -> _E:
-    """`copy.deepcopy(element)` (see module docstring)."""
+    """`copy.deepcopy(element)`: deep-copying an element copies its whole model, with the
+    models attached to it, and returns the element's copy. The copy is not attached
+    anywhere, even if the original is. References between elements point at the copies,
+    and other objects copied in the same `deepcopy` call (an entity holding a model and
+    some of its elements) keep pointing at the copied elements (`memo`)."""
     found = memo.get(id(element))
     if found is not None:
         return found

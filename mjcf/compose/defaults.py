@@ -6,16 +6,8 @@
                                      # model is unchanged
     mjcf.commit_defaults(geom, attributes=['rgba'])   # one element, one attribute
 
-An element uses its `class`, else the `childclass` of its nearest enclosing body or
-frame, else the model's global defaults ('main'). A class inherits from the classes
-it is nested in. Actuators share one default per class, set by every actuator
-element of the class in order (see MuJoCo's "actuator shortcuts").
-
-A file may set the global actuator defaults in a later top-level `<default>` section,
-after classes were defined that copied them as they were then (Gymnasium-Robotics'
-Adroit hand does): such a setting is a `LateDefault` child of the global defaults,
-placed after the classes that do not see it, and written as a new top-level section
-(see `mjcf.io.serializer`), so that MuJoCo reads it as the file had it.
+A class inherits from the classes it is nested in. What commit_defaults cannot express on
+the element raises mjcf.AttributeValueError (an actuator class setting another's gains).
 """
 
 from __future__ import annotations
@@ -59,7 +51,13 @@ _DEFAULTABLE = frozenset(
 class LateDefault(Element):
     """An actuator default of the global defaults set by a later top-level `<default>`
     section: the classes before it among the global defaults' children copied the
-    actuator defaults without it, those after it with it (see the module docstring)."""
+    actuator defaults without it, those after it with it.
+
+    A file may set the global actuator defaults in a later top-level `<default>` section,
+    after classes were defined that copied them as they were then (Gymnasium-Robotics'
+    Adroit hand does): such a setting is a `LateDefault` child of the global defaults,
+    placed after the classes that do not see it, and written as a new top-level section
+    (see `mjcf.io.serializer`), so that MuJoCo reads it as the file had it."""
 
     __slots__ = ()
 
@@ -101,7 +99,9 @@ def default_tag(element: Element) -> str | None:
 
 
 def class_of(element: Element) -> Element:
-    """The default class element (a `<default>`) that `element` uses."""
+    """The default class element (a `<default>`) that `element` uses: its `class`, else
+    the `childclass` of its nearest enclosing body or frame, else the model's global
+    defaults ('main'). Raises mjcf.InvalidReferenceError for a class that does not exist."""
     model = element.root
     name = stored_attributes(element).get("class")
     if name is None:
@@ -230,6 +230,8 @@ def _defaults_for(element: Element, tag: str, names: frozenset[str] | None) -> d
             if child_tag == tag:
                 source = child
             elif tag in _ACTUATOR_TAGS and child_tag in _ACTUATOR_TAGS:
+                # Actuators share one default per class, set by every actuator element of
+                # the class in order (MuJoCo's "actuator shortcuts").
                 source = child
                 _reset_shortcut(values, child_tag, tag)
                 if tag == "general" and child.spec.matters_empty and written_empty(child):

@@ -1,43 +1,13 @@
 """Global settings of composed models: how the `<option>`, `<size>`, `<visual>`,
-`<statistic>` and `<compiler>` of an attached model join those of the model it is
-attached into, as in dm_control.
+`<statistic>` and `<compiler>` of an attached model join those of the model it goes into.
 
-    arena.option.timestep = 0.002
-    robot.option.timestep = 0.005
+    arena.option.timestep = 0.002; robot.option.timestep = 0.005
     arena.attach(robot)             # arena.option.timestep: 0.002, the smaller step
     robot.option.timestep           # 0.002 too: the composed model's, shared
     robot.compiler.boundmass = 0    # after the attach: the composed model's boundmass
 
-When a model is attached, each setting it gives is merged into the outermost model it
-goes into (`RootElement.root_model`) by `rule_of`: dm_control's rules, which MuJoCo's
-documented merging table agrees with and extends (a timestep and tolerances take the
-smaller value, iteration counts and capacities the larger, `<size memory>` the larger in
-bytes; where only MuJoCo has a rule, a flag takes the value that is not its default); a
-setting only one model gives is the composed model's; any other setting the two give
-differently is a conflict, and every conflict (with a `<size>` that would set two of
-memory / njmax / nstack, an `<compiler inertiafromgeom>` that cannot be reconciled ...)
-is named in one mjcf.AttachmentError, nothing changed. From then on the attached model,
-and the models attached inside it, share these settings with the outermost model, as
-dm_control's attached elements alias their parent's attributes: reading
-`robot.option.timestep` gives the composed value, and a value written on either model
-afterwards (`robot.compiler.boundmass = 0`, `robot.visual.headlight.ambient = ...` every
-episode) is the composed model's, replacing what the merge gave. A detached model keeps
-a copy of the shared values, as in dm_control; the model it leaves keeps them too.
-
-What each model keeps for itself, unshared: the compiler settings of
-`mjcf.compose.settings.OWN_COMPILER_SETTINGS` (its angle units, euler sequence, inertia
-and limit rules, total mass, file folders, and settings of the output only), which
-`mjcf.compose.settings` and `mjcf.compose.composition` reconcile per model when writing.
-dm_control lets `meshdir`, `texturedir` and `assetdir` differ and keeps the parent's; here
-each model keeps its own, since its files are found from it.
-
-How sharing is kept: each settings element of an attached model (the five sections and
-their once-only children, all made when the model is attached) holds the attribute
-storage of the outermost model's element at the same place, and is a `SharedSettings`
-element, which counts a change as one of the outermost model too and keeps no written
-text (see `mjcf.io.serializer`); its `<compiler>` storage is a `CompilerAttributes`, which
-keeps the model's own settings apart. Attaching, detaching, copying and emptying a
-section keep this true for every model of a composed tree.
+Merged when attached (`SettingsMerge`: every conflict named in one mjcf.AttachmentError,
+nothing changed), then shared with the outermost model, as in dm_control (`share`).
 """
 
 from __future__ import annotations
@@ -89,8 +59,12 @@ def rule_of(path: str, attribute: AttributeSpec) -> str | None:
 
 class CompilerAttributes(MutableMapping[str, Any]):
     """The attribute storage of an attached model's `<compiler>`: the settings the model
-    keeps for itself (`OWN_COMPILER_SETTINGS`) in `own`, the others in `shared`, the
-    outermost model's storage."""
+    keeps for itself (`OWN_COMPILER_SETTINGS`: its angle units, euler sequence, inertia
+    and limit rules, total mass, file folders, and settings of the output only) in `own`,
+    the others in `shared`, the outermost model's storage. `mjcf.compose.settings` and
+    `mjcf.compose.composition` reconcile the own settings per model when writing.
+    dm_control lets `meshdir`, `texturedir` and `assetdir` differ and keeps the parent's;
+    here each model keeps its own, since its files are found from it."""
 
     __slots__ = ("own", "shared")
 
@@ -128,7 +102,14 @@ class CompilerAttributes(MutableMapping[str, Any]):
 
 class SharedSettings(Element):
     """A settings element of an attached model, holding the storage of the outermost
-    model's element at its place (see the module docstring)."""
+    model's element at its place.
+
+    Each settings element of an attached model (the five sections and their once-only
+    children, all made when the model is attached) is one, and counts a change as one of
+    the outermost model too and keeps no written text (see `mjcf.io.serializer`); its
+    `<compiler>` storage is a `CompilerAttributes`, which keeps the model's own settings
+    apart. Attaching, detaching, copying and emptying a section keep this true for every
+    model of a composed tree."""
 
     __slots__ = ()
 
@@ -182,7 +163,17 @@ def settings_elements(model: RootElement, make: bool = True) -> Iterator[tuple[s
 
 class SettingsMerge:
     """What attaching models changes in the settings of the outermost model `top`:
-    planned and checked by `add` before anything changes, made by `apply`."""
+    planned and checked by `add` before anything changes, made by `apply`.
+
+    Each setting an attached model gives is merged into the outermost model it goes into
+    (`RootElement.root_model`) by `rule_of`: dm_control's rules, which MuJoCo's documented
+    merging table agrees with and extends (a timestep and tolerances take the smaller
+    value, iteration counts and capacities the larger, `<size memory>` the larger in bytes;
+    where only MuJoCo has a rule, a flag takes the value that is not its default); a
+    setting only one model gives is the composed model's; any other setting the two give
+    differently is a conflict, and every conflict (with a `<size>` that would set two of
+    memory / njmax / nstack, an `<compiler inertiafromgeom>` that cannot be reconciled
+    ...) is named in one mjcf.AttachmentError (`raise_problems`), nothing changed."""
 
     def __init__(self, top: RootElement) -> None:
         self.top = top
@@ -348,7 +339,11 @@ def copied(value: Any, owner: Element) -> Any:
 
 def share(model: RootElement) -> None:
     """Make `model` (attached) and the models attached inside it share the settings of
-    the outermost model (merged into it already: see `SettingsMerge`)."""
+    the outermost model (merged into it already: see `SettingsMerge`), as dm_control's
+    attached elements alias their parent's attributes: reading `robot.option.timestep`
+    gives the composed value, and a value written on either model afterwards
+    (`robot.compiler.boundmass = 0`, `robot.visual.headlight.ambient = ...` every episode)
+    is the composed model's, replacing what the merge gave."""
     top = model.root_model
     targets = dict(settings_elements(top))
     for each in (model, *attached_models(model)):
@@ -359,7 +354,8 @@ def share(model: RootElement) -> None:
 def unshare(model: RootElement, top: RootElement | None = None) -> None:
     """Give `model`, attached nowhere now (detached from the outermost model `top`, or a
     copy of an attached model), settings of its own: a copy of the values it shared, as
-    in dm_control; the models attached inside it share its settings from then on."""
+    in dm_control (the model it leaves keeps them too); the models attached inside it
+    share its settings from then on."""
     targets = dict(settings_elements(top, make=False)) if top is not None else {}
     for path, element in settings_elements(model, make=False):
         if path in targets and type(element) is SharedSettings:

@@ -1,18 +1,13 @@
-"""Keyframes of composed models.
-
-A `<key>` describes one model: its vectors (qpos, qvel, act, ctrl, mpos, mquat) are
-laid out either for the model's own joints, actuators and mocap bodies, or for the
-model with everything attached inside it; which one is told by their length. When
-models are composed, every key keeps its scoped name ('arm/home') and its values
-move to where its model's entries land in the composed model; every other entry
-keeps the composed model's default (qpos0, zero velocities and controls, the mocap
-bodies' initial poses), as for an attached model in MuJoCo itself.
+"""Keyframes of composed models: every key keeps its scoped name and its values.
 
     scene.attach(arm)                 # arm has <key name="home" qpos="...">
     physics = mjcf.Physics.from_mjcf_model(scene)
     physics.reset(keyframe='arm/home')
 
-A model without attachments writes its keys as they are.
+A key's vectors (qpos, qvel, act, ctrl, mpos, mquat) are laid out for its model's own
+joints, actuators and mocap bodies, or for its model with all attached inside it (their
+length tells). Composed, they move to where its model's entries land; every other entry
+keeps the composed model's default (qpos0, zeros, mocap poses), as MuJoCo's attach does.
 """
 
 from __future__ import annotations
@@ -48,10 +43,10 @@ def _all_keys(composition: Composition) -> list[tuple[Element, ModelContext]]:
 def keys_to_write(
     composition: Composition, for_compile: bool
 ) -> list[tuple[Element, ModelContext, dict | None]]:
-    """(key, context, attribute override) for every key of the output. With
-    attachments, keys are written with their name and time only when compiling (their
-    vectors are filled into the compiled model by `fill`), and with vectors laid out
-    for the composed model otherwise."""
+    """(key, context, attribute override) for every key of the output. A model without
+    attachments writes its keys as they are. With attachments, keys are written with their
+    name and time only when compiling (their vectors are filled into the compiled model by
+    `fill`), and with vectors laid out for the composed model otherwise."""
     keys = _all_keys(composition)
     if not composition.has_attachments or not keys:
         return [(key, context, None) for key, context in keys]

@@ -4,26 +4,10 @@
     body.full_identifier                       # '//unnamed_body_0'
     scene.attach(model)                        # model 'robot'
     body.full_identifier                       # 'robot//unnamed_body_0'
-    model.worldbody.full_identifier            # 'world' ('robot/' once attached)
-    mujoco.mj_name2id(physics.model, mujoco.mjtObj.mjOBJ_BODY, body.full_identifier)
 
-As in dm_control, an element that can carry a name but has none is written with one:
-'/unnamed_<namespace>_<i>' after its model's scope prefix ('/' for the outermost
-model), where i is its position among all elements of that namespace in its own model
-(named or not, in document order), counting the elements of the models attached inside
-it where they are written (dm_control counts an attachment frame as one body instead),
-so that reading a written model and writing it again gives the same names. The name is
-written in every output (`to_xml_string`, exports, compiling), so the compiled model
-has it, and it is stable while the model does not change. Reading such a name back
-(`from_xml_string(model.to_xml_string())`) leaves the element unnamed again, references
-to it pointing at it.
-
-Exceptions: meshes, textures, height fields and skins without a name are called after
-their file, as MuJoCo calls them; elements inside a `<replicate>` stay unnamed (MuJoCo
-compiles several objects from each, numbering only named ones) and have no
-`full_identifier`; the joints of an attachment frame are named after the frame, as in
-dm_control ('robot/' for its first unnamed joint, 'robot/root_x/' for one named 'root_x':
-each frame holds its joints' names, so every attached model may have a 'root_x').
+As in dm_control, an element that can carry a name but has none is written in every output
+(so the compiled model has it) as '/unnamed_<namespace>_<i>' after its model's prefix; the
+name is stable while the model does not change, and reading it back leaves it unnamed.
 """
 
 from __future__ import annotations
@@ -81,7 +65,19 @@ def identifier(element: Element, prefix_root: RootElement | None = None) -> str 
 def written_name(element: Element, prefix: str) -> str | None:
     """The name written for `element`, which has no name of its own, in an output where
     its model's prefix is `prefix` ('' for the output model); None if it is written
-    without one."""
+    without one.
+
+    It is '/unnamed_<namespace>_<i>' after the prefix ('/' for the outermost model), where
+    i is the element's position among all elements of that namespace in its own model
+    (see `_numbers`), so that reading a written model and writing it again gives the same
+    names. Reading such a name back (`from_xml_string(model.to_xml_string())`) leaves the
+    element unnamed again, references to it pointing at it. Exceptions: meshes, textures,
+    height fields and skins without a name are called after their file, as MuJoCo calls
+    them; elements inside a `<replicate>` stay unnamed (MuJoCo compiles several objects
+    from each, numbering only named ones) and have no `full_identifier`; the joints of an
+    attachment frame are named after the frame, as in dm_control ('robot/' for its first
+    unnamed joint, 'robot/root_x/' for one named 'root_x': each frame holds its joints'
+    names, so every attached model may have a 'root_x')."""
     parent = element.parent
     if isinstance(parent, attachment.AttachmentFrame):
         return _frame_joint_name(element, parent, prefix)
@@ -175,10 +171,10 @@ def _numbers(root: RootElement) -> dict[Element, int]:
 
     The position counts every element written before it in the model's sections, those of
     the models attached inside it too, where they are written: an attachment frame as the
-    `<body>` or `<frame>` it is written as, its joints, then the attached world body's
-    contents. Reading the written model back makes those elements its own, under the
-    names they were written with, so it numbers its unnamed elements alike: writing,
-    reading and writing again gives the same text."""
+    `<body>` or `<frame>` it is written as (dm_control counts it as one body instead), its
+    joints, then the attached world body's contents. Reading the written model back makes
+    those elements its own, under the names they were written with, so it numbers its
+    unnamed elements alike: writing, reading and writing again gives the same text."""
     models = attached_models(root)
     key = (own_version(root), tuple((id(model), own_version(model)) for model in models))
     cached = numbering_of(root)

@@ -3,15 +3,9 @@
     copy.deepcopy(model).is_same_as(model)          # True
     arm_a.find('body', 'hand').is_same_as(arm_b.find('body', 'hand'))
 
-Two elements are the same when they have the same schema (the same tag in the same
-kind of place), the same attribute values, and the same children. Numbers compare by
-value (`pos="0 0 1"` read from a file equals `pos=[0, 0, 1]` set in Python), references
-by what they point to, named relative to each element's own model (`joint=hinge` equals
-`joint="hinge"`). Repeated children compare in order among those of one tag (a body's
-geoms in order, its sites in order, geoms and sites in any interleaving); the children
-of a tendon path compare in strict order, since that order is the path. A model compares
-its sections, not its name. Unlike dm_control, models attached inside are compared too:
-their attachment frames in order, with the models they hold.
+Two elements are the same when they have the same schema (the same tag in the same kind of
+place), the same attribute values (numbers by value, references by what they point to) and
+the same children. Unlike dm_control, models attached inside are compared too.
 """
 
 from __future__ import annotations
@@ -28,7 +22,16 @@ if TYPE_CHECKING:
 
 
 def is_same_as(element: Element, other: object) -> bool:
-    """Whether `other` is an element structurally equal to `element` (see module)."""
+    """Whether `other` is an element structurally equal to `element`: the same schema (the
+    same tag in the same kind of place), the same attribute values and the same children.
+    Numbers compare by value (`pos="0 0 1"` read from a file equals `pos=[0, 0, 1]` set in
+    Python), references by what they point to, named relative to each element's own model
+    (`joint=hinge` equals `joint="hinge"`). Repeated children compare in order among those
+    of one tag (a body's geoms in order, its sites in order, geoms and sites in any
+    interleaving); the children of a tendon path compare in strict order, since that
+    order is the path. A model compares its sections, not its name. Unlike dm_control,
+    models attached inside are compared too: their attachment frames in order, with the
+    models they hold."""
     if not isinstance(other, Element) or other.spec is not element.spec:
         return False
     is_root = isinstance(element, RootElement)

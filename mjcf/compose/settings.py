@@ -1,30 +1,12 @@
 """Settings sections of composed models: the `<compiler>` settings each model keeps for
-itself, and the sections a composed document writes.
+itself (`OWN_COMPILER_SETTINGS`, as in MuJoCo's own attachment), and the sections a
+composed document writes (the output model's, which the others share since attached).
 
     settings.compiler_problems(scene, arm)    # at attach: what cannot be reconciled
     settings.merged([scene, arm], 'option')   # the section written, when writing
 
-The settings models share (`<option>`, `<size>`, `<visual>`, `<statistic>` and most of
-`<compiler>`) are merged when a model is attached and shared from then on (see
-`mjcf.compose.global_settings`): a composed document writes its output model's. The compiler
-settings in `OWN_COMPILER_SETTINGS` are each model's own, as in MuJoCo's own
-attachment, so a composed model compiles every model's elements as that model alone
-would:
-
-- `angle` and `eulerseq` are converted element by element (see `mjcf.compose.composition`);
-- `autolimits` is written "true" when models differ (a model with "false" states
-  every limit, so "true" reads it the same);
-- `inertiafromgeom` takes a value under which every body of every model gets its
-  inertia the same way as alone ("true" and "auto" agree for a model without
-  `<inertial>`), else it is an `AttachmentError`;
-- an attached model's `settotalmass` becomes its own densities, masses and inertias
-  scaled by what it would scale them by alone (`unscaled_mass` compiles it once to know);
-  the models attached inside it keep their own masses (MuJoCo's attach leaves them, and
-  a robot's mass never changes with where it is attached); the written model's own
-  `settotalmass` with models attached is an AttachmentError, since it would scale them;
-- settings that do not change an attached model's compiled values (`usethread`,
-  `passthrough` ...) are the output model's; files are resolved per model, so
-  `meshdir`, `texturedir`, `assetdir` and `strippath` are never written.
+A composed model compiles every model's elements as that model alone would; settings that
+cannot be reconciled so raise mjcf.AttachmentError (see `mjcf.compose.global_settings`).
 """
 
 from __future__ import annotations
@@ -50,7 +32,18 @@ if TYPE_CHECKING:
 # Compiler settings that locate files: assets are resolved per model and written with
 # final names, so these never reach the output.
 FILE_SETTINGS = frozenset({"meshdir", "texturedir", "assetdir", "strippath"})
-# Compiler settings converted per model instead of required to agree.
+# Compiler settings converted per model instead of required to agree:
+# - `angle` and `eulerseq` are converted element by element (see `mjcf.compose.composition`);
+# - `autolimits` is written "true" when models differ (a model with "false" states every
+#   limit, so "true" reads it the same);
+# - `inertiafromgeom` takes a value under which every body of every model gets its inertia
+#   the same way as alone ("true" and "auto" agree for a model without `<inertial>`), else
+#   it is an AttachmentError (`inertia_setting`);
+# - an attached model's `settotalmass` becomes its own densities, masses and inertias scaled
+#   by what it would scale them by alone (`unscaled_mass` compiles it once to know); the
+#   models attached inside it keep their own masses (MuJoCo's attach leaves them, and a
+#   robot's mass never changes with where it is attached); the written model's own
+#   `settotalmass` with models attached is an AttachmentError, since it would scale them.
 CONVERTED_SETTINGS = frozenset(
     {"angle", "eulerseq", "autolimits", "inertiafromgeom", "settotalmass"}
 )

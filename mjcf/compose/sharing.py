@@ -1,34 +1,13 @@
 """Meshes and textures written once for all the models composed into one scene.
 
-    scene = mjcf.RootElement(model='scene')
     for i in range(100):
         scene.attach(copy.deepcopy(arm)).pos = [i, 0, 0]   # 'arm', 'arm_1', ...
-    physics = mjcf.Physics.from_mjcf_model(scene)
-    physics.model.nmesh                   # the arm's meshes once, not 100 times
-    arm_7.find('mesh', 'base').full_identifier             # 'arm_7/base', as ever
+    mjcf.Physics.from_mjcf_model(scene).model.nmesh        # the arm's meshes once, not 100x
 
-When models are composed (written or compiled together), a `<mesh>` or `<texture>` of
-an attached model that MuJoCo would compile exactly like one of a model written before
-it is not written: the elements that refer to it name that first one instead, so the
-scene holds each asset once however many copies of a robot it has. "Exactly like"
-means every attribute but the name equal, default classes applied (same file on disk,
-same `scale`, `refquat`, `maxhullvert` ...); a mesh that names a material of its own
-model is never shared. Within one model nothing is shared: a model compiles, alone or
-composed, to the assets its author wrote.
-
-The models' trees are untouched: each keeps its own elements, names and scopes; only
-the compiled model has one asset where the copies had several. Editing a copy's mesh in
-the tree (another scale) gives it its own asset again at the next compile. Binding a
-copy's mesh or texture (`physics.bind(arm_7_mesh)`) reaches the one asset all the copies
-compile to: it reads as ever, but a write through it would change every copy, so it is
-refused (mjcf.BindingError, naming the copies that share it), through any copy, the first
-too. To write one copy's asset at run time, compile without sharing:
-`mjcf.Physics.from_mjcf_model(scene, share_assets=False)` (or
-`physics.reload_from_mjcf_model(scene, share_assets=False)`), which compiles every copy's
-meshes and textures apart, at the cost of the memory sharing saves. Named access
-(`physics.named.model.mesh_scale['arm/base']`) and `physics.model` address the compiled
-asset itself, by the first copy's name, as MuJoCo's own API does: what they write is what
-every copy compiled to.
+An attached model's asset that compiles exactly like one written before is not written:
+references to it name the first. The trees are untouched. A binding of a shared asset reads
+as ever but refuses writes, which would change every copy (mjcf.BindingError); compile with
+`share_assets=False` to write one copy's asset (`mjcf.sim.tree_binding.write_refusal`).
 """
 
 from __future__ import annotations
@@ -55,7 +34,15 @@ def shared_assets(models: list[RootElement]) -> dict[Element, Element]:
     """{asset element: the element of an earlier model it is written as} for the meshes
     and textures of `models` (in writing order) that compile exactly like an earlier
     model's. The n-th of a model's assets with one key shares with the n-th of the
-    first model's of that key, so copies map one to one."""
+    first model's of that key, so copies map one to one.
+
+    "Exactly like" means every attribute but the name equal, default classes applied (same
+    file on disk, same `scale`, `refquat`, `maxhullvert` ...); a mesh that names a material
+    of its own model is never shared. Within one model nothing is shared: a model compiles,
+    alone or composed, to the assets its author wrote. The models' trees are untouched:
+    each keeps its own elements, names and scopes; only the compiled model has one asset
+    where the copies had several. Editing a copy's mesh in the tree (another scale) gives
+    it its own asset again at the next compile."""
     first: dict[tuple, Element] = {}
     shared: dict[Element, Element] = {}
     for model in models:

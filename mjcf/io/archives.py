@@ -1,26 +1,13 @@
 """Unpacking zip archives from strangers within limits: no decompression bomb.
 
-    unpacker = archives.Unpacker()                   # the limits in force (see below)
+    unpacker = archives.Unpacker()                   # the limits in force: current_limits()
     with zipfile.ZipFile(path) as archive:
         xml = unpacker.read(archive, 'scene/model.xml', where=path)   # bytes
     mjcf.from_zip('scene.zip', limits=archives.Limits(size=4 << 30, ratio=100))
 
-A zip of a few megabytes can unpack to gigabytes (deflate packs a run of zeros a
-thousandfold, and an archive may hold many such entries). Every entry read through an
-`Unpacker` is unpacked in pieces, counting the bytes as they come, and refused with
-`mjcf.UnpackLimitError` (naming the archive, the entry, its compressed and unpacked
-sizes and the limit) as soon as it passes either limit, before more memory is spent:
-
-- `size`: what all entries one `Unpacker` reads may unpack to together (default 1 GiB);
-- `ratio`: unpacked bytes per compressed byte of one entry (default 100; model files,
-  meshes and network weights pack 1 to 20 fold, bombs a thousandfold), counted only past
-  the entry's first `RATIO_FREE_BYTES` (1 MiB), which any ratio may reach.
-
-The sizes a zip's headers declare are checked first, and not trusted after: the count of
-bytes actually unpacked decides. The limits in force are `LIMITS` when a program sets
-it, else those of the environment variables `MJCF_UNPACK_LIMIT` (bytes, or with a suffix:
-`2G`, `500M`) and `MJCF_UNPACK_RATIO`, else the defaults. `mjcf.from_zip` reads through
-an `Unpacker`, and so does `composer`'s policy reader (`--unpack-limit`, `--unpack-ratio`).
+Every entry is unpacked in pieces, counting the bytes as they come, and refused with
+mjcf.UnpackLimitError (naming the archive, the entry, its sizes and the limit) as soon as it
+passes `size` or `ratio` (see `Limits`), before more memory is spent.
 """
 
 from __future__ import annotations
@@ -34,6 +21,10 @@ from typing import IO, NamedTuple
 
 from mjcf import errors
 
+# A zip of a few megabytes can unpack to gigabytes: deflate packs a run of zeros a
+# thousandfold, and an archive may hold many such entries. Model files, meshes and network
+# weights pack far less (docs/performance_profile.md, section 8), so a ratio of 100 passes
+# them and stops bombs.
 DEFAULT_SIZE = 1 << 30
 DEFAULT_RATIO = 100.0
 # Bytes of one entry that may unpack at any ratio: a small file of zeros is no bomb.
@@ -51,8 +42,10 @@ _SIZE = re.compile(r"\s*(\d+(?:\.\d*)?)\s*([KMGT]?)(?:I?B)?\s*", re.IGNORECASE)
 
 
 class Limits(NamedTuple):
-    """How much untrusted archives may unpack (see the module docstring): `size` bytes
-    in all, `ratio` unpacked bytes per compressed byte of an entry."""
+    """How much untrusted archives may unpack: `size` bytes in all the entries one
+    `Unpacker` reads (default 1 GiB), `ratio` unpacked bytes per compressed byte of one
+    entry (default 100), counted only past the entry's first `RATIO_FREE_BYTES` (1 MiB),
+    which any ratio may reach. The limits in force are `current_limits()`."""
 
     size: int = DEFAULT_SIZE
     ratio: float = DEFAULT_RATIO
@@ -86,8 +79,9 @@ def parse_ratio(text: str) -> float:
 
 
 def current_limits() -> Limits:
-    """The limits in force: `LIMITS` if set, else the environment variables' over the
-    defaults. Raises mjcf.UnpackLimitError for a variable that is not a size or ratio."""
+    """The limits in force: `LIMITS` if a program set it, else the environment variables'
+    (`MJCF_UNPACK_LIMIT` in bytes, or with a suffix: '2G', '500M'; `MJCF_UNPACK_RATIO`) over
+    the defaults. Raises mjcf.UnpackLimitError for a variable that is not a size or ratio."""
     if LIMITS is not None:
         return LIMITS
     size, ratio = os.environ.get(SIZE_VARIABLE), os.environ.get(RATIO_VARIABLE)
@@ -115,7 +109,8 @@ class Unpacker:
     """Reads entries of zip archives within `limits` (default: `current_limits()`),
     counting every byte unpacked: one Unpacker for each untrusted input, whose entries,
     and the entries of archives inside them, share its `size`. `raise_with` names how a
-    user raises the limits, for the message."""
+    user raises the limits, for the message. `mjcf.from_zip` reads through one, and so does
+    composer's policy reader (`--unpack-limit`, `--unpack-ratio`)."""
 
     def __init__(
         self,
@@ -131,6 +126,8 @@ class Unpacker:
         messages). Raises mjcf.UnpackLimitError past a limit, KeyError for an entry that
         is not there, mjcf.ParseError for one that cannot be unpacked."""
         info = entry if isinstance(entry, zipfile.ZipInfo) else archive.getinfo(entry)
+        # The size the header declares is checked first, and not trusted after: the count
+        # of bytes actually unpacked decides.
         self._check(info, info.file_size, where, declared=True)
         pieces = []
         unpacked = 0

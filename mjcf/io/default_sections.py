@@ -1,25 +1,12 @@
 """A top-level `<default>` that appears more than once, read as MuJoCo reads it.
 
-MuJoCo's parser copies a class's parent into the class when the class is defined. Within
-one `<default>` element that is invisible (the parent's own settings are read before its
-classes), but a second top-level `<default>` (often from an included file that sets
-`<default class="main">`) changes the global defaults after the classes of the first
-were copied from them:
-
     <default><default class="a"><geom friction=".5"/></default></default>
     <default class="main"><geom margin=".01"/></default>     <!-- class a keeps margin 0 -->
 
-A model has one global default class whose classes inherit from it, so the second
-section's settings are merged into it, and every class defined before them is given
-the value it copied ("pinned"): the global value it had then, or MuJoCo's built-in
-default (which MuJoCo's own writer reports, asked once per attribute). A value a class
-sets itself is kept, filled up from the pinned value when it has fewer numbers than the
-attribute holds. Built-in numbers come from MuJoCo's own default class (`MjSpec().default`),
-keywords from MuJoCo's writer. The model then compiles as the file does. Actuator defaults,
-which MuJoCo builds from a sequence of shortcuts, cannot be pinned this way: a later section
-that changes them after classes were defined (or after the global defaults set them) is kept
-as it is, a `mjcf.compose.defaults.LateDefault` after those classes, and written as a section of its
-own, as the file had it.
+MuJoCo copies a class's parent into the class when the class is defined, so a second
+top-level `<default>` changes the global defaults after the first one's classes copied
+them. `merge_section` merges it into the one global default class and gives each class
+defined before it the value it copied ("pinned"): the model compiles as the file does.
 """
 
 from __future__ import annotations
@@ -55,7 +42,15 @@ def merge_section(
     its settings (checked by `read_attributes`, as the parser reads attributes), with
     the classes defined before pinned, actuator settings kept as late settings, then
     its classes (read by `read_classes`). Raises mjcf.ParseError for a built-in value
-    MuJoCo cannot report."""
+    MuJoCo cannot report.
+
+    Within one `<default>` element MuJoCo's copying of a parent class is invisible (the
+    parent's own settings are read before its classes); a second section (often from an
+    included file that sets `<default class="main">`) is not. Actuator defaults, which
+    MuJoCo builds from a sequence of shortcuts, cannot be pinned: a later section that
+    changes them after classes were defined (or after the global defaults set them) is
+    kept as it is, a `mjcf.compose.defaults.LateDefault` after those classes, and written
+    as a section of its own, as the file had it."""
     earlier = [child for child in tree_children(main) if child.spec.tag == "default"]
     classes = []
     for xml in xml_section:
@@ -116,7 +111,9 @@ def _pin(
     where: Callable[[etree._Element], str],
 ) -> None:
     """Give `default_class` (defined before `setting` changes the global defaults) the
-    values it copied of the attributes `setting` changes."""
+    values it copied of the attributes `setting` changes: the global value it had then,
+    or MuJoCo's built-in default (`_built_in`). A value the class sets itself is kept,
+    filled up from the pinned value when it has fewer numbers than the attribute holds."""
     tag = setting.spec.tag
     before = single_child(main, tag)
     own = single_child(default_class, tag)
@@ -164,8 +161,9 @@ def _partial(attribute: AttributeSpec, value: Any) -> bool:
 
 def _built_in(tag: str, attribute: AttributeSpec, new_text: str, where: str) -> Any:
     """MuJoCo's built-in default of `attribute` of a default `<tag>`, all its numbers;
-    None when it cannot differ from `new_text` (nothing to pin). Raises mjcf.ParseError
-    if MuJoCo cannot say."""
+    None when it cannot differ from `new_text` (nothing to pin). Numbers come from
+    MuJoCo's own default class (`MjSpec().default`), keywords from MuJoCo's writer, asked
+    once per attribute. Raises mjcf.ParseError if MuJoCo cannot say."""
     converter = attribute.converter
     if converter.unset_is_empty:
         return "" if new_text else None

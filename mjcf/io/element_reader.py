@@ -3,12 +3,10 @@ errors naming the file, line and element.
 
     element_reader.read(root, xml_root, filename, escape_separators, resolve, strict_paths)
 
-The path of every document the fast way (`mjcf.io.fast_reader`) declines: one with an
-error (which this reader reports), a repeated top-level `<default>` (whose later copies
-change the classes read before them, see `mjcf.io.default_sections`), `strict_paths`,
-debug mode (which records where each element was read), and the first documents a
-process reads. Names are checked unique as they are read; references once the whole
-document is read.
+The path of every document the fast way (`mjcf.io.fast_reader`) declines: one with an error
+(which this reader reports), a repeated top-level `<default>` (`mjcf.io.default_sections`),
+`strict_paths`, debug mode (which records where each element was read), and the first
+documents a process reads. Names are checked unique as read, references once all is read.
 """
 
 from __future__ import annotations

@@ -2,17 +2,12 @@
 
     mjcf.export_with_assets(model, 'out/')              # out/model.xml + meshes, textures
     mujoco.MjModel.from_xml_path('out/model.xml')       # stock MuJoCo loads it
-    mjcf.export_with_assets(model, 'out/', None)        # out/<model name>.xml
     mjcf.export_with_assets_as_zip(model, 'scene.zip')  # scene/model.xml + assets
-    mjcf.export_with_assets_as_zip(model, out_dir='out/', model_name='arm')  # out/arm.zip
-    mjcf.export_with_assets(mjcf_model=model, out_dir='out/', out_file_name='arm.xml')
     model = mjcf.from_zip('scene.zip')                  # unpacked within mjcf.archives' limits
 
-The exported XML is `to_xml_string()` and the files beside it are `get_assets()`: the
-same plain, readable, unique names (see `mjcf.tree.assets`). dm_control's keyword names
-(`mjcf_model`, `out_file_name`, `out_dir`, `model_name`) are accepted too. Nothing is ever written
-outside the target: asset names are plain file names, and reading a zip never follows
-a path out of it.
+The XML is `to_xml_string()`, the files beside it `get_assets()`, with the same plain names;
+dm_control's keywords (`mjcf_model`, `out_file_name`, `out_dir`, `model_name`) work too.
+Nothing is ever written outside the target, and reading a zip never follows a path out.
 """
 
 from __future__ import annotations
@@ -87,11 +82,12 @@ def export_with_assets(
 ) -> str:
     """Write `model` as `out_dir/model_filename` and its assets beside it (the folder is
     created if needed); returns the XML file's path. `model_filename=None` names it
-    '<model name>.xml'; `mjcf_model` and `out_file_name` are dm_control's names for
-    `model` and `model_filename`; `precision` and `zero_threshold` are
-    `to_xml_string`'s. Raises mjcf.AssetError (a ValueError) for a model file name
-    that is not a plain name ending in '.xml' or an asset that cannot be read, and
-    TypeError for a missing model or folder; nothing is written then."""
+    '<model name>.xml' (`export_with_assets(model, 'out/', None)`); `mjcf_model` and
+    `out_file_name` are dm_control's names for `model` and `model_filename`; `precision`
+    and `zero_threshold` are `to_xml_string`'s. Raises mjcf.AssetError (a ValueError)
+    for a model file name that is not a plain name ending in '.xml' or an asset that
+    cannot be read, and TypeError for a missing model or folder; nothing is written
+    then."""
     model = _the_model(model, mjcf_model)
     if out_dir is None:
         raise TypeError("export_with_assets needs out_dir, the folder to write to")

@@ -5,12 +5,9 @@
     else:
         ...       # declined, nothing changed: `mjcf.io.element_reader` reads it
 
-Three checks of the whole document, each of which may decline it: it pays to make the
-XML Schema (`_ELEMENTS_BEFORE_SCHEMA`); libxml2 accepts it against that schema in C
-(`mjcf.io.xsd`: every element and attribute known, every value well formed); the indexer
-accepts its names and references (`mjcf.io.indexer`). Then the sections' own attributes
-are read as element by element, and each section is given the lxml element its children
-are built from when first used (see `mjcf.tree.element.Element`).
+Three checks of the whole document, each of which may decline it: it pays to make the XML
+Schema (`_ELEMENTS_BEFORE_SCHEMA`); libxml2 accepts it against that schema in C
+(`mjcf.io.xsd`); the indexer accepts its names and references (`mjcf.io.indexer`).
 """
 
 from __future__ import annotations
@@ -65,6 +62,8 @@ def read(
     reader = ElementReader(root, filename, escape_separators)
     sections = {section.tag: section for section in tree_children(root)}
     firsts: dict[str, etree._Element] = {}
+    # The sections' own attributes are read as element by element; each section is then
+    # given the lxml element its children are built from when first used.
     for xml_section in xml_root:
         tag = xml_section.tag
         section = sections[tag]

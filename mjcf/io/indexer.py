@@ -1,28 +1,13 @@
 """Checking a document's names and references without building its elements: the fast
-way `mjcf.io.parser` reads a model.
+way `mjcf.io.parser` reads a model, after the XML Schema (`mjcf.io.xsd`) accepted it.
 
     found = indexer.index(xml_root, check_references=True)
-    if found is None:      # a document to read element by element
-        ...
+    if found is None: ...  # a document to read element by element
     names, referenced = found
     names['joint']['hip']  # the lxml element of the joint called 'hip'
 
-After the XML Schema (`mjcf.io.xsd`) has accepted the document, this pass checks in Python
-what reading element by element checks beyond it: names unique in their namespace,
-references naming elements that exist, elements that may appear once appearing once
-(once in a section repeated at the top level too, whose copies MuJoCo merges), rules
-between attributes, and the values the schema leaves to the converters. It handles the
-common document; for anything else (an empty name or reference, a '/', generated or
-clashing names, a `<replicate>`, any error ...) it returns None and the
-element-by-element reader reads the document, which raises the error naming the
-element, or reads what this pass does not handle.
-
-It is one loop over each section's elements in document order, not a walk down the
-tree: within one top-level section a tag has one spec wherever it appears (the schema
-has put it only where it may be), the few tags that do not are told apart by their
-parent's tag, and what is checked of an element of each spec is worked out the first
-time a document has one (`_Plan`).
-The elements themselves are built when first used (see `Element._defer`).
+It checks what the element-by-element reader checks beyond the schema, and returns None
+for any error and anything it does not handle, so that reader raises or reads it.
 """
 
 from __future__ import annotations
@@ -186,7 +171,13 @@ class _SectionPlans:
     """The plans of the elements of one top-level section: `known`, {tag: the plan of
     that tag's elements anywhere in the section (a `_ByParent` for a tag with different
     specs; None for a tag read element by element)}, each made (`make`) when a document
-    first has that tag. A plain dict, whose lookups cost the least."""
+    first has that tag. A plain dict, whose lookups cost the least.
+
+    They let `index` be one loop over each section's elements in document order, not a
+    walk down the tree: within one top-level section a tag has one spec wherever it
+    appears (the schema has put it only where it may be), the few tags that do not are
+    told apart by their parent's tag, and what is checked of an element of each spec is
+    worked out the first time a document has one (`_Plan`)."""
 
     def __init__(self, section: ElementSpec) -> None:
         self.known: dict[object, _Plan | _ByParent | None] = {}
@@ -245,7 +236,16 @@ def index(
     the document under `xml_root`, a `<mujoco>` whose children are top-level sections
     (a section may be repeated: its copies count as one); the names references in
     default classes name are under ANY_NAMESPACE. None if the document is one for the
-    element-by-element reader (see the module docstring)."""
+    element-by-element reader.
+
+    It checks in Python what reading element by element checks beyond the XML Schema:
+    names unique in their namespace, references naming elements that exist, elements that
+    may appear once appearing once (once in a section repeated at the top level too, whose
+    copies MuJoCo merges), rules between attributes, and the values the schema leaves to
+    the converters. It handles the common document; for anything else (an empty name or
+    reference, a '/', generated or clashing names, a `<replicate>`, any error ...) it
+    returns None, and the element-by-element reader reads the document, which raises the
+    error naming the element, or reads what this pass does not handle."""
     names: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
     implicit: defaultdict[str, dict[str, etree._Element]] = defaultdict(dict)
     references: defaultdict[str, list[str]] = defaultdict(list)

@@ -4,18 +4,10 @@
     model = mjcf.from_xml_string('<mujoco>...</mujoco>', model_dir='assets/')
     model = mjcf.from_xml_string(xml, assets={'mesh.stl': stl_bytes})
 
-Every element and attribute is checked against MuJoCo's schema while reading (unknown
-names with a "did you mean", wrong numbers, bad keywords, duplicate names, and
-references to elements that do not exist); errors name the file, line and element.
-
-One path, read top to bottom in `_parse`: lxml reads the text (refusing DTDs and
-entities: no external entity, no "billion laughs", never the network, and documents
-nested deeper than MuJoCo's reader reads, `MAX_DEPTH` elements: the writer refuses the
-same), `<include>`s are merged, the model is made, and then the document is read one
-of two ways, decided once: the fast way (`mjcf.io.fast_reader`: checked whole, elements
-built when first used; about as fast as MuJoCo's own `MjSpec.from_file`), or, when it
-declines, element by element (`mjcf.io.element_reader`), which raises the error naming
-the element or reads what the fast way leaves to it.
+Every element and attribute is checked against MuJoCo's schema while reading; errors name
+the file, line and element. No DTD, entity or network is ever read. One path, top to bottom
+in `_parse`: lxml reads the text, `<include>`s are merged, and the document is read one of
+two ways, decided once: `mjcf.io.fast_reader`, or if it declines, `mjcf.io.element_reader`.
 """
 
 from __future__ import annotations
@@ -146,6 +138,16 @@ def _parse(
     filename: str | None,
     strict_paths: bool,
 ) -> RootElement:
+    """The model read from MJCF text `data`, the one path every reader takes: lxml reads
+    the text (refusing DTDs and entities: no external entity, no "billion laughs", never
+    the network, and documents nested deeper than MuJoCo's reader reads, `MAX_DEPTH`
+    elements: the writer refuses the same), `<include>`s are merged, the model is made,
+    and the document is read one of two ways, decided once: the fast way
+    (`mjcf.io.fast_reader`: checked whole, elements built when first used), or, when it
+    declines, element by element (`mjcf.io.element_reader`), which raises the error naming
+    the element or reads what the fast way leaves to it. Either checks every element and
+    attribute against MuJoCo's schema: unknown names with a "did you mean", wrong numbers,
+    bad keywords, duplicate names, and references to elements that do not exist."""
     xml_root, exact = _read_xml(data, filename)
     if xml_root.tag != "mujoco":
         raise errors.ParseError(

@@ -4,14 +4,10 @@
     xml, assets = serializer.serialize(model)      # with the files it names (get_assets)
     xml, assets, composed, owners = serializer.serialize_for_compile(model)  # compiling
 
-Attribute text read from a file is written back unchanged; values set from Python
-are written with `precision` significant digits (17: exactly). Asked for fewer digits,
-or to write numbers smaller than `zero_threshold` as 0, every real number is written
-so, as dm_control does, read from a file or not. Attached models are
-written where they are attached (`<frame>`, or `<body>` when the attachment frame has
-joints), their names scoped ('arm/shoulder'), their default classes isolated under a
-class named after their scope ('arm/'), their other sections appended after the
-parent's, and their compiler settings reconciled (see `mjcf.compose.composition`).
+Text read from a file is written back unchanged, values set from Python with `precision`
+significant digits (17: exactly); fewer digits or a `zero_threshold` rewrite every real
+number, as dm_control does. Attached models are written where they are attached, their
+other sections after the parent's, as `mjcf.compose.composition` says (names scoped ...).
 """
 
 from __future__ import annotations

@@ -1,17 +1,13 @@
 """An XML Schema of MJCF, generated from `mjcf.schema`, that libxml2 checks whole
-documents against in C: the fast reader's first check.
+documents against in C: the fast reader's first check. Built once per thread, when used.
 
     if xsd.accepts(xml_root):    # every element and attribute known, every value well formed
         ...                      # read fast (mjcf.io.fast_reader)
     else:
         ...                      # read element by element, which says what is wrong
 
-The schema is conservative: it accepts a document only if the element-by-element checks
-(`mjcf.schema.values` converters, `mjcf.schema` specs) accept it too, never the other way
-round. Whatever it cannot say simply (numbers counted in multiples or bounded, blank
-values, keyword lists, text with a grammar, rules between attributes ...) it refuses or
-leaves to `unchecked` attributes and the indexer. It is built once per thread, when it
-first reads a document.
+It is conservative: it accepts a document only if the element-by-element checks accept it
+too; what it cannot say simply it refuses or leaves to `unchecked` and the indexer.
 """
 
 from __future__ import annotations
@@ -54,7 +50,10 @@ def needs_exact(data: bytes, encoding: str | None) -> bool:
 
 def unchecked(spec: ElementSpec) -> tuple[AttributeSpec, ...]:
     """The attributes of `spec` whose values the schema takes as any text, but the
-    element-by-element checks do not: to be checked with their converters."""
+    element-by-element checks do not: to be checked with their converters. They are what
+    the schema cannot say simply (numbers counted in multiples or bounded, blank values,
+    keyword lists, text with a grammar ...); rules between attributes it leaves to the
+    indexer."""
     return _unchecked(spec)
 
 

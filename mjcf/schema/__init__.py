@@ -1,17 +1,13 @@
-"""MuJoCo's MJCF schema as Python objects, loaded from data generated from the
-installed mujoco's own XML reference (`DATA_FILE`, written by the repository's build-time
-generator: `python -m tools.mjcf_schema.generate`).
+"""MuJoCo's MJCF schema as Python objects, loaded from `DATA_FILE`, which
+`python -m tools.mjcf_schema.generate` makes from the installed mujoco's XML reference.
 
     from mjcf import schema
     geom = schema.MUJOCO.child('worldbody').child('body').child('geom')
     geom.attributes['size']        # AttributeSpec(real, 1..3 numbers)
     geom.namespace                 # 'geom'
 
-An `ElementSpec` says which attributes and children an element may have in one
-place of the tree (a `<geom>` in a body differs from a `<geom>` in a default class);
-an `AttributeSpec` says what values an attribute takes. Specs are immutable and
-shared by every element of that kind. On top of the generated data, mjcf refuses
-what crashes MuJoCo and empty names MuJoCo binds to unnamed elements (`_refusals`).
+Specs are immutable, shared by every element of their kind; importing warns if the data
+was made from another MuJoCo than the installed one. `_refusals` adds what mjcf refuses.
 """
 
 from __future__ import annotations
@@ -214,8 +210,9 @@ class Rule:
 
 
 class ElementSpec:
-    """What one element accepts in one place of the tree: attributes, child elements
-    by tag, whether it may repeat under its parent, and the namespace of its name."""
+    """What one element accepts in one place of the tree (a `<geom>` in a body differs from
+    a `<geom>` in a default class): attributes, child elements by tag, whether it may repeat
+    under its parent, and the namespace of its name."""
 
     __slots__ = (
         "attributes",

@@ -1,28 +1,12 @@
-"""What mjcf refuses, on purpose, though MuJoCo 4.0.0's reader accepts it: documents
-that crash MuJoCo, and empty names that MuJoCo binds to an element nobody named.
+"""What mjcf refuses, on purpose, though MuJoCo 4.0.0's reader accepts it: documents that
+crash or hang MuJoCo, and empty names that MuJoCo binds to an element nobody named.
 
 The generated schema (``mjcf_schema.json``) says what MuJoCo's reader accepts; these
-hand-kept facts are applied on top of it when the schema loads (`apply`), so that the
-XML Schema, both readers, the Python API and the writer refuse them alike, with the
-reason. Each entry is shown true of the installed MuJoCo by a test
-(tests/mjcf/test_refusals.py), which fails once a release no longer needs it; the
-differential check explains the disagreements they make (``_judge``).
-
-- Crashes (SIGSEGV inside MuJoCo 4.0.0, killing Python): a ``<plugin>`` with neither
-  ``plugin`` nor ``instance`` inside a ``<flexcomp>`` or a ``<replicate>`` (MuJoCo's
-  compile refuses one elsewhere, so every such plugin is refused); two ``<plugin
-  plugin=...>`` in a ``<replicate>`` (so a plugin there must name an instance); a
-  ``<mesh>`` with a ``file`` and a ``<plugin>`` child; ``frame`` as the object type of a
-  ``<tuple>`` element or a ``<user>`` or plugin sensor (frames are no objects of a
-  compiled model). And hangs: MuJoCo 4.0.0's compile never ends computing the length
-  range of a muscle whose gear is infinite or NaN, or whose armature (or its joint's) is
-  NaN (the full sweep of the differential check found them), so no gear and no
-  armature may be other than finite.
-- Empty names: MuJoCo looks some names up without checking they are empty, and ``""``
-  then finds the first element of that kind that has no name (a ``<pair>`` without
-  ``geom1`` collides the first unnamed geom). mjcf names every element it writes
-  (``//unnamed_geom_0``), so such a reference would point at nothing, or at another
-  element: it is refused, and the ``<pair>`` geoms are required.
+hand-kept facts are applied on top of it when the schema loads (`apply`), so that the XML
+Schema, both readers, the Python API and the writer refuse them alike, with the reason.
+Each entry is shown true of the installed MuJoCo by tests/mjcf/test_refusals.py, which
+fails once a release no longer needs it; the differential check explains the
+disagreements they make (``_judge``).
 """
 
 from __future__ import annotations
@@ -35,10 +19,14 @@ from mjcf.schema.values import converter_for
 if TYPE_CHECKING:
     from mjcf.schema import ElementSpec, Rule
 
+# Crashes are SIGSEGVs inside MuJoCo 4.0.0, which kill Python.
 _CRASH = "MuJoCo 4.0.0 crashes on it"
 
 # Element key -> its reference attributes whose empty text MuJoCo binds to the first
-# unnamed element of their namespace.
+# unnamed element of their namespace. MuJoCo looks these names up without checking they are
+# empty, so "" finds the first element of that kind that has no name (a <pair> without geom1
+# collides the first unnamed geom). mjcf names every element it writes (//unnamed_geom_0),
+# so such a reference would point at nothing, or at another element: it is refused.
 EMPTY_NAME_IS_FIRST_UNNAMED: dict[str, tuple[str, ...]] = {
     "contact-pair": ("geom1", "geom2"),
     "contact-exclude": ("body1", "body2"),
@@ -52,7 +40,8 @@ EMPTY_NAME_IS_FIRST_UNNAMED: dict[str, tuple[str, ...]] = {
 }
 # Of those, the ones MuJoCo also binds so when they are left out: required here.
 ABSENT_NAME_IS_FIRST_UNNAMED: dict[str, tuple[str, ...]] = {"contact-pair": ("geom1", "geom2")}
-# (element key, attribute) -> keywords that crash MuJoCo.
+# (element key, attribute) -> keywords that crash MuJoCo: `frame` as the object type of a
+# <tuple> element or a <user> or plugin sensor (frames are no objects of a compiled model).
 CRASHING_KEYWORDS: dict[tuple[str, str], tuple[str, ...]] = {
     ("tuple-element", "objtype"): ("frame",),
     ("sensor-user", "objtype"): ("frame",),
@@ -60,19 +49,24 @@ CRASHING_KEYWORDS: dict[tuple[str, str], tuple[str, ...]] = {
     ("sensor-plugin", "reftype"): ("frame",),
 }
 # Element key -> (its attribute, child tag, the child's attribute), None for any: an
-# element with that attribute and such a child crashes MuJoCo (a <replicate> of two
-# plugins, even of count 1: a plugin there must name an instance).
+# element with that attribute and such a child crashes MuJoCo (a <mesh> with a file and a
+# <plugin> child; a <replicate> of two plugins, even of count 1: a plugin there must name an
+# instance).
 CRASHING_CHILDREN: dict[str, tuple[tuple[str | None, str, str | None], ...]] = {
     "asset-mesh": (("file", "plugin", None),),
     "replicate": ((None, "plugin", "plugin"),),
 }
-# Numbers that must be finite: attribute name -> why (every element that has it).
+# Numbers that must be finite: attribute name -> why (every element that has it). The full
+# sweep of the differential check found these hangs: a muscle whose gear is infinite or NaN,
+# or whose armature (or its joint's) is NaN.
 _HANG = "MuJoCo 4.0.0's compile never ends computing the length range of a muscle"
 FINITE: dict[str, str] = {
     "gear": f"{_HANG} whose gear is not finite",
     "armature": f"{_HANG} whose armature, or its joint's, is not finite",
 }
-# The plugin elements that name a plugin or an instance (not <extension>'s).
+# The plugin elements that name a plugin or an instance (not <extension>'s). One with
+# neither crashes MuJoCo inside a <flexcomp> or a <replicate>, and MuJoCo's compile refuses
+# it elsewhere, so every such plugin is refused.
 _PLUGIN_NEEDS = ("plugin", "instance")
 
 

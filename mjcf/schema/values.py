@@ -1,15 +1,13 @@
 """Attribute values: from XML text or Python values to what an element stores, and back.
 
 Each `AttributeSpec` gets a converter from `converter_for`. A converter never sees the
-element; it raises `InvalidValue` with what was expected, and the element adds its
-path and the attribute name to make the user-facing `mjcf.AttributeValueError`.
-
-Stored values: numbers with one value are Python `int`/`float`; other numbers are
-1-D numpy arrays (the same array object is returned to the user, so in-place edits
-change the model, as in dm_control); keywords and strings are `str`; references are
-`str` names or `Element` objects; files are `str` paths or `mjcf.Asset` objects.
-Text read from a file is kept as `str` until it is first read or changed, so parsing
-and writing a model never converts numbers it does not need to.
+element: it raises `InvalidValue` saying what was expected, and the element adds its path
+and attribute name to make the user-facing `mjcf.AttributeValueError`. Stored values:
+single numbers are `int`/`float`, other numbers 1-D numpy arrays (the same array is
+returned to the user, so in-place edits change the model, as in dm_control), keywords and
+strings `str`, references `str` names or `Element`s, files `str` paths or `mjcf.Asset`s.
+Text read from a file stays `str` until first read or changed, so parsing and writing a
+model never converts numbers it does not need to.
 """
 
 from __future__ import annotations

@@ -3,53 +3,11 @@
     hip = physics.bind(hip_joint)          # or physics.bind([j1, j2]), physics.bind_names(...)
     hip.qpos = 0.3                         # writes data.qpos at jnt_qposadr; marks physics dirty
     physics.bind(foot_site).xpos           # runs mj_forward first, so it sees qpos = 0.3
-    hip.range, hip.jnt_range               # model.jnt_range row; short and full names
     legs = physics.bind(leg_joints)
-    legs.qpos[0] += 0.1                    # item writes into a returned array write through
-    legs["qpos"], legs["damping", 0]       # dm_control's [field, columns] form
-    bodies["xpos", ["x", "z"]]             # columns by index, slice, list or axis name
-    hip.element_id                         # the compiled object's id (an array for a list)
+    legs.qpos[0] += 0.1; legs["qpos", 0]   # item writes write through; dm_control's [field, col]
 
-Attributes are the fields `mjcf.sim.fields.kind_fields(kind)` lists, under their short names
-(`range` for `jnt_range`, `xpos` for a geom's `geom_xpos`) and full names. For a list of objects,
-a field with one row per object comes with a leading axis of len(ids); an addressed field (qpos,
-qvel, sensordata, act ...) comes as the objects' rows concatenated, so a free joint contributes 7
-qpos rows. A single object drops the leading axis (a body's `xpos` is (3,), its `mass` 0-d).
-Named columns follow dm_control: x y z (positions, axes, sizes), qw qx qy qz (quaternions),
-xx xy ... zz (3x3 matrices), r g b a (colors); see `mjcf.sim.fields.column_names`.
-
-Fresh values, never stale ones. Writes through bindings and `physics.named` are tracked;
-reads of derived quantities catch up with them first:
-- Writing state (qpos, qvel, act, mocap_pos/quat, eq_active ...) or a model field marks the
-  physics dirty (`physics.is_dirty`). The next read of a derived MjData field (xpos, xmat,
-  site_xpos, ten_length, sensordata, qacc ...) through a binding or named access runs
-  `mj_forward` first. Reading model fields, or the state itself, never runs anything.
-- Writing ctrl, qfrc_applied or xfrc_applied changes only what depends on the controls: reads
-  of acceleration-dependent fields (qacc, actuator_force, cfrc_ext, touch and force sensors)
-  recompute that stage; positions stay as they are.
-- `physics.forward()` and `physics.step()` leave every derived field consistent with the
-  state (see `Physics.step`), and clear `is_dirty`. Writing a derived field directly brings
-  the physics up to date first, so the value written is not overwritten by a later refresh.
-- A model field that MuJoCo derives other constants from (geom/site/body pos and quat, body
-  ipos/iquat and mass, geom size, joint axes ... the inputs of `mj_setConst`) is followed by
-  `mj_setConst` at once: sameframe flags, bounding volumes, subtree masses and the like are
-  recomputed, so `xpos` after `forward()` uses the new pose and contacts use the new size. A
-  body compiled as "simple" whose inertial frame is moved off its body frame loses the flag,
-  as a recompile would give it (see `mjcf.sim.set_const`). A value MuJoCo cannot accept is
-  undone and raises BindingError.
-- Fields MuJoCo computes only when a sensor asks (cacc, cfrc_int, cfrc_ext, subtree_linvel,
-  subtree_angmom) are computed when read.
-- Not tracked: writes to `physics.data` / `physics.model` directly (call `physics.forward()`
-  or `physics.mark_as_dirty()` after them), writes through a slice of a returned array, and
-  in-place writes that bypass item assignment (`out=`, `np.copyto`).
-
-Views and copies: when the bound rows are evenly spaced (a run, or every k-th row), a read is a
-numpy view of the MjModel/MjData buffer, made once: every read returns that view, whose values
-are the live buffer's (copy it to keep a value). Otherwise a read is a new copy whose item
-assignments (`b.qpos[0] = 1`, `b.qpos[:] += 1`) write the whole copy back. Assigning the
-attribute always writes through. Index arrays are computed once per binding.
-A binding reads the physics' current MjData: it stays valid through `reset()` and pickling, and
-raises BindingError once the physics holds another model.
+Fresh values, never stale ones: a read of a derived field catches up with tracked writes
+first (the rules, shapes, views and copies: `Binding`). Bad binds and writes: BindingError.
 """
 
 from __future__ import annotations
@@ -305,6 +263,57 @@ class Binding:
     Make bindings with `Physics.bind(elements)` or `Physics.bind_names(kind, names)`: the
     physics caches them and tells them when it changes MjData, which a binding made directly
     would not hear (`BoundPhysics._detach_bindings`; `refuse_writes` makes one read-only).
+
+        hip.range, hip.jnt_range               # model.jnt_range row; short and full names
+        legs["damping", 0]                     # dm_control's [field, columns] form
+        hip.element_id                         # the compiled object's id (an array for a list)
+
+    Attributes are the fields `mjcf.sim.fields.kind_fields(kind)` lists, under their short
+    names (`range` for `jnt_range`, `xpos` for a geom's `geom_xpos`) and full names. For a
+    list of objects, a field with one row per object comes with a leading axis of len(ids);
+    an addressed field (qpos, qvel, sensordata, act ...) comes as the objects' rows
+    concatenated, so a free joint contributes 7 qpos rows. A single object drops the
+    leading axis (a body's `xpos` is (3,), its `mass` 0-d). Columns are given by index,
+    slice, list or axis name; named columns follow dm_control: x y z (positions, axes,
+    sizes), qw qx qy qz (quaternions), xx xy ... zz (3x3 matrices), r g b a (colors); see
+    `mjcf.sim.fields.column_names`.
+
+    Fresh values, never stale ones. Writes through bindings and `physics.named` are
+    tracked; reads of derived quantities catch up with them first:
+    - Writing state (qpos, qvel, act, mocap_pos/quat, eq_active ...) or a model field marks
+      the physics dirty (`physics.is_dirty`). The next read of a derived MjData field (xpos,
+      xmat, site_xpos, ten_length, sensordata, qacc ...) through a binding or named access
+      runs `mj_forward` first. Reading model fields, or the state itself, never runs
+      anything.
+    - Writing ctrl, qfrc_applied or xfrc_applied changes only what depends on the controls:
+      reads of acceleration-dependent fields (qacc, actuator_force, cfrc_ext, touch and
+      force sensors) recompute that stage; positions stay as they are.
+    - `physics.forward()` and `physics.step()` leave every derived field consistent with the
+      state (see `Physics.step`), and clear `is_dirty`. Writing a derived field directly
+      brings the physics up to date first, so the value written is not overwritten by a
+      later refresh.
+    - A model field that MuJoCo derives other constants from (geom/site/body pos and quat,
+      body ipos/iquat and mass, geom size, joint axes ... the inputs of `mj_setConst`) is
+      followed by `mj_setConst` at once: sameframe flags, bounding volumes, subtree masses
+      and the like are recomputed, so `xpos` after `forward()` uses the new pose and
+      contacts use the new size. A body compiled as "simple" whose inertial frame is moved
+      off its body frame loses the flag, as a recompile would give it (see
+      `mjcf.sim.set_const`). A value MuJoCo cannot accept is undone and raises
+      BindingError.
+    - Fields MuJoCo computes only when a sensor asks (cacc, cfrc_int, cfrc_ext,
+      subtree_linvel, subtree_angmom) are computed when read.
+    - Not tracked: writes to `physics.data` / `physics.model` directly (call
+      `physics.forward()` or `physics.mark_as_dirty()` after them), writes through a slice
+      of a returned array, and in-place writes that bypass item assignment (`out=`,
+      `np.copyto`).
+
+    Views and copies: when the bound rows are evenly spaced (a run, or every k-th row), a
+    read is a numpy view of the MjModel/MjData buffer, made once: every read returns that
+    view, whose values are the live buffer's (copy it to keep a value). Otherwise a read is
+    a new copy whose item assignments (`b.qpos[0] = 1`, `b.qpos[:] += 1`) write the whole
+    copy back. Assigning the attribute always writes through. Index arrays are computed
+    once per binding. A binding reads the physics' current MjData: it stays valid through
+    `reset()` and pickling, and raises BindingError once the physics holds another model.
     """
 
     __slots__ = (

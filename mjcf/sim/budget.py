@@ -4,34 +4,10 @@
     budget.LIMITS = budget.Budget(elements=10**6, bytes=8 << 30)   # or MJCF_ELEMENT_LIMIT ...
     budget.measure(xml, assets)                  # Measure(elements=..., bytes=..., ...)
 
-A model of a few hundred bytes can ask MuJoCo for minutes of work or gigabytes of memory:
-a `<replicate>` in a `<replicate>` makes 10^8 geoms, a `<flexcomp count="3000 3000 1">`
-nine million bodies, a `<hfield nrow="100000" ncol="100000">` 40 GB of floats, and a PNG
-of a few megabytes decodes to gigabytes. So every model mjcf compiles (from a tree:
-`Physics.from_mjcf_model`, `compile_model`, composer's environments; from text:
-`Physics.from_xml_string`) is measured first, on the text MuJoCo gets (includes, attached
-models and default classes in it), and refused with `mjcf.BudgetError` (a CompileError
-naming the model, the element and the limit) past either limit:
-
-- `elements` (default 100,000; about 5 s and 1 GB of MuJoCo's compile): every element
-  after `<replicate>` expansion, the points of a `<flexcomp>` (its `count`, and
-  `cellcount`), the vertices of a builtin `<mesh>` (its first parameter squared) and
-  the keyframes `<size nkey>` asks for;
-- `bytes` (default 2 GiB): what the model asks MuJoCo to allocate by number: height fields
-  (`nrow` x `ncol` floats, or a PNG's size), textures (builtin `width` x `height`, six
-  faces for a cube or skybox, or a PNG's size, at 4 bytes a pixel), `<size memory>`,
-  `nuserdata`, `nuser_*` per element, `njmax`/`nconmax` (1 KiB each), the keyframes'
-  state, and for rendering the shadow map (`quality shadowsize`) and offscreen buffer
-  (`global offwidth` x `offheight`, multisampled).
-
-A height field of 2^31 samples or more is refused whatever the budget: its count
-overflows in MuJoCo 4.0.0, which then crashes. Files MuJoCo reads by size otherwise
-(meshes, custom binary images) are bounded by
-`mjcf.tree.assets.FILE_SIZE_LIMIT`. The limits in force are `LIMITS` when a program sets it,
-else the environment variables MJCF_ELEMENT_LIMIT and MJCF_ALLOCATION_LIMIT (bytes, `4G`
-...), else the defaults. `Physics.from_xml_path` and `from_binary_path` hand the file to
-MuJoCo unmeasured: read a model you do not trust with `mjcf.from_path(path,
-strict_paths=True)` and compile that.
+Every model mjcf compiles, from a tree or from text, is measured first on the text MuJoCo
+gets (includes, attached models and default classes in it), and refused past either limit
+of `Budget` with mjcf.BudgetError (a CompileError naming the model, element and limit).
+`Physics.from_xml_path` and `from_binary_path` hand the file to MuJoCo unmeasured.
 """
 
 from __future__ import annotations
@@ -58,6 +34,7 @@ BYTES_VARIABLE = "MJCF_ALLOCATION_LIMIT"
 _KEY_DOUBLES = {"joint": 13, "freejoint": 13, "body": 7}
 _PNG = b"\x89PNG\r\n\x1a\n"
 # A height field of this many samples or more overflows MuJoCo 4.0.0's int count: SIGSEGV.
+# It is refused whatever the budget.
 _OVERFLOW = 1 << 31
 _MEMORY = re.compile(r"\s*(\d+)\s*([KMGTPE]?)\s*", re.IGNORECASE)
 _SCALE = {"": 1, "K": 1 << 10, "M": 1 << 20, "G": 1 << 30, "T": 1 << 40, "P": 1 << 50,
@@ -67,8 +44,27 @@ _IMAGE_ATTRIBUTES = ("file", "fileright", "fileleft", "fileup", "filedown", "fil
 
 
 class Budget(NamedTuple):
-    """The most `elements` and `bytes` a model may make MuJoCo build (see the module
-    docstring)."""
+    """The most `elements` and `bytes` a model may make MuJoCo build.
+
+    A model of a few hundred bytes can ask MuJoCo for minutes of work or gigabytes of
+    memory: a `<replicate>` in a `<replicate>` makes 10^8 geoms, a `<flexcomp count="3000
+    3000 1">` nine million bodies, a `<hfield nrow="100000" ncol="100000">` 40 GB of floats,
+    and a PNG of a few megabytes decodes to gigabytes. So every model mjcf compiles (from a
+    tree: `Physics.from_mjcf_model`, `compile_model`, composer's environments; from text:
+    `Physics.from_xml_string`) is measured first against:
+
+    - `elements` (default 100,000): every element after `<replicate>` expansion, the points
+      of a `<flexcomp>` (its `count`, and `cellcount`), the vertices of a builtin `<mesh>`
+      (its first parameter squared) and the keyframes `<size nkey>` asks for;
+    - `bytes` (default 2 GiB): what the model asks MuJoCo to allocate by number: height
+      fields (`nrow` x `ncol` floats, or a PNG's size), textures (builtin `width` x
+      `height`, six faces for a cube or skybox, or a PNG's size, at 4 bytes a pixel), `<size
+      memory>`, `nuserdata`, `nuser_*` per element, `njmax`/`nconmax` (1 KiB each), the
+      keyframes' state, and for rendering the shadow map (`quality shadowsize`) and
+      offscreen buffer (`global offwidth` x `offheight`, multisampled).
+
+    Files MuJoCo reads by size otherwise (meshes, custom binary images) are bounded by
+    `mjcf.tree.assets.FILE_SIZE_LIMIT`. The limits in force are `current_budget()`."""
 
     elements: int = DEFAULT_ELEMENTS
     bytes: int = DEFAULT_BYTES
@@ -93,7 +89,8 @@ class Measure(NamedTuple):
 
 
 def current_budget() -> Budget:
-    """The budget in force: `LIMITS` if set, else the environment variables' over the
+    """The budget in force: `LIMITS` if a program set it, else the environment variables'
+    (`MJCF_ELEMENT_LIMIT`; `MJCF_ALLOCATION_LIMIT` in bytes, or '4G' ...) over the
     defaults. Raises mjcf.BudgetError for a variable that is not a number."""
     if LIMITS is not None:
         return LIMITS
@@ -252,7 +249,7 @@ def _points(element: etree._Element) -> int:
 
 
 def _declared_bytes(element: etree._Element, texture_defaults: dict[str, dict[str, str]]) -> int:
-    """The bytes `element`'s attributes ask MuJoCo to allocate (see the module docstring)."""
+    """The bytes `element`'s attributes ask MuJoCo to allocate (see `Budget`)."""
     tag = element.tag
     get = element.get
     if tag == "hfield":

@@ -5,12 +5,9 @@
     compiled.name_of(element)           # the name `element` has in compiled.model
     compiled.id_of(element, kind)       # its index there, named or not
 
-The tree is written once, MuJoCo compiles the text with the assets passed in memory,
-and keyframes of attached models are filled in. The compiled model is the one stock
-MuJoCo compiles from `to_xml_string()` or an export, names included (unnamed elements
-have the names `mjcf.compose.naming` generates). The text is measured against
-`mjcf.budget` first (mjcf.BudgetError). A MuJoCo error becomes an `mjcf.CompileError`
-that names the element it points at and, in debug mode, the Python line that created it.
+The compiled model is the one stock MuJoCo compiles from `to_xml_string()` or an export,
+names included. A model past `mjcf.budget` raises mjcf.BudgetError; a MuJoCo error becomes
+an `mjcf.CompileError` naming its element (in debug mode, the Python line that made it).
 """
 
 from __future__ import annotations
@@ -99,9 +96,11 @@ class Compiled(NamedTuple):
 
 
 def compile_composition(root: RootElement, share_assets: bool = True) -> Compiled:
-    """Write `root` (with attached models) and compile it, the meshes and textures of
-    copies once unless not `share_assets` (see `mjcf.compose.sharing`); raises
-    mjcf.CompileError naming the offending element when MuJoCo rejects it."""
+    """Write `root` (with attached models) once and compile the text, with the assets
+    passed in memory, the meshes and textures of copies once unless not `share_assets`
+    (see `mjcf.compose.sharing`); the keyframes of attached models are then filled in.
+    Raises mjcf.BudgetError past the budget, and mjcf.CompileError naming the offending
+    element when MuJoCo rejects it."""
     xml, assets, composition, lines = serializer.serialize_for_compile(root, share_assets)
     name = f"model {root.model!r}" if root.model else "the model"
     budget.check(xml, assets, name, lambda line: _element_at(line, lines))

@@ -1,24 +1,13 @@
 """Which MjModel / MjData arrays belong to which kind of object, read from the installed mujoco.
 
-    import mujoco
-    from mjcf.sim import fields
-
     JOINT = mujoco.mjtObj.mjOBJ_JOINT
     fields.kind_fields(JOINT)["range"]          # Field('jnt_range', 'model', JOINT, 'njnt')
     fields.kind_fields(JOINT)["qpos"].address   # Address(JOINT, 'nq', 'jnt_qposadr', ...)
-    fields.indexed_field("sensordata").kind     # mjOBJ_SENSOR
     starts, counts = fields.rows(model, fields.indexed_field("qpos").address)
     fields.names(model, JOINT)                  # ('root', 'hip', ...)
 
-Nothing here is a hand-kept list of fields. At import, the array fields of mjModel/mjData and
-the extent of their first axis come from `mujoco.introspect`, checked against a live
-MjModel/MjData (only fields the Python bindings expose as numpy arrays count). The kinds and
-their counts (`njnt`, `ngeom` ...) come from the `name_<kind>adr` arrays. A field whose first
-axis is `n<kind>` has one row per object. A field whose first axis is a shared buffer (`nq`,
-`nv`, `nsensordata`, `na`, `nu`, `nout`, `nmocap`, mesh and flex vertices ...) is indexed
-through an `Address`: object i owns `counts[i]` rows from `starts[i]`. The few address schemes
-MuJoCo does not name systematically are the `_ADDRESSES` table; the others follow its naming
-convention (`mesh_vertadr` + `mesh_vertnum` address the `nmeshvert` rows).
+No hand-kept list of fields: `mujoco.introspect` and the `name_<kind>adr` arrays give them
+at import; only address schemes MuJoCo does not name systematically are a table (`_ADDRESSES`).
 """
 
 from __future__ import annotations
@@ -250,7 +239,10 @@ _COLUMNS = _column_table()
 
 
 def _struct_extents(struct_name: str, live: object) -> dict[str, tuple[str, str]]:
-    """{field: (first extent, doc)} of the fields of one struct that are numpy arrays."""
+    """{field: (first extent, doc)} of the fields of one struct that are numpy arrays: the
+    array fields and the extent of their first axis come from `mujoco.introspect`, checked
+    against a live MjModel/MjData `live` (only fields the Python bindings expose as numpy
+    arrays count)."""
     out = {}
     for decl in structs.STRUCTS[struct_name].fields:
         extent = getattr(decl, "array_extent", None)
@@ -294,7 +286,8 @@ def _derive_kinds(model_fields: Mapping[str, object]) -> tuple[dict[Obj, str], d
 def _derive_addresses(
     extents: Mapping[Struct, Mapping[str, tuple[str, str]]],
 ) -> tuple[Address, ...]:
-    """The explicit schemes plus those that follow MuJoCo's adr/num naming convention."""
+    """The explicit schemes plus those that follow MuJoCo's adr/num naming convention
+    (`mesh_vertadr` + `mesh_vertnum` address the `nmeshvert` rows)."""
     found = list(_ADDRESSES)
     taken = {a.size for a in found} | set(_SIZE.values())
     all_sizes = {extent for table in extents.values() for extent, _ in table.values()}

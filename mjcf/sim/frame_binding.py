@@ -3,32 +3,11 @@ joints, the world body of a model attached there, a `<frame>` of the model.
 
     frame = scene.find('site', 'mount').attach(arm)    # no joints: a MuJoCo <frame>
     physics.bind(arm.worldbody).xpos                    # where the arm is: the frame's pose
-    physics.bind(frame).xquat                           # the same frame
     physics.bind(frame).pos = [0, 0, 1]                 # moves the frame and all it holds
     physics.bind(frame).quat[0] = 0.5                   # so does an item write (normalized)
 
-dm_control makes every attachment frame a body, so these elements have body fields
-there. MuJoCo 4 folds a `<frame>` into what it holds when it compiles: the frame has no
-state of its own, and its pose in the world is the pose of the body it is in composed
-with its offset from that body. A binding of such elements has the fields of a pose:
-
-- `pos` (3,) and `quat` (4,): the frame's offset from the body it is in, as dm_control's
-  body `pos` and `quat`. For a frame nested in other frames it is still the offset from
-  that body (not from the frame around it). Writing either moves the frame, and with it
-  everything compiled from inside it (`mjcf.sim.frame_poses`), as a compile with the frame
-  there would place it; quaternions are normalized (a zero one raises).
-- `xpos` (3,), `xquat` (4,), `xmat` (9,): the frame's pose in the world, derived from those
-  and from the body it is in (brought up to date first, as body fields are); read-only.
-
-The offset is kept per physics and compiled model: every binding of the frame (or of the
-world body of the model attached there) sees it, and so do the frames nested in it. A
-frame never moved has the offset the compiled text gives it, whatever the tree has
-become since; a recompile starts again from the text. A list of n elements gives (n, ...)
-arrays; written, nested frames move outermost first, so that each ends where it is asked.
-Reads are copies: those of `pos` and `quat` write the whole field back when an item of
-them is assigned; the others are read-only. Everything else raises BindingError saying
-why, as does a write that cannot be made, which then changes nothing; never the numbers
-of another object.
+MuJoCo 4 folds a `<frame>` into what it holds, so these bindings have a pose's fields
+(`FrameBinding`); what they cannot do raises BindingError saying why, changing nothing.
 """
 
 from __future__ import annotations
@@ -58,7 +37,8 @@ _WIDTH = {"pos": 3, "quat": 4}  # the fields that can be written
 
 def compiles_to_frame(element: Element, output: RootElement | None = None) -> bool:
     """Whether `element` compiles to a MuJoCo `<frame>` in the output of model `output`
-    (default: the outermost model it is attached into); see the module docstring."""
+    (default: the outermost model it is attached into): an attachment frame without
+    joints, the world body of a model attached there, or a `<frame>` of the model."""
     if isinstance(element, attachment.AttachmentFrame):
         return not element.compiles_to_body()
     tag = element.spec.tag
@@ -87,7 +67,31 @@ def bind_frames(physics: Physics, elements: list[Element], single: bool) -> Fram
 
 
 class FrameBinding:
-    """The pose of elements compiled to MuJoCo `<frame>`s (module docstring)."""
+    """The pose of elements compiled to MuJoCo `<frame>`s.
+
+    dm_control makes every attachment frame a body, so these elements have body fields
+    there. MuJoCo 4 folds a `<frame>` into what it holds when it compiles: the frame has no
+    state of its own, and its pose in the world is the pose of the body it is in composed
+    with its offset from that body. A binding of such elements has the fields of a pose:
+
+    - `pos` (3,) and `quat` (4,): the frame's offset from the body it is in, as dm_control's
+      body `pos` and `quat`. For a frame nested in other frames it is still the offset from
+      that body (not from the frame around it). Writing either moves the frame, and with it
+      everything compiled from inside it (`mjcf.sim.frame_poses`), as a compile with the
+      frame there would place it; quaternions are normalized (a zero one raises).
+    - `xpos` (3,), `xquat` (4,), `xmat` (9,): the frame's pose in the world, derived from
+      those and from the body it is in (brought up to date first, as body fields are);
+      read-only.
+
+    The offset is kept per physics and compiled model: every binding of the frame (or of
+    the world body of the model attached there) sees it, and so do the frames nested in it.
+    A frame never moved has the offset the compiled text gives it, whatever the tree has
+    become since; a recompile starts again from the text. A list of n elements gives (n,
+    ...) arrays; written, nested frames move outermost first, so that each ends where it is
+    asked. Reads are copies: those of `pos` and `quat` write the whole field back when an
+    item of them is assigned; the others are read-only. Everything else raises BindingError
+    saying why, as does a write that cannot be made, which then changes nothing; never the
+    numbers of another object."""
 
     __slots__ = (
         "_chains", "_compiled", "_contents", "_holder_lines", "_holders", "_label", "_model",

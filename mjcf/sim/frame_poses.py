@@ -5,31 +5,9 @@
     held = frame_poses.Contents(physics, compiled, line, holder_line)
     poses.move(compiled, chain, held, pos, quat, undo)   # moves the frame and all it holds
 
-MuJoCo folds a `<frame>` into what it holds when it compiles: nothing of the frame is
-left in the model, only the poses of its contents in the body it is in. A frame's pose in
-its parent (the frame or body it is in) is read from the compiled text (the frame's start
-tag, with the compiled model's angle units and euler sequence) until it is moved; then it
-is the moved one. Frames are named by the line of the compiled text their start tag is
-on (`Compiled.lines`), so a pose belongs to what was compiled, whatever the tree has
-become since.
-
-Moving a frame applies one rigid transform, in the body it is in, to the model pose of
-everything compiled from inside it: its top-level bodies, geoms, sites, cameras, lights
-and joints, those of the frames nested in it (attached models' world bodies included),
-and the inertial frame of its body when an `<inertial>` is in it; what is inside a body
-moves with that body. Free bodies and mocap bodies move too: their state (the free
-joint's qpos, its qpos0 and spring reference, its linear velocity turned with it; the
-mocap pose) goes where compiling the moved frame would put it. Writes go through bindings,
-so `mj_setConst` and the dirty tracking follow as for any model write.
-
-What cannot be moved that way raises BindingError before anything changes: a frame
-holding a `<replicate>`, `<attach>` or `<flexcomp>` (their objects have no element to
-bind), geoms whose mass makes part of the inertia of a body other than the world (MuJoCo
-computes it when compiling), or a free body inside a body.
-
-The store of poses belongs to one MjModel: a physics holds it as `Physics._frame_poses`,
-and makes a new one (from the text) when it holds another model; copies of a physics
-sharing its MjModel share it, other copies and unpickled physics get their own copy.
+MuJoCo leaves nothing of a `<frame>` in the compiled model, only the poses of its contents.
+A frame's pose is read from the compiled text until it is moved (`FramePoses`); moving it
+moves everything compiled from inside it, as compiling the moved frame would (`Contents`).
 """
 
 from __future__ import annotations
@@ -72,8 +50,20 @@ def of(physics: Physics) -> FramePoses:
 
 
 class FramePoses:
-    """The current pose of each compiled frame of one MjModel in its parent (see the
-    module docstring). `version` counts the moves, for caches of derived poses."""
+    """The current pose of each compiled frame of one MjModel in its parent. `version`
+    counts the moves, for caches of derived poses.
+
+    MuJoCo folds a `<frame>` into what it holds when it compiles: nothing of the frame is
+    left in the model, only the poses of its contents in the body it is in. A frame's pose
+    in its parent (the frame or body it is in) is read from the compiled text (the frame's
+    start tag, with the compiled model's angle units and euler sequence) until it is moved;
+    then it is the moved one. Frames are named by the line of the compiled text their start
+    tag is on (`Compiled.lines`), so a pose belongs to what was compiled, whatever the tree
+    has become since.
+
+    The store belongs to one MjModel: a physics holds it as `Physics._frame_poses`, and
+    makes a new one (from the text) when it holds another model; copies of a physics
+    sharing its MjModel share it, other copies and unpickled physics get their own copy."""
 
     __slots__ = ("_local", "_text", "model", "version")
 
@@ -161,7 +151,16 @@ class FramePoses:
 
 
 class Contents:
-    """What the frame on one line of the compiled text holds, bound in one physics."""
+    """What the frame on one line of the compiled text holds, bound in one physics.
+
+    Moving a frame applies one rigid transform, in the body it is in, to the model pose of
+    everything compiled from inside it: its top-level bodies, geoms, sites, cameras, lights
+    and joints, those of the frames nested in it (attached models' world bodies included),
+    and the inertial frame of its body when an `<inertial>` is in it; what is inside a body
+    moves with that body. Free bodies and mocap bodies move too: their state (the free
+    joint's qpos, its qpos0 and spring reference, its linear velocity turned with it; the
+    mocap pose) goes where compiling the moved frame would put it. Writes go through
+    bindings, so `mj_setConst` and the dirty tracking follow as for any model write."""
 
     def __init__(self, physics: Physics, compiled: Compiled, line: int, holder: int | None) -> None:
         """Find it in the text (`holder`: the line of the body the frame is in, None for
@@ -209,7 +208,10 @@ class Contents:
             self._refusal = f"{frame.path} cannot be moved: {self._refusal}"
 
     def check(self) -> None:
-        """Raise BindingError if this frame cannot be moved (see the module docstring)."""
+        """Raise BindingError, before anything changes, if this frame cannot be moved: it
+        holds a `<replicate>`, `<attach>` or `<flexcomp>` (their objects have no element to
+        bind), geoms whose mass makes part of the inertia of a body other than the world
+        (MuJoCo computes it when compiling), or a free body inside a body."""
         if self._refusal is not None:
             raise errors.BindingError(self._refusal)
 

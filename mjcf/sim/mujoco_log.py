@@ -6,11 +6,8 @@ folder (a stray file in whatever folder a script or a test runs in).
     logging.getLogger("mujoco").setLevel(logging.ERROR)     # silence them
     logging.getLogger("mujoco").addHandler(logging.FileHandler("mujoco.log"))   # keep them
 
-`install()` (run when `mjcf.sim.physics` is imported) routes them so, unless a handler of your
-own is already installed with `mujoco.set_mju_user_warning`. They are MuJoCo's words: a
-compiler's note, "Nan, Inf or huge value in QACC at DOF 3. The simulation is unstable."
-(which `Physics.check_invalid_state` and composer's divergence handling also report, as
-exceptions and `composer.DivergenceWarning`s).
+`install()` (run when `mjcf.sim.physics` is imported) routes them so, unless a handler of
+your own is already installed with `mujoco.set_mju_user_warning`.
 """
 
 from __future__ import annotations
@@ -20,6 +17,9 @@ import logging
 
 import mujoco
 
+# The messages are MuJoCo's words: a compiler's note, "Nan, Inf or huge value in QACC at DOF
+# 3. The simulation is unstable." (which `Physics.check_invalid_state` and composer's
+# divergence handling also report, as exceptions and `composer.DivergenceWarning`s).
 LOGGER = logging.getLogger("mujoco")
 
 

@@ -2,25 +2,12 @@
 
     physics.named.data.qpos["hip"]               # data.qpos[jnt_qposadr[hip] : +1], shape (1,)
     physics.named.data.qpos["root"][:3] = 0, 0, 1 # a free joint's 7 rows are a view
-    physics.named.data.xpos[["torso", "head"]]   # (2, 3): rows of two bodies
-    physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
-    physics.named.data.sensordata["touch"]       # sensor_adr / sensor_dim slice
-    physics.named.data.qvel[3:6], physics.named.data.qpos[mask]   # ints, slices, masks: as numpy
-    physics.named.data.xpos["torso", 2]          # a tuple indexes the following axes too
-    physics.named.data.xpos["torso", "z"]        # columns by name: x y z, qw qx qy qz ...
     physics.named.data.xpos[["torso", "head"], ["x", "z"]]   # numpy pairs lists, as dm_control
-    physics.named.data.qpos.axes.row.names       # the owner name of every row
+    physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
     print(physics.named.data.qpos)               # a table of names and values
 
-Every field `mjcf.sim.fields.indexed_fields(struct)` lists is here, under `model` or `data`. A
-name stands for the rows its object owns: one row (an int index, so numpy drops the axis) for a
-field with one row per object, the object's block (a slice, kept as an axis) for an addressed
-field (qpos, qvel, sensordata, act ...). A list of names concatenates their rows. Reads follow
-numpy: a name or a slice gives a view, a list a copy. Assignment through any key writes through,
-and item assignment into a returned array of a state or model field does too. Writes and reads
-are tracked as bindings' are (`mjcf.sim.binding`): a derived field read after a state write is
-recomputed first. Column names are `mjcf.sim.fields.column_names`. Unnamed objects are reachable
-by integer index only.
+Every field `mjcf.sim.fields.indexed_fields(struct)` lists is here, indexed as `FieldIndexer`
+says; writes and reads are tracked as bindings' are (`mjcf.sim.binding.Binding`).
 """
 
 from __future__ import annotations
@@ -139,7 +126,23 @@ class _NameTable:
 
 
 class FieldIndexer:
-    """One MjModel/MjData field, indexed by object names as well as numpy keys."""
+    """One MjModel/MjData field, indexed by object names as well as numpy keys.
+
+        physics.named.data.sensordata["touch"]       # sensor_adr / sensor_dim slice
+        physics.named.data.qvel[3:6], physics.named.data.qpos[mask]   # ints, slices, masks
+        physics.named.data.xpos["torso", 2]          # a tuple indexes the following axes too
+        physics.named.data.xpos["torso", "z"]        # columns by name: x y z, qw qx qy qz ...
+        physics.named.data.qpos.axes.row.names       # the owner name of every row
+
+    A name stands for the rows its object owns: one row (an int index, so numpy drops the
+    axis) for a field with one row per object, the object's block (a slice, kept as an
+    axis) for an addressed field (qpos, qvel, sensordata, act ...). A list of names
+    concatenates their rows. Reads follow numpy: a name or a slice gives a view, a list a
+    copy. Assignment through any key writes through, and item assignment into a returned
+    array of a state or model field does too. Writes and reads are tracked as bindings'
+    are (`mjcf.sim.binding.Binding`): a derived field read after a state write is
+    recomputed first. Column names are `mjcf.sim.fields.column_names`. Unnamed objects are
+    reachable by integer index only."""
 
     __slots__ = ("_field", "_mask", "_physics", "_table", "_table_model")
 

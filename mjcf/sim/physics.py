@@ -1,33 +1,13 @@
 """Physics: one MuJoCo simulation (MjModel + MjData) with bindings, named access and rendering.
 
     physics = Physics.from_xml_path("humanoid.xml")
-    with physics.reset_context():                       # reset, then forward on exit
-        physics.named.data.qpos["root"][:3] = [0, 0, 1.4]
-    physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
-    hips = physics.bind_names(mujoco.mjtObj.mjOBJ_JOINT, ["right_hip_x", "right_hip_y"])
-    hips.qpos = [0.1, 0.2]                              # live views; see mjcf.sim.binding
-    physics.named.data.xpos["torso", "z"]               # forwards first: hips moved
-    physics.set_control(u)
+    physics.named.data.qpos["root"][:3] = [0, 0, 1.4]   # or physics.bind(element).qpos = ...
     with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
         physics.step(10)                                # positions, sensors: of the new state
-    state = physics.get_state()                         # qpos, qvel, act (+ plugin state)
-    frame = physics.render(240, 320, camera_id=-1)      # headless too: see mjcf.sim.rendering
-    clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
 
-`model` and `data` are the raw `mujoco.MjModel` / `MjData` (with dm_control's `.ptr`,
-`name2id` and `id2name`, see `mjcf.sim.raw_access`); they stay the same objects for the life of
-the physics (reset works in place), so bindings and views stay valid. `copy()` and unpickling
-give a physics with its own MjData (and MjModel, unless shared). Subclasses (e.g. composer's)
-keep their extra attributes, bindings included, through `copy()` and pickling; they override
-nothing to get that, as long as their attributes are picklable.
-
-Fresh values: after `step()`, `forward()` and `reset()`, and after writes through bindings or
-`named` (tracked, see `mjcf.sim.binding`), what bindings and named access read is what
-`mj_forward` would compute for the current state. Writes straight into `data` or `model` are
-MuJoCo's own business: call `forward()` (or `mark_as_dirty()`) after them.
-
-Stepping does not check for divergence (a check costs about a microsecond): call
-`check_invalid_state()` or step inside `check_divergence()` where it matters.
+Bindings and named access read what `mj_forward` would compute for the current state;
+`model` and `data` stay the same objects for the physics' life; a pickled or copied physics
+steps on as the original. Stepping never checks for divergence. The whole story: `Physics`.
 """
 
 from __future__ import annotations
@@ -110,6 +90,35 @@ _SHARED = ("_compiled",)
 
 class Physics(StateAccess):
     """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name.
+
+        physics = Physics.from_xml_path("humanoid.xml")
+        with physics.reset_context():                       # reset, then forward on exit
+            physics.named.data.qpos["root"][:3] = [0, 0, 1.4]
+        physics.named.model.geom_rgba["floor"] = [1, 0, 0, 1]
+        hips = physics.bind_names(mujoco.mjtObj.mjOBJ_JOINT, ["right_hip_x", "right_hip_y"])
+        hips.qpos = [0.1, 0.2]                              # live views; see mjcf.sim.binding
+        physics.named.data.xpos["torso", "z"]               # forwards first: hips moved
+        physics.set_control(u)
+        with physics.check_divergence():                    # PhysicsError if MuJoCo gave up
+            physics.step(10)                                # positions, sensors: of the new state
+        state = physics.get_state()                         # qpos, qvel, act (+ plugin state)
+        frame = physics.render(240, 320, camera_id=-1)      # headless too: mjcf.sim.rendering
+        clone = pickle.loads(pickle.dumps(physics))         # same state, same next steps
+
+    `model` and `data` are the raw `mujoco.MjModel` / `MjData` (with dm_control's `.ptr`,
+    `name2id` and `id2name`, see `mjcf.sim.raw_access`); they stay the same objects for the
+    life of the physics (reset works in place), so bindings and views stay valid. `copy()`
+    and unpickling give a physics with its own MjData (and MjModel, unless shared).
+    Subclasses (e.g. composer's) keep their extra attributes, bindings included, through
+    `copy()` and pickling; they override nothing to get that, as long as their attributes
+    are picklable.
+
+    Fresh values: after `step()`, `forward()` and `reset()`, and after writes through
+    bindings or `named` (tracked, see `mjcf.sim.binding.Binding`), what bindings and named
+    access read is what `mj_forward` would compute for the current state. Writes straight
+    into `data` or `model` are MuJoCo's own business: call `forward()` (or
+    `mark_as_dirty()`) after them. Stepping does not check for divergence: call
+    `check_invalid_state()` or step inside `check_divergence()` where it matters.
 
     `legacy_step` (dm_control's flag, True by default) picks how `step()` leaves MjData: True,
     consistent with the new state; False, as a plain `mj_step` leaves it (see `step`). The
@@ -202,12 +211,14 @@ class Physics(StateAccess):
 
     @classmethod
     def from_xml_path(cls, path: str | os.PathLike[str]) -> Physics:
-        """Compile the MJCF file at `path`; raises CompileError."""
+        """Compile the MJCF file at `path`; raises CompileError. MuJoCo reads the file
+        unmeasured by `mjcf.sim.budget`: read a model you do not trust with
+        `mjcf.from_path(path, strict_paths=True)` and compile that."""
         return cls(_compile(mujoco.MjModel.from_xml_path, os.fspath(path), None))
 
     @classmethod
     def from_binary_path(cls, path: str | os.PathLike[str]) -> Physics:
-        """Load a compiled MJB file; raises CompileError."""
+        """Load a compiled MJB file, unmeasured by `mjcf.sim.budget`; raises CompileError."""
         return cls(_compile(mujoco.MjModel.from_binary_path, os.fspath(path), None))
 
     @classmethod

@@ -6,9 +6,8 @@ vector, and the controls, activations, positions and velocities.
     physics.set_control(u)                # what the next step applies
     physics.position(), physics.velocity(), physics.activation(), physics.control()
 
-`mjcf.Physics` inherits them from `StateAccess`. Reads return copies. Writes are tracked
-as writes through bindings are (see `mjcf.sim.binding`): after a state write, derived reads
-forward first; after a control write, only what depends on the controls is recomputed.
+Reads return copies. Writes are tracked as writes through bindings are: after a state write,
+derived reads forward first; after a control write, only what depends on it is recomputed.
 """
 
 from __future__ import annotations
@@ -34,8 +33,8 @@ _INPUT_WRITE = WRITE_BITS[staleness.Effect.STEP_INPUT]
 
 
 class StateAccess(BoundPhysics):
-    """The state accessors of `mjcf.Physics` (see the module docstring); a base of
-    Physics, not used alone."""
+    """The state accessors of `mjcf.Physics` (see the module docstring), which inherits
+    them; a base of Physics, not used alone."""
 
     _model: mujoco.MjModel
     _data: mujoco.MjData

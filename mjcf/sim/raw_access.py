@@ -6,12 +6,8 @@
     physics.model.name2id("elbow", "joint")       # 3; type names or mujoco.mjtObj values
     physics.model.id2name(3, mujoco.mjtObj.mjOBJ_JOINT)   # 'elbow' ('' when unnamed)
 
-dm_control wraps MjModel/MjData in Python objects with a `.ptr` to the raw struct; here they
-are the raw structs themselves, so field access costs what it costs in mujoco. MuJoCo's
-pybind11 classes cannot be subclassed onto an existing instance (`__class__` assignment is
-refused), and a wrapper would add a Python call to every field read, so importing `mjcf` adds
-these three names to `mujoco.MjModel` (and `ptr` to `mujoco.MjData`), unless mujoco already
-defines them, in which case mujoco's own are left in place.
+Here they are the raw structs themselves, so field access costs what it costs in mujoco:
+importing `mjcf` adds these names to them (`install`), unless mujoco already defines them.
 """
 
 from __future__ import annotations
@@ -67,7 +63,12 @@ def _ptr(self: object) -> object:
 
 def install() -> None:
     """Add `ptr`, `name2id`, `id2name` to mujoco.MjModel and `ptr` to mujoco.MjData where
-    mujoco does not define them."""
+    mujoco does not define them (mujoco's own are left in place).
+
+    dm_control wraps MjModel/MjData in Python objects with a `.ptr` to the raw struct.
+    MuJoCo's pybind11 classes cannot be subclassed onto an existing instance (`__class__`
+    assignment is refused), and a wrapper would add a Python call to every field read, so
+    the names are added to the classes themselves."""
     additions: dict[type, dict[str, object]] = {
         mujoco.MjModel: {"ptr": property(_ptr), "name2id": name2id, "id2name": id2name},
         mujoco.MjData: {"ptr": property(_ptr)},

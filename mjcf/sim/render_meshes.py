@@ -3,22 +3,10 @@
     context_model = render_meshes.simplified(model, render_meshes.face_budget(64, 64))
     # None: the model's meshes fit the budget and are drawn as they are
 
-A 64x64 image has 4096 pixels; a robot arm's meshes have 200,000 triangles, and a software
-rasterizer (Mesa's llvmpipe, the usual headless OpenGL) spends 20 times a plain frame's time
-on them although most cover less than a pixel. So for images up to `rendering.SMALL_FRAME`
-pixels a side, the meshes a render context uploads are simplified by vertex clustering until
-the model has at most FACES_PER_PIXEL triangles per pixel of the image: each mesh's vertices
-are grouped in a grid over its bounding box, each group drawn at one of its own vertices, and
-triangles that collapse are dropped, each mesh keeping its share of the budget. Vertices are
-not moved (the kept triangles use the mesh's own vertices and normals), so silhouettes stay
-where they were, within a grid cell, a fraction of a pixel at these sizes.
-
-Only what is drawn changes: the simplified triangles are written into a copy of the model
-that the render context is made from, and the copy is dropped once the context holds them.
-The scene is still built from the model itself (colours, sizes and poses written at run time
-show), and the simulation's meshes (collisions, rays, sensors) are never touched. Results are
-kept by the meshes' content, so the renderers of many environments or of a recompile reuse
-them.
+For images up to `rendering.SMALL_FRAME` pixels a side, the meshes a render context uploads
+are simplified by vertex clustering to at most FACES_PER_PIXEL triangles per pixel. Vertices
+are not moved, so silhouettes stay within a grid cell of where they were. Only what is drawn
+changes: the scene is still built from the model; the simulation's meshes are never touched.
 """
 
 from __future__ import annotations
@@ -54,7 +42,13 @@ def simplified(model: mujoco.MjModel, budget: int) -> mujoco.MjModel | None:
     """A copy of `model` whose meshes have at most about `budget` triangles in all (each mesh
     its share, at least a few dozen), or None when `model`'s meshes have no more than that.
     Only the copy's triangle lists change (`mesh_face`, `mesh_facenormal`,
-    `mesh_facetexcoord`, `mesh_facenum`); `model` is not changed."""
+    `mesh_facetexcoord`, `mesh_facenum`); `model` is not changed.
+
+    The render context is made from the copy, which is dropped once the context holds the
+    triangles. The scene is still built from the model itself (colours, sizes and poses
+    written at run time show), and the simulation's meshes (collisions, rays, sensors) are
+    never touched. Results are kept by the meshes' content, so the renderers of many
+    environments or of a recompile reuse them."""
     total = int(model.mesh_facenum.sum())
     if total <= budget:
         return None
@@ -136,7 +130,10 @@ def _clustered(
 ) -> tuple[np.ndarray, np.ndarray]:
     """`faces` with each vertex replaced by the first vertex of its grid cell (`cells` a side
     over the longest extent), without collapsed and repeated triangles: (indices of the kept
-    triangles, their faces). A triangle and its reverse are both kept (the two sides)."""
+    triangles, their faces). A triangle and its reverse are both kept (the two sides).
+    Vertices are not moved (the kept triangles use the mesh's own vertices and normals), so
+    silhouettes stay where they were, within a grid cell, a fraction of a pixel at the
+    sizes this is used for."""
     low = vertices.min(axis=0)
     extent = float((vertices.max(axis=0) - low).max()) or 1.0
     grid = np.minimum((vertices - low) * (cells / extent), cells - 1).astype(np.int64)

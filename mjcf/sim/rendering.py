@@ -1,34 +1,13 @@
-"""Rendering a physics: an offscreen `mujoco.Renderer` per image size, on an OpenGL backend
-chosen once per process, with render settings fitted to the image size, and errors that say
-which system library is missing.
+"""Rendering a physics offscreen: a `mujoco.Renderer` per image size, on an OpenGL backend
+chosen once per process, settings fitted to the size, errors naming the missing library.
 
     renderer = rendering.make_renderer(model, 240, 320)     # RenderError if no backend
     rgb = rendering.render(renderer, data, camera_id=-1, depth=False, segmentation=False)
-    rendering.backend()                                      # 'egl', 'osmesa', 'glfw', ...
-    rendering.frame_settings(64, 64)                         # what a 64x64 renderer gets
-    rendering.threaded(); rendering.release_context()        # drawing from worker threads
     with rendering.context_group(key): physics.render(64, 64)  # one OpenGL context for many
 
-What it promises:
-- Settings: each renderer gets `frame_settings` for its size in place of what the model
-  leaves to MuJoCo's defaults: an offscreen buffer of the image's size (any size renders),
-  and for images up to SMALL_FRAME pixels a side (observations) no shadows, no
-  multisampling, meshes simplified to at most 8 triangles a pixel
-  (`mjcf.sim.render_meshes`); larger images are drawn as MuJoCo draws them. What the
-  model's MJCF sets is kept, and the model is never changed.
-- Backend: MUJOCO_GL's when set; else the first that works at the first renderer (Linux:
-  EGL, OSMesa, then GLFW with a display; macOS: CGL, GLFW; Windows: GLFW), which becomes
-  MuJoCo's own and child processes'. Rendering works without a display or MUJOCO_GL.
-- Threads: renderers of different physics draw at once from threads of their own (MuJoCo
-  releases the GIL); on EGL (`threaded()`) a thread calls `release_context()` when it has
-  drawn; renderers made inside `context_group(key)` share one OpenGL context. A thread
-  that draws with a renderer whose context another thread holds gets `ContextBusyError`
-  (a RenderError), and `mjcf.Physics.render` then makes that thread a renderer of its
-  own: an environment renders from any thread.
-- Every context is checked before MuJoCo draws with it: a context that cannot be made is
-  a RenderError, at every attempt, never the abort MuJoCo itself makes at the second try.
-
-Why (the costs measured): docs/performance_profile.md, "Costs behind choices".
+It works without a display or MUJOCO_GL (`backend`); small images are drawn cheaply, the
+model never changed (`frame_settings`); renderers draw from threads (`threaded`). A context
+that cannot be made is a RenderError at every attempt, never the abort MuJoCo itself makes.
 """
 
 from __future__ import annotations
@@ -84,7 +63,15 @@ def make_renderer(
 
 def frame_settings(height: int, width: int) -> dict[str, int]:
     """The render settings for an image of `height` x `width`, by `<visual>` child and
-    attribute ('quality.shadowsize': see the module docstring)."""
+    attribute ('quality.shadowsize').
+
+    Each renderer gets them in place of what the model leaves to MuJoCo's defaults: an
+    offscreen buffer of the image's size (any size renders), and for images up to
+    SMALL_FRAME pixels a side (observations) no shadows, no multisampling, meshes
+    simplified to at most 8 triangles a pixel (`mjcf.sim.render_meshes`); larger images
+    are drawn as MuJoCo draws them. What the model's MJCF sets is kept, and the model is
+    never changed. Why (the costs measured): docs/performance_profile.md, "Costs behind
+    choices"."""
     settings = {"global.offwidth": int(width), "global.offheight": int(height)}
     if _small(height, width):
         settings.update({"quality.shadowsize": 0, "quality.offsamples": 0})
@@ -217,14 +204,24 @@ def context_group(key: Hashable | None) -> Iterator[None]:
 def threaded() -> bool:
     """Whether renderers may draw from several threads, one renderer in one thread at a
     time (`release_context` between): on EGL, whose contexts each thread makes current on
-    its own. Raises RenderError as `backend()`."""
+    its own. Raises RenderError as `backend()`.
+
+    Renderers of different physics draw at once from threads of their own (MuJoCo releases
+    the GIL); on EGL a thread calls `release_context()` when it has drawn; renderers made
+    inside `context_group(key)` share one OpenGL context. A thread that draws with a
+    renderer whose context another thread holds gets `ContextBusyError` (a RenderError),
+    and `mjcf.Physics.render` then makes that thread a renderer of its own: an environment
+    renders from any thread."""
     return backend() == "egl"
 
 
 def backend() -> str:
     """The OpenGL backend renderers use ('egl', 'osmesa', 'glfw', 'cgl'), chosen at the first
-    call as the module docstring says; raises RenderError, naming what each backend lacks,
-    when none can make a context (then, and at every later call)."""
+    call: MUJOCO_GL's when set; else the first that works at the first renderer (Linux: EGL,
+    OSMesa, then GLFW with a display; macOS: CGL, GLFW; Windows: GLFW), which becomes
+    MuJoCo's own and child processes'. Rendering works without a display or MUJOCO_GL.
+    Raises RenderError, naming what each backend lacks, when none can make a context (then,
+    and at every later call)."""
     global _chosen, _failure
     with _lock:
         if _chosen is None and _failure is None:

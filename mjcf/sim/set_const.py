@@ -3,13 +3,10 @@ writes a parameter.
 
     set_const.update(model, scratch, undo, "'ipos' of body 'object'")
 
-`mj_setConst` recomputes what MuJoCo derives from positions, orientations, masses and
-sizes (sameframe flags, bounding volumes, subtree masses, dof_M0 ...). One derived flag it
-only checks: a body compiled as "simple" (a fast path for its mass matrix) must keep its
-inertial frame on its body frame. Moving it there (randomising a center of mass) makes the
-body no longer simple, and its dofs no longer counted in `dof_simplenum`, exactly as
-compiling the model with the new values would make them; dm_control instead zeroes the
-sameframe flags, which MuJoCo 4 refuses for simple bodies.
+`mj_setConst` recomputes what MuJoCo derives from positions, orientations, masses and sizes
+(sameframe flags, bounding volumes, subtree masses, dof_M0 ...). A body compiled as "simple"
+whose inertial frame moves off its body frame stops being simple, exactly as compiling the
+model with the new values would make it; a value MuJoCo refuses is undone (BindingError).
 """
 
 from __future__ import annotations
@@ -48,7 +45,14 @@ def update(
 def _unsimplify(model: mujoco.MjModel, scratch: mujoco.MjData) -> None:
     """The bodies whose inertial frame is no longer their body frame lose the "simple"
     flag, and `dof_simplenum` is counted again; then mj_setConst. Raises
-    mujoco.FatalError, the flags as they were, if MuJoCo still refuses."""
+    mujoco.FatalError, the flags as they were, if MuJoCo still refuses.
+
+    mj_setConst only checks this one derived flag: a body compiled as "simple" (a fast path
+    for its mass matrix) must keep its inertial frame on its body frame. Moving it off
+    (randomising a center of mass) makes the body no longer simple, and its dofs no longer
+    counted in `dof_simplenum`, exactly as compiling the model with the new values would
+    make them; dm_control instead zeroes the sameframe flags, which MuJoCo 4 refuses for
+    simple bodies."""
     simple, simplenum = model.body_simple.copy(), model.dof_simplenum.copy()
     try:
         model.body_simple[:] = 0  # mj_setConst then finds every body's sameframe

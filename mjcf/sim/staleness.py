@@ -1,21 +1,13 @@
 """What a write through a binding or named access makes stale, and what a read needs fresh.
 
-    from mjcf.sim import fields, staleness
     staleness.write_effect(fields.indexed_field("qpos"))              # Effect.STATE
-    staleness.write_effect(fields.indexed_field("ctrl"))              # Effect.STEP_INPUT
     staleness.write_effect(fields.indexed_field("geom_size", "model"))  # Effect.MODEL_CONSTANT
-    staleness.read_stage("xpos")                                      # Stage.POSITION
     staleness.read_stage("qacc")                                      # Stage.ACCELERATION
     staleness.sensor_stage(model, sensor_ids)                         # what those sensors need
 
-The rules `mjcf.Physics` keeps with these facts are in `mjcf.sim.binding`'s docstring. Nothing
-here is a hand-kept list of fields, but for the few model fields only rendering reads
-(`VISUAL_SHORT_NAMES`, dm_control's own list): the state is MuJoCo's `mjtState` components;
-the stage an MjData field belongs to is the section `mjdata.h` declares it in ("POSITION
-dependent", "POSITION, VELOCITY, CONTROL/ACCELERATION dependent" ...); and the model fields
-whose edits need `mj_setConst` are the inputs `mjxmacro.h` lists in `MJSETCONST_ARRAYS`. When
-the installed mujoco ships no headers, every derived field counts as acceleration-dependent
-and every model field as an input of `mj_setConst`: slower, never stale.
+These are the facts; the rules `mjcf.Physics` keeps with them are `mjcf.sim.binding.Binding`'s.
+They are read from MuJoCo's headers (mjdata.h, mjxmacro.h); without the headers every derived
+field counts as acceleration-dependent and every model field as an input of `mj_setConst`.
 """
 
 from __future__ import annotations
@@ -53,6 +45,8 @@ class Stage(enum.IntEnum):
 
 # dm_control's list of model fields that do not make a physics dirty (they only change
 # pictures), by name without the kind prefix; the material and texture kinds only render.
+# The one hand-kept list of fields here: the others are read from MuJoCo (`mjtState`'s
+# components, mjdata.h and mjxmacro.h).
 VISUAL_SHORT_NAMES = frozenset({"rgba", "matid", "emission", "specular", "shininess",
                                 "reflectance"})  # fmt: skip
 _VISUAL_KINDS = frozenset({mujoco.mjtObj.mjOBJ_MATERIAL, mujoco.mjtObj.mjOBJ_TEXTURE})
@@ -88,7 +82,9 @@ STEP_INPUT_FIELDS = frozenset(f for f, c in STATE_FIELDS.items() if c in _STEP_I
 
 def _data_stages(header: Path) -> tuple[dict[str, Stage], dict[str, tuple[str, str]]] | None:
     """({MjData field: Stage}, {field computed only on demand: (flag, function)}) from the
-    section and group comments of mjdata.h; None without the file."""
+    section and group comments of mjdata.h ("POSITION dependent", "POSITION, VELOCITY,
+    CONTROL/ACCELERATION dependent" ...); None without the file, and then every derived
+    field counts as acceleration-dependent: slower, never stale."""
     try:
         text = header.read_text()
     except OSError:

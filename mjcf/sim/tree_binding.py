@@ -113,7 +113,17 @@ def _id_by_name(model: mujoco.MjModel, kind: mujoco.mjtObj, element: Element) ->
 def write_refusal(compiled: Compiled, elements: list[Element]) -> str | None:
     """Why bindings of `elements` may not be written: one of them is a mesh or texture
     compiled once for several copies of a model (`mjcf.compose.sharing`), which a write would
-    change for all of them; None if none is."""
+    change for all of them; None if none is.
+
+    Binding a copy's mesh or texture (`physics.bind(arm_7_mesh)`) reaches the one asset all
+    the copies compile to: it reads as ever, but a write through it is refused, through any
+    copy, the first too. To write one copy's asset at run time, compile without sharing:
+    `mjcf.Physics.from_mjcf_model(scene, share_assets=False)` (or
+    `physics.reload_from_mjcf_model(scene, share_assets=False)`), which compiles every copy's
+    meshes and textures apart, at the cost of the memory sharing saves. Named access
+    (`physics.named.model.mesh_scale['arm/base']`) and `physics.model` address the compiled
+    asset itself, by the first copy's name, as MuJoCo's own API does: what they write is
+    what every copy compiled to."""
     for element in elements:
         sharers = compiled.sharers(element)
         if len(sharers) > 1:

@@ -1,18 +1,12 @@
-"""The calls a layer of mjcf makes to the layers above it: the one module that imports
-inside functions.
-
-`Element` lives in the tree, but much of what a user asks of one is done above it:
-`element.find(...)` by `mjcf.compose.traversal`, `element.attach(...)` by
-`mjcf.compose.attachment`, `element.to_xml_string()` by `mjcf.io.serializer`,
-`root.compile_model()` by `mjcf.sim.physics`; and composing a model for writing needs it
-compiled (keyframes, `settotalmass`). Those modules import the tree, so it cannot import
-them when it is loaded. Each function here imports the function it names when called
-(later calls find the module loaded: a dictionary lookup) and returns what it returns,
-with its signature and errors:
+"""The calls the lower layers of mjcf make to the layers above them, which import the tree:
+the one module that imports inside functions (tests/mjcf/test_architecture.py checks it).
 
     above.find(element, 'joint', 'arm/shoulder')   # mjcf.compose.traversal.find
 
-tests/mjcf/test_architecture.py checks that no other module imports inside a function.
+Each function imports the one function it names when called (later calls find its module
+loaded: a dictionary lookup) and returns what that returns, with its signature and errors:
+`element.find` is `mjcf.compose.traversal`'s, `attach` `mjcf.compose.attachment`'s,
+`to_xml_string` `mjcf.io.serializer`'s, `compile_model` `mjcf.sim.physics`'s.
 """
 
 from __future__ import annotations
@@ -144,7 +138,8 @@ def serialize_for_compile(
 
 
 def compile_composition(root: RootElement) -> Compiled:
-    """`mjcf.sim.compiler.compile_composition`."""
+    """`mjcf.sim.compiler.compile_composition`: composing a model for writing needs it
+    compiled (its keyframes, an attached model's `settotalmass`)."""
     from mjcf.sim.compiler import compile_composition
 
     return compile_composition(root)

@@ -2,31 +2,12 @@
 
     mesh = model.asset.add('mesh', file=mjcf.Asset(stl_bytes, '.stl', prefix='wheel'))
     model.find('mesh', 'base').file          # Asset: .contents, .extension, .prefix, .path
-    xml, assets = model.to_xml_string(), model.get_assets()
-    mujoco.MjModel.from_xml_string(xml, assets)   # the same file names in both
-
-A file attribute read from a model file becomes an `Asset` that knows its path (the
-way MuJoCo finds it: `compiler strippath/meshdir/texturedir/assetdir`, relative to the
-model's directory) and reads its contents on first use. Files are read only when they
-are regular files of at most `FILE_SIZE_LIMIT` bytes (1 GiB; raise it for larger
-assets), model files and included files too: a device such as /dev/zero or a FIFO is
-refused, not read until memory runs out. Files given as
-`assets={'name.stl': bytes}` are used instead of disk files of that name, as MuJoCo
-uses them.
-
-When a model is written, every file gets a plain, readable name: its own base name,
-changed only where two different files would share one (MuJoCo's asset dict knows
-files by base name, ignoring case), by the attached model's scope and then a number;
-a file without a name of its own (`mjcf.Asset(contents, '.png')`) is named by its
-contents' hash, as dm_control names it. Every name a user can get for a file is that
-one: `asset.get_vfs_filename()` (in the output of the outermost model its element is
-attached into), the keys of `get_assets()`, the XML of `to_xml_string()` and the files
-of the exports, so that MuJoCo Menagerie's recipe works:
-
     assets = {m.file.get_vfs_filename(): m.file.contents for m in model.find_all('mesh')}
-    mujoco.MjModel.from_xml_string(model.to_xml_string(), assets)
+    mujoco.MjModel.from_xml_string(model.to_xml_string(), assets)   # Menagerie's recipe
 
-dm_control's content-hash names are there on request (`filename_with_hash=True`).
+Files (model and included files too) are found as MuJoCo finds them (`file_path`) and read
+on first use, if regular and at most `FILE_SIZE_LIMIT` bytes, else mjcf.AssetError. Files
+given as `assets={'a.stl': data}` replace disk files of that name. Each has one plain name.
 """
 
 from __future__ import annotations
@@ -99,12 +80,15 @@ class Asset(AssetBase):
         return self.prefix + self.extension
 
     def get_vfs_filename(self, filename_with_hash: bool = False) -> str:
-        """The file name this asset is written under, as `to_xml_string()` and
-        `get_assets()` of the outermost model its element is attached into name it
-        (see the module docstring): its plain name unless another file of that name is
-        written first. With `filename_with_hash`, dm_control's name
-        '<prefix>-<sha1 of contents><ext>', as `to_xml_string(filename_with_hash=True)`
-        writes it. Raises mjcf.AssetError if its file cannot be read."""
+        """The file name this asset is written under, as `to_xml_string()`, the keys of
+        `get_assets()` and the exports of the outermost model its element is attached into
+        name it: its own base name, changed only where two different files would share one
+        (MuJoCo's asset dict knows files by base name, ignoring case), by the attached
+        model's scope and then a number; a file without a name of its own
+        (`mjcf.Asset(contents, '.png')`) is named by its contents' hash, as dm_control names
+        it. With `filename_with_hash`, dm_control's name '<prefix>-<sha1 of contents><ext>',
+        as `to_xml_string(filename_with_hash=True)` writes it. Raises mjcf.AssetError if its
+        file cannot be read."""
         if filename_with_hash:
             return hashed_file_name(self)
         owner = self._owner

@@ -1,5 +1,4 @@
-"""Making elements and changing the tree without the setters' checks: the one module, but
-`mjcf.tree.element` itself, that writes an element's slots.
+"""Writing elements' slots without the setters' checks: besides `element`, the one module that does.
 
     element = builder.new_element(Element, spec, parent, parent.root)  # made, not placed
     builder.attributes_to_fill(element).update({'name': 'arm'})       # values as stored
@@ -7,15 +6,8 @@
     builder.register(element)          # its name in its model's scope (or NameClashError)
     builder.cut(element)               # out of the tree, its subtree's names forgotten
 
-The tree builders use it: the reader (`mjcf.io.parser`, `mjcf.io.default_sections`),
-copies (`mjcf.compose.copying`), default classes (`mjcf.compose.defaults`), attachment
-(`mjcf.compose.attachment`), shared global settings (`mjcf.compose.global_settings`) and
-`RootElement`. Each checks a whole document, plan or
-model first, then builds here what it checked (the public setters would check it again,
-element by element), and counts its change (`count_change`). Everything else reads
-elements through their public properties and the reading functions of
-`mjcf.tree.element` (`stored_attributes`, `tree_children`, `value_of` ...), and changes
-them through their public methods.
+Its users check a whole document, plan or model first, then build here what they checked
+and `count_change` it; everything else uses elements' public methods (docs/architecture.md).
 """
 
 from __future__ import annotations

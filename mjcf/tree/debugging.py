@@ -1,5 +1,5 @@
-"""Debug mode: every element remembers where it was created, and MuJoCo's compile
-errors name the element and that place.
+"""Debug mode: every element remembers where it was created (a file's elements, their file
+and line), and MuJoCo's compile errors name the element and that place.
 
     mjcf.enable_debug_mode()         # or run with MJCF_DEBUG=1
     model = mjcf.RootElement()
@@ -7,8 +7,7 @@ errors name the element and that place.
     mjcf.Physics.from_mjcf_model(model)
     # mjcf.CompileError: ... <worldbody>/<geom> (created at my_script.py:3) ...
 
-Elements parsed from a file remember the file and line instead. Outside debug mode
-nothing is recorded, and creating elements costs nothing extra.
+Outside debug mode nothing is recorded, and creating elements costs nothing extra.
 """
 
 from __future__ import annotations

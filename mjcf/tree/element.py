@@ -3,15 +3,11 @@
     body = model.worldbody.add('body', name='arm', pos=[0, 0, 1])
     geom = body.add('geom', type='capsule', size=[0.05, 0.2])
     geom.rgba = [1, 0, 0, 1]          # validated now, against MuJoCo's schema
-    geom.size                        # array([0.05, 0.2])
     body.geom[0] is geom             # repeated children by tag, indexable by name too
-    model.find('geom', ...)          # see RootElement
-    del geom.rgba                    # or geom.rgba = None
+    del geom.rgba                    # or geom.rgba = None; `class` is `dclass` in Python
 
-Every change is checked when it is made and raises an `mjcf.Error` naming the element
-path and the attribute; a change that raises leaves the tree as it was. Attribute
-values are never affected by default classes (see `commit_defaults`). The `class`
-attribute is `dclass` in Python.
+Every change is checked when made; one that fails raises an `mjcf.Error` naming the element
+path and attribute, the tree unchanged. Defaults never change values (`commit_defaults`).
 """
 
 from __future__ import annotations

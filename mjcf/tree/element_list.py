@@ -4,13 +4,10 @@
     scene.attach(arm)
     scene.actuator.motor                           # scene's motors, then arm's
     scene.actuator.motor['arm/elbow']              # scoped names reach attached models
-    scene.actuator.all_children()                  # the same, for every tag
 
-As in dm_control, the children of a model's top-level sections other than the world
-body and the defaults (actuators, sensors, tendons, assets, contacts, equalities,
-keyframes, ...) include those of the models attached into it, after its own, in the
-order the models were attached; elsewhere a list holds the element's own children. The
-lists are copies: change the model with `add` and `remove`.
+As in dm_control, a model's top-level sections but the world body and the defaults list
+the children of the models attached into it after their own, in the order they were
+attached (`all_children()` too). The lists are copies: change a model with `add`, `remove`.
 """
 
 from __future__ import annotations

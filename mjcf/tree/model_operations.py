@@ -1,16 +1,13 @@
-"""The methods of `Element` that the layers above the tree carry out: finding elements
-(`mjcf.compose.traversal`), comparing them (`mjcf.compose.sameness`), removing, attaching
-and copying (`mjcf.compose.attachment`, `mjcf.compose.copying`), naming them in an output
-(`mjcf.compose.naming`) and writing them (`mjcf.io.serializer`).
+"""The methods of `Element` that the layers above the tree carry out, through
+`mjcf.tree.above`: finding (`mjcf.compose.traversal`), comparing (`sameness`), removing,
+attaching, copying (`attachment`, `copying`), naming (`naming`) and writing (`mjcf.io`).
 
     model.find('joint', 'arm/shoulder'); model.find_all('geom')
     body.remove(); site.attach(gripper); scene.include_copy(floor)
     geom.full_identifier                 # 'arm/tip'
     geom.to_xml_string(); body.is_same_as(other)
 
-`Element` inherits them from `ModelOperations`, so that `mjcf.tree.element` holds what an
-element is (its attributes, name and children) and this module is where the tree calls
-up into the modules that build on it, through `mjcf.tree.above` (they import the tree).
+`Element` inherits them from `ModelOperations`: `mjcf.tree.element` holds what it is.
 """
 
 from __future__ import annotations

@@ -1,26 +1,13 @@
-"""Name scopes: the names of one model's elements, by namespace, and the scopes of the
-models attached to it. The one owner of the rules for names: what a valid name is, that
-a name is unique in its namespace, and how adding, renaming and removing one changes
-the scope. Elements, the parser and copies ask it; nothing else edits its tables.
+"""Name scopes: the one owner of the rules for names (what a valid name is, that it is
+unique in its namespace, how adding, renaming and removing one changes the scope).
 
     scope = model.namescope
     scope.lookup('joint', 'arm/shoulder')        # scoped names reach attached models; or None
     scope.get('joint', 'arm/shoulder')           # the same, a KeyError if none (dm_control)
     scope.check_free('geom', 'tip', geom)        # NameClashError if another geom has it
     scope.add('geom', 'tip', geom)               # what Element does when a name is set
-    scope.rename('geom', 'tip', 'pad', geom)
-    scope.remove('geom', 'pad', geom)
 
-Every `RootElement` owns one `NameScope`. Names are unique within a namespace of one
-scope ('body', 'geom', 'actuator', ...); an attached model keeps its own scope, which is
-registered in its parent's under the child model's name. MuJoCo sees scoped names:
-`arm/gripper/pad` is the element named 'pad' in the scope 'gripper' attached into 'arm'.
-A name as an element stores it may hold an escaped separator ('a\\/b', read with
-`escape_separators`); the scope knows it as MuJoCo sees it ('a/b').
-
-A model read from a file holds, for the names of elements not built yet, the lxml
-elements they will be built from (`load`); asking for such a name builds its element
-(`RootElement._resolve`), which then takes its place (`adopt`).
+Elements, the parser and copies ask it (`rename`, `remove` ...); nothing else edits it.
 """
 
 from __future__ import annotations
@@ -44,7 +31,18 @@ NAMED_AFTER_FILE = frozenset({"mesh", "texture", "hfield", "skin"})
 
 
 class NameScope:
-    """The namespaces of one model, and the scopes of the models attached to it."""
+    """The namespaces of one model, and the scopes of the models attached to it.
+
+    Every `RootElement` owns one. Names are unique within a namespace of one scope ('body',
+    'geom', 'actuator', ...); an attached model keeps its own scope, which is registered in
+    its parent's under the child model's name. MuJoCo sees scoped names: `arm/gripper/pad`
+    is the element named 'pad' in the scope 'gripper' attached into 'arm'. A name as an
+    element stores it may hold an escaped separator ('a\\/b', read with
+    `escape_separators`); the scope knows it as MuJoCo sees it ('a/b').
+
+    A model read from a file holds, for the names of elements not built yet, the lxml
+    elements they will be built from (`load`); asking for such a name builds its element
+    (`RootElement._resolve`), which then takes its place (`adopt`)."""
 
     __slots__ = (
         "_children",

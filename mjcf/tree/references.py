@@ -1,32 +1,13 @@
-"""References between elements: what an attribute such as `joint=` or `material=` points
-at, and how that follows renames and removals.
+"""References between elements (`joint=`, `material=` ...) through renames and removals.
 
     motor = model.actuator.add('motor', joint='hip')   # 'hip' exists: motor.joint is it
     model.find('joint', 'hip').name = 'hip_x'           # the motor follows the rename
     model.find('joint', 'hip_x').remove()               # writing the motor now raises
-    model = mjcf.from_path('arm.xml', resolve_references=False)
-    model.find('geom', 'tip').material                  # 'steel': text, as dm_control
-    model.resolve_references()                          # now the material element
+    model = mjcf.from_path('arm.xml', resolve_references=False)   # text, as dm_control,
+    model.resolve_references()                                    # until resolved
 
-A model read with `resolve_references=True` (the default) behaves exactly as if every
-reference had been resolved to its element when it was read: renaming or removing an
-element changes what every reference to it writes, and writing a reference to a removed
-element raises mjcf.InvalidReferenceError. Names given through the Python API resolve
-when they are set; a name that no element has yet is kept as text, which the element
-that takes the name later answers (as MuJoCo would read the written text), and which
-then follows that element as a resolved reference does.
-
-How, without building a model read from a file whole: references read are kept as text
-while no element of the model is renamed or removed, since text written by name then
-compiles to what the element would. Before the first name of a model changes (a rename,
-a removal, an unnamed asset given another file, a detach), every text reference that
-names an element is replaced by that element (`before_name_change`, which the name
-scope calls). A model read with `resolve_references=False` keeps text as text, as
-dm_control does, until `resolve_references()`.
-
-Internal protocol: `RootElement._references` holds this module's state of a model, a
-`ModelReferences`, which only this module reads and changes; the reader and copies set it
-up through `start_reading`, `record_read_names` and `copy_state`.
+Read with `resolve_references=True` (the default), a model behaves as if every reference
+were resolved when read; writing one to a removed element raises InvalidReferenceError.
 """
 
 from __future__ import annotations
@@ -42,9 +23,17 @@ if TYPE_CHECKING:
     from mjcf.tree.element import Element
     from mjcf.tree.root import RootElement
 
-# How a model keeps its references (`ModelReferences.mode`).
+# How a model keeps its references (`ModelReferences.mode`). A model read from a file is
+# not built whole, so references read are kept as text (UNPINNED) while no element of the
+# model is renamed or removed, since text written by name then compiles to what the element
+# would. Before the first name of a model changes (a rename, a removal, an unnamed asset
+# given another file, a detach), every text reference that names an element is replaced by
+# that element (`before_name_change`, which the name scope calls): renaming or removing an
+# element then changes what every reference to it writes. A model read with
+# `resolve_references=False` keeps text as text (BY_NAME), as dm_control does, until
+# `resolve_references()`.
 PINNED = 0  # every reference naming an element holds it, but those in `forward`
-UNPINNED = 1  # references read from a file are text still (see the module docstring)
+UNPINNED = 1  # references read from a file are text still (see above)
 BY_NAME = 2  # read with resolve_references=False: text stays text
 _MAIN_CLASS = "main"
 ANY_NAMESPACE = "*"  # `referenced`'s key of names referenced from default classes
@@ -54,7 +43,10 @@ class ModelReferences:
     """This module's state of one model's references: `mode` (`PINNED`, `UNPINNED` or
     `BY_NAME`), `referenced` (the names references read from the model's file name, by
     namespace, `ANY_NAMESPACE` for those of default classes; None: any name) and `forward`
-    (the elements of the model holding text references that named no element when set)."""
+    (the elements of the model holding text references that named no element when set).
+
+    `RootElement._references` holds it; only this module reads and changes it. The reader
+    and copies set it up through `start_reading`, `record_read_names` and `copy_state`."""
 
     __slots__ = ("forward", "mode", "referenced")
 
@@ -71,7 +63,7 @@ def _state(model: RootElement) -> ModelReferences:
 def start_reading(model: RootElement, resolve_references: bool) -> None:
     """The new, empty `model` is about to be read from a file: the references read are
     kept as text, until a name changes if `resolve_references`, else until
-    `resolve_references()` (see the module docstring)."""
+    `resolve_references()` (see `UNPINNED`)."""
     _state(model).mode = UNPINNED if resolve_references else BY_NAME
 
 
@@ -95,7 +87,9 @@ def stored(element: Element, attribute: AttributeSpec, value: Any, attrs: Mappin
     """The value to store for reference `attribute` of `element` (whose stored attributes
     are `attrs`), given `value` (text, an element, or a list of them) through the API:
     names resolved to the elements that have them now, unless the model keeps references
-    by name."""
+    by name. A name that no element has yet is kept as text, which the element that takes
+    the name later answers (as MuJoCo would read the written text), and which then follows
+    that element as a resolved reference does (`forward`)."""
     root = element.root
     state = _state(root)
     if state.mode == BY_NAME or not _has_text(value):

@@ -6,10 +6,8 @@
     model.default.geom.rgba = [1, 0, 0, 1]        # global defaults
     model.find('body', 'upper')
 
-Every top-level MJCF section (`worldbody`, `asset`, `default`, `option`, `compiler`,
-`size`, `visual`, `statistic`, `actuator`, `sensor`, `tendon`, `equality`, `contact`,
-`keyframe`, `custom`, `extension`, `deformable`) is a property that always exists;
-empty sections are left out of the XML.
+Every top-level section (`schema.ROOT_SECTIONS`: `worldbody`, `asset`, `default`, `option`,
+`actuator` ...) is a property that always exists; empty sections are left out of the XML.
 """
 
 from __future__ import annotations

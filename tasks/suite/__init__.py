@@ -1,19 +1,13 @@
 """tasks.suite: the DeepMind Control Suite on composer, equal to dm_control's, on MuJoCo 4.
 
-    import gymnasium as gym
     import tasks                                        # registers dm_control/... ids too
     env = gym.make('dm_control/walker-walk-v0')         # Shimmy's ids and keys
-    env = gym.make('dm_control/cartpole-swingup-v0', flatten_observations=True)
-    from tasks import suite
-    env = suite.load('cartpole', 'swingup')             # dm_control's suite.load
-    suite.BENCHMARKING                                  # dm_control's task lists
+    env = tasks.suite.load('cartpole', 'swingup')       # dm_control's suite.load
+    tasks.suite.BENCHMARKING, tasks.suite.ALL_TASKS     # dm_control's task lists
 
-Each domain's robot is an entity (`entities.suite`), its world an arena (`arenas.suite`),
-its tasks composer tasks here (`tasks.suite.base.SuiteTask`): the same model as
-dm_control's file compiles to, the same observations (keys, values, order), rewards,
-initial states for the same seed (`reset(seed=s)` is dm_control's `random=s`), control
-timesteps, time limits and discounts. tests/tasks/suite proves it against dm_control's own
-suite code, step by step. docs/suite.md lists the tasks.
+Robots are `entities.suite`, worlds `arenas.suite`, tasks here: dm_control's model,
+observations, rewards, seeded starts, timesteps, time limits and discounts, checked against
+its own code step by step (tests/tasks/suite); docs/suite.md lists the tasks.
 """
 
 from tasks.suite import (

@@ -5,11 +5,9 @@ on a target (dm_control's `acrobot`).
     env = gym.make('dm_control/acrobot-swingup_sparse-v0')
 
 Observations: `orientations` (each link's sin, then each link's cos of its angle from
-upright, as the x-z and z-z entries of its orientation), `velocity` (both joints').
-Reward in [0, 1]: 1 while the tip is within the target's 0.2 m radius (4 m up, where the
-links point straight up); dense, falling off outside it with the distance (gaussian, 0.1
-at 1 m beyond it); sparse, 0 outside. Each episode starts with both joints at angles uniform in
-[-pi, pi); 1,000 steps of 10 ms.
+upright), `velocity` (both joints'). Reward in [0, 1]: 1 while the tip is within the
+target's 0.2 m radius; outside it, dense, a gaussian of the distance (0.1 at 1 m beyond),
+sparse, 0. 1,000 steps of 10 ms; starts and details in docs/suite.md.
 """
 
 from __future__ import annotations

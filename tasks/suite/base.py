@@ -1,21 +1,13 @@
 """SuiteTask: what every Control Suite task here shares with dm_control's `suite.base.Task`.
 
-    class Balance(SuiteTask):
+    class Balance(SuiteTask):      # builds self._arena, a SuiteArena with the robot attached
         def __init__(self, control_timestep=None):
-            self._arena = SuiteArena(...)
-            self.cartpole = Cartpole()
-            self._arena.attach(self.cartpole)
             self.use_control_timestep(control_timestep, default=None)  # one physics step
 
-What a suite task promises, as dm_control's does: the action is every actuator's control in
-model order (written as given, within the action space: float64, the actuators' control
-ranges, as dm_control's `action_spec` and Shimmy's Box); observations are the task's own,
-under dm_control's keys, in dm_control's order (also when flattened:
-`keep_observation_order`); an episode is truncated at the domain's time limit with discount
-1 and never terminates unless the task says so (`get_termination`, dm_control's hook:
-None, or the discount the episode ends with); `reset(seed=s)` draws the initial state from
-`numpy.random.RandomState(s)`, as dm_control's task made with `random=s` does (and Shimmy's
-`dm_control/...` environments), with the same draws in the same order.
+As dm_control's (in full: docs/suite.md): the action is each actuator's control in model
+order (float64, in the control ranges); observations use dm_control's keys and order
+(flattened too); episodes are truncated at the time limit with discount 1 (sooner only by
+`get_termination`); `reset(seed=s)` draws from `RandomState(s)` as `random=s` does.
 """
 
 from __future__ import annotations

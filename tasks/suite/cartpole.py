@@ -4,11 +4,10 @@
     env = gym.make('dm_control/cartpole-three_poles-v0', flatten_observations=True)
 
 Observations: `position` (the cart's position, then each pole's cos and sin of its angle
-from upright, as the z-z and x-z entries of its orientation), `velocity` (every joint's).
-Reward in [0, 1]: dense, `upright * centered * small_control * small_velocity` (each pole
-upright on average, the cart near the centre, little force, slow poles); sparse, 1 while
-the cart is within 0.25 m of the centre and every pole within 0.995 of upright. Swing-up
-starts hanging down, balance near upright; 1,000 steps of 10 ms.
+from upright), `velocity` (every joint's). Reward in [0, 1]: dense, `upright * centered *
+small_control * small_velocity`; sparse, 1 while the cart is within 0.25 m of the centre
+and every pole within 0.995 of upright. Swing-up starts hanging down, balance near
+upright; 1,000 steps of 10 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

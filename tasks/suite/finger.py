@@ -1,20 +1,13 @@
-"""Finger: spin a hinged body, or turn its tip onto a target, with a two-link finger
-(dm_control's `finger`).
+"""Finger: spin a hinged body, or turn its tip onto a target (dm_control's `finger`).
 
     env = gym.make('dm_control/finger-spin-v0')
-    env = gym.make('dm_control/finger-turn_easy-v0')    # a target 7 cm in radius
-    env = gym.make('dm_control/finger-turn_hard-v0')    # 3 cm
+    env = gym.make('dm_control/finger-turn_easy-v0')    # a target 7 cm in radius; hard: 3 cm
 
-Observations, all from sensors: `position` (both finger joints' angles, then the x and z
-from the spinner's axis to its tip), `velocity` (the three joints'), `touch` (log(1 + f)
-of the two fingertip touch sensors); the turn tasks add `target_position` (the x and z
-from the spinner's axis to the target) and `dist_to_target` (from the tip to the target's
-surface, negative inside). Reward: spin, 1 while the spinner turns at 15 rad/s or faster
-the negative way about its hinge's axis; turn, 1 while the tip is inside the target.
-Each episode starts at random joint angles without contacts (`randomizers`, drawn again
-while any contact is found, up to 1,000 times); spin hides the target and the tip and
-damps the spinner at 0.03 instead of 0.5; turn puts the target at an angle uniform in
-[-pi, pi) on the circle the tip can reach. 1,000 steps of 20 ms.
+Observations, all from sensors: `position`, `velocity`, `touch`; the turn tasks add
+`target_position` and `dist_to_target`. Reward: spin, 1 while the spinner turns at
+15 rad/s or faster the negative way about its hinge's axis; turn, 1 while the tip is
+inside the target. 1,000 steps of 20 ms; what each observation holds and how episodes
+start: docs/suite.md.
 """
 
 from __future__ import annotations

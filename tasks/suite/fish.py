@@ -2,16 +2,11 @@
 
     env = gym.make('dm_control/fish-swim-v0')
 
-Observations: `joint_angles` (the tail's and the fins' seven hinges), `upright` (the
-torso's z-z orientation entry), for swimming `target` (from the mouth to the target, in the
-mouth's frame), then `velocity` (every joint's: the free body's six, then the hinges').
-Reward in [0, 1]: upright, 1 with the torso's z axis straight up, a gaussian of its z-z
-entry's distance from 1 (0.1 upside down); swimming, `(7 * in_target + is_upright) / 8`,
-in_target being 1 with the mouth within the two spheres' radii of the target's centre, a
-gaussian falling to 0.1 at twice that further, is_upright the torso's z-z entry mapped
-from [-1, 1] to [0, 1]. An episode starts with the fish turned at random (a normalised
-`randn(4)` quaternion) and each hinge within +-0.2 rad; the target is hidden (upright) or
-placed within +-0.4 m in x and y and 0.1 to 0.3 m high (swim). 1,000 steps of 40 ms.
+Observations: `joint_angles` (the tail's and the fins' seven hinges), `upright`, for
+swimming `target` (from the mouth, in its frame), then `velocity` (every joint's). Reward
+in [0, 1]: upright, a gaussian of how far the torso's z axis is from straight up;
+swimming, `(7 * in_target + is_upright) / 8`. 1,000 steps of 40 ms; the reward's terms
+and how episodes start: docs/suite.md.
 """
 
 from __future__ import annotations

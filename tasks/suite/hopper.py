@@ -2,13 +2,11 @@
 
     env = gym.make('dm_control/hopper-hop-v0')
 
-Observations: `position` (every joint's but the horizontal root slide's: translation
-invariant), `velocity` (every joint's), `touch` (log(1 + force) at the toe and the heel).
-Reward in [0, 1]: standing, 1 while the torso's centre of mass is 0.6 to 2 m above the
-foot's, else 0; times, to stand, `(4 + small_control) / 5` (small_control: the mean over
-the motors of 1 - control², a quadratic bump), to hop, the torso subtree's forward
-speed, 1 at 2 m/s and above, falling linearly to 0.5 at 1 m/s and 0 at rest. An episode
-starts from joint angles drawn within their limits; 1,000 steps of 20 ms.
+Observations: `position` (every joint's but the horizontal root slide's), `velocity`,
+`touch` (log(1 + force) at the toe and the heel). Reward in [0, 1]: standing, 1 while the
+torso's centre of mass is 0.6 to 2 m above the foot's, else 0; times, to stand,
+`(4 + small_control) / 5`, to hop, the forward speed's term (1 at 2 m/s and above). Joint
+angles start within their limits; 1,000 steps of 20 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

@@ -3,18 +3,11 @@
     env = gym.make('dm_control/humanoid-walk-v0')
     env = gym.make('dm_control/humanoid-run_pure_state-v0', flatten_observations=True)
 
-Observations: `joint_angles` (the 21 hinges' angles), `head_height` (the head's z),
-`extremities` (each hand and foot, left side first, relative to the torso in its frame),
-`torso_vertical` (the world's z axis in the torso's frame), `com_velocity` (the torso
-subtree's centre-of-mass velocity) and `velocity` (every joint's); with
-`pure_state=True`, `position` and `velocity` (qpos and qvel) instead.
-Reward in [0, 1]: `standing * upright * small_control * move`, where standing is the
-head above 1.4 m (gaussian over 0.35 m), upright the torso's z axis within 0.9 of the
-world's (linear to 0 at upside down), small_control 0.8 to 1 for unit to no control; move
-is, for `move_speed` 0, staying still (horizontal centre-of-mass velocity near 0, gaussian
-over 2 m/s), else the horizontal speed reaching `move_speed` (linear from 0, as (5 * m +
-1) / 6). Every episode starts from random joint angles and a random orientation without
-contacts, 1.5 m up, then falls; 1,000 steps of 25 ms.
+Observations: `joint_angles`, `head_height`, `extremities`, `torso_vertical`,
+`com_velocity`, `velocity`; with `pure_state=True`, `position` and `velocity` (qpos, qvel).
+Reward in [0, 1]: `standing * upright * small_control * move`, move being staying still
+for `move_speed` 0, else reaching `move_speed`. Episodes start from a random pose 1.5 m up
+and fall; 1,000 steps of 25 ms. What each term and observation holds: docs/suite.md.
 """
 
 from __future__ import annotations

@@ -5,18 +5,9 @@
     obs, info = env.reset(seed=3)                   # the system dm_control draws with random=3
 
 Observations: `position` and `velocity` (every joint's). Reward:
-`1 - (|qpos|^2 / 2 + 0.1 * |ctrl|^2 / 2)`, a linear-quadratic regulator's cost turned into
-a reward. The episode has no time limit; it terminates (discount 0) once the state
-(positions and velocities) is within 1e-6 of rest. Each episode starts on the sphere of
-radius sqrt(2) in position space (a normalised `randn`), at rest. Control at the physics'
-30 ms.
-
-The system itself is random, as in dm_control, whose task factories draw every spring's
-stiffness (and damping) from their `random` before the first episode: here a reset with a
-seed (and the first reset) draws them, from the same RandomState and before the initial
-state, then recompiles; resets without a seed keep the system, as dm_control's later
-episodes do. So `reset(seed=s)` starts what dm_control's environment made with `random=s`
-starts, system included (Shimmy's `reset(seed=s)` reseeds the initial state alone).
+`1 - (|qpos|^2 / 2 + 0.1 * |ctrl|^2 / 2)`. No time limit: an episode terminates (discount
+0) once the state is within 1e-6 of rest. A reset with a seed (and the first) draws the
+springs too, so `reset(seed=s)` is dm_control's `random=s` (docs/suite.md: what differs).
 """
 
 from __future__ import annotations

@@ -4,17 +4,10 @@
     env = gym.make('dm_control/manipulator-bring_ball-v0')
     env = gym.make('dm_control/manipulator-insert_peg-v0', fully_observable=False)
 
-Observations: `arm_pos` (sine and cosine of each of the eight arm and hand joints' angles,
-(8, 2)), `arm_vel` (their velocities), `touch` (log1p of the five touch sensors), and,
-fully observable (the default), `hand_pos`, `object_pos` and `target_pos` (x, z, qw, qy of
-each body) and `object_vel` (the prop's x, z and angular velocity). Reward in [0, 1]: the
-ball within 1 cm of its target (a gaussian tolerance of the distance between their sites,
-0.1 at 3 cm); the peg brought to its target (its centre and tip within 1 cm of the
-target's), or, a third as much, grasped (its grasp and pinch sites at the hand's). Each
-episode draws the arm's pose, the target's place and angle (and the receptacle's, which
-holds the target when inserting), and starts the prop in the hand (10%), in the target
-(10%) or anywhere (80%, thrown sideways), drawing again until nothing touches; dm_control's
-draws in dm_control's order. 1,000 steps of 10 ms (physics at 1 ms).
+Observations: `arm_pos`, `arm_vel`, `touch`, and fully observable (the default)
+`hand_pos`, `object_pos`, `target_pos` and `object_vel`. Reward in [0, 1]: the prop at its
+target (or, for the peg, a third as much for grasping it). Episodes start from dm_control's
+draws in dm_control's order; 1,000 steps of 10 ms (physics at 1 ms). Details: docs/suite.md.
 """
 
 from __future__ import annotations

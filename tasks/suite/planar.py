@@ -1,15 +1,13 @@
-"""What the planar manipulation tasks (manipulator, stacker) observe, measure and draw, in
-batched form: dm_control's `Physics` helpers of those domains, over n environments.
+"""Batched over n environments: dm_control's `Physics` helpers of manipulator and stacker.
 
     bounded_joint_positions(physics, arm.joints)     # (n, 8, 2): sin, cos of each angle
-    body_2d_poses(physics, [hand])                   # (n, 1, 4): x, z, qw, qy
+    body_2d_poses(physics, [hand])                   # (n, 1, 4): 2D poses, x, z, qw, qy
     site_distances(physics, ball_site, target_site)  # (n,): the distance between two sites
     SiteDistances([(a, b), (c, d)])(physics)         # (n, 2): several pairs' at once
     randomize_arm(physics, arm, random_state)        # a random pose, the hand symmetric
 
-The scene lies in the x-z plane: a body's 2D pose is its x and z and the w and y entries of
-its orientation quaternion. Distances are `np.linalg.norm` of the difference, as
-dm_control computes them (`tasks.rewards.squared_norms` sums the squares as its dot does).
+The scene lies in the x-z plane. Distances are `np.linalg.norm` of the difference, as
+dm_control's (`tasks.rewards.squared_norms` sums the squares as its dot does).
 """
 
 from __future__ import annotations

@@ -4,12 +4,9 @@
     env = gym.make('dm_control/point_mass-hard-v0')     # each motor pushes a random way
 
 Observations: `position` and `velocity` (the ball's x and y, and their rates). Reward in
-[0, 1]: `near_target * small_control`, 1 while the ball is within the target's radius
-(1.5 cm), falling to 0.1 one radius beyond it (gaussian), times (4 + c) / 5 where c is
-the mean over both controls of 1 - u^2. Each episode starts at a position uniform in the
-joints' range; in the hard task each motor's tendon then pulls along a random unit
-direction, the two no closer to parallel than |cos| 0.9 (MjModel `wrap_prm`). 1,000
-steps of 20 ms.
+[0, 1]: `near_target * small_control`, 1 within the target's 1.5 cm radius (gaussian, 0.1
+one radius beyond), times (4 + c) / 5, c the mean of 1 - u^2 over both controls. Episodes
+start anywhere in the joints' range; 1,000 steps of 20 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

@@ -3,21 +3,11 @@
     env = gym.make('dm_control/quadruped-walk-v0')
     env = gym.make('dm_control/quadruped-escape-v0', flatten_observations=True)
 
-Observations of every task: `egocentric_state` (the 16 leg hinges' angles and velocities,
-then the 12 actuators' filter states), `torso_velocity` (the velocimeter, in the torso's
-frame), `torso_upright` (z of the torso's z axis), `imu` (accelerometer, gyro),
-`force_torque` (arcsinh of each toe's force and torque sensors). Escape adds `origin` (the
-world's origin in the torso's frame) and `rangefinder` (20 beams: tanh of the distance, 1
-where nothing is hit); fetch adds `ball_state` (the ball's position, velocity and angular
-velocity relative to the torso, in its frame) and `target_position` (in the torso's frame).
-Rewards in [0, 1], each times `upright` (the torso's z axis within a deviation of the
-world's, linear to 0 at upside down): walk and run, the forward velocity reaching 0.5 or 5
-m/s (linear from half at rest); escape, the distance of the workspace from the origin
-reaching the terrain's 30 m radius (within 20 degrees of upright); fetch, reaching the ball
-(its distance from the workspace, linear over the arena's diagonal) times bringing it onto
-the target (half without). Episodes start in a random orientation at the lowest height
-without contacts (fetch: a random heading and place, the ball thrown from 2 m); escape on a
-new bowl of terrain each episode. 1,000 steps of 20 ms.
+Observations: `egocentric_state`, `torso_velocity`, `torso_upright`, `imu`, `force_torque`;
+escape adds `origin` and `rangefinder`, fetch `ball_state` and `target_position`. Rewards
+in [0, 1], each times `upright`: walk and run, the forward velocity reaching 0.5 or 5 m/s;
+escape, the distance from the origin reaching the terrain's radius; fetch, reaching the
+ball times bringing it onto the target. 1,000 steps of 20 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

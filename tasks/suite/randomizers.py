@@ -1,7 +1,6 @@
-"""Random joint positions as the Control Suite draws them (dm_control's
-`suite.utils.randomizers`), the same values from the same random state in the same order.
+"""Random joint positions as the Control Suite draws them (`suite.utils.randomizers`).
 
-    randomize_limited_and_rotational_joints(physics, random_state)
+    randomize_limited_and_rotational_joints(physics, random_state)   # the same draws, in order
 
 Joints are visited in model order: a limited hinge or slide is drawn uniformly within its
 range; a limited ball joint gets a rotation about a random axis (normalised `randn(3)`) by

@@ -5,10 +5,8 @@
 
 Observations: `position` (both joints' angles), `to_target` (the x and y from the finger to
 the target), `velocity` (both joints'). Reward: 1 while the finger's centre is within the
-sum of the two radii (the target's and the finger's 1 cm) of the target's, else 0. Each
-episode starts at random joint angles (`randomizers`) with the target at an angle
-uniform in [0, 2 pi) and a distance uniform in [5, 20) cm from the centre; 1,000 steps of
-20 ms.
+sum of the two radii (the target's and the finger's 1 cm) of the target's, else 0. Random
+joint angles and target; 1,000 steps of 20 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

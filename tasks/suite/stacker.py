@@ -4,17 +4,10 @@ away (dm_control's `stacker`).
     env = gym.make('dm_control/stacker-stack_2-v0')
     env = gym.make('dm_control/stacker-stack_4-v0', fully_observable=False)
 
-Observations: `arm_pos` (sine and cosine of each of the eight arm and hand joints' angles,
-(8, 2)), `arm_vel` (their velocities), `touch` (log1p of the five touch sensors), and,
-fully observable (the default), `hand_pos` (x, z, qw, qy), `box_pos` (the same for each
-box, (boxes, 4)), `box_vel` (each box's x, y-angle and z velocities) and `target_pos`
-(x, z). Reward in [0, 1]: a box at the target (a gaussian tolerance of the nearest box's
-distance, 0.1 at two box sizes) while the hand is at least 10 cm from it (falling to 0.1
-within another centimetre). Each episode draws the arm's pose, the target's height (the
-top of a stack of 1 to `n_boxes` boxes, as many half-sizes up as an odd number) and x in
-[-0.37, 0.37], and every box's place (x in [0.1, 0.3], z in [0, 0.7]) and angle, drawing
-again until nothing touches; dm_control's draws in dm_control's order. 1,000 steps of
-10 ms (physics at 1 ms).
+Observations: `arm_pos`, `arm_vel`, `touch`, and fully observable (the default)
+`hand_pos`, `box_pos`, `box_vel` and `target_pos`. Reward in [0, 1]: a box at the target
+while the hand is at least 10 cm from it. Episodes start from dm_control's draws in
+dm_control's order; 1,000 steps of 10 ms (physics at 1 ms). Details in docs/suite.md.
 """
 
 from __future__ import annotations

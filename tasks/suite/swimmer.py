@@ -3,13 +3,11 @@
     env = gym.make('dm_control/swimmer-swimmer6-v0')
     env = gym.make('dm_control/swimmer-swimmer15-v0')
 
-Observations: `joints` (each link's angle on the previous one), `to_target` (from the nose
-to the target, x and y in the head's frame), `body_velocities` (the head's and each link's
-forward and sideways speed and turning rate, in its own frame). Reward in [0, 1]: 1 with
-the nose within the target's radius (0.1 m) of its centre, falling off with a long tail
-(1 / (1 + (distance beyond it / 0.5 m)² * 9): 0.1 at 0.5 m beyond). An episode starts from
-a random heading and link angles within their limits; the target is placed uniformly in a
-square of +-2 m (one time in five, +-0.3 m), its light above it. 1,000 steps of 30 ms.
+Observations: `joints` (each link's angle on the previous one), `to_target` (from the nose,
+in the head's frame), `body_velocities` (each body's, in its own frame). Reward in [0, 1]:
+1 with the nose within the target's 0.1 m radius, falling off with a long tail (0.1 at
+0.5 m beyond). Random heading, link angles and target; 1,000 steps of 30 ms (details in
+docs/suite.md).
 """
 
 from __future__ import annotations

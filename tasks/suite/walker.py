@@ -4,12 +4,9 @@
 
 Observations: `orientations` (each body's x-x and x-z orientation entries, the cos and sin
 of its pitch), `height` (the torso's), `velocity` (every joint's). Reward in [0, 1]:
-standing, `(3 * standing + upright) / 4` (standing: 1 with the torso 1.2 m high or more,
-a gaussian falling to 0.1 at 0.6 m; upright: (1 + the torso's z-z orientation entry) / 2);
-to walk (1 m/s) or run (8 m/s), times `(5 * moving + 1) / 6`, moving being 1 at that
-forward speed of the torso subtree or faster, falling linearly to 0.5 at half of it and
-0 at rest. An episode starts from joint angles drawn within their limits; 1,000 steps of
-25 ms.
+standing, `(3 * standing + upright) / 4`; to walk (1 m/s) or run (8 m/s), times
+`(5 * moving + 1) / 6`, moving being 1 at that forward speed or faster. Joint angles start
+within their limits; 1,000 steps of 25 ms (details in docs/suite.md).
 """
 
 from __future__ import annotations

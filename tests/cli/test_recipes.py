@@ -70,6 +70,8 @@ def test_a_task_without_recipes_trains_with_the_generic_ones():
         (SwingTask, ({"algo": "ppo"},), "expected Recipe objects, got {'algo': 'ppo'}"),
         (SwingTask, (GENERIC["ppo"].replace(algo="a2c"),), "algo 'a2c' is not one of"),
         (SwingTask, (GENERIC["ppo"], GENERIC["ppo"]), "one recipe per algorithm"),
+        (SwingTask, (GENERIC["sac"].replace(initial_temperature=0.0),),
+         "the sac recipe's initial_temperature must be > 0, got 0.0"),
         (SwingTask, (GENERIC["ppo"].replace(engine_changes={"ray": {"envs": 4}}),),
          "the ppo recipe's changes for engine 'ray' name fields a Recipe does not have: "
          "['envs']"),
@@ -111,3 +113,20 @@ def test_a_recipe_for_one_id_wins_over_its_task_class_s():
     finally:
         recipes._RECIPES.pop("test/Swing-v2")
         recipes._RECIPES.pop(SwingTask)
+
+
+@pytest.mark.parametrize("temperature", [1.0, 0.1])
+def test_sac_starts_from_the_recipe_s_entropy_temperature(temperature):
+    pytest.importorskip("stable_baselines3")
+    import gymnasium as gym
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from composer.cli.engines.sb3 import training
+
+    recipe = GENERIC["sac"].replace(initial_temperature=temperature, net=(8,))
+    venv = DummyVecEnv(
+        [lambda: gym.make("dm_control/cartpole-swingup-v0", flatten_observations=True)]
+    )
+    model = training.new_model(recipe, venv, seed=0)
+    assert model.ent_coef_optimizer is not None  # learned, from the recipe's start
+    assert float(model.log_ent_coef.detach().exp()) == pytest.approx(temperature)

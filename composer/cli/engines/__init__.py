@@ -6,12 +6,8 @@ and the trained policies they wrote, found and loaded by whichever engine wrote 
     engines.every()                      # each engine (whose files are in a folder?)
     policy = engines.load_policy('runs/Reach-ppo', env)   # policy.predict(obs)
 
-Each engine is a package here whose `ENGINE` is a `base.Engine`: its checkpoint, options,
-checks, trainer and policy loader (`base` is the contract, with what every engine shares:
-the progress, the session, Ctrl-C). Adding an engine is adding its package and a line to
-ENGINES; nothing else in the command line names an engine. An engine's package imports its
-library (stable-baselines3, Ray) only inside functions or in modules imported by them, so
-getting an engine, and reading the folders it writes, needs no library.
+Promise: getting an engine, and reading the folders it writes, needs no library: an engine
+imports its own (stable-baselines3, Ray) only inside functions or modules they import.
 """
 
 from __future__ import annotations
@@ -28,7 +24,9 @@ from composer.cli.engines.base import DEFAULT_ENGINE, Engine
 from composer.cli.errors import PolicyError
 
 DEFAULT = DEFAULT_ENGINE
-# Every engine by its --engine name: the package that defines it, the default first.
+# Every engine by its --engine name: the package that defines it (its `ENGINE`: checkpoint,
+# options, checks, trainer and policy loader), the default first. Adding an engine is
+# adding its package and a line here; nothing else in the command line names an engine.
 ENGINES = {
     "sb3": "composer.cli.engines.sb3",
     "ray": "composer.cli.engines.ray",

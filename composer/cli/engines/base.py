@@ -1,35 +1,13 @@
 """The contract between `composer train`, `run`, `eval`, `view` and a training engine, and
 what every engine shares: the run's `Progress`, its checkpoint folder, the `Session` that
-evaluates and saves, and Ctrl-C.
+evaluates and saves, and Ctrl-C. This module imports no engine's library.
 
     engine = engines.get('sb3')                      # an Engine (composer.cli.engines)
-    checkpoint = engine.checkpoint('runs/Reach-ppo/checkpoint')
-    checkpoint.written_by()      # 'sb3', 'ray', or None: whose state.json is there
-    checkpoint.exists()          # a complete checkpoint of this engine
-    checkpoint.progress()        # the run's Progress
-    checkpoint.files()           # what this engine wrote there (what --fresh removes)
-
+    checkpoint = engine.checkpoint('runs/Reach-ppo/checkpoint')   # a `Checkpoint`: atomic
     with engine.trainer(info, folder, args) as trainer, StopOnInterrupt() as stop:
         session = Session(trainer.progress, eval_env, eval_every=80_000, eval_episodes=10)
         trainer.learn(session, stop)     # evaluates and saves when `session.due(...)`
         session.save(trainer)            # a checkpoint with the progress so far
-
-An `Engine` gives its checkpoint, its options of `composer train`, the checks it makes
-before training (its libraries installed), its `Trainer`, and its policy loader; the
-commands see engines only through it. A `Trainer` trains one run; what it offers the
-session (its timesteps, its current policy, saving) is all the session needs.
-
-A checkpoint is a folder holding `state.json`, the run's `Progress` (which names the
-engine that wrote it: a state.json naming none was written by stable-baselines3, before
-there was a choice), and the engine's files of the last save in a subfolder that state.json
-names (`<timesteps>-<tag>/`). `Checkpoint.save` is atomic: the new subfolder is written and
-flushed to disk whole, then state.json is replaced and flushed, then older saves are removed;
-a reader, or a run resumed after a kill or a power cut at any moment, finds the previous
-save or the new one, never the weights of one with the statistics of the other. Every file
-an engine writes goes through `replace`: beside its target as `.NAME.partial`, flushed
-(fsync), then moved over it.
-
-This module imports no engine's library.
 """
 
 from __future__ import annotations
@@ -175,9 +153,20 @@ _SAVED = re.compile(r"\d{12,}-[0-9a-f]{6}|\.\d{12,}-[0-9a-f]{6}\.partial")
 
 
 class Checkpoint(abc.ABC):
-    """An engine's training checkpoint in a folder, as the run folder's rules read it (see
-    the module docstring); the engine's trainer writes it through `save`. Subclasses name
-    their engine and say when a save holds what they need."""
+    """An engine's training checkpoint in a folder, as the run folder's rules read it; the
+    engine's trainer writes it through `save`. Subclasses name their engine and say when a
+    save holds what they need.
+
+    A checkpoint is a folder holding `state.json`, the run's `Progress` (which names the
+    engine that wrote it: a state.json naming none was written by stable-baselines3, before
+    there was a choice), and the engine's files of the last save in a subfolder that state.json
+    names (`<timesteps>-<tag>/`). `Checkpoint.save` is atomic: the new subfolder is written and
+    flushed to disk whole, then state.json is replaced and flushed, then older saves are removed;
+    a reader, or a run resumed after a kill or a power cut at any moment, finds the previous
+    save or the new one, never the weights of one with the statistics of the other. Every file
+    an engine writes goes through `replace`: beside its target as `.NAME.partial`, flushed
+    (fsync), then moved over it.
+    """
 
     # The --engine that writes it.
     engine: ClassVar[str]
@@ -235,7 +224,7 @@ class Checkpoint(abc.ABC):
         return self.folder / saved
 
     def save(self, timesteps: int, write: Callable[[Path], Any], state: dict[str, Any]) -> None:
-        """Save atomically (see the module docstring): `write(folder)` fills a new subfolder
+        """Save atomically (see the class docstring): `write(folder)` fills a new subfolder
         with the engine's files, then state.json (`state`, naming this engine and the
         subfolder) replaces the last one, then the older saves are removed. Raises OSError;
         the last complete save is then still the current one."""
@@ -378,9 +367,15 @@ class Trainer(abc.ABC):
 
 
 class Engine(abc.ABC, Generic[CheckpointType]):
-    """A training engine, as the commands see it (see the module docstring). A subclass
-    names it, gives its checkpoint class and policy name, and implements the abstract
-    methods; its library is imported only by them."""
+    """A training engine, as the commands see it. A subclass names it, gives its checkpoint
+    class and policy name, and implements the abstract methods; its library is imported
+    only by them.
+
+    An `Engine` gives its checkpoint, its options of `composer train`, the checks it makes
+    before training (its libraries installed), its `Trainer`, and its policy loader; the
+    commands see engines only through it. A `Trainer` trains one run; what it offers the
+    session (its timesteps, its current policy, saving) is all the session needs.
+    """
 
     # --engine's value, and what the help and the messages call it.
     name: ClassVar[str]

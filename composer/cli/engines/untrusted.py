@@ -1,27 +1,13 @@
-"""Reading a policy file from a stranger, for every engine's plain reader (the one used
-without --trust-policy): its parts are checked to be what a policy written by `composer
-train` holds before a library sees them, so a malformed or hostile file is refused with one
-PolicyError naming the file, the part and what was expected.
+"""Reading a policy file from a stranger, for every engine's plain reader (no --trust-policy):
+each part is checked to be what `composer train` writes before a library sees it; a malformed
+or hostile file raises one PolicyError naming the file, the part and what was expected.
 
     unpacker = untrusted.unpacker()                     # mjcf.archives' limits in force
     with untrusted.archive(file, file) as zipped:       # PolicyError for what is no zip
-        text = untrusted.entry(unpacker, zipped, 'data', file)
-    data = untrusted.mapping(untrusted.json_data(text, f'{file}: data'), f'{file}: data')
-    shape = untrusted.shape(data['observation_space']['_shape'], f'{file}: observation shape')
-    arrays = untrusted.npz_arrays(path, unpacker)       # {name: array}, no pickle
+        text = untrusted.entry(unpacker, zipped, 'data', file)   # within the limits
+    data = untrusted.json_data(text, f'{file}: data')     # plain JSON, MAX_DEPTH deep
     with untrusted.at_most(torch, untrusted.capacity(numbers), file):
         network = build(settings)                       # refused as soon as it grows past
-
-- Archives (a stable-baselines3 .zip, the torch file inside it, numpy's .npz) are unpacked
-  through one `mjcf.archives.Unpacker` per policy: within its limits, which
-  `--unpack-limit`, `--unpack-ratio` or the environment variables MJCF_UNPACK_LIMIT,
-  MJCF_UNPACK_RATIO raise (`mjcf.archives`, the one owner of that rule).
-- JSON is plain data nested at most MAX_DEPTH levels.
-- Numbers, shapes and arrays are of the types and sizes asked for, finite where asked.
-- A network built from a stranger's settings holds no more numbers than its weights fill
-  (`at_most`, `capacity`), so settings cannot ask for gigabytes the weights do not hold.
-
-This module imports no engine's library.
 """
 
 from __future__ import annotations
@@ -52,7 +38,11 @@ RAISE_WITH = (
 
 
 def unpacker() -> archives.Unpacker:
-    """An Unpacker for one policy, with the limits in force (see the module docstring)."""
+    """An Unpacker for one policy, with the limits in force: every archive of a policy (a
+    stable-baselines3 .zip, the torch file inside it, numpy's .npz) is unpacked through one
+    `mjcf.archives.Unpacker`, within its limits, which `--unpack-limit`, `--unpack-ratio` or
+    the environment variables MJCF_UNPACK_LIMIT, MJCF_UNPACK_RATIO raise (`mjcf.archives`,
+    the one owner of that rule)."""
     try:
         return archives.Unpacker(raise_with=RAISE_WITH)
     except mjcf.UnpackLimitError as e:

@@ -4,7 +4,7 @@
     qpos = observable.MJCFFeature('qpos', joints)
     clock = observable.Generic(lambda physics: physics.time())
 
-See `base` for the options every observable has and how they are sampled.
+See `base.Observable` for the options every observable has and how they are sampled.
 """
 
 from composer.observation.observable import base, mjcf

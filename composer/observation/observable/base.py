@@ -2,36 +2,12 @@
 
     speed = Generic(lambda physics: physics.data.qvel[:1], bounds=(-10, 10))
     hinge = MujocoFeature('qpos', 'hinge')                   # physics.named.data.qpos['hinge']
-    speed.configure(buffer_size=3, delay=1, aggregator='mean',
-                    corruptor=GaussianNoise(0.01))           # see below
+    speed.configure(buffer_size=3, delay=1, aggregator='mean', corruptor=GaussianNoise(0.01))
     speed.enabled = True                                     # observables start disabled
-    value = speed(physics, random_state)                     # one corrupted reading
 
-Options, all counted in physics steps from the episode's reset: a sample is taken after
-every `update_interval`-th step; it becomes visible `delay` steps later (None: 0); the
-observation holds the `buffer_size` (None: 1) most recent visible samples (leading axis,
-oldest first, when `buffer_size > 1`), reduced over that axis by `aggregator` (a name of
-`AGGREGATORS` or a callable `f(buffer)`, as dm_control calls it). The corruptor is called
-`corruptor(value, random_state=random_state)`, as dm_control calls it, on each sample when
-it is taken, with the environment's random state. Before the episode the feature is taken
-to have held its reset value (see `composer.ObservationPadding` for zeros instead).
-
-Bounds: `bounds=(low, high)` (broadcast to the value's shape) give the observation space's
-Box; they are carried through buffers and aggregators ('sum' scales them by the buffer
-size; a callable keeps them if it has `preserves_bounds = True`). A corruptor makes them
-unbounded unless it has `bounds(low, high) -> (low, high)`; a callable aggregator makes them
-unbounded unless `aggregator_bounds` or `preserves_bounds` says otherwise.
-
-Subclasses implement `reader(physics)` (or dm_control's `_callable(physics)`), a function
-of no arguments, resolved once per compile, that returns the current value in one
-environment's `mjcf.Physics`; or, to be read for many environments at once,
-`batch_reader(physics)`, the same for a `BatchPhysics`, returning (n, *shape)
-(`BatchGeneric` wraps a function). Written once: a single environment reads a batched
-observable with a batch of one, row 0 (`reader_of`), and a `VectorEnvironment` reads one
-without a batched reader once per environment. An observable whose value is rows of one
-bound MjData field, maybe turned into (cos, sin) and clipped, may also say so
-(`field_rows`): a single environment then reads it with the others that do in one gather
-(`composer.observation.fused`), checked against its reader.
+Promises (`Observable` states its options, bounds and readers in full): options count physics
+steps from the episode's reset; a corruptor draws only from the environment's random state;
+an invalid option raises ObservableError, an unknown one ObservableOptionError.
 """
 
 from __future__ import annotations
@@ -105,7 +81,34 @@ class FieldRows(NamedTuple):
 
 
 class Observable:
-    """One named feature, sampled into the observation; subclasses say how to read it."""
+    """One named feature, sampled into the observation; subclasses say how to read it.
+
+    Options, all counted in physics steps from the episode's reset: a sample is taken after
+    every `update_interval`-th step; it becomes visible `delay` steps later (None: 0); the
+    observation holds the `buffer_size` (None: 1) most recent visible samples (leading axis,
+    oldest first, when `buffer_size > 1`), reduced over that axis by `aggregator` (a name of
+    `AGGREGATORS` or a callable `f(buffer)`, as dm_control calls it). The corruptor is called
+    `corruptor(value, random_state=random_state)`, as dm_control calls it, on each sample when
+    it is taken, with the environment's random state. Before the episode the feature is taken
+    to have held its reset value (see `composer.ObservationPadding` for zeros instead).
+
+    Bounds: `bounds=(low, high)` (broadcast to the value's shape) give the observation space's
+    Box; they are carried through buffers and aggregators ('sum' scales them by the buffer
+    size; a callable keeps them if it has `preserves_bounds = True`). A corruptor makes them
+    unbounded unless it has `bounds(low, high) -> (low, high)`; a callable aggregator makes them
+    unbounded unless `aggregator_bounds` or `preserves_bounds` says otherwise.
+
+    Subclasses implement `reader(physics)` (or dm_control's `_callable(physics)`), a function
+    of no arguments, resolved once per compile, that returns the current value in one
+    environment's `mjcf.Physics`; or, to be read for many environments at once,
+    `batch_reader(physics)`, the same for a `BatchPhysics`, returning (n, *shape)
+    (`BatchGeneric` wraps a function). Written once: a single environment reads a batched
+    observable with a batch of one, row 0 (`reader_of`), and a `VectorEnvironment` reads one
+    without a batched reader once per environment. An observable whose value is rows of one
+    bound MjData field, maybe turned into (cos, sin) and clipped, may also say so
+    (`field_rows`): a single environment then reads it with the others that do in one gather
+    (`composer.observation.fused`), checked against its reader.
+    """
 
     def __init__(
         self,
@@ -119,7 +122,7 @@ class Observable:
         aggregator_bounds: Bounds | None = None,
         enabled: bool = False,
     ) -> None:
-        """Set the sampling options (see the module docstring); checked by `validate`.
+        """Set the sampling options (see the class docstring); checked by `validate`.
         Raises UnknownAggregatorError for an aggregator name not in `AGGREGATORS`."""
         self.update_interval = update_interval
         self.buffer_size = buffer_size

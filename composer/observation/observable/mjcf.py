@@ -6,10 +6,8 @@
     image = MJCFCamera(head_camera, height=64, width=64)     # uint8 (64, 64, 3), bounds 0..255
     image.configure(height=32, width=32)
 
-Options are `Observable`'s (`composer.observation.observable.base`). A camera renders through
-the physics' renderer of its size, made once per compile: frames up to 128 pixels a side are
-drawn without shadows and multisampling unless the model's `<visual>` sets them
-(`mjcf.sim.rendering`), at about a plain frame's cost on a software rasterizer.
+Options are `Observable`'s (`composer.observation.observable.base`); a camera draws through
+its physics' renderer of its size, made once per compile.
 """
 
 from __future__ import annotations
@@ -109,7 +107,10 @@ class MJCFFeature(Observable):
 class MJCFCamera(Observable):
     """An image from an MJCF camera: (height, width, 3) uint8 RGB bounded to [0, 255]; with
     `depth=True` (height, width, 1) float32 depth in meters, bounded below by 0; with
-    `segmentation=True` (height, width, 2) int32 (object id, object type), -1 for none."""
+    `segmentation=True` (height, width, 2) int32 (object id, object type), -1 for none.
+    It renders through the physics' renderer of its size, made once per compile: frames up
+    to 128 pixels a side are drawn without shadows and multisampling unless the model's
+    `<visual>` sets them (`mjcf.sim.rendering`)."""
 
     def __init__(
         self,

@@ -4,13 +4,9 @@ runners of M environments each, on this machine or a cluster (docs/ray.md).
     $ composer train CartpoleSwingup --engine ray --workers 2 --timesteps 300000
     $ composer train AntRun --engine ray --address 10.0.0.1:6379 --workers 32
 
-It keeps the outputs and the output-folder rules of the other engines: the policy is a
-folder, `policy/` (an RLlib RLModule with its observation filter, which `composer eval` and
-`composer run --policy` read), and metrics.json has the same keys plus workers,
-envs_per_worker, env_runner_restarts and ray. Modules: `files` (its policy folder and
-checkpoint, read without Ray), `policy` (loading and writing a policy), `algorithm` (a
-recipe as an RLlib Algorithm), `instance` (the Ray instance of a run) and `training` (the
-trainer). Ray is imported only inside their functions, when a run trains or a policy loads.
+It keeps the other engine's outputs and output-folder rules; its policy is a folder,
+`policy/`, and docs/ray.md lists what it writes. Ray is imported only inside the functions
+of its modules (`files`, `policy`, `algorithm`, `instance`, `training`), to train or load.
 """
 
 from __future__ import annotations

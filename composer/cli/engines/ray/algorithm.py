@@ -5,17 +5,7 @@
     algo = algorithm.build_algorithm(info, recipe, layout, seed=0)   # Ray is running
     algo.train()['env_runners'][algorithm.EPISODES]   # [(return, success), ...]
 
-The recipe is the task's (`composer train --help`), with what the task's recipe changes for
-this engine where measured (`Recipe.engine_changes`), translated from stable-baselines3's
-terms: PPO collects `n_steps` per environment per update (a batch of n_steps x N x M),
-with stable-baselines3's clip 0.2,
-GAE lambda 0.95, gradient norm 0.5, value loss weight 0.5, no KL term, separate policy and
-value networks and a state-independent log std; `normalize` filters observations with
-RLlib's MeanStdFilter (rewards are not scaled). SAC maps its replay, warm-up and update
-ratio (training_intensity). Env runners (one CPU each) step their environments as one
-`composer.VectorEnvironment` (`composer.rllib`), the learner runs in this process, and a
-runner that dies is restarted by Ray (up to 1,000 times) while the others sample.
-
+Promise: the recipe translated from stable-baselines3's terms (`algorithm_config` says how);
 Ray is imported inside the functions, so importing this module costs nothing.
 """
 
@@ -78,7 +68,19 @@ def build_algorithm(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed
 
 
 def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, seed: int) -> Any:
-    """The RLlib AlgorithmConfig of `recipe` (see the module docstring)."""
+    """The RLlib AlgorithmConfig of `recipe`.
+
+    The recipe is the task's (`composer train --help`), with what the task's recipe changes for
+    this engine where measured (`Recipe.engine_changes`), translated from stable-baselines3's
+    terms: PPO collects `n_steps` per environment per update (a batch of n_steps x N x M), with
+    stable-baselines3's clip 0.2, GAE lambda 0.95, gradient norm 0.5, value loss weight 0.5, no
+    KL term, separate policy and value networks and a state-independent log std; `normalize`
+    filters observations with RLlib's MeanStdFilter (rewards are not scaled). SAC maps its
+    replay, warm-up and update ratio (training_intensity). Env runners (one CPU each) step their
+    environments as one `composer.VectorEnvironment` (`composer.rllib`), the learner runs in
+    this process, and a runner that dies is restarted by Ray (up to 1,000 times) while the
+    others sample.
+    """
     from ray.rllib.algorithms.ppo import PPOConfig  # Ray: see the module docstring
     from ray.rllib.algorithms.sac import SACConfig
     from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
@@ -106,6 +108,7 @@ def algorithm_config(info: TaskInfo, recipe: recipes.Recipe, layout: Layout, see
             actor_lr=recipe.learning_rate,
             critic_lr=recipe.learning_rate,
             alpha_lr=recipe.learning_rate,
+            initial_alpha=recipe.initial_temperature,
             gamma=recipe.gamma,
             train_batch_size_per_learner=recipe.batch_size,
             replay_buffer_config={"type": "EpisodeReplayBuffer", "capacity": recipe.buffer_size},

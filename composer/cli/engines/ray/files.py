@@ -6,17 +6,8 @@ checkpoint, told apart from the stable-baselines3 engine's without Ray installed
     checkpoint.state()['timesteps'], checkpoint.algorithm_path()
     files.require_ray()          # MissingExtraError with the install command, without Ray
 
-A policy is a folder: `policy.json` (the task, the algorithm, the network's settings as
-RLlib's model config, the action bounds, and the running mean and std of observations the
-module was fed: RLlib's MeanStdFilter, None without normalization), `weights.npz` (the
-inference part of the trained network: plain arrays), and `module/`, the same network as
-RLlib writes an RLModule (`RLModule.from_checkpoint` reads it, for your own RLlib code).
-`composer.cli.engines.ray.policy` reads and writes it.
-
-A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
-Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
-and `state.json` (the `Progress` with the engine's layout and which subfolder is current),
-saved atomically by `base.Checkpoint.save` (`composer.cli.engines.ray.training` saves it).
+A policy is the folder `policy/` (policy.json, weights.npz, module/: see POLICY); a
+checkpoint, `Checkpoint`'s folder. Reading either needs no Ray.
 """
 
 from __future__ import annotations
@@ -28,6 +19,12 @@ from composer.cli.engines import base
 from composer.cli.errors import MissingExtraError
 
 NAME = "ray"
+# A policy is a folder: `policy.json` (the task, the algorithm, the network's settings as
+# RLlib's model config, the action bounds, and the running mean and std of observations the
+# module was fed: RLlib's MeanStdFilter, None without normalization), `weights.npz` (the
+# inference part of the trained network: plain arrays), and `module/`, the same network as
+# RLlib writes an RLModule (`RLModule.from_checkpoint` reads it, for your own RLlib code).
+# `composer.cli.engines.ray.policy` reads and writes it.
 POLICY = "policy"
 RAY_INSTALL = "pip install torch==2.13.0 && pip install -e '.[ray]'"
 POLICY_FILE = "policy.json"
@@ -70,7 +67,13 @@ def find_policy(path: Path) -> Path | None:
 
 
 class Checkpoint(base.Checkpoint):
-    """A Ray training checkpoint in a folder (see the module docstring)."""
+    """A Ray training checkpoint in a folder.
+
+    A checkpoint is a folder: one `<timesteps>-<tag>/` subfolder holding `algorithm/` (RLlib's
+    Algorithm checkpoint: learner, optimizer, env-runner and filter states) and `policy/`,
+    and `state.json` (the `Progress` with the engine's layout and which subfolder is current),
+    saved atomically by `base.Checkpoint.save` (`composer.cli.engines.ray.training` saves it).
+    """
 
     engine = NAME
 

@@ -4,22 +4,9 @@ when the command returns, or a cluster joined and left as it was.
     with instance.running(address=None, workers=2) as cpus:   # ray.init ... ray.shutdown
         ...                                                    # build and train
 
-A local instance is this machine's alone: its node's address is 127.0.0.1 and every server
-of Ray's (GCS, raylet, workers) listens on the loopback interface only (`loopback_only`,
-before Ray is imported). A local instance keeps its session folder (logs, sockets) in a
-temporary folder of its own, removed after it stops, instead of adding one per run to the
-system's (Ray's default: /tmp/ray/session_*). Its processes (Ray's services, the env
-runners) are waited for after `ray.shutdown()`, which only signals them, so none is left
-when the command returns. While Ray runs, one line its C++ core prints on every run
-(`core_worker.cc ... the actor restart will fail`: RLlib restarts a lost env runner with
-its own copy of the arguments, so the warning does not apply) is dropped from stderr;
-everything else passes.
-
-Where the time of a start goes (measured, 2 cores): imports of torch and RLlib in each
-process (about 4.5 s of CPU in this one, 5 s in each env runner: RLlib imports Ray Tune,
-pandas and Ray Data too), Ray's seven service processes (3 s of CPU in all), then the
-run's first iteration. Ray reuses the worker processes it starts with `ray.init` (one per
-CPU) for the env runners.
+Promise: a local instance is this machine's alone (it listens on 127.0.0.1 only), and
+leaves no process and no session folder behind (`running` says how). What a start costs:
+docs/ray.md and docs/performance_profile.md.
 """
 
 from __future__ import annotations
@@ -58,7 +45,9 @@ MAX_TEMP_ROOT = 30
 # and listens on every interface (measured with Ray 2.60: `ss -ltnp`).
 LOOPBACK_ONLY = "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"
 LOOPBACK = "127.0.0.1"
-# What Ray's C++ core prints that needs no action (see the module docstring).
+# What Ray's C++ core prints on every run that needs no action, dropped from stderr while
+# Ray runs (everything else passes): `core_worker.cc ... the actor restart will fail`, but
+# RLlib restarts a lost env runner with its own copy of the arguments, so it does not apply.
 NOISE = re.compile(rb"core_worker\.cc.*actor restart will fail")
 
 
@@ -67,7 +56,17 @@ def running(address: str | None, workers: int | None) -> Iterator[int]:
     """Within `with`: Ray started locally (address None) with `workers` CPUs (this
     machine's count if None: that many env runners fit, whatever the cores) or joined at
     `address`; yields the CPUs Ray has. Raises CliError when the cluster cannot be
-    reached or Ray cannot start."""
+    reached or Ray cannot start.
+
+    A local instance is this machine's alone: its node's address is 127.0.0.1 and every server
+    of Ray's (GCS, raylet, workers) listens on the loopback interface only (`loopback_only`,
+    before Ray is imported). A local instance keeps its session folder (logs, sockets) in a
+    temporary folder of its own, removed after it stops, instead of adding one per run to the
+    system's (Ray's default: /tmp/ray/session_*). Its processes (Ray's services, the env
+    runners) are waited for after `ray.shutdown()`, which only signals them, so none is left
+    when the command returns. Ray reuses the worker processes it starts with `ray.init` (one per
+    CPU) for the env runners.
+    """
     import ray  # only when training on Ray: the engine imports this module to check first
 
     quiet_ray()

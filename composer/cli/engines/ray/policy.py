@@ -4,15 +4,8 @@ run`, `eval` and `view` without unpickling anything by default.
     policy = ray.policy.load_policy(folder, env)    # policy.predict(obs, deterministic=True)
     ray.policy.save_policy(algo, folder, info)      # policy.json, weights.npz, module/
 
-The folder's files are described in `composer.cli.engines.ray.files`. `load_policy` builds
-the algorithm's default RLModule from policy.json and loads weights.npz into it, reading no
-pickle; RLlib's `module/` holds pickles (its class and constructor arguments, its state),
-which run code when loaded, so it is read only when the user trusts the file
-(`--trust-policy`), as are policies written before weights.npz existed. `RayPolicy` applies
-the filter, the module's deterministic action and RLlib's unsquashing to the action
-bounds, as RLlib's env runners do with exploration off, so `composer eval` repeats
-training's evaluations.
-
+Promise: without `--trust-policy` no pickle is read (`load_policy`); `predict` acts as
+RLlib's env runners with exploration off, so `composer eval` repeats training's evaluations.
 Ray and torch are imported only to load or save, so importing this module costs nothing.
 """
 
@@ -42,7 +35,9 @@ _FILTER_EPSILON = 1e-8
 
 class RayPolicy:
     """An RLModule with the observation filter it was trained with: `predict` as a
-    stable-baselines3 model's, for `composer.cli.rollout.model_policy`."""
+    stable-baselines3 model's, for `composer.cli.rollout.model_policy`. It applies the filter,
+    the module's deterministic action and RLlib's unsquashing to the action bounds, as RLlib's
+    env runners do with exploration off, so `composer eval` repeats training's evaluations."""
 
     def __init__(self, module: Any, spec: dict[str, Any]) -> None:
         """Serve `module` (an RLlib RLModule) with `spec` (the contents of policy.json)."""
@@ -163,11 +158,17 @@ def observation_filter(runner: Any) -> dict[str, Any] | None:
 
 def load_policy(folder: Path, env: Any, trusted: bool = False) -> RayPolicy:
     """The policy saved in `folder`, checked to fit `env`'s spaces: its network built
-    from policy.json and weights.npz (see the module docstring; every part checked first,
-    `untrusted`), or, when `trusted`, read by RLlib from `module/` (which unpickles).
-    Raises PolicyError for a folder that cannot be read, a malformed policy or one of
-    other spaces, UntrustedPolicyError for one that can only be read by unpickling,
-    MissingExtraError without Ray."""
+    from policy.json and weights.npz (every part checked first, `untrusted`), or, when
+    `trusted`, read by RLlib from `module/` (which unpickles). Raises PolicyError for a
+    folder that cannot be read, a malformed policy or one of other spaces,
+    UntrustedPolicyError for one that can only be read by unpickling, MissingExtraError
+    without Ray.
+
+    It builds the algorithm's default RLModule from policy.json and loads weights.npz into it,
+    reading no pickle; RLlib's `module/` holds pickles (its class and constructor arguments, its
+    state), which run code when loaded, so it is read only when the user trusts the file
+    (`--trust-policy`), as are policies written before weights.npz existed.
+    """
     path = folder / POLICY_FILE
     try:
         text = path.read_bytes()

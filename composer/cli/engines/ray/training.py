@@ -4,16 +4,8 @@ drives through the engine (`trainer`), and how a run is saved.
     with training.trainer(info, folder, args) as trainer:   # Ray running, the Algorithm built
         trainer.learn(session, stop)                        # algo.train() until done
 
-N env runners (Ray actors of one CPU each) each step M environments of the task as one
-`composer.VectorEnvironment` (MuJoCo's batch, see `composer.rllib`); the learner runs in
-this process. Without `--address` a local Ray instance is started for the run and stopped
-after it (`instance`); with one the run joins that cluster. `--workers` defaults to the
-CPUs Ray has, `--envs-per-worker` to the recipe's environments divided among them; a
-checkpoint resumes on as many workers as given now.
-
-An env runner that dies (killed, out of memory, its machine gone) is restarted by Ray and
-rejoins with the current weights; meanwhile the others sample the whole batch, so no
-iteration is lost or short. The command prints each loss and return as it happens.
+Promise: an env runner that dies is restarted by Ray while the others sample the whole
+batch, so no iteration is lost or short (`Trainer` says how runs are laid out and resumed).
 """
 
 from __future__ import annotations
@@ -77,7 +69,19 @@ class RayModel:
 
 
 class Trainer(base.Trainer):
-    """An RLlib Algorithm training on its env runners (`trainer` opens one)."""
+    """An RLlib Algorithm training on its env runners (`trainer` opens one).
+
+    N env runners (Ray actors of one CPU each) each step M environments of the task as one
+    `composer.VectorEnvironment` (MuJoCo's batch, see `composer.rllib`); the learner runs in
+    this process. Without `--address` a local Ray instance is started for the run and stopped
+    after it (`instance`); with one the run joins that cluster. `--workers` defaults to the
+    CPUs Ray has, `--envs-per-worker` to the recipe's environments divided among them; a
+    checkpoint resumes on as many workers as given now.
+
+    An env runner that dies (killed, out of memory, its machine gone) is restarted by Ray and
+    rejoins with the current weights; meanwhile the others sample the whole batch, so no
+    iteration is lost or short. The command prints each loss and return as it happens.
+    """
 
     library = "RLlib"
 

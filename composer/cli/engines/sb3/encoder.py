@@ -4,20 +4,9 @@ stable-baselines3's policy and value heads.
     policy_kwargs = encoder.policy_kwargs(recipe)      # for PPO('CnnPolicy', ...)
     PixelEncoder(space, conv=((16, 4, 4), (32, 3, 2), (32, 3, 1)), features=128)
 
-stable-baselines3's `CnnPolicy` takes frames channels first (its `VecTransposeImage` turns
-Gymnasium's (height, width, channels) around) and scales them to [0, 1]; the encoder is
-then `conv` layers ((out channels, kernel, stride) each, no padding, ReLU after each) and a
-linear layer of `features` units with a ReLU. Its default, for 64x64 frames with 3 stacked
-(9 channels): 16 4x4 filters at stride 4 (non-overlapping patches: 16x16x16), 32 3x3 at
-stride 2 (7x7x32), 32 3x3 (5x5x32), 128 features; about 1.2 million multiply-adds a frame,
-a fifth of stable-baselines3's NatureCNN (the Atari network: 32-64-64 filters, 512
-features, 6.4 million at 64x64), and a PPO update of 256 frames costs 2.5x less on one CPU
-thread. Atari's and dm_control's pixel agents use such stacks of strided convolutions.
-
-A policy file keeps the encoder's settings as plain JSON (`SETTINGS_KEY`), so loading it
-needs no pickled class (`composer.cli.engines.sb3.policy`).
-
-This module imports stable-baselines3 and torch (the [train] extra).
+Promise: the encoder's settings are kept as plain JSON (`SETTINGS_KEY`); settings that leave
+nothing of a frame, or make too many values of one, raise ValueError. This module imports
+stable-baselines3 and torch (the [train] extra).
 """
 
 from __future__ import annotations
@@ -33,15 +22,26 @@ from torch import nn
 from composer.cli import recipes
 
 # The key of a model's .zip `data` (and the model attribute) holding the encoder's
-# settings: {'conv': [[channels, kernel, stride], ...], 'features': n}.
+# settings: {'conv': [[channels, kernel, stride], ...], 'features': n}. Plain JSON, so
+# loading a policy file needs no pickled class (`composer.cli.engines.sb3.policy`).
 SETTINGS_KEY = "pixel_encoder"
 # The most values one conv layer may make of a frame (the default stack's first: 4,096).
 MAX_LAYER_VALUES = 1 << 22
 
 
 class PixelEncoder(BaseFeaturesExtractor):
-    """Strided convolutions and a linear layer over channels-first frames scaled to [0, 1]
-    (see the module docstring)."""
+    """Strided convolutions and a linear layer over channels-first frames scaled to [0, 1].
+
+    stable-baselines3's `CnnPolicy` takes frames channels first (its `VecTransposeImage`
+    turns Gymnasium's (height, width, channels) around) and scales them to [0, 1]; the
+    encoder is then `conv` layers ((out channels, kernel, stride) each, no padding, ReLU
+    after each) and a linear layer of `features` units with a ReLU. Its default, for 64x64
+    frames with 3 stacked (9 channels): 16 4x4 filters at stride 4 (non-overlapping
+    patches: 16x16x16), 32 3x3 at stride 2 (7x7x32), 32 3x3 (5x5x32), 128 features: smaller
+    than stable-baselines3's NatureCNN (the Atari network: 32-64-64 filters, 512 features;
+    docs/performance_profile.md compares their costs). Atari's and dm_control's pixel
+    agents use such stacks of strided convolutions.
+    """
 
     def __init__(
         self,

@@ -7,16 +7,6 @@ library.
     files.find_policy(Path('runs/Reach-ppo'))    # runs/Reach-ppo/policy.zip, or None
     files.algo_of(Path('runs/Reach-ppo/policy.zip'))   # 'ppo'
     policy = files.NormalizedPolicy(model, statistics)  # predict() normalizes first
-
-A checkpoint is a folder: a `<timesteps>-<tag>/` subfolder holding `model.zip`,
-`replay_buffer.pkl` for off-policy algorithms and `vecnormalize.pkl` for normalized recipes,
-and `state.json` (the `Progress`, naming that subfolder), saved atomically by
-`base.Checkpoint.save`: the weights are never paired with another save's statistics or
-buffer. (Checkpoints written before saves had subfolders hold the three files beside
-state.json; they are read, and replaced by the next save.) The policy, `policy.zip`, is
-the model's .zip, whose `data` carries the training environments' observation statistics
-as plain JSON under NORMALIZATION (mean, var, epsilon, clip), so a policy normalizes what it
-is given as training did.
 """
 
 from __future__ import annotations
@@ -30,6 +20,9 @@ from composer.cli.engines import base, untrusted
 from composer.cli.errors import TRAIN_INSTALL, MissingExtraError, PolicyError
 
 NAME = base.DEFAULT_ENGINE
+# The policy is the model's .zip, whose `data` carries the training environments'
+# observation statistics as plain JSON under NORMALIZATION (mean, var, epsilon, clip), so a
+# policy normalizes what it is given as training did.
 POLICY = "policy.zip"
 ALGORITHMS = ("ppo", "sac")
 # The model attribute, and the key of its .zip's `data`, that holds the observation
@@ -38,8 +31,16 @@ NORMALIZATION = "observation_normalization"
 
 
 class Checkpoint(base.Checkpoint):
-    """A stable-baselines3 training checkpoint in a folder (see the module docstring): the
-    paths of its files in the last complete save."""
+    """A stable-baselines3 training checkpoint in a folder: the paths of its files in the
+    last complete save.
+
+    A checkpoint is a folder: a `<timesteps>-<tag>/` subfolder holding `model.zip`,
+    `replay_buffer.pkl` for off-policy algorithms and `vecnormalize.pkl` for normalized recipes,
+    and `state.json` (the `Progress`, naming that subfolder), saved atomically by
+    `base.Checkpoint.save`: the weights are never paired with another save's statistics or
+    buffer. (Checkpoints written before saves had subfolders hold the three files beside
+    state.json; they are read, and replaced by the next save.)
+    """
 
     engine = NAME
     MODEL = "model.zip"

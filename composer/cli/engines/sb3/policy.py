@@ -4,21 +4,9 @@ without running code from it.
     policy = sb3.policy.load_policy(Path('runs/Reach-ppo/policy.zip'), env)
     action, _ = policy.predict(observation, deterministic=True)   # a files.NormalizedPolicy
 
-A stable-baselines3 .zip holds `data` (JSON, where every value that is not plain JSON is a
-pickled Python object: classes, schedules, spaces, buffers), `policy.pth` (the network's
-weights) and the optimizer's state. `stable_baselines3.PPO.load` unpickles all of it, and
-unpickling runs whatever code the file's author put there. Here only plain data is read:
-the network's settings (`policy_kwargs`, which `composer train` writes as plain JSON; a pixel
-recipe's encoder by its plain settings, `encoder.SETTINGS_KEY`, its class being ours), the
-shapes of the spaces, the observation statistics (`observation_normalization`), and the
-weights through `torch.load(weights_only=True)`, which loads tensors and refuses anything
-else. The policy is built on the environment's own spaces, so `predict` is the model's: the
-same network, weights and action scaling, the same actions (tested against
-`PPO.load`). A file whose needed parts are pickles raises UntrustedPolicyError, which names
-`--trust-policy`, for files from a source the user trusts; with it, the library's own
-loader reads the file whole.
-
-This module imports stable-baselines3 and torch (the [train] extra).
+Promise: without `--trust-policy` only plain data and tensors are read (`plain_policy`), and
+`predict` gives the model's own actions; a file whose needed parts are pickles raises
+UntrustedPolicyError. This module imports stable-baselines3 and torch (the [train] extra).
 """
 
 from __future__ import annotations
@@ -77,7 +65,22 @@ def plain_policy(
     statistics when it has them. Every part is checked before use (`untrusted`): the file
     is unpacked within mjcf.archives' limits, and the network built may hold no more
     numbers than its weights. Raises PolicyError for a file that cannot be read, is
-    malformed or does not fit `env`, UntrustedPolicyError when what it needs is pickled."""
+    malformed or does not fit `env`, UntrustedPolicyError when what it needs is pickled.
+
+    A stable-baselines3 .zip holds `data` (JSON, where every value that is not plain JSON is a
+    pickled Python object: classes, schedules, spaces, buffers), `policy.pth` (the network's
+    weights) and the optimizer's state. `stable_baselines3.PPO.load` unpickles all of it, and
+    unpickling runs whatever code the file's author put there. Here only plain data is read:
+    the network's settings (`policy_kwargs`, which `composer train` writes as plain JSON; a pixel
+    recipe's encoder by its plain settings, `encoder.SETTINGS_KEY`, its class being ours), the
+    shapes of the spaces, the observation statistics (`observation_normalization`), and the
+    weights through `torch.load(weights_only=True)`, which loads tensors and refuses anything
+    else. The policy is built on the environment's own spaces, so `predict` is the model's: the
+    same network, weights and action scaling, the same actions (tested against
+    `PPO.load`). A file whose needed parts are pickles raises UntrustedPolicyError, which names
+    `--trust-policy`, for files from a source the user trusts; with it, the library's own
+    loader reads the file whole.
+    """
     unpacker = untrusted.unpacker()
     with untrusted.archive(file, f"the policy in {file}") as archive:
         data_bytes = untrusted.entry(unpacker, archive, "data", file)

@@ -6,10 +6,6 @@ engine's `Trainer`, which `composer train` drives through the engine (`trainer`)
     with training.trainer(info, folder, args) as trainer:  # a new or resumed run's
         trainer.learn(session, stop)                       # model.learn, with the callback
 
-The callback records finished training episodes, advances the progress bar, and when the
-session says an evaluation is due evaluates, prints it, logs it for TensorBoard
-(`eval/...`, with --tensorboard) and saves a checkpoint (`files.Checkpoint`).
-
 This module imports stable-baselines3 and torch (the [train] extra); the engine imports it
 only to train.
 """
@@ -127,6 +123,8 @@ def algo_kwargs(recipe: recipes.Recipe) -> dict[str, Any]:
         "learning_starts": recipe.learning_starts,
         "train_freq": recipe.train_freq,
         "gradient_steps": recipe.gradient_steps,
+        # "auto_X": the temperature is learned, starting from X.
+        "ent_coef": f"auto_{recipe.initial_temperature}",
     }
 
 
@@ -312,7 +310,10 @@ def trainer(
 
 
 class _SessionCallback(BaseCallback):
-    """Runs the session during `model.learn` (see the module docstring)."""
+    """Runs the session during `model.learn`: records finished training episodes, advances
+    the progress bar, and when the session says an evaluation is due evaluates, prints it,
+    logs it for TensorBoard (`eval/...`, with --tensorboard) and saves a checkpoint
+    (`files.Checkpoint`)."""
 
     def __init__(
         self,
