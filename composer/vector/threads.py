@@ -1,8 +1,8 @@
 """physics_threads: how many threads a VectorEnvironment's batch steps on by default.
 
-    physics_threads(model, num_envs=32, substeps=5, cpus=2)   # 1, or min(num_envs, cpus)
+    physics_threads(model, num_envs=32, substeps=5, cpus=8)   # 1 to min(num_envs, cpus)
 
-One thread while a step call's physics is short, the CPUs from `SPLIT_FROM` (1 ms) of it
+A thread for each `WORK_PER_THREAD` (1 ms) of physics in a step call, at least one
 (`physics_threads` says why); the count never changes a result, only its speed.
 """
 
@@ -13,7 +13,7 @@ import time
 
 import mujoco
 
-SPLIT_FROM = 1e-3  # seconds of physics in one step call from which the batch uses threads
+WORK_PER_THREAD = 1e-3  # seconds of physics in a step call for each thread of the batch
 _TIMED = 2e-4  # seconds of thread CPU spent timing the model's mj_step, at most ...
 _STEPS = 40  # ... or this many steps
 
@@ -40,16 +40,17 @@ def step_seconds(model: mujoco.MjModel) -> float:
 
 def physics_threads(model: mujoco.MjModel, num_envs: int, substeps: int, cpus: int) -> int:
     """The threads to step `num_envs` simulations of `model` by `substeps` physics steps a
-    call on, with `cpus` CPUs at hand: 1 while a call's physics (num_envs x substeps x
-    `step_seconds(model)`) is under `SPLIT_FROM` seconds, else min(num_envs, cpus).
+    call on, with `cpus` CPUs at hand: one for each `WORK_PER_THREAD` seconds of a call's
+    physics (num_envs x substeps x `step_seconds(model)`), at least 1 and at most
+    min(num_envs, cpus).
 
     A thread of MuJoCo's batch that has finished its share of a call waits for the next
     one spinning (about 0.1 ms of CPU a call), and on a loaded machine a call waits for
-    its slowest thread to get a core. A second thread pays only where the physics of a
-    call is long: there its spin is under a tenth of the work, and an idle core nearly
-    halves the wall time. (Measurements: docs/performance_profile.md, section 8.)"""
+    its slowest thread to get a core. A thread pays only where its share of a call is
+    long: there its spin is under a tenth of its work, and on idle cores k threads nearly
+    divide the wall time by k. (Measurements: docs/performance_profile.md, section 8.)"""
     most = max(1, min(num_envs, cpus))
     if most == 1:
         return 1
     work = num_envs * substeps * step_seconds(model)
-    return most if work >= SPLIT_FROM else 1
+    return max(1, min(most, int(work / WORK_PER_THREAD)))

@@ -30,14 +30,15 @@ def test_a_step_of_a_model_is_timed_on_a_scratch_copy():
     ("step", "num_envs", "substeps", "cpus", "expected"),
     [
         (1e-5, 8, 1, 4, 1),  # 80 us a call: one thread
-        (1e-5, 32, 5, 4, 4),  # 1.6 ms a call: the CPUs
-        (1e-5, 200, 1, 4, 4),  # 2 ms
-        (1e-5, 2, 100, 4, 2),  # 2 ms, but two simulations
-        (1e-5, 200, 1, 1, 1),  # one CPU
+        (1e-5, 32, 5, 4, 1),  # 1.6 ms: still one (a thread a millisecond)
+        (1e-5, 64, 5, 4, 3),  # 3.2 ms: three
+        (1e-5, 200, 5, 4, 4),  # 10 ms: the CPUs
+        (1e-5, 2, 1000, 4, 2),  # 20 ms, but two simulations
+        (1e-5, 1000, 1, 1, 1),  # one CPU
         (1e-3, 1, 5, 4, 1),  # one simulation
     ],
 )
-def test_threads_from_a_millisecond_of_physics_a_call(
+def test_a_thread_for_each_millisecond_of_physics_in_a_call(
     monkeypatch, step, num_envs, substeps, cpus, expected
 ):
     monkeypatch.setattr(threads, "step_seconds", lambda model: step)
