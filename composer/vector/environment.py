@@ -61,19 +61,21 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
       bit, as num_envs single environments reset with seeds seed + i (and, after an episode
       ends, reset without a seed). Their models must share MuJoCo's data layout; each
       simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
-    - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by default a
-      thread for each millisecond of a step call's physics, at least one, `composer.vector.threads`;
-      without the bindings' profiling timer, `composer.batch.timer`) and leave derived quantities
-      (xpos, sensordata ...) consistent with the new state, as a single environment's
-      `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`; acceleration-dependent fields
-      are recomputed when read, and once read, computed by every step: `stage=mjSTAGE_ACC`). The
-      batch keeps one MjData per simulation, so each step continues from the stages computed after
-      the last. With `physics.legacy_step = False` on the environments they lag one physics step, as
-      with bare `mj_step`. Actions, observations, rewards, terminations and discounts are numpy
-      arrays over every environment, computed at once where the task writes its per-step methods in
-      their batched form and its observables are batchable (`composer.batch`, `.observations`); the
-      rest runs per environment on a materialized MjData. A control step keeps the order and rules
-      of a single environment's (`composer.stepping`).
+    - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by
+      default a thread for each millisecond of a step call's physics, at least one,
+      `composer.vector.threads`; without the bindings' profiling timer,
+      `composer.batch.timer`) and leave derived quantities (xpos, sensordata ...) consistent
+      with the new state, as a single environment's `mjcf.Physics.step` does
+      (`Batch.step(..., stage=mjSTAGE_VEL)`; acceleration-dependent fields are recomputed
+      when read, and once read, computed by every step: `stage=mjSTAGE_ACC`). The batch
+      keeps one MjData per simulation, so each step continues from the stages computed after
+      the last. With `physics.legacy_step = False` on the environments they lag one physics
+      step, as with bare `mj_step`. Actions, observations, rewards, terminations and
+      discounts are numpy arrays over every environment, computed at once where the task
+      writes its per-step methods in their batched form and its observables are batchable
+      (`composer.batch`, `.observations`); the rest runs per environment on a materialized
+      MjData. A control step keeps the order and rules of a single environment's
+      (`composer.stepping`).
     - Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
       (default: the step after an episode ends resets that environment, ignores its action
       and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
