@@ -1,9 +1,11 @@
 """What a VectorEnvironment chooses for speed, and that it changes no number: its physics
-threads by the work of a step call (`composer.vector.threads`), and MuJoCo's profiling
-timer left out of its batch's calls (`composer.batch.timer`)."""
+threads by the work of a step call (`composer.vector.threads`), MuJoCo's profiling timer
+left out of its batch's calls (`composer.batch.timer`), and one model for every simulation
+while the models are equal but for their textures (`composer.vector.models`)."""
 
 from __future__ import annotations
 
+import copy
 import os
 
 import mujoco
@@ -14,6 +16,7 @@ from gymnasium.vector import SyncVectorEnv
 import composer
 from composer.batch import timer
 from composer.vector import VectorEnvironment, threads
+from composer.vector.models import SameModels
 from tests.composer.vector_scenes import BatchedSwing
 from tests.vector_runs import assert_same_runs
 
@@ -95,3 +98,33 @@ def test_a_timer_callback_other_than_the_bindings_is_left_as_it_is():
         assert callback.value is None
     finally:
         callback.value = installed
+
+
+_TEXTURED = """<mujoco><asset><texture name="grid" type="2d" builtin="checker" width="64"
+height="64"/><material name="grid" texture="grid"/></asset><worldbody><body><joint
+type="hinge"/><geom size=".1" mass="1" material="grid"/></body></worldbody></mujoco>"""
+
+
+def test_models_share_one_while_equal_but_their_textures():
+    first = mujoco.MjModel.from_xml_string(_TEXTURED)
+    other = copy.copy(first)
+    same = SameModels(2)
+    same.update([first, other], [0, 1])
+    assert same.identical
+    other.tex_data[:16] = 255 - other.tex_data[:16]  # only rendering reads textures
+    same.update([first, other], [1])
+    assert same.identical
+    for edit, undo in [
+        (lambda m: m.body_mass.__setitem__(1, 2.0), lambda m: m.body_mass.__setitem__(1, 1.0)),
+        (
+            lambda m: m.opt.gravity.__setitem__(2, -1.0),
+            lambda m: m.opt.gravity.__setitem__(2, -9.81),
+        ),
+        (lambda m: setattr(m.opt, "timestep", 0.001), lambda m: setattr(m.opt, "timestep", 0.002)),
+    ]:
+        edit(other)
+        same.update([first, other], [1])
+        assert not same.identical
+        undo(other)
+        same.update([first, other], [1])
+        assert same.identical
