@@ -18,9 +18,17 @@ from typing import Any
 
 import numpy as np
 
-from composer.utils.rewards import SIGMOIDS, Tolerance, tolerance
+from composer.utils.rewards import SIGMOIDS, ColumnTolerance, Tolerance, tolerance
 
-__all__ = ["SIGMOIDS", "Tolerance", "row_means", "row_norms", "squared_norms", "tolerance"]
+__all__ = [
+    "SIGMOIDS",
+    "ColumnTolerance",
+    "Tolerance",
+    "row_means",
+    "row_norms",
+    "squared_norms",
+    "tolerance",
+]
 
 
 def squared_norms(vectors: np.ndarray) -> Any:
