@@ -238,6 +238,18 @@ def reader_of(observable: Observable, physics: Any) -> Callable[[], np.ndarray]:
     return observable.reader(physics)
 
 
+def row_reader_of(observable: Observable, physics: Any) -> Callable[[], Any]:
+    """How one environment reads `observable` as a row of one: where `reader_of` reads
+    row 0 of its `batch_reader` with a batch of one, that batch reader (values of shape
+    (1, *shape)); else `reader_of`'s reader (one value, which a row broadcasts)."""
+    batched = protocol.prefers_batched(type(observable), "reader", "batch_reader")
+    if batched and type(observable)._callable is Observable._callable:
+        read = observable.batch_reader(BatchOfOne(physics, strict=False))
+        if read is not None:
+            return read
+    return reader_of(observable, physics)
+
+
 class Generic(Observable):
     """The value of `raw_observation_callable(physics)`, any array-like of a fixed shape."""
 
