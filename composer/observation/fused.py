@@ -179,13 +179,15 @@ def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | No
     starts, _ = fields.row_index(physics.model, spec.address, ids)
     width = int(np.prod(array.shape[1:], dtype=np.intp))
     # The flat index in the field of each element of the bound value, indexed as it is.
-    grid = (starts[:, None] * width + np.arange(width)).reshape(bound.shape)
+    grid: np.ndarray = (starts[:, None] * width + np.arange(width)).reshape(bound.shape)
     if rows.index is not None:
         grid = np.asarray(grid[rows.index])
-    operations = np.full(grid.shape, _RAW)
+    operations: np.ndarray = np.full(grid.shape, _RAW)
     if rows.angles:  # (cos, sin) of each value, concatenated along the last axis
         operations = np.concatenate([operations + _COS, operations + _SIN], axis=-1)
         grid = np.concatenate([grid, grid], axis=-1)
+    if rows.flat:
+        grid, operations = grid.reshape(-1), operations.reshape(-1)
     if grid.shape != value.shape:
         return None
     bounds = None

@@ -319,6 +319,10 @@ def _fast_formula(
     return formula
 
 
+# The shapes a ColumnTolerance keeps a formula for (one environment's, a vector's ...).
+_SHAPES_KEPT = 16
+
+
 class ColumnTolerance:
     """Several `Tolerance`s, one a column of the last axis, in the numpy calls of one:
 
@@ -331,7 +335,7 @@ class ColumnTolerance:
     bounds (both finite, only the lower or the upper, or (0, 0)); RewardError otherwise,
     and for a call with anything but a float64 array of one column a term."""
 
-    __slots__ = ("_formula", "_terms", "_width")
+    __slots__ = ("_columns", "_form", "_formulas", "_terms", "_width")
 
     def __init__(self, terms: Sequence[Tolerance]) -> None:
         """Compute column k with `terms[k]`. Raises RewardError for terms that cannot be
@@ -353,23 +357,42 @@ class ColumnTolerance:
                 )
         self._terms = tuple(terms)
         self._width = (len(terms),)
+        self._form = (first._fast_distance, first._sigmoid)
         # Each term's constants, converted as Tolerance converts them, one a column.
-        columns = (
+        self._columns = [
             np.array(numbers, dtype=np.float64)
             for numbers in zip(*(term._constants() for term in terms), strict=True)
-        )
-        self._formula = _fast_formula(first._fast_distance, first._sigmoid, *columns)
+        ]
+        self._formulas: dict[tuple[int, ...], Callable[[np.ndarray], np.ndarray]] = {}
+
+    def _formula(self, shape: tuple[int, ...]) -> Callable[[np.ndarray], np.ndarray]:
+        """The formula for arrays of `shape`: a constant all terms share as a 0-d array,
+        others as arrays of that shape, since numpy's calls on small arrays cost twice as
+        much when they broadcast (the same values either way)."""
+        constants = [
+            np.array(column[0]) if (column == column[0]).all()
+            else np.broadcast_to(column, shape).copy()
+            for column in self._columns
+        ]  # fmt: skip
+        formula = _fast_formula(*self._form, *constants)
+        if len(self._formulas) < _SHAPES_KEPT:
+            self._formulas[shape] = formula
+        return formula
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """Each column of `x` (float64, (..., k) for k terms) through its term. Raises
         RewardError for anything else."""
-        if type(x) is not np.ndarray or x.dtype is not _FLOAT64 or x.shape[-1:] != self._width:
-            raise RewardError(
-                f"ColumnTolerance of {self._width[0]} terms takes a float64 array of shape "
-                f"(..., {self._width[0]}), got {type(x).__name__} {getattr(x, 'dtype', '')}"
-                f"{getattr(x, 'shape', '')}"
-            )
-        return self._formula(x)
+        if type(x) is np.ndarray and x.dtype is _FLOAT64:
+            formula = self._formulas.get(x.shape)
+            if formula is not None:
+                return formula(x)
+            if x.shape[-1:] == self._width:
+                return self._formula(x.shape)(x)
+        raise RewardError(
+            f"ColumnTolerance of {self._width[0]} terms takes a float64 array of shape "
+            f"(..., {self._width[0]}), got {type(x).__name__} {getattr(x, 'dtype', '')}"
+            f"{getattr(x, 'shape', '')}"
+        )
 
     def __reduce__(self) -> tuple[Any, ...]:
         return ColumnTolerance, (self._terms,)

@@ -33,6 +33,7 @@ from tasks.rewards import Tolerance, row_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 from tasks.suite.frames import in_frame
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
@@ -73,11 +74,9 @@ class QuadrupedTask(SuiteTask):
         quadruped = self.quadruped
         self._observables: dict[str, observation.Observable] = {
             "egocentric_state": observation.BatchGeneric(self._egocentric_state),
-            "torso_velocity": observation.BatchGeneric(
-                lambda physics: physics.bind(quadruped.velocimeter).sensordata
-            ),
-            "torso_upright": observation.BatchGeneric(self._torso_upright),
-            "imu": observation.BatchGeneric(lambda physics: physics.bind(quadruped.imu).sensordata),
+            "torso_velocity": BoundField("sensordata", quadruped.velocimeter),
+            "torso_upright": BoundField("xmat", quadruped.torso, index=8),  # z of its z axis
+            "imu": BoundField("sensordata", quadruped.imu),
             "force_torque": observation.BatchGeneric(
                 lambda physics: np.arcsinh(physics.bind(quadruped.force_torque).sensordata)
             ),

@@ -13,6 +13,7 @@ import mjcf
 import tasks
 from composer import observation
 from entities import Clipped, HingeAngles
+from tasks.suite.observables import BoundField
 from tests.composer.scenes import Block, Pendulum
 
 
@@ -72,6 +73,7 @@ class _Scene(composer.Task):
             "tip": Clipped("xpos", self.pendulum.tip, [-0.1, -1, 0.6], [0.1, 1, 2.0]),
             "angle": HingeAngles([hinge]),
             "doubled": _Doubled("qpos", [hinge], -10.0, 10.0),
+            "flat": BoundField("xmat", [body], index=(slice(None), [0, 4]), flat=True),
         }
         for item in self._observables.values():
             item.enabled = True
@@ -106,7 +108,7 @@ def test_indices_sensors_on_demand_fields_and_stages_read_together_as_their_read
 ):
     env = composer.Environment(_Scene(), time_limit=0.2, legacy_step=legacy_step)
     names = set(env.updater.fused_names)
-    assert {"height", "columns", "sensor", "external_force", "acceleration", "tip"} <= names
+    assert {"height", "columns", "sensor", "external_force", "acceleration", "tip", "flat"} <= names
     assert "angle" in names and "doubled" not in names  # its reader is not the declared one
     rng = np.random.default_rng(2)
     obs, _ = env.reset(seed=2)
