@@ -31,8 +31,19 @@ from composer.batch import protocol
 from composer.observation.observable import FieldRows, Observable
 from mjcf.sim import fields, staleness
 
-# What a value is made of: the field's value, or the cos or sin of it.
+# What a value is made of: the field's value, or the cos or sin of it, or another ufunc of
+# it (`FieldRows.function`), each by its index here.
 _RAW, _COS, _SIN = 0, 1, 2
+_OPERATIONS: list[np.ufunc | None] = [None, np.cos, np.sin]
+
+
+def _operation(function: np.ufunc) -> int:
+    """The index of elementwise `function` in _OPERATIONS (added the first time)."""
+    if function not in _OPERATIONS:
+        _OPERATIONS.append(function)
+    return _OPERATIONS.index(function)
+
+
 _READERS = ("reader", "batch_reader", "_callable")
 
 
@@ -108,8 +119,8 @@ class FusedRead:
         self._row = row
         self._readers = list(readers)
         # Every element of every value, as (field, operation, flat source index, output
-        # column, low, high), in runs of one field and operation: a `take` (and cos or
-        # sin) per run, then one clip and one scatter for all.
+        # column, low, high), in runs of one field and operation: a `take` (and cos, sin
+        # or another ufunc) per run, then one clip and one scatter for all.
         rows = []
         for plan, column in plans:
             low, high = plan.bounds or (np.full(plan.sources.size, -np.inf),
@@ -124,11 +135,11 @@ class FusedRead:
         bounds = np.array([item[4] for item in rows]), np.array([item[5] for item in rows])
         self._bounds = bounds if any(plan.bounds is not None for plan, _ in plans) else None
         self._fields = sorted({item[0] for item in rows})
-        # (which field, its flat indices, None or np.cos or np.sin) of each run
+        # (which field, its flat indices, None or the ufunc applied) of each run
         self._runs: list[tuple[int, np.ndarray, Any]] = []
         for (field, operation), run in itertools.groupby(rows, lambda item: item[:2]):
             indices = np.array([item[2] for item in run], dtype=np.intp)
-            turn = {_RAW: None, _COS: np.cos, _SIN: np.sin}[operation]
+            turn = _OPERATIONS[operation]
             self._runs.append((self._fields.index(field), indices, turn))
         stage, latest = max((plan.stage, i) for i, (plan, _) in enumerate(plans))
         self._probe = plans[latest][0].probe if stage else None
@@ -182,7 +193,12 @@ def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | No
     grid: np.ndarray = (starts[:, None] * width + np.arange(width)).reshape(bound.shape)
     if rows.index is not None:
         grid = np.asarray(grid[rows.index])
-    operations: np.ndarray = np.full(grid.shape, _RAW)
+    function = rows.function
+    if function is not None and (
+        rows.angles or not isinstance(function, np.ufunc) or (function.nin, function.nout) != (1, 1)
+    ):
+        return None  # read by the reader: not a gather and one elementwise function
+    operations: np.ndarray = np.full(grid.shape, _RAW if function is None else _operation(function))
     if rows.angles:  # (cos, sin) of each value, concatenated along the last axis
         operations = np.concatenate([operations + _COS, operations + _SIN], axis=-1)
         grid = np.concatenate([grid, grid], axis=-1)

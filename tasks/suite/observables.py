@@ -25,8 +25,9 @@ from composer import observation
 
 class BoundField(observation.Observable):
     """Field `field` of bound `elements` (one element or a sequence of one kind), part
-    `index` of one environment's value, flattened with `flat`:
-    `physics.bind(elements).<field>[:, *index]` of n environments, shape (n, ...)."""
+    `index` of one environment's value, through `function` (a numpy ufunc, e.g. np.log1p)
+    and flattened with `flat`: `function(physics.bind(elements).<field>[:, *index])` of n
+    environments, shape (n, ...)."""
 
     def __init__(
         self,
@@ -34,33 +35,39 @@ class BoundField(observation.Observable):
         elements: mjcf.Element | Sequence[mjcf.Element],
         index: Any = None,
         flat: bool = False,
+        function: np.ufunc | None = None,
         **options: Any,
     ) -> None:
-        """Observe `field` of `elements` (part `index` of it, None: all; flattened with
-        `flat`); options as `composer.observation.Observable`."""
+        """Observe `field` of `elements` (part `index` of it, None: all; `function` of it;
+        flattened with `flat`); options as `composer.observation.Observable`."""
         super().__init__(**options)
         self.field = field
         self.elements = elements if isinstance(elements, mjcf.Element) else list(elements)
         self.index = index
         self.flat = flat
+        self.function = function
 
     def batch_reader(self, physics: composer.BatchPhysics) -> Callable[[], np.ndarray]:
         """Bind the elements once; each call reads the field's rows (a new array)."""
         binding = physics.bind(self.elements)
-        field, index = self.field, self.index
-        if self.flat:
-
-            def flat() -> np.ndarray:
-                rows = getattr(binding, field) if index is None else getattr(binding, field)[key]
-                return rows.reshape(len(rows), -1)
-
-            key = (slice(None), *(index if isinstance(index, tuple) else (index,)))
-            return flat
-        if index is None:
-            return lambda: getattr(binding, field)
+        field, index, flat, function = self.field, self.index, self.flat, self.function
         key = (slice(None), *(index if isinstance(index, tuple) else (index,)))
-        return lambda: getattr(binding, field)[key]
+        if not flat and function is None:
+            if index is None:
+                return lambda: getattr(binding, field)
+            return lambda: getattr(binding, field)[key]
+
+        def read() -> np.ndarray:
+            rows = getattr(binding, field) if index is None else getattr(binding, field)[key]
+            if function is not None:
+                rows = function(rows)
+            return rows.reshape(len(rows), -1) if flat else rows
+
+        return read
 
     def field_rows(self) -> observation.FieldRows:
-        """Field `field` of the elements, part `index` of it, flattened with `flat`."""
-        return observation.FieldRows(self.field, self.elements, self.index, flat=self.flat)
+        """Field `field` of the elements, part `index` of it, `function` of it, flattened
+        with `flat`."""
+        return observation.FieldRows(
+            self.field, self.elements, self.index, flat=self.flat, function=self.function
+        )

@@ -77,9 +77,7 @@ class QuadrupedTask(SuiteTask):
             "torso_velocity": BoundField("sensordata", quadruped.velocimeter),
             "torso_upright": BoundField("xmat", quadruped.torso, index=8),  # z of its z axis
             "imu": BoundField("sensordata", quadruped.imu),
-            "force_torque": observation.BatchGeneric(
-                lambda physics: np.arcsinh(physics.bind(quadruped.force_torque).sensordata)
-            ),
+            "force_torque": BoundField("sensordata", quadruped.force_torque, function=np.arcsinh),
         }
 
     def _egocentric_state(self, physics: composer.BatchPhysics) -> np.ndarray:

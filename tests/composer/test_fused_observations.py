@@ -74,6 +74,7 @@ class _Scene(composer.Task):
             "angle": HingeAngles([hinge]),
             "doubled": _Doubled("qpos", [hinge], -10.0, 10.0),
             "flat": BoundField("xmat", [body], index=(slice(None), [0, 4]), flat=True),
+            "turned": BoundField("sensordata", sensor, function=np.arctan),
         }
         for item in self._observables.values():
             item.enabled = True
@@ -108,7 +109,16 @@ def test_indices_sensors_on_demand_fields_and_stages_read_together_as_their_read
 ):
     env = composer.Environment(_Scene(), time_limit=0.2, legacy_step=legacy_step)
     names = set(env.updater.fused_names)
-    assert {"height", "columns", "sensor", "external_force", "acceleration", "tip", "flat"} <= names
+    assert {
+        "height",
+        "columns",
+        "sensor",
+        "external_force",
+        "acceleration",
+        "tip",
+        "flat",
+        "turned",
+    } <= names
     assert "angle" in names and "doubled" not in names  # its reader is not the declared one
     rng = np.random.default_rng(2)
     obs, _ = env.reset(seed=2)

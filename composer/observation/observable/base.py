@@ -94,9 +94,9 @@ def _aggregator(value: Any) -> Callable[[np.ndarray], np.ndarray] | None:
 class FieldRows(NamedTuple):
     """What an observable's value is, when it is rows of one MjData field of bound elements:
     `physics.bind(elements).<field>[index]` (`index` None: all of it), then with `angles`
-    (cos, sin) of those values concatenated along the last axis, then with `flat`
-    flattened (C order), then with `bounds` clipped to (low, high) as
-    `np.minimum(np.maximum(value, low), high)`."""
+    (cos, sin) of those values concatenated along the last axis, or `function` (a numpy
+    ufunc of one argument, e.g. np.log1p) of each, then with `flat` flattened (C order),
+    then with `bounds` clipped to (low, high) as `np.minimum(np.maximum(value, low), high)`."""
 
     field: str
     elements: Any
@@ -104,6 +104,7 @@ class FieldRows(NamedTuple):
     angles: bool = False
     bounds: tuple[np.ndarray, np.ndarray] | None = None
     flat: bool = False
+    function: np.ufunc | None = None
 
 
 class Observable:

@@ -49,7 +49,15 @@ def test_site_distances_together_are_each_pairs_bit_for_bit():
 
 @pytest.mark.parametrize(
     "env_id",
-    ["cheetah-run", "walker-walk", "humanoid-run", "humanoid-run_pure_state", "quadruped-run"],
+    [
+        "cheetah-run",
+        "walker-walk",
+        "humanoid-run",
+        "humanoid-run_pure_state",
+        "quadruped-run",
+        "finger-turn_hard",
+        "hopper-hop",
+    ],
 )
 def test_bound_fields_read_together_show_what_their_readers_read(env_id):
     """`observables.BoundField`s, which one environment reads in one gather, show in each
