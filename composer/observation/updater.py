@@ -143,6 +143,14 @@ class Updater:
             for k in sorted(self._direct_channels)
         }
         substeps = self.substeps
+        # Whether the schedule samples any other channel then (buffered, delayed ...).
+        others = [k for k in range(len(self.channels)) if k not in self._direct_channels
+                  and k not in self._fused_channels]  # fmt: skip
+        self._scheduled = [
+            [any(offset and self.channels[k].needed(phase * substeps + offset, substeps)
+                 for k in others) for offset in range(substeps + 1)]
+            for phase in range(self.period)
+        ]  # fmt: skip
         self._direct_due = [
             [
                 [direct[k] for k in direct
@@ -171,7 +179,10 @@ class Updater:
             read.read()
         for out, read_row in self._direct_due[phase][offset]:
             out[...] = read_row()
-        self.schedule.sample(phase, offset, ALL, first + offset, self._read, self._random_states)
+        if self._scheduled[phase][offset]:
+            self.schedule.sample(
+                phase, offset, ALL, first + offset, self._read, self._random_states
+            )
 
     def reset(self, random_state: Any) -> dict[str, np.ndarray] | np.ndarray:
         """Start an episode: sample every observable at step 0 (corruptors draw from
