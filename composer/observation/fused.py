@@ -48,12 +48,11 @@ _READERS = ("reader", "batch_reader", "_callable")
 
 
 class Plan(NamedTuple):
-    """One observable's value as a gather: flat indices into MjData field `field` (one per
-    value element, in C order), each element's operation (_RAW, _COS, _SIN), its clip
-    bounds per element (None: none), and the binding and field whose read brings it up to
-    date at `stage`."""
+    """One observable's value as a gather: for each value element (in C order) its MjData
+    field and flat index into it, its operation (_RAW, _COS, _SIN ...), its clip bounds
+    (None: none), and the binding and field whose read brings them up to date at `stage`."""
 
-    field: str
+    fields: tuple[str, ...]
     sources: np.ndarray
     operations: np.ndarray
     bounds: tuple[np.ndarray, np.ndarray] | None
@@ -127,7 +126,7 @@ class FusedRead:
                                         np.full(plan.sources.size, np.inf))  # fmt: skip
             for j in range(plan.sources.size):
                 operation = int(plan.operations[j])
-                rows.append((plan.field, operation, int(plan.sources[j]), column + j,
+                rows.append((plan.fields[j], operation, int(plan.sources[j]), column + j,
                              float(low[j]), float(high[j])))  # fmt: skip
         rows.sort(key=lambda item: (item[0], item[1]))
         self._targets = np.array([item[3] for item in rows], dtype=np.intp)
@@ -175,8 +174,21 @@ class FusedRead:
         self._row[self._targets] = values
 
 
-def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | None:
-    """The plan of `rows`, if it gives `value` in `physics` now; else None."""
+class _Part(NamedTuple):
+    """One FieldRows' elements: their field, flat indices, operations and clip bounds
+    (shaped as the value they make), and the read bringing them up to date at `stage`."""
+
+    field: str
+    grid: np.ndarray
+    operations: np.ndarray
+    bounds: tuple[np.ndarray, np.ndarray] | None
+    probe: tuple[Any, str]
+    stage: staleness.Stage
+
+
+def _part(rows: FieldRows, physics: Any) -> _Part | None:
+    """What `rows` gathers in `physics`; None when it is not an mjtNum MjData field, or
+    asks for a function that is not one elementwise ufunc (or one with angles)."""
     elements = rows.elements
     binding = physics.bind(list(elements) if isinstance(elements, tuple) else elements)
     bound = np.asarray(getattr(binding, rows.field))
@@ -184,7 +196,7 @@ def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | No
     if spec.struct != "data":
         return None
     array = getattr(physics.data, spec.name)
-    if array.dtype != np.float64 or value.dtype != np.float64:
+    if array.dtype != np.float64:
         return None
     ids = np.atleast_1d(np.asarray(binding.ids))
     starts, _ = fields.row_index(physics.model, spec.address, ids)
@@ -204,14 +216,44 @@ def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | No
         grid = np.concatenate([grid, grid], axis=-1)
     if rows.flat:
         grid, operations = grid.reshape(-1), operations.reshape(-1)
+    bounds = None
+    if rows.bounds is not None:
+        bounds = tuple(np.broadcast_to(np.asarray(b, np.float64), grid.shape) for b in rows.bounds)
+    return _Part(spec.name, grid, operations, bounds, (binding, rows.field),  # type: ignore[arg-type]
+                 _stage(physics, spec, ids))  # fmt: skip
+
+
+def _checked_plan(
+    declared: FieldRows | Sequence[FieldRows], value: np.ndarray, physics: Any
+) -> Plan | None:
+    """The plan of `declared` (one FieldRows, or several whose values are concatenated
+    along the last axis), if it gives `value` in `physics` now; else None."""
+    if value.dtype != np.float64:
+        return None
+    parts = []
+    for rows in [declared] if isinstance(declared, FieldRows) else declared:
+        part = _part(rows, physics)
+        if part is None:
+            return None
+        parts.append(part)
+    if len(parts) == 1:
+        grid, operations = parts[0].grid, parts[0].operations
+        each = np.zeros(grid.shape, dtype=np.intp)  # the part of each element
+    else:
+        grid = np.concatenate([part.grid for part in parts], axis=-1)
+        operations = np.concatenate([part.operations for part in parts], axis=-1)
+        each = np.concatenate([np.full(part.grid.shape, k) for k, part in enumerate(parts)], -1)
     if grid.shape != value.shape:
         return None
     bounds = None
-    if rows.bounds is not None:
-        low, high = (np.broadcast_to(np.asarray(b, np.float64), grid.shape) for b in rows.bounds)
-        bounds = (low.ravel(), high.ravel())
-    plan = Plan(spec.name, grid.ravel(), operations.ravel(), bounds, (binding, rows.field),
-                _stage(physics, spec, ids))  # fmt: skip
+    if any(part.bounds is not None for part in parts):  # (unclipped parts: +-inf)
+        lows, highs = zip(*(part.bounds or (np.full(part.grid.shape, -np.inf),
+                                            np.full(part.grid.shape, np.inf))
+                            for part in parts), strict=True)  # fmt: skip
+        bounds = (np.concatenate(lows, axis=-1).ravel(), np.concatenate(highs, axis=-1).ravel())
+    stage, latest = max((part.stage, k) for k, part in enumerate(parts))
+    plan = Plan(tuple(parts[k].field for k in each.ravel()), grid.ravel(), operations.ravel(),
+                bounds, parts[latest].probe, stage)  # fmt: skip
     gathered = np.zeros(value.size)
     FusedRead(physics, [(plan, 0)], gathered, []).read()
     return plan if gathered.tobytes() == value.ravel().tobytes() else None

@@ -18,11 +18,11 @@ import numpy as np
 import composer
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from entities.suite import Cartpole
 from tasks.rewards import ColumnTolerance, Tolerance, row_means
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField, Concatenated
 
 TIME_LIMIT = 10.0
 _CART_RANGE = (-0.25, 0.25)
@@ -33,7 +33,7 @@ _ANGLE_IN_BOUNDS = Tolerance(_ANGLE_COSINE_RANGE)
 _CENTERED = Tolerance(margin=2)
 _SMALL_CONTROL = Tolerance(margin=1, value_at_margin=0, sigmoid="quadratic")
 _SMALL_VELOCITY = Tolerance(margin=5)
-_ZZ_XZ = np.array([8, 2])  # the entries of a pole's xmat observed: its cos and sin
+_ZZ_XZ = [8, 2]  # the entries of a pole's xmat observed: its cos and sin
 # The reward's numbers as 0-d float64 arrays: the same values, and numpy's calls on arrays of
 # one row take half the time with them than with Python numbers.
 _ONE, _TWO, _FOUR, _FIVE = (np.array(value) for value in (1.0, 2.0, 4.0, 5.0))
@@ -66,17 +66,16 @@ class Balance(SuiteTask):
         self.use_control_timestep(control_timestep, default=None)
         self.set_observables(
             {
-                "position": observation.BatchGeneric(self._bounded_position),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                # The cart's position, then (cos, sin) of each pole: (n, 1 + 2 * poles).
+                "position": Concatenated(
+                    [
+                        BoundField("qpos", self.cartpole.slider),
+                        BoundField("xmat", self.cartpole.poles, (slice(None), _ZZ_XZ), flat=True),
+                    ]
+                ),
+                "velocity": BoundField("qvel", self._joints),
             }
         )
-
-    def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """The cart's position, then (cos, sin) of each pole: (n, 1 + 2 * poles)."""
-        cart = physics.bind(self.cartpole.slider).qpos
-        xmat = physics.bind(self.cartpole.poles).xmat  # (n, poles, 9)
-        angles = xmat.take(_ZZ_XZ, axis=2).reshape(len(cart), -1)  # zz, xz of each pole
-        return np.concatenate((cart, angles), axis=1)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

@@ -3,6 +3,7 @@
     BoundField('qvel', joints)                        # physics.bind(joints).qvel, (n, nv)
     BoundField('xpos', head, index=2)                 # the head's height, (n,)
     BoundField('xmat', torso, index=slice(6, 9))      # its z axis, (n, 3)
+    Concatenated([BoundField('qpos', hinges), BoundField('qvel', hinges)])   # (n, 2 * k)
 
 A `VectorEnvironment` reads one with its batched reader, as it reads a `BatchGeneric`; a
 single environment reads all of a task's together, one gather per MjData field
@@ -71,3 +72,24 @@ class BoundField(observation.Observable):
         return observation.FieldRows(
             self.field, self.elements, self.index, flat=self.flat, function=self.function
         )
+
+
+class Concatenated(observation.Observable):
+    """`BoundField`s' values side by side: each one's batched read, concatenated along the
+    last axis, shape (n, their widths summed); read together with the others by a single
+    environment too."""
+
+    def __init__(self, parts: Sequence[BoundField], **options: Any) -> None:
+        """Observe `parts` (their own options are not used) as one value; options as
+        `composer.observation.Observable`."""
+        super().__init__(**options)
+        self.parts = tuple(parts)
+
+    def batch_reader(self, physics: composer.BatchPhysics) -> Callable[[], np.ndarray]:
+        """Each part's batched reader; each call concatenates their reads."""
+        reads = [part.batch_reader(physics) for part in self.parts]
+        return lambda: np.concatenate([read() for read in reads], axis=-1)
+
+    def field_rows(self) -> tuple[observation.FieldRows, ...]:
+        """Each part's field rows, in order."""
+        return tuple(part.field_rows() for part in self.parts)

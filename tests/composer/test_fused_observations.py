@@ -13,7 +13,7 @@ import mjcf
 import tasks
 from composer import observation
 from entities import Clipped, HingeAngles
-from tasks.suite.observables import BoundField
+from tasks.suite.observables import BoundField, Concatenated
 from tests.composer.scenes import Block, Pendulum
 
 
@@ -75,6 +75,9 @@ class _Scene(composer.Task):
             "doubled": _Doubled("qpos", [hinge], -10.0, 10.0),
             "flat": BoundField("xmat", [body], index=(slice(None), [0, 4]), flat=True),
             "turned": BoundField("sensordata", sensor, function=np.arctan),
+            "side_by_side": Concatenated(  # two fields, of two stages
+                [BoundField("qvel", [hinge]), BoundField("xpos", body, index=slice(0, 2))]
+            ),
         }
         for item in self._observables.values():
             item.enabled = True
@@ -118,6 +121,7 @@ def test_indices_sensors_on_demand_fields_and_stages_read_together_as_their_read
         "tip",
         "flat",
         "turned",
+        "side_by_side",
     } <= names
     assert "angle" in names and "doubled" not in names  # its reader is not the declared one
     rng = np.random.default_rng(2)

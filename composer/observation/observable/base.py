@@ -203,12 +203,13 @@ class Observable:
         once (then each environment's is read with `reader`). None here."""
         return None
 
-    def field_rows(self) -> FieldRows | None:
-        """What the value is as rows of one bound MjData field (see `FieldRows`), for a
-        single environment to read it together with other such observables; None (here):
-        only the reader says. The class defining this must be the one defining the reader
-        (or a subclass), and the value it describes is checked against the reader's at
-        each compile."""
+    def field_rows(self) -> FieldRows | tuple[FieldRows, ...] | None:
+        """What the value is as rows of one bound MjData field (see `FieldRows`), or of
+        several (a tuple: their values concatenated along the last axis), for a single
+        environment to read it together with other such observables; None (here): only
+        the reader says. The class defining this must be the one defining the reader (or
+        a subclass), and the value it describes is checked against the reader's at each
+        compile."""
         return None
 
     def default_bounds(self, value: np.ndarray) -> Bounds:

@@ -12,7 +12,7 @@ import pytest
 import tasks  # noqa: F401  (registers the ids)
 from tasks.suite import planar
 from tasks.suite.frames import in_frame
-from tasks.suite.observables import BoundField
+from tasks.suite.observables import BoundField, Concatenated
 
 
 def test_in_frame_is_each_vector_dot_its_frame_bit_for_bit():
@@ -57,16 +57,19 @@ def test_site_distances_together_are_each_pairs_bit_for_bit():
         "quadruped-run",
         "finger-turn_hard",
         "hopper-hop",
+        "cartpole-three_poles",
+        "quadruped-fetch",
     ],
 )
 def test_bound_fields_read_together_show_what_their_readers_read(env_id):
-    """`observables.BoundField`s, which one environment reads in one gather, show in each
-    observation what their batched readers read, after steps and resets."""
+    """`observables.BoundField`s (and Concatenated ones), which one environment reads in
+    one gather, show in each observation what their batched readers read, after steps and
+    resets."""
     env = gymnasium.make(f"dm_control/{env_id}-v0", time_limit=0.5).unwrapped
     updater = env.updater
     fused = set(updater.fused_names)
     assert fused == {name for name, item in env.task.task_observables.items()
-                     if isinstance(item, BoundField)}  # fmt: skip
+                     if isinstance(item, BoundField | Concatenated)}  # fmt: skip
     rng = np.random.default_rng(4)
     obs, _ = env.reset(seed=4)
     for step in range(60):
