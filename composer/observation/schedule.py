@@ -291,6 +291,11 @@ class Schedule:
         step 0; before them the reset value (or zeros, with `zero_padding`)."""
         self._buffers[k].restart(rows, values, random_states, zero_padding)
 
+    def output(self, k: int) -> np.ndarray:
+        """Channel k's outputs, (num_envs, *output_shape): what the owner writes for a
+        channel sampled apart."""
+        return self._buffers[k].out
+
     def block(self, k: int) -> tuple[np.ndarray, int] | None:
         """Where channel k's outputs are: the (num_envs, size) float64 array whose columns
         from the second item on they are a view of, or None for an array of their own."""

@@ -20,6 +20,7 @@ import composer
 import mjcf
 from entities.suite.planar_arm import ARM_JOINTS, PlanarArm
 from tasks.rewards import squared_norms
+from tasks.suite.observables import BoundField, Concatenated
 
 
 def bounded_joint_positions(
@@ -43,6 +44,20 @@ def body_2d_poses(
     if not orientation:
         return positions
     return np.concatenate((positions, bound.xquat[:, :, ::2]), axis=-1)  # then w and y
+
+
+def observed_2d_pose(
+    bodies: mjcf.Element | Sequence[mjcf.Element], orientation: bool = True
+) -> Concatenated | BoundField:
+    """`body_2d_poses` as an observable, read together with the task's other bound
+    fields by one environment: (n, 4) for one body (x, z, qw, qy), (n, bodies, 4) for a
+    sequence; x and z alone without `orientation`."""
+    one = isinstance(bodies, mjcf.Element)
+    every_other = slice(None, None, 2) if one else (slice(None), slice(None, None, 2))
+    positions = BoundField("xpos", bodies, index=every_other)  # x and z
+    if not orientation:
+        return positions
+    return Concatenated([positions, BoundField("xquat", bodies, index=every_other)])  # w, y
 
 
 def site_distances(
