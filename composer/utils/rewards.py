@@ -2,9 +2,9 @@
 to them outside (`from composer.utils import rewards`).
 
     rewards.tolerance(x, margin=2.0)                                 # 1 at 0, 0.1 at |x| = 2
-    rewards.tolerance(u, margin=1, value_at_margin=0, sigmoid="quadratic")   # 0 at |u| >= 1
     standing = rewards.Tolerance(bounds=(1.2, float("inf")), margin=0.6)     # built once
     standing(heights)                                                # every step, any shape
+    rewards.ColumnTolerance([standing, upright])(hu)   # (n, 2): two terms in one's calls
 
 Promise: dm_control's values to the last bit, with its sigmoids (`SIGMOIDS`); bad parameters
 raise `composer.utils.RewardError` (a ValueError) with dm_control's messages.
