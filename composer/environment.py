@@ -449,8 +449,7 @@ class Environment(gymnasium.Env):
             raise errors.EpisodeError(
                 "step() called before reset() or after the episode ended; call reset()"
             )
-        rule = self._actions
-        action = rule.clipped(rule.shaped(action))
+        action = self._actions.checked(action)
         result = self._control_step(action)
         if self._action_repeat == 1:
             return result
@@ -472,7 +471,10 @@ class Environment(gymnasium.Env):
         """One control step with a checked `action` (see `step`)."""
         physics, random_state, methods = self._physics, self._random_state, self._methods
         task, batch = self._task, self._batch
-        methods.apply(batch, action[None])
+        if methods.writes_controls:  # what Task's batched before_step does, directly
+            physics.set_control(action)
+        else:
+            methods.apply(batch, action[None])
         if self._applies_each:
             methods.apply_each(task, self._resolved_hooks, physics, action, random_state)
         self._action = action

@@ -266,6 +266,7 @@ class Task(hooks.EpisodeHooks):
         actions = np.asarray(action, dtype=np.float64)[None]
         self.before_step_batch(self._batch_of_one(physics), actions)
 
+    @stepping.writes_controls
     def before_step_batch(self, physics: protocol.BatchPhysics, actions: np.ndarray) -> None:
         """Apply `actions`, (n, action size) float64 clipped to the action space; here,
         write them to every actuator's ctrl."""

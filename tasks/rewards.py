@@ -15,9 +15,17 @@ from typing import Any
 
 import numpy as np
 
-from composer.utils.rewards import SIGMOIDS, Tolerance, tolerance
+from composer.utils.rewards import SIGMOIDS, ColumnTolerance, Tolerance, tolerance
 
-__all__ = ["SIGMOIDS", "Tolerance", "row_means", "row_norms", "squared_norms", "tolerance"]
+__all__ = [
+    "SIGMOIDS",
+    "ColumnTolerance",
+    "Tolerance",
+    "row_means",
+    "row_norms",
+    "squared_norms",
+    "tolerance",
+]
 
 
 def squared_norms(vectors: np.ndarray) -> Any:
@@ -37,7 +45,17 @@ def squared_norms(vectors: np.ndarray) -> Any:
 def row_means(values: np.ndarray) -> np.ndarray:
     """The mean of each row of `values` (n, k), shape (n,), to the last bit as
     `values.mean(axis=1)` (numpy's: the sum along the row over the count)."""
-    return np.add.reduce(values, axis=1) / values.shape[1]
+    count = values.shape[1]
+    divisor = _COUNTS.get(count) if values.dtype == np.float64 else count
+    if divisor is None:
+        divisor = _COUNTS.setdefault(count, np.array(float(count)))
+    return np.add.reduce(values, axis=1) / divisor
+
+
+# Row lengths as 0-d float64 arrays, which numpy divides float64 sums by in half the time a
+# Python int takes on small arrays (the same value: counts are far below 2**53; other
+# dtypes are divided by the int, which keeps their dtype).
+_COUNTS: dict[int, np.ndarray] = {}
 
 
 def row_norms(vectors: np.ndarray) -> np.ndarray:

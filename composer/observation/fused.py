@@ -22,18 +22,28 @@ from composer.batch import protocol
 from composer.observation.observable import FieldRows, Observable
 from mjcf.sim import fields, staleness
 
-# What a value is made of: the field's value, or the cos or sin of it.
+# What a value is made of: the field's value, or the cos or sin of it, or another ufunc of
+# it (`FieldRows.function`), each by its index here.
 _RAW, _COS, _SIN = 0, 1, 2
+_OPERATIONS: list[np.ufunc | None] = [None, np.cos, np.sin]
+
+
+def _operation(function: np.ufunc) -> int:
+    """The index of elementwise `function` in _OPERATIONS (added the first time)."""
+    if function not in _OPERATIONS:
+        _OPERATIONS.append(function)
+    return _OPERATIONS.index(function)
+
+
 _READERS = ("reader", "batch_reader", "_callable")
 
 
 class Plan(NamedTuple):
-    """One observable's value as a gather: flat indices into MjData field `field` (one per
-    value element, in C order), each element's operation (_RAW, _COS, _SIN), its clip
-    bounds per element (None: none), and the binding and field whose read brings it up to
-    date at `stage`."""
+    """One observable's value as a gather: for each value element (in C order) its MjData
+    field and flat index into it, its operation (_RAW, _COS, _SIN ...), its clip bounds
+    (None: none), and the binding and field whose read brings them up to date at `stage`."""
 
-    field: str
+    fields: tuple[str, ...]
     sources: np.ndarray
     operations: np.ndarray
     bounds: tuple[np.ndarray, np.ndarray] | None
@@ -111,15 +121,15 @@ class FusedRead:
         self._row = row
         self._readers = list(readers)
         # Every element of every value, as (field, operation, flat source index, output
-        # column, low, high), in runs of one field and operation: a `take` (and cos or
-        # sin) per run, then one clip and one scatter for all.
+        # column, low, high), in runs of one field and operation: a `take` (and cos, sin
+        # or another ufunc) per run, then one clip and one scatter for all.
         rows = []
         for plan, column in plans:
             low, high = plan.bounds or (np.full(plan.sources.size, -np.inf),
                                         np.full(plan.sources.size, np.inf))  # fmt: skip
             for j in range(plan.sources.size):
                 operation = int(plan.operations[j])
-                rows.append((plan.field, operation, int(plan.sources[j]), column + j,
+                rows.append((plan.fields[j], operation, int(plan.sources[j]), column + j,
                              float(low[j]), float(high[j])))  # fmt: skip
         rows.sort(key=lambda item: (item[0], item[1]))
         self._targets = np.array([item[3] for item in rows], dtype=np.intp)
@@ -127,11 +137,11 @@ class FusedRead:
         bounds = np.array([item[4] for item in rows]), np.array([item[5] for item in rows])
         self._bounds = bounds if any(plan.bounds is not None for plan, _ in plans) else None
         self._fields = sorted({item[0] for item in rows})
-        # (which field, its flat indices, None or np.cos or np.sin) of each run
+        # (which field, its flat indices, None or the ufunc applied) of each run
         self._runs: list[tuple[int, np.ndarray, Any]] = []
         for (field, operation), run in itertools.groupby(rows, lambda item: item[:2]):
             indices = np.array([item[2] for item in run], dtype=np.intp)
-            turn = {_RAW: None, _COS: np.cos, _SIN: np.sin}[operation]
+            turn = _OPERATIONS[operation]
             self._runs.append((self._fields.index(field), indices, turn))
         stage, latest = max((plan.stage, i) for i, (plan, _) in enumerate(plans))
         self._probe = plans[latest][0].probe if stage else None
@@ -167,8 +177,21 @@ class FusedRead:
         self._row[self._targets] = values
 
 
-def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | None:
-    """The plan of `rows`, if it gives `value` in `physics` now; else None."""
+class _Part(NamedTuple):
+    """One FieldRows' elements: their field, flat indices, operations and clip bounds
+    (shaped as the value they make), and the read bringing them up to date at `stage`."""
+
+    field: str
+    grid: np.ndarray
+    operations: np.ndarray
+    bounds: tuple[np.ndarray, np.ndarray] | None
+    probe: tuple[Any, str]
+    stage: staleness.Stage
+
+
+def _part(rows: FieldRows, physics: Any) -> _Part | None:
+    """What `rows` gathers in `physics`; None when it is not an mjtNum MjData field, or
+    asks for a function that is not one elementwise ufunc (or one with angles)."""
     elements = rows.elements
     binding = physics.bind(list(elements) if isinstance(elements, tuple) else elements)
     bound = np.asarray(getattr(binding, rows.field))
@@ -176,27 +199,64 @@ def _checked_plan(rows: FieldRows, value: np.ndarray, physics: Any) -> Plan | No
     if spec.struct != "data":
         return None
     array = getattr(physics.data, spec.name)
-    if array.dtype != np.float64 or value.dtype != np.float64:
+    if array.dtype != np.float64:
         return None
     ids = np.atleast_1d(np.asarray(binding.ids))
     starts, _ = fields.row_index(physics.model, spec.address, ids)
     width = int(np.prod(array.shape[1:], dtype=np.intp))
     # The flat index in the field of each element of the bound value, indexed as it is.
-    grid = (starts[:, None] * width + np.arange(width)).reshape(bound.shape)
+    grid: np.ndarray = (starts[:, None] * width + np.arange(width)).reshape(bound.shape)
     if rows.index is not None:
         grid = np.asarray(grid[rows.index])
-    operations = np.full(grid.shape, _RAW)
+    function = rows.function
+    if function is not None and (
+        rows.angles or not isinstance(function, np.ufunc) or (function.nin, function.nout) != (1, 1)
+    ):
+        return None  # read by the reader: not a gather and one elementwise function
+    operations: np.ndarray = np.full(grid.shape, _RAW if function is None else _operation(function))
     if rows.angles:  # (cos, sin) of each value, concatenated along the last axis
         operations = np.concatenate([operations + _COS, operations + _SIN], axis=-1)
         grid = np.concatenate([grid, grid], axis=-1)
+    if rows.flat:
+        grid, operations = grid.reshape(-1), operations.reshape(-1)
+    bounds = None
+    if rows.bounds is not None:
+        bounds = tuple(np.broadcast_to(np.asarray(b, np.float64), grid.shape) for b in rows.bounds)
+    return _Part(spec.name, grid, operations, bounds, (binding, rows.field),  # type: ignore[arg-type]
+                 _stage(physics, spec, ids))  # fmt: skip
+
+
+def _checked_plan(
+    declared: FieldRows | Sequence[FieldRows], value: np.ndarray, physics: Any
+) -> Plan | None:
+    """The plan of `declared` (one FieldRows, or several whose values are concatenated
+    along the last axis), if it gives `value` in `physics` now; else None."""
+    if value.dtype != np.float64:
+        return None
+    parts = []
+    for rows in [declared] if isinstance(declared, FieldRows) else declared:
+        part = _part(rows, physics)
+        if part is None:
+            return None
+        parts.append(part)
+    if len(parts) == 1:
+        grid, operations = parts[0].grid, parts[0].operations
+        each = np.zeros(grid.shape, dtype=np.intp)  # the part of each element
+    else:
+        grid = np.concatenate([part.grid for part in parts], axis=-1)
+        operations = np.concatenate([part.operations for part in parts], axis=-1)
+        each = np.concatenate([np.full(part.grid.shape, k) for k, part in enumerate(parts)], -1)
     if grid.shape != value.shape:
         return None
     bounds = None
-    if rows.bounds is not None:
-        low, high = (np.broadcast_to(np.asarray(b, np.float64), grid.shape) for b in rows.bounds)
-        bounds = (low.ravel(), high.ravel())
-    plan = Plan(spec.name, grid.ravel(), operations.ravel(), bounds, (binding, rows.field),
-                _stage(physics, spec, ids))  # fmt: skip
+    if any(part.bounds is not None for part in parts):  # (unclipped parts: +-inf)
+        lows, highs = zip(*(part.bounds or (np.full(part.grid.shape, -np.inf),
+                                            np.full(part.grid.shape, np.inf))
+                            for part in parts), strict=True)  # fmt: skip
+        bounds = (np.concatenate(lows, axis=-1).ravel(), np.concatenate(highs, axis=-1).ravel())
+    stage, latest = max((part.stage, k) for k, part in enumerate(parts))
+    plan = Plan(tuple(parts[k].field for k in each.ravel()), grid.ravel(), operations.ravel(),
+                bounds, parts[latest].probe, stage)  # fmt: skip
     gathered = np.zeros(value.size)
     FusedRead(physics, [(plan, 0)], gathered, []).read()
     return plan if gathered.tobytes() == value.ravel().tobytes() else None

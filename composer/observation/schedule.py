@@ -299,8 +299,8 @@ class Schedule:
         self._buffers[k].restart(rows, values, random_states, zero_padding)
 
     def output(self, k: int) -> np.ndarray:
-        """Channel k's output, (num_envs, *output_shape): where a direct channel sampled
-        apart (`apart`) is written by the schedule's owner."""
+        """Channel k's outputs, (num_envs, *output_shape): what the owner writes for a
+        channel sampled apart."""
         return self._buffers[k].out
 
     def block(self, k: int) -> tuple[np.ndarray, int] | None:

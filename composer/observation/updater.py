@@ -23,7 +23,7 @@ from gymnasium import spaces
 from composer import errors
 from composer.observation.channel import Channel
 from composer.observation.fused import FusedRead, Plan
-from composer.observation.observable import Observable, reader_of
+from composer.observation.observable import Observable, reader_of, row_reader_of
 from composer.observation.schedule import ALL, Schedule
 
 
@@ -90,11 +90,18 @@ class Updater:
         self._fused_channels = frozenset(k for k, plan in enumerate(plans) if plan is not None)
         # The observables read together (`observation.fused`), for inspection.
         self.fused_names = [self.names[k] for k in sorted(self._fused_channels)]
-        self.schedule = Schedule(self.channels, substeps, 1, flatten, self._fused_channels)
+        # Direct channels read apart are written here, straight into their outputs.
+        self._direct_channels = frozenset(
+            k for k, channel in enumerate(self.channels)
+            if channel.direct and k not in self._fused_channels
+        )  # fmt: skip
+        apart = self._fused_channels | self._direct_channels
+        self.schedule = Schedule(self.channels, substeps, 1, flatten, apart)
         self.period = self.schedule.period
         self.observation_space: spaces.Dict | spaces.Box = self.schedule.observation_space
         self._random_state: Any = None
         self._fuse(physics, plans)
+        self._plan_direct(physics, observables)
 
     def _fuse(self, physics: Any, plans: list[Plan | None]) -> None:
         """One FusedRead per sampling interval of the planned channels, and which of them
@@ -125,6 +132,33 @@ class Updater:
             for phase in range(self.period)
         ]  # fmt: skip
 
+    def _plan_direct(self, physics: Any, observables: Mapping[str, Observable]) -> None:
+        """Which direct channels are due after each physics step of each phase, each with
+        its output (a row of one) and its row reader (`row_reader_of`): a sample is one
+        assignment of the batched reader's row of one (or the reader's value) to it, the
+        same values the schedule's `_Direct.take` writes, without its dispatch."""
+        direct = {
+            k: (self.schedule.output(k), row_reader_of(observables[self.names[k]], physics))
+            for k in sorted(self._direct_channels)
+        }
+        substeps = self.substeps
+        # Whether the schedule samples any other channel then (buffered, delayed ...).
+        others = [k for k in range(len(self.channels)) if k not in self._direct_channels
+                  and k not in self._fused_channels]  # fmt: skip
+        self._scheduled = [
+            [any(offset and self.channels[k].needed(phase * substeps + offset, substeps)
+                 for k in others) for offset in range(substeps + 1)]
+            for phase in range(self.period)
+        ]  # fmt: skip
+        self._direct_due = [
+            [
+                [direct[k] for k in direct
+                 if offset and self.channels[k].needed(phase * substeps + offset, substeps)]
+                for offset in range(substeps + 1)
+            ]
+            for phase in range(self.period)
+        ]  # fmt: skip
+
     def _read(self, k: int, rows: Any) -> Any:
         return self.readers[k]()
 
@@ -142,7 +176,12 @@ class Updater:
         phase = control_step % self.period
         for read in self._fused_due[phase][offset]:
             read.read()
-        self.schedule.sample(phase, offset, ALL, first + offset, self._read, self._random_states)
+        for out, read_row in self._direct_due[phase][offset]:
+            out[...] = read_row()
+        if self._scheduled[phase][offset]:
+            self.schedule.sample(
+                phase, offset, ALL, first + offset, self._read, self._random_states
+            )
 
     def reset(self, random_state: Any) -> dict[str, np.ndarray] | np.ndarray:
         """Start an episode: sample every observable at step 0 (corruptors draw from

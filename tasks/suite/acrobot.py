@@ -17,11 +17,11 @@ import numpy as np
 import composer
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from entities.suite import Acrobot
 from tasks.rewards import Tolerance, squared_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 10.0
 
@@ -39,17 +39,16 @@ class Balance(SuiteTask):
         self._sparse = bool(sparse)
         self.render_camera = f"{self.acrobot.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
+        # Both links' xz entries of their xmat (sines), then their zz entries (cosines):
+        # (n, 4), as (2, links) entries flattened.
+        links = np.arange(len(self.acrobot.arms))
+        entries = (np.stack([links, links]), np.array([[2], [8]]).repeat(len(links), axis=1))
         self.set_observables(
             {
-                "orientations": observation.BatchGeneric(self._orientations),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                "orientations": BoundField("xmat", self.acrobot.arms, index=entries, flat=True),
+                "velocity": BoundField("qvel", self._arena.mjcf_model.find_all("joint")),
             }
         )
-
-    def _orientations(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """Both links' xz entries (sines), then their zz entries (cosines): (n, 4)."""
-        xmat = physics.bind(self.acrobot.arms).xmat  # (n, 2, 9)
-        return np.concatenate((xmat[:, :, 2], xmat[:, :, 8]), axis=1)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """Fix the reward's shape: 1 within the target's radius as compiled (0.2 m)."""

@@ -17,9 +17,9 @@ import composer
 import entities.suite
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
@@ -42,11 +42,9 @@ class BallInCup(SuiteTask):
         self._arena.attach(self.ball_in_cup)
         self.render_camera = f"{self.ball_in_cup.name}/cam0"
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
+        joints = self._arena.mjcf_model.find_all("joint")  # in model order: qpos, qvel
         self.set_observables(
-            {
-                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-            }
+            {"position": BoundField("qpos", joints), "velocity": BoundField("qvel", joints)}
         )
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
@@ -76,7 +74,9 @@ class BallInCup(SuiteTask):
         """1 where the ball is inside the cup, else 0; shape (n,)."""
         target = physics.bind(self.ball_in_cup.target).xpos.take(_XZ, axis=1)
         ball = physics.bind(self.ball_in_cup.ball_body).xpos.take(_XZ, axis=1)
-        return np.all(np.abs(target - ball) < self._inside, axis=1).astype(np.float64)
+        # np.all's reduction, without its Python wrapper (a microsecond every step).
+        inside = np.logical_and.reduce(np.abs(target - ball) < self._inside, axis=1)
+        return inside.astype(np.float64)
 
 
 registry.add(

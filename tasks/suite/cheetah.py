@@ -16,11 +16,11 @@ import numpy as np
 import composer
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from composer.utils.rewards import Tolerance
 from entities.suite import Cheetah
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 10.0
 _RUN_SPEED = 10.0
@@ -43,10 +43,11 @@ class Run(SuiteTask):
             bounds=(_RUN_SPEED, float("inf")), margin=_RUN_SPEED, value_at_margin=0,
             sigmoid="linear",
         )  # fmt: skip
+        joints = self._arena.mjcf_model.find_all("joint")  # in model order: qpos, qvel
         self.set_observables(
             {
-                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                "position": BoundField("qpos", joints[1:]),  # but the root's x slide's
+                "velocity": BoundField("qvel", joints),
             }
         )
 

@@ -12,8 +12,6 @@ start: docs/suite.md.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 import composer
@@ -25,11 +23,13 @@ from entities.suite.finger import SOLIMP, SOLREF
 from tasks.rewards import squared_norms
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
 EASY_TARGET_SIZE, HARD_TARGET_SIZE = 0.07, 0.03  # the turn tasks' target radii (m)
 _SPIN_VELOCITY = 15.0  # rad/s: spinning at least this fast is rewarded
+_SPINNING = np.array(-_SPIN_VELOCITY)  # the hinge's velocity at most this (a 0-d array: faster)
 _SPIN_DAMPING = 0.03  # the spinner's damping in the spin task
 _MAX_ATTEMPTS = 1000  # random initial states tried before giving up on one without contacts
 _XZ = [0, 2]
@@ -53,31 +53,27 @@ class _FingerTask(SuiteTask):
         self._arena.attach(self.finger)
         self.render_camera = f"{self.finger.name}/cam0"
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
+        finger = self.finger
+        # The sensors of every position the tasks observe, read together.
+        self._positions = (
+            *finger.joint_positions, finger.tip_position, finger.target_position,
+            finger.spinner_position,
+        )  # fmt: skip
         self._observables: dict[str, observation.Observable] = {
             "position": observation.BatchGeneric(self._bounded_position),
-            "velocity": observation.BatchGeneric(
-                lambda physics: physics.field("sensordata").take(self._velocities, axis=1)
-            ),
-            "touch": observation.BatchGeneric(
-                lambda physics: np.log1p(physics.field("sensordata").take(self._touches, axis=1))
-            ),
+            "velocity": BoundField("sensordata", finger.joint_velocities),
+            "touch": BoundField("sensordata", finger.touches, function=np.log1p),
         }
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
-        """Find each observation's columns of `sensordata` (read whole, once per
-        observation): the x and z columns of the frame positions."""
-        finger = self.finger
-
-        def columns(sensors: tuple[mjcf.Element, ...], axes: list[int] | None = None) -> Any:
-            first = physics.bind(list(sensors)).adr
-            return first if axes is None else first[:, None] + axes
-
-        self._angles = columns(finger.joint_positions)
-        self._velocities = columns(finger.joint_velocities)
-        self._touches = columns(finger.touches)
-        self._tip, self._target, self._spinner = columns(
-            (finger.tip_position, finger.target_position, finger.spinner_position), _XZ
-        )
+        """Find each position's columns of the positions' bound sensordata (each sensor's
+        values follow the previous one's): the angles', and the x and z columns of the
+        frame positions."""
+        dims = physics.bind(list(self._positions)).dim
+        starts = np.concatenate(([0], np.cumsum(dims)[:-1]))
+        angles = starts[: len(self.finger.joint_positions)]
+        self._tip, self._target, self._spinner = starts[len(angles) :, None] + _XZ
+        self._angles_and_tip = np.concatenate((angles, self._tip))
 
     def _from_axis(self, sensordata: np.ndarray, xz: np.ndarray) -> np.ndarray:
         """The x and z of `sensordata`'s columns `xz` (a frame position's) from the
@@ -86,9 +82,10 @@ class _FingerTask(SuiteTask):
 
     def _bounded_position(self, physics: composer.BatchPhysics) -> np.ndarray:
         """Both finger joints' angles, then the tip's x and z from the axis: (n, 4)."""
-        sensordata = physics.field("sensordata")
-        angles = sensordata.take(self._angles, axis=1)
-        return np.concatenate((angles, self._from_axis(sensordata, self._tip)), axis=1)
+        sensordata = physics.bind(self._positions).sensordata
+        position = sensordata.take(self._angles_and_tip, axis=1)  # a new array
+        position[:, -2:] -= sensordata.take(self._spinner, axis=1)  # the tip from the axis
+        return position
 
     def _set_random_joint_angles(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -126,7 +123,7 @@ class Spin(_FingerTask):
     def get_reward_batch(self, physics: composer.BatchPhysics) -> np.ndarray:
         """1 where the spinner turns at -15 rad/s or faster, else 0; shape (n,)."""
         velocity = physics.bind(self.finger.joint_velocities[2]).sensordata[:, 0]  # hinge's
-        return (velocity <= -_SPIN_VELOCITY).astype(np.float64)
+        return (velocity <= _SPINNING).astype(np.float64)
 
 
 class Turn(_FingerTask):
@@ -147,14 +144,14 @@ class Turn(_FingerTask):
         super().__init__(control_timestep)
         self._target_radius = float(target_radius)
         self._observables["target_position"] = observation.BatchGeneric(
-            lambda physics: self._from_axis(physics.field("sensordata"), self._target)
+            lambda physics: self._from_axis(physics.bind(self._positions).sensordata, self._target)
         )
         self._observables["dist_to_target"] = observation.BatchGeneric(self._dist_to_target)
         self.set_observables(self._observables)
 
     def _dist_to_target(self, physics: composer.BatchPhysics) -> np.ndarray:
         """From the tip to the target's surface (the task's radius), negative inside: (n,)."""
-        sensordata = physics.field("sensordata")
+        sensordata = physics.bind(self._positions).sensordata
         target = self._from_axis(sensordata, self._target)
         to_target = target - self._from_axis(sensordata, self._tip)
         return np.sqrt(squared_norms(to_target)) - self._target_radius

@@ -22,6 +22,7 @@ from entities.suite import Fish
 from tasks.rewards import squared_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 40.0
 CONTROL_TIMESTEP = 0.04
@@ -42,12 +43,10 @@ class _FishTask(SuiteTask):
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self.set_observables(
             {
-                "joint_angles": observation.BatchGeneric(
-                    lambda physics: physics.bind(self.fish.joints).qpos
-                ),
-                "upright": observation.BatchGeneric(self._upright),
+                "joint_angles": BoundField("qpos", self.fish.joints),
+                "upright": BoundField("xmat", self.fish.torso, index=8),  # z of its z axis
                 **self._more_observables(),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                "velocity": BoundField("qvel", self._arena.mjcf_model.find_all("joint")),
             }
         )
 

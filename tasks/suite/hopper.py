@@ -16,16 +16,21 @@ import numpy as np
 import composer
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from entities.suite import Hopper
 from tasks.rewards import Tolerance, row_means
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
 _STAND_HEIGHT = 0.6
 _HOP_SPEED = 2.0
+
+
+# The reward's numbers as 0-d float64 arrays: the same values, and numpy's calls on arrays of
+# one row take half the time with them than with Python numbers.
+_FOUR, _FIVE = np.array(4.0), np.array(5.0)
 
 
 class PlanarHopper(SuiteTask):
@@ -46,17 +51,14 @@ class PlanarHopper(SuiteTask):
             sigmoid="linear",
         )  # fmt: skip
         self._small_control = Tolerance(margin=1, value_at_margin=0, sigmoid="quadratic")
+        joints = self._arena.mjcf_model.find_all("joint")  # in model order: qpos, qvel
         self.set_observables(
             {
-                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")[:, 1:]),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
-                "touch": observation.BatchGeneric(self._touch),
+                "position": BoundField("qpos", joints[1:]),  # but the root's x slide's
+                "velocity": BoundField("qvel", joints),
+                "touch": BoundField("sensordata", self.hopper.touch_sensors, function=np.log1p),
             }
         )
-
-    def _touch(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """log(1 + the toe's and the heel's touch force): (n, 2)."""
-        return np.log1p(physics.bind(self.hopper.touch_sensors).sensordata)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState
@@ -72,7 +74,7 @@ class PlanarHopper(SuiteTask):
             speed = physics.bind(self.hopper.speed_sensor).sensordata[:, 0]
             return standing * self._hop(speed)
         small_control = row_means(self._small_control(physics.field("ctrl")))
-        return standing * ((small_control + 4) / 5)
+        return standing * ((small_control + _FOUR) / _FIVE)
 
 
 for _name, _hopping, _description in (

@@ -16,16 +16,16 @@ import numpy as np
 import composer
 import mjcf
 from arenas.suite import SuiteArena
-from composer import observation
 from entities.suite import Pendulum
 from tasks.rewards import Tolerance
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 _ANGLE_BOUND = 8  # degrees
 _COSINE_BOUND = np.cos(np.deg2rad(_ANGLE_BOUND))
-_ZZ_XZ = np.array([8, 2])  # the pole's xmat entries observed: its cos and sin
+_ZZ_XZ = [8, 2]  # the pole's xmat entries observed: its cos and sin
 
 
 class SwingUp(SuiteTask):
@@ -43,16 +43,10 @@ class SwingUp(SuiteTask):
         self._upright = Tolerance(bounds=(_COSINE_BOUND, 1.0))
         self.set_observables(
             {
-                "orientation": observation.BatchGeneric(self._orientation),
-                "velocity": observation.BatchGeneric(
-                    lambda physics: physics.bind(self.pendulum.hinge).qvel
-                ),
+                "orientation": BoundField("xmat", self.pendulum.pole, index=_ZZ_XZ),
+                "velocity": BoundField("qvel", self.pendulum.hinge),
             }
         )
-
-    def _orientation(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """(cos, sin) of the pole's angle from upright: its xmat's zz and xz, (n, 2)."""
-        return physics.bind(self.pendulum.pole).xmat.take(_ZZ_XZ, axis=1)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

@@ -1,7 +1,7 @@
 """Batched over n environments: dm_control's `Physics` helpers of manipulator and stacker.
 
     bounded_joint_positions(physics, arm.joints)     # (n, 8, 2): sin, cos of each angle
-    body_2d_poses(physics, [hand])                   # (n, 1, 4): 2D poses, x, z, qw, qy
+    observed_2d_pose(hand)                           # observable (n, 4): x, z, qw, qy
     site_distances(physics, ball_site, target_site)  # (n,): the distance between two sites
     SiteDistances([(a, b), (c, d)])(physics)         # (n, 2): several pairs' at once
     randomize_arm(physics, arm, random_state)        # a random pose, the hand symmetric
@@ -20,6 +20,7 @@ import composer
 import mjcf
 from entities.suite.planar_arm import ARM_JOINTS, PlanarArm
 from tasks.rewards import squared_norms
+from tasks.suite.observables import BoundField, Concatenated
 
 
 def bounded_joint_positions(
@@ -33,16 +34,18 @@ def bounded_joint_positions(
     return bounded
 
 
-def body_2d_poses(
-    physics: composer.BatchPhysics, bodies: Sequence[mjcf.Element], orientation: bool = True
-) -> np.ndarray:
-    """Each body's x and z, then (with `orientation`) its quaternion's w and y:
-    (n, bodies, 4), or (n, bodies, 2) without orientation."""
-    bound = physics.bind(bodies)
-    positions = bound.xpos[:, :, ::2]  # x and z
+def observed_2d_pose(
+    bodies: mjcf.Element | Sequence[mjcf.Element], orientation: bool = True
+) -> Concatenated | BoundField:
+    """Each body's x and z, then (with `orientation`) its quaternion's w and y, as an
+    observable read together with the task's other bound fields by one environment: (n, 4)
+    for one body, (n, bodies, 4) for a sequence; x and z alone without `orientation`."""
+    one = isinstance(bodies, mjcf.Element)
+    every_other = slice(None, None, 2) if one else (slice(None), slice(None, None, 2))
+    positions = BoundField("xpos", bodies, index=every_other)  # x and z
     if not orientation:
         return positions
-    return np.concatenate((positions, bound.xquat[:, :, ::2]), axis=-1)  # then w and y
+    return Concatenated([positions, BoundField("xquat", bodies, index=every_other)])  # w, y
 
 
 def site_distances(

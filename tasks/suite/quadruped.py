@@ -23,6 +23,7 @@ from tasks.rewards import Tolerance, row_norms
 from tasks.suite import registry
 from tasks.suite.base import SuiteTask
 from tasks.suite.frames import in_frame
+from tasks.suite.observables import BoundField, Concatenated
 
 TIME_LIMIT = 20.0
 CONTROL_TIMESTEP = 0.02
@@ -62,21 +63,19 @@ class QuadrupedTask(SuiteTask):
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         quadruped = self.quadruped
         self._observables: dict[str, observation.Observable] = {
-            "egocentric_state": observation.BatchGeneric(self._egocentric_state),
-            "torso_velocity": observation.BatchGeneric(
-                lambda physics: physics.bind(quadruped.velocimeter).sensordata
+            # The hinges' angles and velocities and the actuators' states, (n, 44).
+            "egocentric_state": Concatenated(
+                [
+                    BoundField("qpos", quadruped.hinges),
+                    BoundField("qvel", quadruped.hinges),
+                    BoundField("act", self._arena.mjcf_model.find_all("actuator")),
+                ]
             ),
-            "torso_upright": observation.BatchGeneric(self._torso_upright),
-            "imu": observation.BatchGeneric(lambda physics: physics.bind(quadruped.imu).sensordata),
-            "force_torque": observation.BatchGeneric(
-                lambda physics: np.arcsinh(physics.bind(quadruped.force_torque).sensordata)
-            ),
+            "torso_velocity": BoundField("sensordata", quadruped.velocimeter),
+            "torso_upright": BoundField("xmat", quadruped.torso, index=8),  # z of its z axis
+            "imu": BoundField("sensordata", quadruped.imu),
+            "force_torque": BoundField("sensordata", quadruped.force_torque, function=np.arcsinh),
         }
-
-    def _egocentric_state(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """The hinges' angles and velocities and the actuators' states, (n, 44)."""
-        hinges = physics.bind(self.quadruped.hinges)
-        return np.concatenate((hinges.qpos, hinges.qvel, physics.field("act")), axis=1)
 
     def _torso_upright(self, physics: composer.BatchPhysics) -> np.ndarray:
         """z of the torso's z axis, (n,)."""

@@ -21,6 +21,7 @@ from composer import observation
 from tasks.rewards import Tolerance, squared_norms
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 20.0
 BIG_TARGET, SMALL_TARGET = 0.05, 0.015  # the easy and hard tasks' target radii (m)
@@ -48,11 +49,12 @@ class Reacher(SuiteTask):
         self._target_size = float(target_size)
         self.render_camera = f"{self.reacher.name}/fixed"
         self.use_control_timestep(control_timestep, default=None)
+        joints = self._arena.mjcf_model.find_all("joint")  # in model order: qpos, qvel
         self.set_observables(
             {
-                "position": observation.BatchGeneric(lambda physics: physics.field("qpos")),
+                "position": BoundField("qpos", joints),
                 "to_target": observation.BatchGeneric(self._finger_to_target),
-                "velocity": observation.BatchGeneric(lambda physics: physics.field("qvel")),
+                "velocity": BoundField("qvel", joints),
             }
         )
 

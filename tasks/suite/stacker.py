@@ -23,6 +23,7 @@ from entities.suite.stacker import CONTACT_SOLREF
 from tasks.rewards import Tolerance, squared_norms
 from tasks.suite import planar, registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 10.0
 CONTROL_TIMESTEP = 0.01
@@ -49,23 +50,22 @@ class Stack(SuiteTask):
         self._box_is_close = Tolerance(margin=2 * self._box_size)
         self._hand_is_far = Tolerance(bounds=(0.1, float("inf")), margin=_CLOSE)
         arm, robot = self.stacker.arm, self.stacker
-        observables = {
-            "arm_pos": lambda physics: planar.bounded_joint_positions(physics, arm.joints),
-            "arm_vel": lambda physics: physics.bind(arm.joints).qvel,
-            "touch": lambda physics: np.log1p(physics.field("sensordata")),
+        sensors = self._arena.mjcf_model.find_all("sensor")  # its touch sensors, all of it
+        observables: dict[str, observation.Observable] = {
+            "arm_pos": observation.BatchGeneric(
+                lambda physics: planar.bounded_joint_positions(physics, arm.joints)
+            ),
+            "arm_vel": BoundField("qvel", arm.joints),
+            "touch": BoundField("sensordata", sensors, function=np.log1p),
         }
         if fully_observable:
             observables |= {
-                "hand_pos": lambda physics: planar.body_2d_poses(physics, [arm.hand])[:, 0],
-                "box_pos": lambda physics: planar.body_2d_poses(physics, robot.boxes),
-                "box_vel": lambda physics: physics.bind(robot.box_joints).qvel,
-                "target_pos": lambda physics: planar.body_2d_poses(
-                    physics, [robot.target], orientation=False
-                )[:, 0],
+                "hand_pos": planar.observed_2d_pose(arm.hand),
+                "box_pos": planar.observed_2d_pose(robot.boxes),
+                "box_vel": BoundField("qvel", robot.box_joints),
+                "target_pos": planar.observed_2d_pose(robot.target, orientation=False),
             }
-        self.set_observables(
-            {key: observation.BatchGeneric(function) for key, function in observables.items()}
-        )
+        self.set_observables(observables)
 
     def initialize_episode(
         self, physics: mjcf.Physics, random_state: np.random.RandomState

@@ -23,6 +23,7 @@ from entities.suite import Swimmer
 from tasks.rewards import squared_norms
 from tasks.suite import randomizers, registry
 from tasks.suite.base import SuiteTask
+from tasks.suite.observables import BoundField
 
 TIME_LIMIT = 30.0
 CONTROL_TIMESTEP = 0.03
@@ -44,13 +45,17 @@ class SwimToTarget(SuiteTask):
         self._arena.attach(self.swimmer)
         self.use_control_timestep(control_timestep, default=CONTROL_TIMESTEP)
         self._near_target: Tolerance | None = None
+        # The planar columns of every link's six readings, in order.
+        links = len(self.swimmer.velocity_sensors) // 2
+        planar_velocities = (6 * np.arange(links)[:, None] + _PLANAR_VELOCITIES).ravel()
         self.set_observables(
             {
-                "joints": observation.BatchGeneric(
-                    lambda physics: physics.bind(self.swimmer.joints).qpos
-                ),
+                "joints": BoundField("qpos", self.swimmer.joints),
                 "to_target": observation.BatchGeneric(self._nose_to_target),
-                "body_velocities": observation.BatchGeneric(self._body_velocities),
+                # Each link's planar velocities, (n, 3 * links).
+                "body_velocities": BoundField(
+                    "sensordata", self.swimmer.velocity_sensors, index=planar_velocities
+                ),
             }
         )
 
@@ -60,12 +65,6 @@ class SwimToTarget(SuiteTask):
         head_frame = physics.bind(self.swimmer.head).xmat.reshape(-1, 3, 3)
         to_target = positions[:, 1] - positions[:, 0]
         return np.matmul(to_target[:, None, :], head_frame)[:, 0, :2]
-
-    def _body_velocities(self, physics: composer.BatchPhysics) -> np.ndarray:
-        """Each link's (vx, vy, wz) in its frame, head first: (n, 3 * n_links)."""
-        readings = physics.bind(self.swimmer.velocity_sensors).sensordata
-        per_link = readings.reshape(len(readings), -1, 6).take(_PLANAR_VELOCITIES, axis=2)
-        return per_link.reshape(len(readings), -1)
 
     def after_compile(self, physics: mjcf.Physics, random_state: np.random.RandomState) -> None:
         """The reward's reach: the target's radius, as compiled (a model constant: read

@@ -13,6 +13,7 @@ import mjcf
 import tasks
 from composer import observation
 from entities import Clipped, HingeAngles
+from tasks.suite.observables import BoundField, Concatenated
 from tests.composer.scenes import Block, Pendulum
 
 
@@ -72,6 +73,11 @@ class _Scene(composer.Task):
             "tip": Clipped("xpos", self.pendulum.tip, [-0.1, -1, 0.6], [0.1, 1, 2.0]),
             "angle": HingeAngles([hinge]),
             "doubled": _Doubled("qpos", [hinge], -10.0, 10.0),
+            "flat": BoundField("xmat", [body], index=(slice(None), [0, 4]), flat=True),
+            "turned": BoundField("sensordata", sensor, function=np.arctan),
+            "side_by_side": Concatenated(  # two fields, of two stages
+                [BoundField("qvel", [hinge]), BoundField("xpos", body, index=slice(0, 2))]
+            ),
         }
         for item in self._observables.values():
             item.enabled = True
@@ -106,7 +112,17 @@ def test_indices_sensors_on_demand_fields_and_stages_read_together_as_their_read
 ):
     env = composer.Environment(_Scene(), time_limit=0.2, legacy_step=legacy_step)
     names = set(env.updater.fused_names)
-    assert {"height", "columns", "sensor", "external_force", "acceleration", "tip"} <= names
+    assert {
+        "height",
+        "columns",
+        "sensor",
+        "external_force",
+        "acceleration",
+        "tip",
+        "flat",
+        "turned",
+        "side_by_side",
+    } <= names
     assert "angle" in names and "doubled" not in names  # its reader is not the declared one
     rng = np.random.default_rng(2)
     obs, _ = env.reset(seed=2)

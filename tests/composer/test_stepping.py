@@ -181,3 +181,20 @@ def test_per_environment_info_entries_are_laid_out_as_gymnasium_lays_them_out():
     partial: dict = {}
     info_layout.add(partial, Informative(1).entries(), 1, 3)
     assert partial["_count"].tolist() == [False, True, False]
+
+
+def test_only_tasks_keeping_tasks_control_write_have_it_written_directly():
+    """One environment writes a checked action to ctrl itself only where the task's
+    batched before_step is Task's (which writes it and does nothing else)."""
+
+    class Overriding(composer.Task):
+        def before_step_batch(self, physics, actions):
+            physics.set_control(actions / 2)
+
+    class Single(composer.Task):
+        def before_step(self, physics, action, random_state):
+            physics.set_control(action)
+
+    assert stepping.TaskStep(composer.Task()).writes_controls
+    assert not stepping.TaskStep(Overriding()).writes_controls
+    assert not stepping.TaskStep(Single()).writes_controls

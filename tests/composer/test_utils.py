@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import logging
+import pickle
 import subprocess
 import sys
 import warnings
@@ -89,7 +90,7 @@ def test_tolerance_of_a_float64_array_is_the_general_formula_to_the_last_bit(sig
     random = np.random.default_rng(0).normal(0.0, 2.0, 100)
     xs = np.concatenate([random, SPECIAL])
     for bounds, margin, value in itertools.product(
-        [(0.0, 0.0), (-0.5, 0.2), (1.0, np.inf)], [0.7, np.inf], [0.0, 0.3, 1e-300]
+        [(0.0, 0.0), (-0.5, 0.2), (1.0, np.inf)], [0.0, 0.7, 1.0, np.inf], [0.0, 0.3, 1e-300]
     ):
         if value == 0.0 and sigmoid not in ("cosine", "linear", "quadratic"):
             continue
@@ -99,6 +100,56 @@ def test_tolerance_of_a_float64_array_is_the_general_formula_to_the_last_bit(sig
         assert fast.dtype == general.dtype == np.float64
         assert np.array_equal(fast, general, equal_nan=True)
         assert np.array_equal(np.signbit(fast), np.signbit(general))
+
+
+@pytest.mark.parametrize("sigmoid", rewards.SIGMOIDS)
+def test_column_tolerance_is_each_columns_tolerance_to_the_last_bit(sigmoid):
+    """Terms of one sigmoid and kind of bounds, with their own bounds, margins (1 among
+    them: not divided by) and values at the margin, computed together."""
+    families = [
+        [((0.0, 0.0), 2.0, 0.1), ((0.0, 0.0), 1.0, 0.3), ((0.0, 0.0), 5.0, 0.1)],
+        [((1.2, np.inf), 0.6, 0.1), ((10.0, np.inf), 1.0, 0.5), ((0.9, np.inf), 1.9, 0.2)],
+        [((-np.inf, 0.3), 0.7, 0.4), ((-np.inf, -2.0), 1.0, 0.1)],
+        [((-0.5, 0.2), 0.7, 0.3), ((0.0, 1.0), 1e-12, 0.1), ((2.0, 2.0), np.inf, 0.1)],
+    ]
+    random = np.random.default_rng(3).normal(0.0, 3.0, (40, 1))
+    for family in families:
+        terms = [rewards.Tolerance(b, m, sigmoid, v) for b, m, v in family]
+        if sigmoid in ("cosine", "linear", "quadratic"):  # a value of 0 (scale 1) too
+            terms.append(rewards.Tolerance(family[0][0], family[0][1], sigmoid, 0.0))
+        xs = np.concatenate([random, SPECIAL[:, None]]) + np.zeros(len(terms))
+        xs[:, 1:] = np.roll(xs[:, 1:], 3, axis=0)  # other values in other columns
+        with np.errstate(all="ignore"):
+            together = rewards.ColumnTolerance(terms)(xs)
+            apart = np.stack([term(xs[:, k]) for k, term in enumerate(terms)], axis=1)
+        assert together.dtype == np.float64 and together.shape == xs.shape
+        assert together.tobytes() == apart.tobytes(), (sigmoid, family)
+        again = pickle.loads(pickle.dumps(rewards.ColumnTolerance(terms)))
+        with np.errstate(all="ignore"):  # one row, one vector, and the rows again
+            for rows in (slice(0, 1), 5, slice(None)):
+                assert again(xs[rows]).tobytes() == together[rows].tobytes()
+
+
+def test_column_tolerance_of_margin_zero_terms_is_theirs_and_refuses_mixed_terms():
+    terms = [rewards.Tolerance((-0.25, 0.25)), rewards.Tolerance((0.995, 1.0))]
+    xs = np.array([[0.0, 1.0], [-0.25, 0.995], [0.3, 0.9], [np.nan, np.inf], [-np.inf, 1.0]])
+    together = rewards.ColumnTolerance(terms)(xs)
+    assert together.tobytes() == np.stack([terms[0](xs[:, 0]), terms[1](xs[:, 1])], 1).tobytes()
+    assert together.tolist() == [[1, 1], [1, 1], [0, 0], [0, 0], [0, 1]]
+    mixed = [
+        [rewards.Tolerance(margin=1.0), rewards.Tolerance(margin=1.0, sigmoid="linear")],
+        [rewards.Tolerance(margin=1.0), rewards.Tolerance((1.0, np.inf), margin=1.0)],
+        [rewards.Tolerance(margin=1.0), rewards.Tolerance((0.0, 1.0))],
+        [rewards.Tolerance((-np.inf, np.inf), margin=1.0)],  # no finite bound
+        [],
+    ]
+    for terms in mixed:
+        with pytest.raises(rewards.RewardError):
+            rewards.ColumnTolerance(terms)
+    columns = rewards.ColumnTolerance([rewards.Tolerance(margin=2.0)] * 2)
+    for wrong in (np.zeros((3, 3)), np.zeros(2, dtype=np.float32), [0.0, 1.0]):
+        with pytest.raises(rewards.RewardError, match=r"float64 array of shape \(\.\.\., 2\)"):
+            columns(wrong)
 
 
 def test_tolerance_called_again_computes_as_its_parameters_types_say():

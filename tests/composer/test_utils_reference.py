@@ -89,7 +89,7 @@ SPECIAL = [0.0, -0.0, 5e-324, -5e-324, 1e-300, 1.0, -1.0, 2.0, 1e300, -1e300, np
            np.nan]  # fmt: skip
 BOUNDS = [(0, 0), (0.0, 0.0), (-0.5, 0.2), (2, 2), (1.0, np.inf), (-np.inf, 0.3),
           (-np.inf, np.inf)]  # fmt: skip
-MARGINS = [0.0, 0.7, 1e-12, 1e12, np.inf]
+MARGINS = [0.0, 0.7, 1.0, 1e-12, 1e12, np.inf]
 VALUES_AT_MARGIN = [0.1, 0.5, 0.0, 1e-300, 1 - 1e-16, 1.0]
 
 

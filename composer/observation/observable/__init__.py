@@ -19,6 +19,7 @@ from composer.observation.observable.base import (
     MujocoFeature,
     Observable,
     reader_of,
+    row_reader_of,
 )
 from composer.observation.observable.mjcf import MJCFCamera, MJCFFeature
 
@@ -37,4 +38,5 @@ __all__ = [
     "base",
     "mjcf",
     "reader_of",
+    "row_reader_of",
 ]

@@ -70,14 +70,17 @@ def _aggregator(value: Any) -> Callable[[np.ndarray], np.ndarray] | None:
 class FieldRows(NamedTuple):
     """What an observable's value is, when it is rows of one MjData field of bound elements:
     `physics.bind(elements).<field>[index]` (`index` None: all of it), then with `angles`
-    (cos, sin) of those values concatenated along the last axis, then with `bounds`
-    clipped to (low, high) as `np.minimum(np.maximum(value, low), high)`."""
+    (cos, sin) of those values concatenated along the last axis, or `function` (a numpy
+    ufunc of one argument, e.g. np.log1p) of each, then with `flat` flattened (C order),
+    then with `bounds` clipped to (low, high) as `np.minimum(np.maximum(value, low), high)`."""
 
     field: str
     elements: Any
     index: Any = None
     angles: bool = False
     bounds: tuple[np.ndarray, np.ndarray] | None = None
+    flat: bool = False
+    function: np.ufunc | None = None
 
 
 class Observable:
@@ -203,12 +206,13 @@ class Observable:
         once (then each environment's is read with `reader`). None here."""
         return None
 
-    def field_rows(self) -> FieldRows | None:
-        """What the value is as rows of one bound MjData field (see `FieldRows`), for a
-        single environment to read it together with other such observables; None (here):
-        only the reader says. The class defining this must be the one defining the reader
-        (or a subclass), and the value it describes is checked against the reader's at
-        each compile."""
+    def field_rows(self) -> FieldRows | tuple[FieldRows, ...] | None:
+        """What the value is as rows of one bound MjData field (see `FieldRows`), or of
+        several (a tuple: their values concatenated along the last axis), for a single
+        environment to read it together with other such observables; None (here): only
+        the reader says. The class defining this must be the one defining the reader (or
+        a subclass), and the value it describes is checked against the reader's at each
+        compile."""
         return None
 
     def default_bounds(self, value: np.ndarray) -> Bounds:
@@ -239,6 +243,18 @@ def reader_of(observable: Observable, physics: Any) -> Callable[[], np.ndarray]:
     if protocol.prefers_batched(type(observable), "reader", "batch_reader"):
         return Observable.reader(observable, physics)
     return observable.reader(physics)
+
+
+def row_reader_of(observable: Observable, physics: Any) -> Callable[[], Any]:
+    """How one environment reads `observable` as a row of one: where `reader_of` reads
+    row 0 of its `batch_reader` with a batch of one, that batch reader (values of shape
+    (1, *shape)); else `reader_of`'s reader (one value, which a row broadcasts)."""
+    batched = protocol.prefers_batched(type(observable), "reader", "batch_reader")
+    if batched and type(observable)._callable is Observable._callable:
+        read = observable.batch_reader(BatchOfOne(physics, strict=False))
+        if read is not None:
+            return read
+    return reader_of(observable, physics)
 
 
 class Generic(Observable):

@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import gymnasium
 import numpy as np
+import pytest
 
 import tasks  # noqa: F401  (registers the ids)
 from tasks.suite import planar
 from tasks.suite.frames import in_frame
+from tasks.suite.observables import BoundField, Concatenated
 
 
 def test_in_frame_is_each_vector_dot_its_frame_bit_for_bit():
@@ -42,4 +44,38 @@ def test_site_distances_together_are_each_pairs_bit_for_bit():
         apart = planar.site_distances(batch, first, second)
         assert together[:, column].tobytes() == apart.tobytes()
         assert apart[0] > 0
+    env.close()
+
+
+@pytest.mark.parametrize(
+    "env_id",
+    [
+        "cheetah-run",
+        "walker-walk",
+        "humanoid-run",
+        "humanoid-run_pure_state",
+        "quadruped-run",
+        "finger-turn_hard",
+        "hopper-hop",
+        "cartpole-three_poles",
+        "quadruped-fetch",
+    ],
+)
+def test_bound_fields_read_together_show_what_their_readers_read(env_id):
+    """`observables.BoundField`s (and Concatenated ones), which one environment reads in
+    one gather, show in each observation what their batched readers read, after steps and
+    resets."""
+    env = gymnasium.make(f"dm_control/{env_id}-v0", time_limit=0.5).unwrapped
+    updater = env.updater
+    fused = set(updater.fused_names)
+    assert fused == {name for name, item in env.task.task_observables.items()
+                     if isinstance(item, BoundField | Concatenated)}  # fmt: skip
+    rng = np.random.default_rng(4)
+    obs, _ = env.reset(seed=4)
+    for step in range(60):
+        for name, read in zip(updater.names, updater.readers, strict=True):
+            assert obs[name].tobytes() == np.asarray(read(), np.float64).tobytes(), (step, name)
+        obs, _, terminated, truncated, _ = env.step(rng.uniform(-1, 1, env.action_space.shape))
+        if terminated or truncated:
+            obs, _ = env.reset()
     env.close()
