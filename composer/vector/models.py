@@ -54,7 +54,7 @@ class _Buffer:
             return None
         if last.nbytes != self.last_bytes:
             return None
-        return np.frombuffer((ctypes.c_uint8 * self.size).from_address(start), np.uint8)
+        return np.ctypeslib.as_array((ctypes.c_uint8 * self.size).from_address(start))
 
 
 def _arrays(model: mujoco.MjModel) -> dict[str, np.ndarray]:
