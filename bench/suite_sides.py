@@ -7,7 +7,10 @@ environments of one suite task, each side stepping them its way.
 
 Every side steps the same task (dm_control's model, its physics steps per control step)
 with the same random actions: uniform within the actuators' control ranges, drawn from one
-seed (`actions`), from a reset:
+seed (`actions`), from a reset, on the threads it is given (`nthread`; `default_threads`
+of the vector side says what its default would pick). The floor and batch sides run MuJoCo
+without the Python bindings' profiling timer (`composer.batch.timer`), as ours steps its
+batch and envpool's C++ runs: physics alone.
   vector     ours: gym.make_vec('dm_control/DOMAIN-TASK-v0', n,
              vectorization_mode='vector_entry_point'), a composer VectorEnvironment on
              MuJoCo's batch, dm_control's observations (a dict) and reward
@@ -67,6 +70,7 @@ class _Stepper:
 
     def __init__(self, env: Any, num_envs: int, seeded_at_make: bool = False) -> None:
         self.env = env
+        self.default_threads: int | None = None  # the vector side's default, where known
         space = env.single_action_space if hasattr(env, "single_action_space") else None
         space = space if space is not None else env.action_space
         self.actions = actions(space.low, space.high, num_envs)
@@ -85,12 +89,19 @@ def _vector(num_envs: int, nthread: int, subject: str) -> _Stepper:
     import gymnasium
 
     import tasks  # noqa: F401  registers the dm_control/... ids
+    from bench.bench_vector import usable_cpus
+    from composer.vector import threads
 
     env = gymnasium.make_vec(
         our_id(subject), num_envs=num_envs, vectorization_mode="vector_entry_point",
         nthread=nthread,
     )  # fmt: skip
-    return _Stepper(env, num_envs)
+    stepper = _Stepper(env, num_envs)
+    first = env.environments[0]
+    stepper.default_threads = threads.physics_threads(
+        first.physics.model, num_envs, first.timing.substeps, usable_cpus()
+    )
+    return stepper
 
 
 def _gymnasium(num_envs: int, nthread: int, subject: str) -> _Stepper:
@@ -149,9 +160,11 @@ class _Floor:
         pass  # every round starts from `initial`
 
     def run(self, steps: int) -> None:
+        from composer.batch import timer
+
         chosen = self.actions[np.arange(steps) % ACTION_ROWS]  # (steps, n, nu)
         control = np.repeat(chosen.transpose(1, 0, 2), self.substeps, axis=1)
-        self.pool.rollout(self.model, self.data, self.initial, control)
+        timer.untimed(self.pool.rollout, self.model, self.data, self.initial, control)
 
 
 class _Batch:
@@ -172,6 +185,11 @@ class _Batch:
         self.batch.forward(None, self.stage)
 
     def run(self, steps: int) -> None:
+        from composer.batch import timer
+
+        timer.untimed(self._loop, steps)
+
+    def _loop(self, steps: int) -> None:
         step, chosen, substeps, stage = self.batch.step, self.actions, self.substeps, self.stage
         ctrl = self.batch.bind("ctrl")
         for k in range(steps):
@@ -217,7 +235,10 @@ def describe(side: str) -> str:
 
         return f"gymnasium {gymnasium.__version__} SyncVectorEnv of our environments on {ours}"
     if side == "floor":
-        return f"mujoco.rollout of our compiled model on {ours}"
+        return f"mujoco.rollout of our compiled model on {ours}, no profiling timer"
     if side == "batch":
-        return f"mujoco.batch (persistent, stage VEL) of our compiled model on {ours}"
+        return (
+            f"mujoco.batch (persistent, stage VEL) of our compiled model on {ours}, no "
+            "profiling timer"
+        )
     return f"gym.make_vec(..., 'vector_entry_point') of our dm_control/ ids on {ours}"

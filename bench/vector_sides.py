@@ -20,6 +20,8 @@ control step) with the same random actions in [-1, 1] (`actions`), from a reset:
   antrun_vector  the shipped composer/AntRun-v0 (its own quadruped in a corridor) through
                  gym.make_vec's vector entry point ...
   antrun_sync    ... and through gymnasium's SyncVectorEnv
+The floor and physics sides run MuJoCo without the Python bindings' profiling timer, as
+the vector side steps its batch (`composer.batch.timer`) and envpool's C++ runs.
 `OPTIONAL` names the sides that need a package of the [bench] extra.
 """
 
@@ -82,6 +84,11 @@ class _Floor:
         self.batch.reset()
 
     def run(self, steps: int) -> None:
+        from composer.batch import timer
+
+        timer.untimed(self._loop, steps)
+
+    def _loop(self, steps: int) -> None:
         batch, chosen = self.batch, self.actions
         ctrl, qpos, qvel = batch.bind("ctrl"), batch.bind("qpos"), batch.bind("qvel")
         for k in range(steps):
@@ -118,7 +125,9 @@ class _Physics:
     def run(self, steps: int) -> None:
         chosen = self.actions[np.arange(steps) % len(self.actions)]  # (steps, n, nu)
         control = np.repeat(chosen.transpose(1, 0, 2), SUBSTEPS, axis=1)
-        self.pool.rollout(self.model, self.data, self.initial, control)
+        from composer.batch import timer
+
+        timer.untimed(self.pool.rollout, self.model, self.data, self.initial, control)
 
 
 def _vector(num_envs: int, nthread: int) -> _Stepper:

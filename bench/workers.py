@@ -38,7 +38,9 @@ def _serve(module_name: str, side: str, connection: Connection) -> None:
             if kind == "build":
                 built = None  # the previous size's environments go first
                 built = module.SIDES[side](*arguments)
-                reply: Any = None
+                reply: Any = getattr(built, "default_threads", None)
+            elif kind == "drop":
+                built = reply = None
             elif kind == "round":
                 assert built is not None, "build before round"
                 built.reset()
@@ -73,10 +75,15 @@ class Worker:
             raise WorkerError(f"side {self.side!r} raised:\n{reply}")
         return reply
 
-    def build(self, num_envs: int, nthread: int, *options: Any) -> None:
+    def build(self, num_envs: int, nthread: int, *options: Any) -> Any:
         """Make the side's environments (dropping those of an earlier build): its module's
-        `SIDES[side](num_envs, nthread, *options)`."""
-        self._call("build", num_envs, nthread, *options)
+        `SIDES[side](num_envs, nthread, *options)`. Returns what the built side says its
+        default thread count would be (its `default_threads`), or None."""
+        return self._call("build", num_envs, nthread, *options)
+
+    def drop(self) -> None:
+        """Let go of the side's environments (until the next `build`)."""
+        self._call("drop")
 
     def round(self, steps: int) -> tuple[float, float]:
         """Reset (not timed), then run `steps` steps: (wall seconds, CPU seconds of the

@@ -257,12 +257,14 @@ def writes_controls(function: F) -> F:
 
 
 class Outcome(NamedTuple):
-    """What the batched methods said of n environments (None where the single form runs):
-    rewards (n,), terminations (n,) bool, discounts (n,), info entries of (n, ...) each."""
+    """What the batched methods said of n environments: rewards (n,), terminations (n,)
+    bool and discounts (n,), each an array, or the one value of every row where the method
+    is Task's default (`protocol.constant_rows`, not called), or None where the single form
+    runs; and info entries of (n, ...) each."""
 
-    rewards: np.ndarray | None
-    terminations: np.ndarray | None
-    discounts: np.ndarray | None
+    rewards: np.ndarray | float | None
+    terminations: np.ndarray | bool | None
+    discounts: np.ndarray | float | None
     info: dict[str, np.ndarray]
 
 
@@ -279,14 +281,14 @@ class _Rows:
         self.name = f"{name}_batch"
         self.dtype = dtype
 
-    def rows(self, physics: protocol.BatchPhysics) -> np.ndarray | None:
-        """The (n,) rows of the environments of `physics`; None for the single form."""
+    def rows(self, physics: protocol.BatchPhysics) -> Any:
+        """The (n,) rows of the environments of `physics`, or the one value of every row
+        (a constant method's, not called); None for the single form."""
         if self.method is None:
             return None
-        n = physics.num_envs
         if self.value is not protocol.NOT_CONSTANT:
-            return np.full(n, self.value, dtype=self.dtype)
-        return protocol.check_rows(self.name, self.method(physics), n, self.dtype)
+            return self.value
+        return protocol.check_rows(self.name, self.method(physics), physics.num_envs, self.dtype)
 
     def first(self, physics: protocol.BatchPhysics) -> Any:
         """The row of the one environment of `physics`, a batch of one (batched form)."""
@@ -334,7 +336,8 @@ class TaskStep:
 
     def outcome(self, physics: protocol.BatchPhysics) -> Outcome:
         """The batched methods' rewards, terminations, discounts and info entries, each
-        checked to hold a row per environment. Raises BatchError if one does not."""
+        checked to hold a row per environment (see `Outcome`). Raises BatchError if one
+        does not."""
         info = {}
         if self._info_entries:
             info = protocol.check_info(self._info(physics), physics.num_envs)  # type: ignore[misc]

@@ -13,7 +13,7 @@ Promise: derived fields (xpos, sensordata ...) describe the current state, as
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -21,7 +21,7 @@ import numpy as np
 from mujoco import batch as mujoco_batch
 
 import mjcf
-from composer.batch import protocol
+from composer.batch import protocol, timer
 from mjcf.sim import fields, staleness
 
 _ACC = staleness.Stage.ACCELERATION
@@ -62,11 +62,12 @@ class BatchBinding(protocol.Binding):
     """Fields of bound elements in the environments of a VectorPhysics, (n, ...) each.
     Raises mjcf.BindingError for a field the elements' kind does not have."""
 
-    __slots__ = ("_elements", "_fields", "_physics")
+    __slots__ = ("_elements", "_fields", "_physics", "_reads")
 
     _physics: VectorPhysics
     _elements: Any  # an element or a tuple of elements of one kind
     _fields: dict[str, _Field]
+    _reads: dict[str, Callable[[], np.ndarray]]  # each field's read, made at its first
 
     def __init__(self, physics: VectorPhysics, elements: Any, fields: dict[str, _Field]) -> None:
         """Bind `elements` (of the first environment's model) in the environments of
@@ -74,6 +75,18 @@ class BatchBinding(protocol.Binding):
         object.__setattr__(self, "_physics", physics)
         object.__setattr__(self, "_elements", elements)
         object.__setattr__(self, "_fields", fields)
+        object.__setattr__(self, "_reads", {})
+
+    @staticmethod
+    def _field_property(name: str) -> property:
+        # A read is every step's: one lookup of the field's read, made once, and its call.
+        def read(self: BatchBinding) -> np.ndarray:
+            found = self._reads.get(name)
+            if found is None:
+                found = self._reads[name] = self._physics._reader(self._field(name))
+            return found()
+
+        return property(read)
 
     def _field(self, name: str) -> _Field:
         found = self._fields.get(name)
@@ -82,13 +95,48 @@ class BatchBinding(protocol.Binding):
         return found
 
     def _get(self, name: str) -> np.ndarray:
-        return self._physics._read(self._field(name))
+        found = self._reads.get(name)
+        if found is None:
+            found = self._reads[name] = self._physics._reader(self._field(name))
+        return found()
 
     def _set(self, name: str, value: Any) -> None:
         self._physics._write(self._field(name), name, value)
 
     def __repr__(self) -> str:
         return f"<BatchBinding of {self._elements!r}>"
+
+
+class _Lag:
+    """Which simulations' derived fields of one stage lag their state: a flag a simulation,
+    kept as one value (`every`) while all of them hold it, so that a call on every
+    simulation (a step, a refresh) sets them without writing a row."""
+
+    __slots__ = ("every", "rows")
+
+    def __init__(self, nsim: int) -> None:
+        self.every: bool | None = True  # the value of every row; None: the rows differ
+        self.rows = np.ones(nsim, dtype=bool)
+
+    def set(self, ids: Any, value: bool) -> None:
+        """Flag simulations `ids` (None: all; an index or an index array) `value`."""
+        value = bool(value)
+        if ids is None:
+            self.every = value
+            return
+        every = self.every
+        if every is not None:
+            if every is value:
+                return
+            self.rows[:] = every
+            self.every = None
+        self.rows[ids] = value
+
+    def of(self, ids: np.ndarray | None) -> bool | np.ndarray:
+        """The flags of simulations `ids` (None: all): one bool while all are alike."""
+        if self.every is not None:
+            return self.every
+        return self.rows if ids is None else self.rows[ids]
 
 
 class Simulations:
@@ -111,11 +159,9 @@ class Simulations:
         self.nsim = batch.nsim
         # Per simulation: whether the batch's derived fields lag its state rows, for the
         # position/velocity stages and for the acceleration stage.
-        self._pos_stale = np.ones(batch.nsim, dtype=bool)
-        self._acc_stale = np.ones(batch.nsim, dtype=bool)
-        # Whether some row of each may be True (False: none is), so that a read of current
-        # fields, several a step, skips indexing them.
-        self._pos_any = self._acc_any = True
+        self._pos = _Lag(batch.nsim)
+        self._acc = _Lag(batch.nsim)
+        self._all = np.arange(batch.nsim)
         self._sources: dict[str, np.ndarray] = {}  # the MjData fields bound from the batch
         # Whether a derived field (not state) was ever bound: until then a step need not
         # compute the stages of the new state (`stepped`).
@@ -149,53 +195,49 @@ class Simulations:
         the new state): the stages of the new state up to `computed` (`step_stage`) are
         current, the later ones lag; not `consistent`: their fields lag as mj_step leaves
         them, which reads then give."""
-        rows = slice(None) if ids is None else ids
-        pos = consistent and computed == mujoco.mjtStage.mjSTAGE_NONE
-        acc = consistent and computed != mujoco.mjtStage.mjSTAGE_ACC
-        self._pos_stale[rows] = pos
-        self._acc_stale[rows] = acc
-        self._pos_any |= pos
-        self._acc_any |= acc
+        self._pos.set(ids, consistent and computed == mujoco.mjtStage.mjSTAGE_NONE)
+        self._acc.set(ids, consistent and computed != mujoco.mjtStage.mjSTAGE_ACC)
 
     def changed(self, ids: Any) -> None:
         """The state rows of simulations `ids` were written from outside the batch."""
-        self._pos_stale[ids] = True
-        self._acc_stale[ids] = True
-        self._pos_any = self._acc_any = True
+        self._pos.set(ids, True)
+        self._acc.set(ids, True)
 
     def _wrote(self, ids: np.ndarray | None, effect: staleness.Effect) -> None:
         """Batched methods wrote the state rows of simulations `ids` (None: all)."""
-        written = slice(None) if ids is None else ids
-        self._acc_stale[written] = True
-        self._acc_any = True
+        self._acc.set(ids, True)
         if effect != staleness.Effect.STEP_INPUT:
-            self._pos_stale[written] = True
-            self._pos_any = True
+            self._pos.set(ids, True)
 
-    def _refresh(self, ids: np.ndarray, stage: staleness.Stage) -> None:
-        """Recompute the derived fields of simulations `ids` that lag for `stage`."""
+    def _refresh(self, ids: np.ndarray | None, stage: staleness.Stage) -> None:
+        """Recompute the derived fields of simulations `ids` (ascending; None: all) that
+        lag for `stage`."""
         acc = stage == _ACC
-        if not (self._pos_any or (acc and self._acc_any)):
-            return
-        if len(ids) == self.nsim:  # every one (ids ascending): after this, none lags
-            self._pos_any = False
-            if acc:
-                self._acc_any = False
-        stale = self._pos_stale[ids]
+        if self._pos.every is False and not (acc and self._acc.every is not False):
+            return  # a read of current fields, several a step: nothing to index
+        stale = self._pos.of(ids)
         if acc:
-            stale = stale | self._acc_stale[ids]
-        if not stale.any():
+            stale = stale | self._acc.of(ids)
+        if stale is True:
+            which = ids
+        elif stale is False or not stale.any():
             return
-        which = ids[stale]
-        batch_stage = mujoco.mjtStage.mjSTAGE_ACC if stage == _ACC else mujoco.mjtStage.mjSTAGE_VEL
-        if stage == _ACC:
+        else:
+            which = (self._all if ids is None else ids)[stale]
+            if len(which) == self.nsim:
+                which = None
+        if acc:
             self.reads_acceleration = True
         # Simulations that raise here failed their step already, and are truncated.
         with contextlib.suppress(mujoco_batch.SimulationError):
-            self.batch.forward(None if len(which) == self.nsim else which, batch_stage)
-        self._pos_stale[which] = False
-        if stage == _ACC:
-            self._acc_stale[which] = False
+            timer.untimed(
+                self.batch.forward,
+                which,
+                mujoco.mjtStage.mjSTAGE_ACC if acc else mujoco.mjtStage.mjSTAGE_VEL,
+            )
+        self._pos.set(which, False)
+        if acc:
+            self._acc.set(which, False)
 
     def _source(self, name: str) -> np.ndarray:
         """MjData field `name` of every simulation, as the batch holds it. Raises
@@ -208,9 +250,7 @@ class Simulations:
         if name not in protocol.STATE_FIELDS:
             # MuJoCo's batch copies an output out at each call from its first bind on:
             # until the next call it holds nothing, whatever the stages say.
-            self._pos_stale[:] = True
-            self._acc_stale[:] = True
-            self._pos_any = self._acc_any = True
+            self.changed(None)
             self.reads_derived = True
         return source
 
@@ -271,7 +311,8 @@ class VectorPhysics(protocol.BatchPhysics):
         self._every = np.arange(simulations.nsim) if ids is None else ids
         self._count = len(self._every)
         self._bindings: dict[Any, protocol.Binding | protocol.EmptyBinding] = {}
-        self._stages: dict[str, staleness.Stage] = {}  # of the fields `field` read
+        self._fields: dict[str, Callable[[], np.ndarray]] = {}  # `field`'s reads, by name
+        self._ctrl: np.ndarray | None = None  # the batch's ctrl, once `set_control` ran
 
     # -- who the rows are ----------------------------------------------------------------
 
@@ -318,35 +359,77 @@ class VectorPhysics(protocol.BatchPhysics):
 
     def field(self, name: str) -> np.ndarray:
         """See `composer.BatchPhysics.field`."""
+        read = self._fields.get(name)
+        if read is None:
+            read = self._fields[name] = self._field_reader(name)
+        return read()
+
+    def _field_reader(self, name: str) -> Callable[[], np.ndarray]:
+        """The read of MjData field `name` of the environments covered, made once. Raises
+        BatchError for a field the batch does not hold."""
         simulations = self.simulations
         source = simulations._source(name)
-        stage = self._stages.get(name)
-        if stage is None:
-            stage = staleness.read_stage(name)
-            if name == "sensordata":
-                model = simulations.template.model
-                stage = staleness.sensor_stage(model, np.arange(model.nsensor))
-            self._stages[name] = stage
-        if stage:
-            simulations._refresh(self._every, stage)
-        return source.copy() if self._ids is None else source[self._ids]
-
-    def _read(self, found: _Field) -> np.ndarray:
-        """The rows of bound field `found` of the environments covered, a new array."""
-        if found.stage:
-            self.simulations._refresh(self._every, found.stage)
-        ids, source = self._ids, found.source
-        if source is None:
-            models = [self.simulations.envs[i].physics.model for i in self._every]
-            rows = [getattr(model, found.model_name)[found.rows] for model in models]
-            return np.stack(rows).reshape(len(rows), *found.shape)
+        stage = staleness.read_stage(name)
+        if name == "sensordata":
+            model = simulations.template.model
+            stage = staleness.sensor_stage(model, np.arange(model.nsensor))
+        ids = self._ids
         if ids is None:
-            values = source[:, found.key]
-            if type(found.key) is slice:  # a view of a run of rows: copied
-                values = values.copy()
-        else:
-            values = source[ids[:, None], found.rows]
-        return values.reshape(len(values), *found.shape)
+            return self._fresh(stage, source.copy)
+        return self._fresh(stage, lambda: source[ids])
+
+    def _reader(self, found: _Field) -> Callable[[], np.ndarray]:
+        """The read of bound field `found` of the environments covered (a new array each
+        call), made once."""
+        ids, source, shape = self._ids, found.source, (self._count, *found.shape)
+        if source is None:
+            envs, name, rows = self.simulations.envs, found.model_name, found.rows
+            every = self._every
+
+            def read_models() -> np.ndarray:
+                values = [getattr(envs[i].physics.model, name)[rows] for i in every]
+                return np.stack(values).reshape(shape)
+
+            return self._fresh(found.stage, read_models)
+        key = found.key
+        if ids is None:
+            taken = source[:, key]
+            if type(key) is slice:  # a view of a run of rows, copied at each read
+                view = taken.view()
+                with contextlib.suppress(AttributeError):  # unless only a copy has `shape`
+                    view.shape = shape
+                    return self._fresh(found.stage, view.copy)
+                return self._fresh(found.stage, lambda: source[:, key].reshape(shape))
+            if taken.shape == shape:
+                return self._fresh(found.stage, lambda: source[:, key])
+            return self._fresh(found.stage, lambda: source[:, key].reshape(shape))
+        index = ids[:, None]
+        rows = found.rows
+        return self._fresh(found.stage, lambda: source[index, rows].reshape(shape))
+
+    def _fresh(
+        self, stage: staleness.Stage, read: Callable[[], np.ndarray]
+    ) -> Callable[[], np.ndarray]:
+        """`read`, after recomputing what lags for `stage` in the environments covered."""
+        if not stage:
+            return read
+        refresh, ids, lags = self.simulations._refresh, self._ids, self.simulations._pos
+        if stage == _ACC:
+            acc = self.simulations._acc
+
+            def after_acc() -> np.ndarray:
+                if lags.every is not False or acc.every is not False:
+                    refresh(ids, stage)
+                return read()
+
+            return after_acc
+
+        def after_pos() -> np.ndarray:
+            if lags.every is not False:
+                refresh(ids, stage)
+            return read()
+
+        return after_pos
 
     def _write(self, found: _Field, name: str, value: Any) -> None:
         """Write `value`, (n, ...) rows, to bound field `found` (named `name`) of the
@@ -366,7 +449,9 @@ class VectorPhysics(protocol.BatchPhysics):
 
     def set_control(self, controls: Any) -> None:
         """See `composer.BatchPhysics.set_control`: controls of shape (n, nu)."""
-        ctrl = self.simulations._source("ctrl")
+        ctrl = self._ctrl
+        if ctrl is None:
+            ctrl = self._ctrl = self.simulations._source("ctrl")
         rows = protocol.rows_to_write(controls, self._count, ctrl.shape[1:], "ctrl")
         if self._ids is None:
             ctrl[...] = rows

@@ -230,6 +230,13 @@ class Schedule:
         self._every = np.arange(self.num_envs)
 
     @property
+    def counts_steps(self) -> bool:
+        """Whether sampling and finishing read the physics steps and schedule phases
+        given them (a buffered, delayed, corrupted or reduced channel, or a period longer
+        than a control step); if not, `sample` and `finish` may be given 0 for both."""
+        return self.period > 1 or bool(self._shown)
+
+    @property
     def observation_space(self) -> spaces.Dict | spaces.Box:
         """One environment's observation space: a Dict of each channel's Box in the
         channels' order, or one float64 Box when flattened."""

@@ -26,11 +26,12 @@ from mujoco import batch as mujoco_batch
 
 import mjcf
 from composer import errors, hooks, stepping
+from composer.batch import timer
 from composer.batch.vector import Simulations, VectorPhysics
 from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
-from composer.vector import info_layout
+from composer.vector import info_layout, threads
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.rendering import Ids, RenderThreads
@@ -60,18 +61,21 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
       bit, as num_envs single environments reset with seeds seed + i (and, after an episode
       ends, reset without a seed). Their models must share MuJoCo's data layout; each
       simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
-    - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads) and leave
-      derived quantities (xpos, sensordata ...) consistent with the new state, as a single
-      environment's `mjcf.Physics.step` does (`Batch.step(..., stage=mjSTAGE_VEL)`;
-      acceleration-dependent fields are recomputed when read, and once read, computed by
-      every step: `stage=mjSTAGE_ACC`). The batch keeps one MjData per simulation, so each
-      step continues from the stages computed after the last. With `physics.legacy_step =
-      False` on the environments they lag one physics step, as with bare `mj_step`. Actions,
-      observations, rewards, terminations and discounts are numpy arrays over every
-      environment, computed at once where the task writes its per-step methods in their
-      batched form and its observables are batchable (`composer.batch`, `.observations`);
-      the rest runs per environment on a materialized MjData. A control step keeps the order
-      and rules of a single environment's (`composer.stepping`).
+    - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by
+      default a thread for each millisecond of a step call's physics, at least one,
+      `composer.vector.threads`; without the bindings' profiling timer,
+      `composer.batch.timer`) and leave derived quantities (xpos, sensordata ...) consistent
+      with the new state, as a single environment's `mjcf.Physics.step` does
+      (`Batch.step(..., stage=mjSTAGE_VEL)`; acceleration-dependent fields are recomputed
+      when read, and once read, computed by every step: `stage=mjSTAGE_ACC`). The batch
+      keeps one MjData per simulation, so each step continues from the stages computed after
+      the last. With `physics.legacy_step = False` on the environments they lag one physics
+      step, as with bare `mj_step`. Actions, observations, rewards, terminations and
+      discounts are numpy arrays over every environment, computed at once where the task
+      writes its per-step methods in their batched form and its observables are batchable
+      (`composer.batch`, `.observations`); the rest runs per environment on a materialized
+      MjData. A control step keeps the order and rules of a single environment's
+      (`composer.stepping`).
     - Autoreset as `gymnasium.vector.AutoresetMode` (`metadata['autoreset_mode']`): NEXT_STEP
       (default: the step after an episode ends resets that environment, ignores its action
       and returns reward 0), SAME_STEP (reset at once; the last observation and info are in
@@ -113,7 +117,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         simulations. `time_limit` (seconds) and `max_episode_steps` truncate episodes;
         `action_repeat` is `composer.Environment`'s (each step that many control steps);
         `seed` seeds environment i's random state with seed + i until a seeded reset;
-        `nthread` (physics and render threads) defaults to the CPUs this process may use;
+        `nthread` (physics and render threads) defaults to the CPUs this process may use
+        for rendering and, for the physics, to a thread for each millisecond of a step's
+        physics, at least one, at most those CPUs (`composer.vector.threads`; `nthread`);
         the render options are `composer.Environment`'s (`render_camera` None: the task's
         `render_camera`, else the free camera), and so are the observation options. Raises
         TaskError for a bad count, a factory that does not make new Tasks, or environments
@@ -147,15 +153,24 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._step_limit = first.timing.step_limit(time_limit, max_episode_steps)
         self._actions = stepping.ActionRule(first.action_space, num_envs)
         self._methods = stepping.TaskStep(first.task)
+        self._outcome_each = bool(_OUTCOME.intersection(self._methods.single))
+        self._constants: dict[tuple[Any, type], np.ndarray] = {}  # of `_constant_rows`
         self._hooks = [hooks.Hooks(env.task) for env in self._envs]
+        self._resolve_hooks()
         if nthread is None:
-            nthread = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 0
-        self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
+            cpus = _cpus()
+            self._render_threads = RenderThreads(min(cpus, num_envs))
+            physics_nthread = threads.physics_threads(
+                first.physics.model, num_envs, self._substeps, cpus
+            )
+        else:
+            self._render_threads = RenderThreads(min(max(nthread, 1), num_envs))
+            physics_nthread = min(nthread, num_envs)
         # One MjData per simulation (persistent), even when nothing reads a materialized
         # MjData per step: each step continues from the stages computed after the last,
         # where a batch of one MjData a thread computes them again (cheetah run on two
         # threads: 12.3 -> 8.7 us a step at N = 32).
-        self._build_batch(min(nthread, num_envs))
+        self._build_batch(physics_nthread)
         self.per_environment = self._per_env_parts()
         self.rendered = list(self._observations.rendered)
         self._state = self._batch.state
@@ -163,8 +178,12 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._invalid_counts = self._warning[:, _INVALID, 1]  # a view: (num_envs, 4)
         self._every = np.arange(num_envs)
         self._every.flags.writeable = False
+        # Control steps since each environment's reset: _steps, plus _lag steps of every
+        # environment not yet added (`_step_counts`); _most, the largest of them.
         self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._lag = self._most = 0
         self._over = np.zeros(num_envs, dtype=bool)
+        self._ended = False  # whether some environment's episode ended (_over.any())
         # What each environment's own MjData holds of its simulation: _STALE (nothing
         # since its last physics step), _SYNCED (all of it), or _DERIVED (its derived
         # fields, but a batched write changed the state since).
@@ -246,6 +265,14 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 "vector environment needs models that differ only in values"
             ) from e
 
+    def _resolve_hooks(self) -> None:
+        """What runs per environment around a step, as the first environment's hooks say
+        (every environment's task is made alike)."""
+        task_hooks, methods = self._hooks[0], self._methods
+        self._applies_each = methods.applies_each(task_hooks)
+        self._finishes_each = methods.finishes_each(task_hooks)
+        self._substeps_hooked = task_hooks.has_substep_hooks
+
     def _per_env_parts(self) -> list[str]:
         """What runs once per environment on a materialized MjData each step."""
         parts = [f"task.{name}" for name in self._methods.single]
@@ -272,6 +299,11 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
     def batch_physics(self) -> VectorPhysics:
         """The BatchPhysics batched methods get, over every environment between steps."""
         return self._simulations.physics()
+
+    @property
+    def nthread(self) -> int:
+        """The threads MuJoCo's batch steps the simulations on."""
+        return self._batch.nthread
 
     @property
     def control_timestep(self) -> float:
@@ -318,13 +350,25 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 env.reset(seed=seed, options=options)
             if env.physics.model is not model:  # recompiled: its hooks may have changed
                 self._hooks[i] = hooks.Hooks(env.task)
+                if i == 0:
+                    self._resolve_hooks()
             self._save(i)
             self._observations.load(i, env.updater)
             self._held[i] = _SYNCED
-        self._steps[ids] = 0
+        counts = self._step_counts()
+        counts[ids] = 0
+        self._most = int(counts.max())
         self._over[ids] = False
+        self._ended = bool(self._over.any())
         self._any_synced = True
         self._set_models(ids)
+
+    def _step_counts(self) -> np.ndarray:
+        """Control steps since each environment's reset, (num_envs,) int64, up to date."""
+        if self._lag:
+            self._steps += self._lag
+            self._lag = 0
+        return self._steps
 
     def step(
         self, actions: Any
@@ -339,7 +383,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         actions = self._actions.shaped(actions)
         n = self.num_envs
         ids = self._every  # the environments stepped: all but those reset now
-        if self._over.any():
+        if self._ended:
             if self.autoreset_mode is not AutoresetMode.NEXT_STEP:
                 raise errors.EpisodeError(
                     f"the episodes of environments {np.flatnonzero(self._over).tolist()} "
@@ -352,13 +396,17 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         terminated = np.zeros(n, dtype=bool)
         truncated = np.zeros(n, dtype=bool)
         info: dict[str, Any] = {}
+        ending = False  # whether an episode may have ended in this step
         if ids.size:
-            self._step_envs(ids, actions if ids is self._every else actions[ids], rewards,
-                            terminated, truncated, info)  # fmt: skip
+            ending = self._step_envs(ids, actions if ids is self._every else actions[ids],
+                                     rewards, terminated, truncated, info)  # fmt: skip
             if self._action_repeat > 1:
                 info = self._repeat(ids, actions, rewards, terminated, truncated, info)
-        self._over = terminated | truncated
-        if self.autoreset_mode is AutoresetMode.SAME_STEP and self._over.any():
+                ending = True
+        if ending or self._ended:
+            self._over = terminated | truncated
+            self._ended = bool(np.count_nonzero(self._over))
+        if self._ended and self.autoreset_mode is AutoresetMode.SAME_STEP:
             info = self._final(np.flatnonzero(self._over), info)
         return self._observations.observation(), rewards, terminated, truncated, info
 
@@ -420,83 +468,99 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         terminated: np.ndarray,
         truncated: np.ndarray,
         info: dict[str, Any],
-    ) -> None:
+    ) -> bool:
+        """One control step of environments `ids` (`self._every`: all) with their rows of
+        `actions`; fills their rows of the results. Returns whether an episode may have
+        ended (False: every row of `terminated` and `truncated` is False)."""
         actions = self._actions.clipped(actions, ids)
         every = ids is self._every
         physics = self._simulations.physics(None if every else ids)
         self._before_step(physics, ids, actions)
-        failures, last_due = self._advance(ids, actions)
+        phases, first = self._phases(ids)
+        failures, last_due = self._advance(ids, actions, phases, first)
         self._after_step(physics, ids)
         if last_due:
-            self._sample_last(ids)
-        steps = self._steps
+            self._observations.sample(ids, phases, self._substeps, first)
         if every:
-            steps += 1
-            self._observations.finish(ids, steps * self._substeps)
+            self._lag += 1
+            self._most += 1
         else:
-            steps[ids] += 1
-            self._observations.finish(ids, steps[ids] * self._substeps)
+            counts = self._step_counts()
+            counts[ids] += 1
+            self._most = int(counts.max())
+        if self._observations.counts_steps:
+            steps = self._step_counts()
+            self._observations.finish(ids, (steps if every else steps[ids]) * self._substeps)
         errors_found = self._invalid(ids, failures)
         for i, message in errors_found.items():
             entries = stepping.diverged(message, stacklevel=3, environment=i)
             info_layout.add(info, entries, i, self.num_envs)
             truncated[i] = True
-        if not errors_found:
-            self._outcome(physics, rewards, terminated, info)
-            if every:
-                np.greater_equal(steps, self._step_limit, out=truncated)
-            else:
-                truncated[ids] = steps[ids] >= self._step_limit
-            return
-        ok = ids[~np.isin(ids, list(errors_found))]
+        ok = ids
+        if errors_found:
+            ok = ids[~np.isin(ids, list(errors_found))]
+            physics = self._simulations.physics(ok)
+        ending = bool(errors_found)
         if ok.size:
-            self._outcome(self._simulations.physics(ok), rewards, terminated, info)
-            truncated[ok] = steps[ok] >= self._step_limit
+            ending |= self._outcome(physics, rewards, terminated, info)
+            if self._most >= self._step_limit:  # some episode is at its step limit
+                steps = self._step_counts()
+                if ok is self._every:
+                    np.greater_equal(steps, self._step_limit, out=truncated)
+                else:
+                    truncated[ok] = steps[ok] >= self._step_limit
+                ending = True
+        return ending
 
     def _before_step(self, physics: VectorPhysics, ids: np.ndarray, actions: np.ndarray) -> None:
         methods = self._methods
         if methods.apply(physics, actions):
             self._wrote(ids)
-        if methods.applies_each(self._hooks[0]):
+        if self._applies_each:
             for k, i in enumerate(ids):
                 env, own = self._envs[i], self._materialize(i)
                 methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
                 self._save(i)
 
-    def _phases(self, ids: np.ndarray) -> tuple[np.ndarray, int | np.ndarray]:
-        """Physics steps before this control step of environments `ids`, and their phases
-        of the observation schedule (one for all, or one each)."""
-        steps = self._steps if ids is self._every else self._steps[ids]
-        period = self._observations.period
-        return steps * self._substeps, steps % period if period > 1 else 0
+    def _phases(self, ids: np.ndarray) -> tuple[int | np.ndarray, int | np.ndarray]:
+        """The phases of the observation schedule of environments `ids` in this control
+        step (one for all, or one each), and the physics steps each ran before it (0 when
+        the schedule does not count them: `BatchObservations.counts_steps`)."""
+        observations = self._observations
+        if not observations.counts_steps:
+            return 0, 0
+        steps = self._step_counts()
+        if ids is not self._every:
+            steps = steps[ids]
+        period = observations.period
+        return (steps % period if period > 1 else 0), steps * self._substeps
 
-    def _advance(self, ids: np.ndarray, actions: np.ndarray) -> tuple[dict[int, str], bool]:
+    def _advance(
+        self,
+        ids: np.ndarray,
+        actions: np.ndarray,
+        phases: int | np.ndarray,
+        first: int | np.ndarray,
+    ) -> tuple[dict[int, str], bool]:
         """Run the control step's physics steps, sampling observables when due but after
-        the last step. Returns the MuJoCo error message of each simulation that raised
-        one, and whether observables are due after the last step (`_sample_last`)."""
+        the last step (environments `ids` in schedule `phases`, after physics steps
+        `first`). Returns the MuJoCo error message of each simulation that raised one, and
+        whether observables are due after the last step."""
         failures: dict[int, str] = {}
-        first, phases = self._phases(ids)
         sample = self._observations.sample
         around = None
-        if self._hooks[0].has_substep_hooks:
+        if self._substeps_hooked:
 
             def around(before: bool) -> None:
                 self._substep_hooks(ids, actions, before)
 
-        last_due = stepping.physics_steps(
+        return failures, stepping.physics_steps(
             self._substeps,
             self._observations.offsets(phases),
             lambda nstep: self._run(ids, nstep, failures),
             lambda offset: sample(ids, phases, offset, first),
             around,
         )
-        return failures, last_due
-
-    def _sample_last(self, ids: np.ndarray) -> None:
-        """Sample what is due after the last physics step of environments `ids`, once
-        their `after_step` hooks have run (`composer.stepping`)."""
-        first, phases = self._phases(ids)
-        self._observations.sample(ids, phases, self._substeps, first)
 
     def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
         for k, i in enumerate(ids):
@@ -516,13 +580,14 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         # are recomputed if read (a first read of a derived field, in this control step).
         computed = simulations.step_stage(consistent)
         try:
-            self._batch.step(None if every else ids, nstep, computed)
+            timer.untimed(self._batch.step, None if every else ids, nstep, computed)
         except mujoco_batch.SimulationError as e:
             for i in e.ids:
                 failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
         if every:
-            self._held[:] = _STALE
-            self._any_synced = False
+            if self._any_synced:  # else every environment's is _STALE already
+                self._held[:] = _STALE
+                self._any_synced = False
             simulations.stepped(None, consistent, computed)
         else:
             self._held[ids] = _STALE
@@ -532,7 +597,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         methods = self._methods
         if methods.finish(physics):
             self._wrote(ids)
-        if methods.finishes_each(self._hooks[0]):
+        if self._finishes_each:
             for i in ids:
                 env, own = self._envs[i], self._materialize(i)
                 methods.finish_each(env.task, self._hooks[i], own, env.random_state)
@@ -557,20 +622,29 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         rewards: np.ndarray,
         terminated: np.ndarray,
         info: dict[str, Any],
-    ) -> None:
-        """Reward, termination, info entries and discount of the environments of `physics`."""
-        methods, n, ids = self._methods, self.num_envs, physics.ids
+    ) -> bool:
+        """Reward, termination, info entries and discount of the environments of
+        `physics`; whether an episode may have terminated (False: none did)."""
+        methods, n = self._methods, self.num_envs
+        ids = physics._every
+        every = slice(None) if physics.num_envs == n else ids
         rows = methods.outcome(physics)
-        every = slice(None) if len(ids) == n else ids
         if rows.rewards is not None:
             rewards[every] = rows.rewards
-        if rows.terminations is not None:
+        ending = rows.terminations is not None and rows.terminations is not False
+        if ending:
             terminated[every] = rows.terminations
         for key, values in rows.info.items():
             info_layout.put(info, key, ids, values, n)
         if rows.discounts is not None:
-            info_layout.put(info, "discount", ids, rows.discounts, n)
-        if _OUTCOME.intersection(methods.single):
+            discounts = rows.discounts
+            if type(every) is slice and not isinstance(discounts, np.ndarray):
+                info["discount"] = self._constant_rows(discounts, np.float64)  # Task's default
+                info["_discount"] = self._constant_rows(True, bool)
+            else:
+                info_layout.put(info, "discount", ids, np.broadcast_to(discounts, len(ids)), n)
+        if self._outcome_each:
+            ending = True
             for i in ids:
                 task, own = self._envs[i].task, self._materialize(i)
                 reward, ended, entries = methods.outcome_each(task, own)
@@ -579,6 +653,16 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
                 if ended is not None:
                     terminated[i] = ended
                 info_layout.add(info, entries, i, n)
+        return ending
+
+    def _constant_rows(self, value: Any, dtype: type) -> np.ndarray:
+        """A new (num_envs,) array of `value`: a copy of one made once (a copy costs less
+        than filling one)."""
+        key = (value, dtype)
+        rows = self._constants.get(key)
+        if rows is None:
+            rows = self._constants[key] = np.full(self.num_envs, value, dtype=dtype)
+        return rows.copy()
 
     # -- per-environment access ----------------------------------------------------------
 
@@ -651,6 +735,13 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             threads.close()
         for env in getattr(self, "_envs", ()):
             env.close()
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
 
 
 def _is_seed(seed: Any) -> bool:

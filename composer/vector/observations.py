@@ -88,14 +88,34 @@ class BatchObservations:
         environments `ids` ((len(ids), *shape)); `random_state(i)` is environment i's.
         Raises BatchError for a batch reader of the wrong shape."""
         self.num_envs = physics.num_envs
-        self.schedule = Schedule(updater.channels, updater.substeps, self.num_envs, updater.flatten)
-        self.period = self.schedule.period
         channels = updater.channels
         self._rendered = [isinstance(c.observable, MJCFCamera) for c in channels]
         self._reads = [
             None if rendered else _batch_reader(c.name, c.observable, c.shape, physics)
             for c, rendered in zip(channels, self._rendered, strict=True)
         ]
+        # With a period of one control step, direct channels read for all environments
+        # at once are sampled here, apart from the schedule: a read and a copy each.
+        apart = {
+            k: read
+            for k, (c, read) in enumerate(zip(channels, self._reads, strict=True))
+            if read is not None and c.direct and updater.period == 1
+        }
+        self.schedule = Schedule(
+            channels, updater.substeps, self.num_envs, updater.flatten, apart=apart
+        )
+        self.period = self.schedule.period
+        # Whether `sample` and `finish` need the environments' phases and physics steps.
+        self.counts_steps = self.schedule.counts_steps
+        substeps = updater.substeps
+        # Per physics step of the control step (1..substeps): the channels sampled apart
+        # then, as (output, read), and whether the schedule samples others.
+        self._apart: list[list[tuple[np.ndarray, Callable[[], np.ndarray]]]] = [[]]
+        self._scheduled = [False]
+        for offset in range(1, substeps + 1):
+            due = [k for k, c in enumerate(channels) if c.needed(offset, substeps)]
+            self._apart.append([(self.schedule.output(k), apart[k]) for k in due if k in apart])
+            self._scheduled.append(any(k not in apart for k in due))
         self.rendered = [c.name for c, r in zip(channels, self._rendered, strict=True) if r]
         self.per_environment = [
             c.name
@@ -119,13 +139,20 @@ class BatchObservations:
         return self.schedule.offsets(phases)
 
     def sample(
-        self, ids: np.ndarray, phases: int | np.ndarray, offset: int, first: np.ndarray
+        self, ids: np.ndarray, phases: int | np.ndarray, offset: int, first: int | np.ndarray
     ) -> None:
         """Sample the observables due after physics step `offset` of the control step, for
         environments `ids` in phases `phases` (one for all, or one each) whose control
-        step began at steps `first`."""
+        step began at steps `first` (0 for all where the schedule does not count steps:
+        `counts_steps`)."""
+        rows = self._rows(ids)
+        if self.period == 1:
+            for out, read in self._apart[offset]:
+                out[rows] = read() if rows is ALL else read()[rows]
+            if not self._scheduled[offset]:
+                return
         self.schedule.sample(
-            0 if self.period == 1 else phases, offset, self._rows(ids), first + offset,
+            0 if self.period == 1 else phases, offset, rows, first + offset,
             self._read, self._random_states,
         )  # fmt: skip
 

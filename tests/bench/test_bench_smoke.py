@@ -174,7 +174,15 @@ def test_the_suite_comparison_runs_ours_the_floor_envpool_and_gymnasium(tmp_path
     for num_envs in (1, 4):
         for ratio in ("vector_vs_envpool", "vector_vs_floor", "vector_vs_gymnasium"):
             assert found[f"tasks.cartpole-swingup.n{num_envs}.{ratio}"] > 0
-        assert len(results["tasks"]["cartpole-swingup"][f"n{num_envs}"]["load"]) == 2
+        size = results["tasks"]["cartpole-swingup"][f"n{num_envs}"]
+        assert len(size["load"]) == 2
+        # Each threaded side on 1 and min(N, CPUs) threads, reported at the better count.
+        counts = sorted({1, min(num_envs, results["cpus"])})
+        assert {f"vector@{n}" for n in counts} | {f"envpool@{n}" for n in counts} <= set(
+            size["runs"]
+        )
+        assert size["vector"]["threads"] in counts and size["envpool"]["threads"] in counts
+        assert size["vector_default_threads"] in counts
 
 
 def test_the_suite_comparison_refuses_a_task_that_is_not_registered():
