@@ -148,9 +148,9 @@ class ActionRule:
         the environments `ids` of the rows), for a NaN or infinite value."""
         # The sum of squares is finite only if every value is (squares are >= 0, so no
         # inf - inf); a non-finite one also comes of finite values past 1e154, which the
-        # exact test then tells apart. A third of that test's cost, every step.
-        # (A vector's own dot product costs a third less than np.vdot's flattening one.)
-        total = actions.dot(actions) if actions.ndim == 1 else np.vdot(actions, actions)
+        # exact test then tells apart. A third of that test's cost, every step. (np.vdot:
+        # a vector's own `dot` is 0.15 us cheaper but warns of the overflow.)
+        total = np.vdot(actions, actions)
         if not math.isfinite(total):
             finite = np.isfinite(actions)
             if not finite.all():

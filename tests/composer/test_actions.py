@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from gymnasium import spaces
@@ -69,7 +71,9 @@ def _exact_verdict(actions: np.ndarray) -> bool:
 @pytest.mark.parametrize("num_envs", [None, 3])
 def test_the_finiteness_test_agrees_with_isfinite_on_every_kind_of_value(num_envs) -> None:
     # Huge finite values overflow the cheap test's sum of squares; they must still pass,
-    # and every NaN or infinity, alone or among huge values, must still be refused.
+    # and every NaN or infinity, alone or among huge values, must still be refused, with no
+    # warning of the overflow (a finite action is valid, whatever its size).
+    warnings.simplefilter("error")
     space = spaces.Box(-np.inf, np.inf, (4,), dtype=np.float64)
     rule = stepping.ActionRule(space, num_envs)
     values = [0.0, -2.5, 1e-300, 1e154, 1e200, -1.7e308, np.inf, -np.inf, np.nan]
