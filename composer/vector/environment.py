@@ -62,7 +62,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
       ends, reset without a seed). Their models must share MuJoCo's data layout; each
       simulation runs on its environment's own MjModel (`mujoco.batch.Batch.set_models`).
     - Physics steps run on MuJoCo's thread pool (`mujoco.batch`, `nthread` threads: by
-      default a thread for each millisecond of a step call's physics, at least one,
+      default a thread for each 25 us of a step call's physics, at least one,
       `composer.vector.threads`; without the bindings' profiling timer,
       `composer.batch.timer`) and leave derived quantities (xpos, sensordata ...) consistent
       with the new state, as a single environment's `mjcf.Physics.step` does
@@ -118,7 +118,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         `action_repeat` is `composer.Environment`'s (each step that many control steps);
         `seed` seeds environment i's random state with seed + i until a seeded reset;
         `nthread` (physics and render threads) defaults to the CPUs this process may use
-        for rendering and, for the physics, to a thread for each millisecond of a step's
+        for rendering and, for the physics, to a thread for each 25 us of a step's
         physics, at least one, at most those CPUs (`composer.vector.threads`; `nthread`);
         the render options are `composer.Environment`'s (`render_camera` None: the task's
         `render_camera`, else the free camera), and so are the observation options. Raises

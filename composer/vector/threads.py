@@ -2,7 +2,7 @@
 
     physics_threads(model, num_envs=32, substeps=5, cpus=8)   # 1 to min(num_envs, cpus)
 
-A thread for each `WORK_PER_THREAD` (1 ms) of physics in a step call, at least one
+A thread for each `WORK_PER_THREAD` (25 us) of physics in a step call, at least one
 (`physics_threads` says why); the count never changes a result, only its speed.
 """
 
@@ -13,7 +13,11 @@ import time
 
 import mujoco
 
-WORK_PER_THREAD = 1e-3  # seconds of physics in a step call for each thread of the batch
+# Seconds of physics in a step call for each thread of the batch: on 2 idle cores a second
+# thread paid in wall time from about 30 us a call (cheetah run N = 8: 244k against 155k
+# steps/s; cartpole swingup N = 8, about 26 us: 130k against 157k; N = 128: 457k against
+# 240k), though under load its spin costs CPU time (docs/suite.md, Speed).
+WORK_PER_THREAD = 25e-6
 _TIMED = 2e-4  # seconds of thread CPU spent timing the model's mj_step, at most ...
 _STEPS = 40  # ... or this many steps
 
@@ -46,9 +50,10 @@ def physics_threads(model: mujoco.MjModel, num_envs: int, substeps: int, cpus: i
 
     A thread of MuJoCo's batch that has finished its share of a call waits for the next
     one spinning (about 0.1 ms of CPU a call), and on a loaded machine a call waits for
-    its slowest thread to get a core. A thread pays only where its share of a call is
-    long: there its spin is under a tenth of its work, and on idle cores k threads nearly
-    divide the wall time by k. (Measurements: docs/performance_profile.md, section 8.)"""
+    its slowest thread to get a core; on idle cores k threads nearly divide the wall time
+    by k once a call holds a few tens of microseconds of physics. The default serves wall
+    time on idle cores; `nthread=1` saves the spin's CPU time where cores are busy.
+    (Measurements: docs/performance_profile.md, section 8; docs/suite.md, Speed.)"""
     most = max(1, min(num_envs, cpus))
     if most == 1:
         return 1

@@ -29,19 +29,22 @@ def test_a_step_of_a_model_is_timed_on_a_scratch_copy():
     assert threads.step_seconds(model) > 0
 
 
+_W = threads.WORK_PER_THREAD
+
+
 @pytest.mark.parametrize(
     ("step", "num_envs", "substeps", "cpus", "expected"),
     [
-        (1e-5, 8, 1, 4, 1),  # 80 us a call: one thread
-        (1e-5, 32, 5, 4, 1),  # 1.6 ms: still one (a thread a millisecond)
-        (1e-5, 64, 5, 4, 3),  # 3.2 ms: three
-        (1e-5, 200, 5, 4, 4),  # 10 ms: the CPUs
-        (1e-5, 2, 1000, 4, 2),  # 20 ms, but two simulations
-        (1e-5, 1000, 1, 1, 1),  # one CPU
-        (1e-3, 1, 5, 4, 1),  # one simulation
+        (_W / 10, 8, 1, 4, 1),  # 0.8 of the work a thread: one thread
+        (_W / 10, 16, 1, 4, 1),  # 1.6: still one (a thread for each WORK_PER_THREAD)
+        (_W / 10, 32, 1, 4, 3),  # 3.2: three
+        (_W / 10, 20, 5, 4, 4),  # 10: the CPUs
+        (_W / 10, 2, 1000, 4, 2),  # 200, but two simulations
+        (_W / 10, 1000, 1, 1, 1),  # one CPU
+        (_W * 100, 1, 5, 4, 1),  # one simulation
     ],
 )
-def test_a_thread_for_each_millisecond_of_physics_in_a_call(
+def test_a_thread_for_each_work_per_thread_of_physics_in_a_call(
     monkeypatch, step, num_envs, substeps, cpus, expected
 ):
     monkeypatch.setattr(threads, "step_seconds", lambda model: step)
