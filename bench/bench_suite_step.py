@@ -11,7 +11,9 @@ Three sides per task, stepped with the same random actions:
   wheel, run on our `mjcf.Physics`: dm_control itself cannot run on MuJoCo 4; the wheel is
   fetched as the tests fetch it, `tests/tasks/suite/oracle.py`);
 - raw: `mujoco.mj_step` on the same compiled model for the task's physics steps per
-  control step, actions written to ctrl, nothing else.
+  control step, actions written to ctrl, nothing else, as a Python loop runs it (the
+  bindings' profiling timer on); raw_untimed: the same without that timer, as ours steps
+  (`composer.batch.timer`) and C programs do: MuJoCo's own floor.
 Every round of every side runs the same trajectory: ours from `reset(seed=0)`, dm_control's
 task reseeded with 0 before its reset (the same episode, as the equality tests show), raw
 from the state ours starts in (MuJoCo's full physics state), so that all three simulate the
@@ -39,6 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 import tasks  # noqa: F401  (registers the ids)
 from bench import rounds
+from composer.batch import timer
 from tests.tasks.suite import oracle
 
 SUBJECTS = ("walker-walk", "cheetah-run", "cartpole-swingup", "humanoid-run")
@@ -104,12 +107,14 @@ def measure(subject: str, round_count: int, steps: int) -> dict[str, float]:
         theirs.task.random.seed(0)
         theirs.reset()
 
+    raw = _raw_round(model, start, inner.timing.substeps, actions)
     timed = rounds.alternate(
         {
             "ours": _round(lambda: env.reset(seed=0), env.step, actions, gym_ended),
             "unwrapped": _round(lambda: inner.reset(seed=0), inner.step, actions, gym_ended),
             "dm_control": _round(reset_theirs, theirs.step, actions, lambda ts: ts.last()),
-            "raw": _raw_round(model, start, inner.timing.substeps, actions),
+            "raw": raw,
+            "raw_untimed": lambda: timer.untimed(raw),
         },
         round_count,
     )
@@ -120,6 +125,7 @@ def measure(subject: str, round_count: int, steps: int) -> dict[str, float]:
         found[f"{side}_us"], found[f"{side}_us_median"] = figures["best"], figures["median"]
     for side in ("ours", "unwrapped", "dm_control"):
         found[f"{side}_vs_raw"] = found[f"{side}_us"] / found["raw_us"]
+    found["ours_vs_raw_untimed"] = found["ours_us"] / found["raw_untimed_us"]
     found["ours_vs_dm_control"] = found["ours_us"] / found["dm_control_us"]
     found["unwrapped_vs_dm_control"] = found["unwrapped_us"] / found["dm_control_us"]
     return found
@@ -131,14 +137,15 @@ def main(*subjects: str, quick: bool = False) -> dict[str, dict[str, float]]:
                   if env_id.startswith("dm_control/")}  # fmt: skip
     subjects = subjects or tuple(s for s in SUBJECTS if s in registered)
     round_count, steps = (2, 20) if quick else (ROUNDS, STEPS)
-    print(f"{'task':22} {'raw us':>7} {'ours':>7} {'unwrap':>7} {'dm_ctrl':>7} | "
-          f"{'ours/raw':>8} {'unwr/raw':>8} {'dm/raw':>7} {'ours/dm':>7} "
+    print(f"{'task':22} {'raw us':>7} {'untimed':>7} {'ours':>7} {'unwrap':>7} {'dm_ctrl':>7} | "
+          f"{'ours/raw':>8} {'/untimed':>8} {'unwr/raw':>8} {'dm/raw':>7} {'ours/dm':>7} "
           f"{'unwr/dm':>7}")  # fmt: skip
     results = {}
     for subject in subjects:
         f = results[subject] = measure(subject, round_count, steps)
-        print(f"{subject:22} {f['raw_us']:7.1f} {f['ours_us']:7.1f} {f['unwrapped_us']:7.1f} "
-              f"{f['dm_control_us']:7.1f} | {f['ours_vs_raw']:8.2f} {f['unwrapped_vs_raw']:8.2f} "
+        print(f"{subject:22} {f['raw_us']:7.1f} {f['raw_untimed_us']:7.1f} {f['ours_us']:7.1f} "
+              f"{f['unwrapped_us']:7.1f} {f['dm_control_us']:7.1f} | {f['ours_vs_raw']:8.2f} "
+              f"{f['ours_vs_raw_untimed']:8.2f} {f['unwrapped_vs_raw']:8.2f} "
               f"{f['dm_control_vs_raw']:7.2f} {f['ours_vs_dm_control']:7.2f} "
               f"{f['unwrapped_vs_dm_control']:7.2f}")  # fmt: skip
     return results

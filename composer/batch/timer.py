@@ -43,9 +43,11 @@ def untimed(call: Callable[..., T], *arguments: Any) -> T:
     `MjData.timer`'s durations) that MuJoCo calls around every section of a step, a
     sizeable part of a small model's step (docs/performance_profile.md, section 8); C
     MuJoCo's own default, as envpool's C++ has it, is none. Inside the call the timer
-    counts (`MjData.timer[...].number`) still count and their durations stay 0. Any other
-    timer callback (a C function installed through ctypes: MuJoCo's batch refuses Python
-    ones) is left in place, as is the bindings' one where MuJoCo's library is not found."""
+    counts (`MjData.timer[...].number`) still count and their durations are not added to.
+    The callback is process-wide: steps other threads run meanwhile go untimed too (their
+    durations meaningless, never their physics). Any other timer callback (a C function
+    installed through ctypes: MuJoCo's batch refuses Python ones) is left in place, as is
+    the bindings' one where MuJoCo's library is not found."""
     callback = _MJCB_TIME
     if _BINDINGS is None or callback is None or callback.value != _BINDINGS:
         return call(*arguments)

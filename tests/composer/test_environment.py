@@ -12,6 +12,7 @@ from gymnasium import spaces
 from gymnasium.utils.env_checker import check_env
 
 import composer
+import mjcf
 from tests.composer.scenes import SwingTask
 
 ENV_ID = "composer_tests/Swing-v0"
@@ -144,6 +145,34 @@ def test_divergence_truncates_with_the_error_and_the_next_episode_runs():
     obs, _, terminated, truncated, info = env.step(np.zeros(1))
     assert not truncated and "physics_error" not in info
     assert np.isfinite(obs["pendulum/orientation"]).all()
+
+
+def _step_timer(data: mujoco.MjData) -> tuple[int, float]:
+    entry = data.timer[mujoco.mjtTimer.mjTIMER_STEP]
+    return int(entry.number), float(entry.duration)
+
+
+def test_a_step_runs_without_mujocos_profiling_timer_and_puts_it_back():
+    env = make_env(substeps=3, time_limit=1.0, raise_exception_on_physics_error=True)
+    env.reset(seed=0)
+    plain = mujoco.MjData(env.physics.model)
+    mujoco.mj_step(env.physics.model, plain)
+    assert _step_timer(plain)[1] > 0  # the bindings' timer is installed
+    count, duration = _step_timer(env.physics.data)
+    env.step(np.ones(1))
+    # MuJoCo counted the step's calls without timing them: the timer was unset.
+    assert _step_timer(env.physics.data)[0] > count
+    assert _step_timer(env.physics.data)[1] == duration
+    mujoco.mj_step(env.physics.model, plain)
+    assert _step_timer(plain)[1] > 0  # installed again after the step
+    diverging = make_env(gear=1e30, time_limit=1.0, raise_exception_on_physics_error=True)
+    diverging.reset(seed=0)
+    with pytest.raises(mjcf.PhysicsError):
+        for _ in range(50):
+            diverging.step(np.ones(1))
+    before = _step_timer(plain)[1]
+    mujoco.mj_step(env.physics.model, plain)
+    assert _step_timer(plain)[1] > before  # and after a step that raised
 
 
 def test_reset_without_model_change_does_not_recompile():
