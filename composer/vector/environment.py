@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Any, cast
 
 import gymnasium
@@ -24,29 +24,27 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 from mujoco import batch as mujoco_batch
 
-import mjcf
 from composer import errors, hooks, stepping
-from composer.batch import timer
 from composer.batch.vector import Simulations, VectorPhysics
 from composer.environment import RENDER_MODES, Environment
 from composer.observation import ObservationPadding
 from composer.task import Task
-from composer.vector import info_layout, threads
+from composer.vector import threads
+from composer.vector.control_step import ControlStep
+from composer.vector.materialize import STALE
 from composer.vector.models import SameModels
 from composer.vector.observations import BatchObservations
 from composer.vector.rendering import Ids, RenderThreads
-from mjcf.sim import rendering
+from composer.vector.resets import Resets
 
-_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 # The warnings by which `mjcf.Physics.check_invalid_state` reports an invalid state: a run
 # of mjtWarning, so that their counters are a view of the batch's.
 _INVALID = slice(int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADCTRL) + 1)
 assert _INVALID.stop - _INVALID.start == 4, "BADQPOS, BADQVEL, BADQACC, BADCTRL"
-_STALE, _SYNCED, _DERIVED = 0, 1, 2
 _OUTCOME = frozenset({"get_reward", "should_terminate_episode", "get_discount", "get_info"})
 
 
-class VectorEnvironment(gymnasium.vector.VectorEnv):
+class VectorEnvironment(ControlStep, Resets, gymnasium.vector.VectorEnv):
     """num_envs environments of one task, stepped together. `per_environment` lists what runs
     once per environment each step, on a materialized MjData ([] when the task and its
     observables are fully batched).
@@ -90,6 +88,10 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
       arena overflow) are reported the same way instead of raising.
     - info holds the task's `get_info` entries and 'discount', as (num_envs,) arrays each with
       a boolean mask '_<key>' of the environments that have it (gymnasium's convention).
+
+    Its parts are base classes in modules of their own: `Resets` (`reset()` and autoreset,
+    `composer.vector.resets`), `ControlStep` (a control step, `.control_step`) and
+    `Materialize` (each environment's own physics, `.materialize`).
     """
 
     metadata = {"render_modes": list(RENDER_MODES), "autoreset_mode": AutoresetMode.NEXT_STEP}
@@ -184,11 +186,9 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         self._lag = self._most = 0
         self._over = np.zeros(num_envs, dtype=bool)
         self._ended = False  # whether some environment's episode ended (_over.any())
-        # What each environment's own MjData holds of its simulation: _STALE (nothing
-        # since its last physics step), _SYNCED (all of it), or _DERIVED (its derived
-        # fields, but a batched write changed the state since).
-        self._held = np.full(num_envs, _STALE, dtype=np.int8)
-        self._any_synced = False  # whether some environment may be _SYNCED
+        # What each environment's own MjData holds of its simulation (`.materialize`).
+        self._held = np.full(num_envs, STALE, dtype=np.int8)
+        self._any_synced = False  # whether some environment may be SYNCED
         self._started = False
 
     def _build_batch(self, nthread: int) -> None:
@@ -310,65 +310,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
         """Seconds of simulation per `step()`."""
         return self._envs[0].timing.control_timestep
 
-    # -- gymnasium API -------------------------------------------------------------------
-
-    def reset(
-        self,
-        *,
-        seed: int | Sequence[int | None] | None = None,
-        options: dict[str, Any] | None = None,
-    ) -> tuple[dict[str, np.ndarray] | np.ndarray, dict[str, Any]]:
-        """Reset every environment, or those of `options['reset_mask']` (a (num_envs,)
-        bool array). `seed`: an int seeds environment i with seed + i, a list one seed
-        each. Returns (observations, info). Raises EpisodeError for a bad mask or seeds."""
-        options = dict(options or {})
-        mask = options.pop("reset_mask", None)
-        seeds = _seeds(seed, self.num_envs)
-        if seed is not None and _is_seed(seed):
-            super().reset(seed=seeds[0])
-        if mask is None:
-            ids = np.arange(self.num_envs)
-        else:
-            mask = np.asarray(mask)
-            if mask.dtype != np.bool_ or mask.shape != (self.num_envs,) or not mask.any():
-                raise errors.EpisodeError(
-                    f"options['reset_mask'] must be a ({self.num_envs},) bool array with a "
-                    f"True, got {mask!r}"
-                )
-            ids = np.flatnonzero(mask)
-        self._reset_envs(ids, [seeds[i] for i in ids], options or None)
-        self._started = True
-        return self._observations.observation(), {}
-
-    def _reset_envs(
-        self, ids: np.ndarray, seeds: Sequence[int | None], options: dict[str, Any] | None
-    ) -> None:
-        for i, seed in zip(ids, seeds, strict=True):
-            env = self._envs[i]
-            model = env.physics.model
-            with rendering.context_group(self._render_threads.group(i)):
-                env.reset(seed=seed, options=options)
-            if env.physics.model is not model:  # recompiled: its hooks may have changed
-                self._hooks[i] = hooks.Hooks(env.task)
-                if i == 0:
-                    self._resolve_hooks()
-            self._save(i)
-            self._observations.load(i, env.updater)
-            self._held[i] = _SYNCED
-        counts = self._step_counts()
-        counts[ids] = 0
-        self._most = int(counts.max())
-        self._over[ids] = False
-        self._ended = bool(self._over.any())
-        self._any_synced = True
-        self._set_models(ids)
-
-    def _step_counts(self) -> np.ndarray:
-        """Control steps since each environment's reset, (num_envs,) int64, up to date."""
-        if self._lag:
-            self._steps += self._lag
-            self._lag = 0
-        return self._steps
+    # -- gymnasium API: step (reset is `Resets`'s) ---------------------------------------
 
     def step(
         self, actions: Any
@@ -410,298 +352,7 @@ class VectorEnvironment(gymnasium.vector.VectorEnv):
             info = self._final(np.flatnonzero(self._over), info)
         return self._observations.observation(), rewards, terminated, truncated, info
 
-    def _repeat(
-        self,
-        ids: np.ndarray,
-        actions: np.ndarray,
-        rewards: np.ndarray,
-        terminated: np.ndarray,
-        truncated: np.ndarray,
-        info: dict[str, Any],
-    ) -> dict[str, Any]:
-        """The control steps after the first of an `action_repeat` step, for environments
-        `ids` whose episodes go on, as each one's Environment runs them: rewards summed,
-        discounts multiplied, each environment's info that of its last control step."""
-        n = self.num_envs
-        discounts = np.ones(n)
-        _multiply_discounts(discounts, info, ids)
-        for _ in range(1, self._action_repeat):
-            going = ids[~(terminated[ids] | truncated[ids])]
-            if not going.size:
-                break
-            more_rewards = np.zeros(n)
-            more: dict[str, Any] = {}
-            self._step_envs(going, actions[going], more_rewards, terminated, truncated, more)
-            rewards[going] += more_rewards[going]
-            _multiply_discounts(discounts, more, going)
-            info_layout.replace_rows(info, more, going)
-        if "discount" in info:
-            has = info["_discount"]
-            info["discount"][has] = discounts[has]
-        return info
-
-    def _final(self, ended: np.ndarray, info: dict[str, Any]) -> dict[str, Any]:
-        """SAME_STEP: move ended environments' observations and info to final_obs and
-        final_info, then reset them."""
-        mask = np.zeros(self.num_envs, dtype=bool)
-        mask[ended] = True
-        final_obs = np.full(self.num_envs, None, dtype=object)
-        for i, row in zip(ended, self._final_observations(ended), strict=True):
-            final_obs[i] = row
-        kept, moved = info_layout.split(info, mask)
-        self._reset_envs(ended, [None] * len(ended), None)
-        return {**kept, "final_obs": final_obs, "_final_obs": mask, "final_info": moved,
-                "_final_info": mask.copy()}  # fmt: skip
-
-    def _final_observations(self, ended: np.ndarray) -> list[Any]:
-        """The observations environments `ended` end their episodes with, before their
-        reset, each as its own Environment returns it."""
-        return [self._observations.row(i) for i in ended]
-
-    # -- one control step (composer.stepping: its order and rules) ------------------------
-
-    def _step_envs(
-        self,
-        ids: np.ndarray,
-        actions: np.ndarray,
-        rewards: np.ndarray,
-        terminated: np.ndarray,
-        truncated: np.ndarray,
-        info: dict[str, Any],
-    ) -> bool:
-        """One control step of environments `ids` (`self._every`: all) with their rows of
-        `actions`; fills their rows of the results. Returns whether an episode may have
-        ended (False: every row of `terminated` and `truncated` is False)."""
-        actions = self._actions.clipped(actions, ids)
-        every = ids is self._every
-        physics = self._simulations.physics(None if every else ids)
-        self._before_step(physics, ids, actions)
-        phases, first = self._phases(ids)
-        failures, last_due = self._advance(ids, actions, phases, first)
-        self._after_step(physics, ids)
-        if last_due:
-            self._observations.sample(ids, phases, self._substeps, first)
-        if every:
-            self._lag += 1
-            self._most += 1
-        else:
-            counts = self._step_counts()
-            counts[ids] += 1
-            self._most = int(counts.max())
-        if self._observations.counts_steps:
-            steps = self._step_counts()
-            self._observations.finish(ids, (steps if every else steps[ids]) * self._substeps)
-        errors_found = self._invalid(ids, failures)
-        for i, message in errors_found.items():
-            entries = stepping.diverged(message, stacklevel=3, environment=i)
-            info_layout.add(info, entries, i, self.num_envs)
-            truncated[i] = True
-        ok = ids
-        if errors_found:
-            ok = ids[~np.isin(ids, list(errors_found))]
-            physics = self._simulations.physics(ok)
-        ending = bool(errors_found)
-        if ok.size:
-            ending |= self._outcome(physics, rewards, terminated, info)
-            if self._most >= self._step_limit:  # some episode is at its step limit
-                steps = self._step_counts()
-                if ok is self._every:
-                    np.greater_equal(steps, self._step_limit, out=truncated)
-                else:
-                    truncated[ok] = steps[ok] >= self._step_limit
-                ending = True
-        return ending
-
-    def _before_step(self, physics: VectorPhysics, ids: np.ndarray, actions: np.ndarray) -> None:
-        methods = self._methods
-        if methods.apply(physics, actions):
-            self._wrote(ids)
-        if self._applies_each:
-            for k, i in enumerate(ids):
-                env, own = self._envs[i], self._materialize(i)
-                methods.apply_each(env.task, self._hooks[i], own, actions[k], env.random_state)
-                self._save(i)
-
-    def _phases(self, ids: np.ndarray) -> tuple[int | np.ndarray, int | np.ndarray]:
-        """The phases of the observation schedule of environments `ids` in this control
-        step (one for all, or one each), and the physics steps each ran before it (0 when
-        the schedule does not count them: `BatchObservations.counts_steps`)."""
-        observations = self._observations
-        if not observations.counts_steps:
-            return 0, 0
-        steps = self._step_counts()
-        if ids is not self._every:
-            steps = steps[ids]
-        period = observations.period
-        return (steps % period if period > 1 else 0), steps * self._substeps
-
-    def _advance(
-        self,
-        ids: np.ndarray,
-        actions: np.ndarray,
-        phases: int | np.ndarray,
-        first: int | np.ndarray,
-    ) -> tuple[dict[int, str], bool]:
-        """Run the control step's physics steps, sampling observables when due but after
-        the last step (environments `ids` in schedule `phases`, after physics steps
-        `first`). Returns the MuJoCo error message of each simulation that raised one, and
-        whether observables are due after the last step."""
-        failures: dict[int, str] = {}
-        sample = self._observations.sample
-        around = None
-        if self._substeps_hooked:
-
-            def around(before: bool) -> None:
-                self._substep_hooks(ids, actions, before)
-
-        return failures, stepping.physics_steps(
-            self._substeps,
-            self._observations.offsets(phases),
-            lambda nstep: self._run(ids, nstep, failures),
-            lambda offset: sample(ids, phases, offset, first),
-            around,
-        )
-
-    def _substep_hooks(self, ids: np.ndarray, actions: np.ndarray, before: bool) -> None:
-        for k, i in enumerate(ids):
-            env = self._envs[i]
-            physics = self._materialize(i)
-            stepping.substep_hooks(self._hooks[i], physics, actions[k], env.random_state, before)
-            self._save(i)
-
-    def _run(self, ids: np.ndarray, nstep: int, failures: dict[int, str]) -> None:
-        """Step simulations `ids` (but those that failed) by nstep physics steps."""
-        if failures:
-            ids = ids[~np.isin(ids, list(failures))]
-        every = len(ids) == self.num_envs
-        simulations = self._simulations
-        consistent = self._envs[0].physics.legacy_step
-        # The stages of the new state only once something reads them: before, the fields
-        # are recomputed if read (a first read of a derived field, in this control step).
-        computed = simulations.step_stage(consistent)
-        try:
-            timer.untimed(self._batch.step, None if every else ids, nstep, computed)
-        except mujoco_batch.SimulationError as e:
-            for i in e.ids:
-                failures[int(i)] = f"MuJoCo raised: {self._batch.error(int(i))}"
-        if every:
-            if self._any_synced:  # else every environment's is _STALE already
-                self._held[:] = _STALE
-                self._any_synced = False
-            simulations.stepped(None, consistent, computed)
-        else:
-            self._held[ids] = _STALE
-            simulations.stepped(ids, consistent, computed)
-
-    def _after_step(self, physics: VectorPhysics, ids: np.ndarray) -> None:
-        methods = self._methods
-        if methods.finish(physics):
-            self._wrote(ids)
-        if self._finishes_each:
-            for i in ids:
-                env, own = self._envs[i], self._materialize(i)
-                methods.finish_each(env.task, self._hooks[i], own, env.random_state)
-                self._save(i)
-
-    def _invalid(self, ids: np.ndarray, failures: dict[int, str]) -> dict[int, str]:
-        """{environment: message} of the stepped environments whose state is invalid."""
-        found = dict(failures)
-        if not np.count_nonzero(self._invalid_counts):
-            return found  # no warning of an invalid state anywhere
-        counts = self._invalid_counts[ids]
-        for i in ids[counts.any(axis=1)]:
-            if int(i) not in found:
-                message = stepping.invalid_state(self._materialize(i))
-                if message is not None:
-                    found[int(i)] = message
-        return found
-
-    def _outcome(
-        self,
-        physics: VectorPhysics,
-        rewards: np.ndarray,
-        terminated: np.ndarray,
-        info: dict[str, Any],
-    ) -> bool:
-        """Reward, termination, info entries and discount of the environments of
-        `physics`; whether an episode may have terminated (False: none did)."""
-        methods, n = self._methods, self.num_envs
-        ids = physics._every
-        every = slice(None) if physics.num_envs == n else ids
-        rows = methods.outcome(physics)
-        if rows.rewards is not None:
-            rewards[every] = rows.rewards
-        ending = rows.terminations is not None and rows.terminations is not False
-        if ending:
-            terminated[every] = rows.terminations
-        for key, values in rows.info.items():
-            info_layout.put(info, key, ids, values, n)
-        if rows.discounts is not None:
-            discounts = rows.discounts
-            if type(every) is slice and not isinstance(discounts, np.ndarray):
-                info["discount"] = self._constant_rows(discounts, np.float64)  # Task's default
-                info["_discount"] = self._constant_rows(True, bool)
-            else:
-                info_layout.put(info, "discount", ids, np.broadcast_to(discounts, len(ids)), n)
-        if self._outcome_each:
-            ending = True
-            for i in ids:
-                task, own = self._envs[i].task, self._materialize(i)
-                reward, ended, entries = methods.outcome_each(task, own)
-                if reward is not None:
-                    rewards[i] = reward
-                if ended is not None:
-                    terminated[i] = ended
-                info_layout.add(info, entries, i, n)
-        return ending
-
-    def _constant_rows(self, value: Any, dtype: type) -> np.ndarray:
-        """A new (num_envs,) array of `value`: a copy of one made once (a copy costs less
-        than filling one)."""
-        key = (value, dtype)
-        rows = self._constants.get(key)
-        if rows is None:
-            rows = self._constants[key] = np.full(self.num_envs, value, dtype=dtype)
-        return rows.copy()
-
-    # -- per-environment access ----------------------------------------------------------
-
-    def _materialize(self, i: int) -> mjcf.Physics:
-        """Environment i's physics, holding its simulation (state and derived fields)."""
-        physics = self._envs[i].physics
-        held = self._held[i]
-        if held == _STALE:
-            self._batch.get_data(int(i), physics.data)
-            if physics.legacy_step:
-                # Derived fields a single environment would recompute when read: the
-                # acceleration stage.
-                physics.mark_as_dirty()
-        elif held == _DERIVED:
-            mujoco.mj_setState(physics.model, physics.data, self._state[i], _STATE)
-            physics.mark_as_dirty()
-        self._held[i] = _SYNCED
-        self._any_synced = True
-        return physics
-
-    def _wrote(self, ids: np.ndarray) -> None:
-        """A batched method may have written the state rows of environments `ids`."""
-        if not self._any_synced:
-            return  # none holds its whole simulation: none can hold derived fields alone
-        held = self._held[ids]
-        self._held[ids] = np.where(held == _SYNCED, _DERIVED, held)
-
-    def _save(self, i: int) -> None:
-        """Write environment i's physics state (and warning counters) into its row."""
-        physics = self._envs[i].physics
-        mujoco.mj_getState(physics.model, physics.data, self._state[i], _STATE)
-        self._warning[i, :, 0] = physics.data.warning.lastinfo
-        self._warning[i, :, 1] = physics.data.warning.number
-        self._simulations.changed(i)
-
-    def _read_env(self, i: int, channel: int) -> np.ndarray:
-        """Observable `channel` of environment i, read from its own physics."""
-        self._materialize(i)
-        return self._envs[i].updater.readers[channel]()
+    # -- rendering -----------------------------------------------------------------------
 
     def _render_envs(self, ids: Ids, channel: int) -> np.ndarray:
         """Camera observable `channel` of environments `ids`, each drawn by its own reader
@@ -742,35 +393,3 @@ def _cpus() -> int:
     if hasattr(os, "sched_getaffinity"):
         return len(os.sched_getaffinity(0))
     return os.cpu_count() or 1
-
-
-def _is_seed(seed: Any) -> bool:
-    """Whether `seed` is one seed: an int (numpy's too) of at least 0, as Gymnasium takes."""
-    return isinstance(seed, int | np.integer) and bool(seed >= 0)
-
-
-def _seeds(seed: Any, n: int) -> list[int | None]:
-    """The seed of each of `n` environments that `seed` gives (see `reset`); raises
-    EpisodeError, before any environment is reset, for anything else."""
-    if seed is None or _is_seed(seed):
-        return [None if seed is None else int(seed) + i for i in range(n)]
-    if (
-        isinstance(seed, list | tuple | np.ndarray)
-        and len(seed) == n
-        and all(s is None or _is_seed(s) for s in seed)
-    ):
-        return [None if s is None else int(s) for s in seed]
-    shown = repr(seed) if len(repr(seed)) <= 80 else repr(seed)[:77] + "..."
-    raise errors.EpisodeError(
-        f"seed must be None, an int of at least 0 (environment i gets seed + i) or {n} of "
-        f"them (or None), got {shown}"
-    )
-
-
-def _multiply_discounts(discounts: np.ndarray, info: dict[str, Any], ids: np.ndarray) -> None:
-    """discounts[ids] *= the step's discount of each of `ids` (0 where it has none: a
-    diverged step, as a single Environment counts it)."""
-    if "discount" in info:
-        discounts[ids] *= np.where(info["_discount"][ids], info["discount"][ids], 0.0)
-    else:
-        discounts[ids] = 0.0

@@ -17,7 +17,6 @@ import copy as copy_module
 import functools
 import logging
 import os
-import threading
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -36,14 +35,13 @@ from mjcf.sim import (
     mujoco_log,
     named,
     raw_access,
-    rendering,
-    set_const,
-    staleness,
     tree_binding,
     validity,
 )
-from mjcf.sim.binding import ACC_BEHIND, LAGGING, POS_BEHIND, WRITTEN
-from mjcf.sim.physics_state import STATE_WRITE, ResetContext, StateAccess
+from mjcf.sim.binding import ACC_BEHIND, POS_BEHIND
+from mjcf.sim.physics_rendering import Rendering
+from mjcf.sim.physics_state import ResetContext, StateAccess
+from mjcf.sim.physics_stepping import Stepping
 from mjcf.tree.element import Element as ElementType
 
 if TYPE_CHECKING:
@@ -54,14 +52,6 @@ raw_access.install()
 mujoco_log.install()  # MuJoCo's warnings to logging, not to MUJOCO_LOG.TXT
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
-# As ints: comparing MuJoCo's pybind11 enums costs microseconds, and step() is hot.
-_RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
-_FWDINV = int(mujoco.mjtEnableBit.mjENBL_FWDINV)
-# Steps after which MuJoCo's mj_checkAcc has seen data.qacc as it is left: not with RK4
-# (data.qacc is its last stage's), sleep (waking recomputes it) or the forward/inverse
-# comparison.
-_RECOMPUTES_QACC = int(mujoco.mjtEnableBit.mjENBL_SLEEP) | _FWDINV
-_VEL = int(mujoco.mjtStage.mjSTAGE_VEL)
 _LOG = logging.getLogger("mjcf.physics")  # its name before mjcf had layers
 
 # Attributes rebuilt for each MjModel/MjData: never copied between physics nor pickled.
@@ -88,7 +78,7 @@ _MADE_ON_FIRST_USE = ("_data", "_warnings")
 _SHARED = ("_compiled",)
 
 
-class Physics(StateAccess):
+class Physics(Stepping, StateAccess, Rendering):
     """A MuJoCo simulation: an MjModel, its MjData, and access to both by object and name.
 
         physics = Physics.from_xml_path("humanoid.xml")
@@ -122,7 +112,9 @@ class Physics(StateAccess):
 
     `legacy_step` (dm_control's flag, True by default) picks how `step()` leaves MjData: True,
     consistent with the new state; False, as a plain `mj_step` leaves it (see `step`). The
-    state accessors (`get_state`, `set_control`, `position` ...) are `StateAccess`'s.
+    state accessors (`get_state`, `set_control`, `position` ...) are `StateAccess`'s; `step`,
+    `forward`, `reset` and the freshness they keep are `Stepping`'s; `render` and `close` are
+    `Rendering`'s.
 
     Bindings, named access and frame bindings use it through `BoundPhysics`, the protocol
     `mjcf.sim.binding` defines and this class implements; validity checks call
@@ -269,52 +261,7 @@ class Physics(StateAccess):
         self._attach(model, None)
         self.__dict__.pop("_compiled", None)  # compiled from text: no composition to index
 
-    def bind(self, elements: Element | Iterable[Element] | None) -> Any:
-        """Live access to the simulation fields of model elements: `bind(joint).qpos`,
-        `bind(bodies).xpos`, `bind(actuators).ctrl = u` (see `mjcf.sim.binding`).
-
-        `elements` is one element (fields without the leading element axis), or a list,
-        tuple, numpy object array or any iterable of elements of one kind. No elements give
-        an empty binding whose fields read as empty arrays; None gives None. On a physics
-        compiled from the elements' model they are found by their compiled index, unnamed
-        ones too; otherwise (`from_xml_string(model.to_xml_string())`, `from_xml_path`,
-        `from_model` ...) by their full identifiers, as dm_control does. The binding is
-        made once and cached. Raises BindingError for elements the compiled model does not
-        have (naming them), removed elements, or mixed kinds."""
-        if elements is None:
-            return None
-        single = isinstance(elements, ElementType)
-        try:
-            key = elements if single else tuple(elements)
-        except TypeError:
-            raise errors.BindingError(
-                f"bind() takes an element or an iterable of elements, got {type(elements).__name__}"
-            ) from None
-        cached = self._element_bindings.get(key)
-        if cached is not None:
-            return cached
-        if not key:
-            return binding_module.EMPTY
-        items = [elements] if isinstance(elements, ElementType) else list(key)
-        found: binding_module.Binding | frame_binding.FrameBinding
-        frames = frame_binding.bind_frames(self, items, single)
-        if frames is not None:
-            found = frames
-        else:
-            compiled = self.__dict__.get("_compiled")
-            kind, ids = tree_binding.element_ids(compiled, self._model, items)
-            refusal = None if compiled is None else tree_binding.write_refusal(compiled, items)
-            if refusal is None:
-                found = self._binding(kind, int(ids[0]) if single else ids)
-            else:  # read-only, and apart from the cached bindings of these objects
-                found = binding_module.binding_class(kind)(
-                    self, kind, int(ids[0]) if single else ids
-                )
-                binding_module.refuse_writes(found, refusal)
-        self._element_bindings[key] = found
-        return found
-
-    # -- state ---------------------------------------------------------------------------
+    # -- the raw model and data ----------------------------------------------------------
 
     @property
     def model(self) -> mujoco.MjModel:
@@ -326,164 +273,7 @@ class Physics(StateAccess):
         """The raw mujoco.MjData (`.ptr` gives it too, as dm_control's wrapper does)."""
         return self._data
 
-    @property
-    def named(self) -> named.NamedAccess:
-        """Named indexing: `physics.named.data.qpos['hip']`, `.model.geom_rgba['floor']`,
-        `.data.xpos['torso', 'z']`."""
-        if self._named is None:
-            self._named = named.NamedAccess(self)
-        return self._named
-
-    @property
-    def is_dirty(self) -> bool:
-        """Whether state, controls or model fields were written through bindings or named
-        access since the last `forward()` or `step()`: whether a derived read forwards
-        first. dm_control keeps it set through a step; here a step clears it, since the
-        step leaves every derived quantity fresh (see `step`)."""
-        return bool(self._stale & WRITTEN)
-
-    def mark_as_dirty(self) -> None:
-        """Say the state changed behind the physics' back (e.g. written into `data`):
-        derived reads forward first and the next step starts with a full `mj_step`."""
-        self._stale |= STATE_WRITE
-
-    def step(self, nstep: int = 1) -> None:
-        """Advance the simulation by `nstep` timesteps; does not check divergence.
-
-        With `legacy_step` True (the default, as in dm_control) the step leaves MjData
-        consistent with the new state: positions, velocities, contacts, tendon lengths and
-        position/velocity sensors are computed after the last integration (mj_step2, then
-        mj_step1, as dm_control splits it; for RK4, the acceleration stage and
-        mj_RungeKutta). This costs nothing over `mj_step`: the next step continues from those
-        stages. Acceleration-dependent fields (qacc, actuator_force, contact forces, touch
-        and accelerometer sensors) are recomputed at the new state when first read through
-        a binding or named access, so they match mj_forward too, where dm_control's are one
-        step old (and its contact forces can belong to other contacts); raw `data` keeps
-        the last step's until then, so call `forward()` before reading those from it. The
-        state itself is bit for bit what `mj_step` gives.
-
-        With `legacy_step` False this is a plain `mj_step`: derived fields describe the state
-        before the last integration, as with `mujoco.mj_step` and Gymnasium's MuJoCo envs.
-
-        Raises StateError for `nstep` below 1.
-        """
-        model, data, opt = self._model, self._data, self._opt
-        if nstep < 1:
-            raise errors.StateError(f"nstep must be at least 1, got {nstep!r}")
-        rk4 = opt.integrator == _RK4
-        if not self.legacy_step:
-            mujoco.mj_step(model, data, nstep)
-            self._stale = LAGGING
-        else:
-            if self._stale & (POS_BEHIND | LAGGING):
-                # The position/velocity stages do not describe this state: start afresh.
-                mujoco.mj_step(model, data, nstep)
-            else:
-                if not rk4:
-                    mujoco.mj_step2(model, data)
-                elif opt.enableflags & _FWDINV:
-                    mujoco.mj_step(model, data)  # mj_step also compares forward and inverse
-                else:
-                    # mj_step2 has no RK4: finish this step's forward pass, then integrate.
-                    mujoco.mj_forwardSkip(model, data, _VEL, 0)
-                    mujoco.mj_checkAcc(model, data)
-                    mujoco.mj_RungeKutta(model, data, 4)
-                if nstep > 1:
-                    mujoco.mj_step(model, data, nstep - 1)
-            mujoco.mj_step1(model, data)  # positions and velocities: qacc stays the step's
-            self._stale = ACC_BEHIND
-        checked = not rk4 and not opt.enableflags & _RECOMPUTES_QACC
-        self._qacc_checked = self._stale if checked else None
-
-    def forward(self) -> None:
-        """Recompute every derived quantity from the state (mj_forward); clears is_dirty."""
-        mujoco.mj_forward(self._model, self._data)
-        self._computed()
-
-    def after_reset(self) -> None:
-        """dm_control's hook after a reset: forward with actuation disabled, so that no
-        actuator force is computed before a control was given. Acceleration-dependent
-        fields read through bindings are then recomputed with actuation."""
-        opt = self._opt
-        flags = opt.disableflags
-        opt.disableflags = flags | mujoco.mjtDisableBit.mjDSBL_ACTUATION
-        try:
-            mujoco.mj_forward(self._model, self._data)
-        finally:
-            opt.disableflags = flags
-        self._computed()
-        self._stale = ACC_BEHIND
-
-    def _computed(self) -> None:
-        """mj_forward just ran: compute the fields bindings asked for that MuJoCo computes
-        only on demand, and mark everything fresh."""
-        model, data = self._model, self._data
-        for compute in self._on_demand:
-            compute(model, data)
-        self._stale = 0
-        self._qacc_checked = None  # qacc is mj_forward's: no MuJoCo check saw it
-
-    def _refresh(self) -> None:
-        """Bring derived fields up to the state: the acceleration stage alone when only it
-        is behind (after a step, or a control write), else a whole mj_forward."""
-        model, data = self._model, self._data
-        if self._stale & (POS_BEHIND | LAGGING):
-            mujoco.mj_forward(model, data)
-        else:
-            mujoco.mj_forwardSkip(model, data, _VEL, 0)
-        self._computed()
-
-    def _compute_on_demand(self, field: str) -> None:
-        """A binding reads `field`, which MuJoCo computes only for sensors that need it:
-        compute it after every forward pass from now on (and now, if the data is fresh)."""
-        compute = getattr(mujoco, staleness.ON_DEMAND[field][1])
-        if compute not in self._on_demand:
-            self._on_demand = (*self._on_demand, compute)
-            if not self._stale & (POS_BEHIND | ACC_BEHIND):
-                compute(self._model, self._data)
-
-    def _update_constants(self, undo: Any, what: str) -> None:
-        """A model field mj_setConst reads was written: recompute the model constants
-        derived from it (see `mjcf.sim.set_const`). If MuJoCo refuses the new value,
-        call `undo`, restore the constants and raise BindingError."""
-        if self._scratch is None:
-            self._scratch = mujoco.MjData(self._model)
-        set_const.update(self._model, self._scratch, undo, what)
-
-    def reset(self, keyframe: int | str | None = None) -> None:
-        """Reset the state to qpos0, or to a keyframe (index or name), then forward.
-
-        Raises NotFoundError for a keyframe the model does not have.
-        """
-        self._reset_state(keyframe)
-        self.forward()
-
-    def _reset_state(self, keyframe: int | str | None) -> None:
-        """The state of qpos0 or a keyframe, its derived fields not computed yet (bindings
-        and named access compute them when first read)."""
-        if keyframe is None:
-            mujoco.mj_resetData(self._model, self._data)
-        else:
-            mujoco.mj_resetDataKeyframe(self._model, self._data, self._keyframe_id(keyframe))
-        self._stale = POS_BEHIND | ACC_BEHIND
-        self._qacc_checked = None
-
-    def _keyframe_id(self, keyframe: int | str) -> int:
-        nkey = self._model.nkey
-        names = fields.names(self._model, mujoco.mjtObj.mjOBJ_KEY)
-        if isinstance(keyframe, str):
-            key_id = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
-            if key_id < 0:
-                raise errors.NotFoundError(
-                    f"no keyframe named {keyframe!r}{errors.did_you_mean(keyframe, names)}; "
-                    f"keyframes: {list(names)}"
-                )
-            return key_id
-        if not 0 <= int(keyframe) < nkey:
-            raise errors.NotFoundError(
-                f"keyframe index {keyframe} is out of range: the model has {nkey} keyframes"
-            )
-        return int(keyframe)
+    # -- checked blocks ------------------------------------------------------------------
 
     def reset_context(
         self, keyframe: int | str | None = None
@@ -586,6 +376,51 @@ class Physics(StateAccess):
 
     # -- bindings ------------------------------------------------------------------------
 
+    def bind(self, elements: Element | Iterable[Element] | None) -> Any:
+        """Live access to the simulation fields of model elements: `bind(joint).qpos`,
+        `bind(bodies).xpos`, `bind(actuators).ctrl = u` (see `mjcf.sim.binding`).
+
+        `elements` is one element (fields without the leading element axis), or a list,
+        tuple, numpy object array or any iterable of elements of one kind. No elements give
+        an empty binding whose fields read as empty arrays; None gives None. On a physics
+        compiled from the elements' model they are found by their compiled index, unnamed
+        ones too; otherwise (`from_xml_string(model.to_xml_string())`, `from_xml_path`,
+        `from_model` ...) by their full identifiers, as dm_control does. The binding is
+        made once and cached. Raises BindingError for elements the compiled model does not
+        have (naming them), removed elements, or mixed kinds."""
+        if elements is None:
+            return None
+        single = isinstance(elements, ElementType)
+        try:
+            key = elements if single else tuple(elements)
+        except TypeError:
+            raise errors.BindingError(
+                f"bind() takes an element or an iterable of elements, got {type(elements).__name__}"
+            ) from None
+        cached = self._element_bindings.get(key)
+        if cached is not None:
+            return cached
+        if not key:
+            return binding_module.EMPTY
+        items = [elements] if isinstance(elements, ElementType) else list(key)
+        found: binding_module.Binding | frame_binding.FrameBinding
+        frames = frame_binding.bind_frames(self, items, single)
+        if frames is not None:
+            found = frames
+        else:
+            compiled = self.__dict__.get("_compiled")
+            kind, ids = tree_binding.element_ids(compiled, self._model, items)
+            refusal = None if compiled is None else tree_binding.write_refusal(compiled, items)
+            if refusal is None:
+                found = self._binding(kind, int(ids[0]) if single else ids)
+            else:  # read-only, and apart from the cached bindings of these objects
+                found = binding_module.binding_class(kind)(
+                    self, kind, int(ids[0]) if single else ids
+                )
+                binding_module.refuse_writes(found, refusal)
+        self._element_bindings[key] = found
+        return found
+
     def _binding(self, kind: mujoco.mjtObj, ids: int | np.ndarray) -> binding_module.Binding:
         """The binding of objects `ids` of `kind` (cached); raises BindingError.
 
@@ -616,63 +451,15 @@ class Physics(StateAccess):
             raise errors.NotFoundError(f"no {fields.kind_name(kind)} named {missing!r}{hint}")
         return self._binding(kind, ids[0] if single else np.array(ids, dtype=np.intp))
 
-    # -- rendering -----------------------------------------------------------------------
+    @property
+    def named(self) -> named.NamedAccess:
+        """Named indexing: `physics.named.data.qpos['hip']`, `.model.geom_rgba['floor']`,
+        `.data.xpos['torso', 'z']`."""
+        if self._named is None:
+            self._named = named.NamedAccess(self)
+        return self._named
 
-    def render(
-        self,
-        height: int = 240,
-        width: int = 320,
-        camera_id: int | str = -1,
-        depth: bool = False,
-        segmentation: bool = False,
-        scene_option: mujoco.MjvOption | None = None,
-    ) -> np.ndarray:
-        """An image of the current state: (h, w, 3) uint8 RGB, (h, w) float depth in meters,
-        or (h, w, 2) int32 segmentation (object id, object type).
-
-        camera_id -1 is the free camera; a camera id or name picks a model camera. Any
-        thread may render: one that finds the renderer's OpenGL context held by another
-        thread (which drew last and did not `mjcf.sim.rendering.release_context()`) draws with
-        a renderer of its own, kept until `close()`. Raises RenderError when no OpenGL
-        backend can be created or the request is invalid.
-        """
-        if self._stale & POS_BEHIND:
-            self._refresh()  # a picture of the state written, not of the one before
-        size = (int(height), int(width))
-        own = (size, threading.get_ident())  # a renderer this thread made for itself
-        renderer = self._renderers.get(own)
-        if renderer is None:
-            renderer = self._renderers.get(size)
-            if renderer is None:
-                renderer = self._renderers[size] = self._renderer(size)
-            try:
-                return rendering.render(
-                    renderer, self._data, camera_id, depth, segmentation, scene_option
-                )
-            except rendering.ContextBusyError:
-                # Its context is current in the thread that drew last (EGL's are current in
-                # one thread at a time): this thread draws with a renderer of its own.
-                renderer = self._renderers[own] = self._renderer(size)
-        try:
-            return rendering.render(
-                renderer, self._data, camera_id, depth, segmentation, scene_option
-            )
-        finally:
-            # Left current, its context would outlive the thread, and no other could free it.
-            rendering.release_context()
-
-    def _renderer(self, size: tuple[int, int]) -> mujoco.Renderer:
-        compiled = self.__dict__.get("_compiled")
-        return rendering.make_renderer(
-            self._model, *size, mjcf_xml=None if compiled is None else compiled.xml
-        )
-
-    def close(self) -> None:
-        """Free the renderers' OpenGL resources; the physics itself stays usable."""
-        renderers = self.__dict__.get("_renderers") or {}
-        for renderer in renderers.values():
-            rendering.close(renderer)
-        renderers.clear()
+    # -- release -------------------------------------------------------------------------
 
     def free(self) -> None:
         """Release the simulation: renderers, caches, and this physics' references to its
