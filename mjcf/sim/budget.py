@@ -144,8 +144,8 @@ def measure(xml: str, assets: Mapping[str, bytes]) -> Measure:
     `<replicate>` expanded, and the memory it asks for by number (images by their
     headers, found in `assets` or on disk by absolute path). Raises mjcf.ParseError for
     text that is not XML."""
-    counted = _counted(xml)
-    images = [(line, _image_bytes(names, assets)) for line, names in counted.images]
+    counted, image_files = _counted(xml)
+    images = [(line, _image_bytes(names, assets)) for line, names in image_files]
     image_bytes = sum(size for _, size in images)
     line, size = max([(counted.bytes_line, counted.bytes_count), *images], key=lambda x: x[1])
     return Measure(counted.elements, counted.bytes + image_bytes, counted.element_line,
@@ -153,14 +153,8 @@ def measure(xml: str, assets: Mapping[str, bytes]) -> Measure:
 
 
 class _Counted(NamedTuple):
-    elements: int
-    bytes: int
-    element_line: int
-    element_count: int
-    bytes_line: int
-    bytes_count: int
+    measure: Measure  # what the text asks, but the pixels of the images it names
     images: list[tuple[int, list[str]]]  # the image files of each texture and hfield, by line
-    crash_line: int
 
 
 @functools.lru_cache(maxsize=16)
@@ -224,8 +218,9 @@ def _counted(xml: str) -> _Counted:
         most_elements = max(most_elements, (keys, size.sourceline or 0))
         asked += extra
         most_bytes = max(most_bytes, (_declared_bytes(size, {}) + extra, size.sourceline or 0))
-    return _Counted(elements, asked, most_elements[1], most_elements[0], most_bytes[1],
-                    most_bytes[0], images, crash_line)  # fmt: skip
+    measured = Measure(elements, asked, most_elements[1], most_elements[0], most_bytes[1],
+                       most_bytes[0], crash_line)  # fmt: skip
+    return _Counted(measured, images)
 
 
 # The elements that ask MuJoCo for more than one element's work.
