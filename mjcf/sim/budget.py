@@ -23,7 +23,7 @@ from typing import NamedTuple
 from lxml import etree
 
 from mjcf import errors
-from mjcf.io import archives
+from mjcf.io import _limits, archives
 
 DEFAULT_ELEMENTS = 100_000
 DEFAULT_BYTES = 2 << 30
@@ -92,13 +92,14 @@ def current_budget() -> Budget:
     """The budget in force: `LIMITS` if a program set it, else the environment variables'
     (`MJCF_ELEMENT_LIMIT`; `MJCF_ALLOCATION_LIMIT` in bytes, or '4G' ...) over the
     defaults. Raises mjcf.BudgetError for a variable that is not a number."""
-    if LIMITS is not None:
-        return LIMITS
-    elements, size = os.environ.get(ELEMENTS_VARIABLE), os.environ.get(BYTES_VARIABLE)
     try:
-        return Budget(
-            int(elements) if elements else DEFAULT_ELEMENTS,
-            archives.parse_size(size) if size else DEFAULT_BYTES,
+        return _limits.in_force(
+            LIMITS,
+            Budget,
+            {
+                ELEMENTS_VARIABLE: (int, DEFAULT_ELEMENTS),
+                BYTES_VARIABLE: (archives.parse_size, DEFAULT_BYTES),
+            },
         )
     except (ValueError, errors.UnpackLimitError) as error:
         raise errors.BudgetError(
