@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import errors
 from mjcf.schema import ElementSpec
-from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest, suggest_child
 from mjcf.tree import debugging
 from mjcf.tree.element_list import OWN_SECTIONS, ElementList, attached_models
 from mjcf.tree.element_values import ALIASES, ElementValues, fill_new
@@ -251,7 +251,7 @@ class Element(ElementValues):
         known = list(spec.attributes) + list(spec.children)
         raise errors.UnknownAttributeError(
             f"{self.path}: <{spec.tag}> object has no attribute or child {name!r}"
-            + _values.suggest(name, known)
+            + suggest(name, known)
         )
 
     def __setattr__(self, name: str, value: Any) -> None:
@@ -291,7 +291,7 @@ class Element(ElementValues):
         """Raise mjcf.SchemaError: this element cannot have a `tag` child."""
         raise errors.SchemaError(
             f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
-            + _values.suggest_child(tag, self._spec.children)
+            + suggest_child(tag, self._spec.children)
             + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
             + f" (<{tag}> is not a valid child of <{self.tag}>)"
         )
