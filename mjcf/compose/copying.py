@@ -19,7 +19,7 @@ import numpy as np
 from mjcf import errors
 from mjcf.compose import attachment, global_settings
 from mjcf.compose.settings import same as _same
-from mjcf.schema import values as _values
+from mjcf.schema.tracked_array import track
 from mjcf.tree import assets, builder, bulk, references
 from mjcf.tree.assets import Asset
 from mjcf.tree.element import (
@@ -323,7 +323,7 @@ def _clone_into(source: Element, target: Element, memo: dict[int, Any], cloned: 
                 continue
             converted = True
             if hasattr(value, "shape"):
-                attrs[name] = _values.track(np.array(value), target)
+                attrs[name] = track(np.array(value), target)
             elif isinstance(value, Asset):
                 attrs[name] = assets.owned_copy(value, target)
             elif isinstance(value, list):

@@ -19,7 +19,8 @@ import numpy as np
 
 from mjcf import errors, schema
 from mjcf.compose import traversal
-from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest
+from mjcf.schema.tracked_array import track
 from mjcf.tree import builder
 from mjcf.tree.element import (
     Element,
@@ -180,10 +181,10 @@ def commit_defaults(element: Element, attributes: Iterable[str] | None = None) -
         attrs = builder.attributes_to_fill(target)
         for name, value in values.items():
             if name not in attrs:
-                attrs[name] = _values.track(value, target)
+                attrs[name] = track(value, target)
             else:
                 own = value_of(target, target.spec.attributes[name])
-                attrs[name] = _values.track(overlay(name, value, own), target)
+                attrs[name] = track(overlay(name, value, own), target)
         count_change(target)
     if whole_model and names is None:
         for model in models:
@@ -214,7 +215,7 @@ def _checked_names(element: Element, attributes: Iterable[str]) -> frozenset[str
         if name not in _DEFAULTABLE:
             raise errors.UnknownAttributeError(
                 f"{element.path}: commit_defaults: no default class sets an attribute "
-                f"{name!r}" + _values.suggest(str(name), _DEFAULTABLE)
+                f"{name!r}" + suggest(str(name), _DEFAULTABLE)
             )
     return names
 

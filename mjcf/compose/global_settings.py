@@ -19,7 +19,7 @@ import numpy as np
 
 from mjcf import errors, schema
 from mjcf.compose.settings import OWN_COMPILER_SETTINGS, capacity, same
-from mjcf.schema import values as _values
+from mjcf.schema.tracked_array import track
 from mjcf.tree import builder
 from mjcf.tree.element import (
     Element,
@@ -328,7 +328,7 @@ def copied(value: Any, owner: Element) -> Any:
     if type(value) is str:
         return value
     if isinstance(value, np.ndarray):
-        return _values.track(np.array(value), owner)
+        return track(np.array(value), owner)
     if isinstance(value, list):
         return list(value)
     return value
@@ -368,11 +368,11 @@ def unshare(model: RootElement, top: RootElement | None = None) -> None:
 
 def _reown(target: Element) -> None:
     """Arrays in `target`'s storage, which models leaving it may have put there, edited
-    in place count as changes of `target`'s model (see `mjcf.schema.values.track`)."""
+    in place count as changes of `target`'s model (see `mjcf.schema.tracked_array.track`)."""
     attrs = builder.attributes_to_fill(target)
     for name, value in attrs.items():
         if isinstance(value, np.ndarray):
-            attrs[name] = _values.track(value, target)
+            attrs[name] = track(value, target)
 
 
 def _alias(path: str, element: Element, target: Element) -> None:

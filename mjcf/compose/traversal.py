@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from mjcf import errors, schema
 from mjcf.compose import attachment
-from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest
 from mjcf.tree import bulk
 from mjcf.tree.element import tree_children
 from mjcf.tree.element_list import attached_models
@@ -127,6 +127,6 @@ def _check_namespace(namespace: str, allow_tags: bool) -> bool:
     known = sorted(schema.NAMESPACES | {ATTACHMENT_FRAME})
     raise errors.NamespaceError(
         f"{namespace!r} is not a valid namespace"
-        + _values.suggest(namespace, known)
+        + suggest(namespace, known)
         + f"; namespaces: {', '.join(known)}"
     )

@@ -20,6 +20,7 @@ import zlib
 from typing import IO, NamedTuple
 
 from mjcf import errors
+from mjcf.io import _limits
 
 # A zip of a few megabytes can unpack to gigabytes: deflate packs a run of zeros a
 # thousandfold, and an archive may hold many such entries. Model files, meshes and network
@@ -82,13 +83,14 @@ def current_limits() -> Limits:
     """The limits in force: `LIMITS` if a program set it, else the environment variables'
     (`MJCF_UNPACK_LIMIT` in bytes, or with a suffix: '2G', '500M'; `MJCF_UNPACK_RATIO`) over
     the defaults. Raises mjcf.UnpackLimitError for a variable that is not a size or ratio."""
-    if LIMITS is not None:
-        return LIMITS
-    size, ratio = os.environ.get(SIZE_VARIABLE), os.environ.get(RATIO_VARIABLE)
     try:
-        return Limits(
-            parse_size(size) if size else DEFAULT_SIZE,
-            parse_ratio(ratio) if ratio else DEFAULT_RATIO,
+        return _limits.in_force(
+            LIMITS,
+            Limits,
+            {
+                SIZE_VARIABLE: (parse_size, DEFAULT_SIZE),
+                RATIO_VARIABLE: (parse_ratio, DEFAULT_RATIO),
+            },
         )
     except errors.UnpackLimitError as error:
         raise errors.UnpackLimitError(

@@ -21,7 +21,7 @@ from lxml import etree
 
 from mjcf import errors, schema
 from mjcf.compose.defaults import LateDefault, overlay
-from mjcf.schema import values as _values
+from mjcf.schema.tracked_array import track
 from mjcf.tree import builder
 from mjcf.tree.element import Element, single_child, stored_attributes, tree_children, value_of
 
@@ -100,7 +100,7 @@ def _merge(main: Element, setting: Element) -> None:
         value = value_of(setting, attribute)
         if name in stored_attributes(existing):
             value = overlay(name, value_of(existing, attribute), value)
-        builder.attributes_to_fill(existing)[name] = _values.track(value, existing)
+        builder.attributes_to_fill(existing)[name] = track(value, existing)
 
 
 def _pin(
@@ -145,7 +145,7 @@ def _pin(
         builder.children_to_fill(default_class).insert(0, own)
     attrs = builder.attributes_to_fill(own)
     for name, value in pins.items():
-        attrs[name] = _values.track(value, own)
+        attrs[name] = track(value, own)
 
 
 def _partial(attribute: AttributeSpec, value: Any) -> bool:

@@ -21,6 +21,7 @@ from mjcf.compose import naming
 from mjcf.io import default_sections
 from mjcf.schema import AttributeSpec, ElementSpec
 from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest, suggest_child
 from mjcf.tree import assets as _assets
 from mjcf.tree import builder, debugging, references
 from mjcf.tree.element import Element, single_child, stored_attributes, tree_children
@@ -98,7 +99,7 @@ class ElementReader:
             if section is None:
                 raise errors.SchemaError(
                     f"{where(self.filename, xml_section)}: <mujoco> cannot have a <{tag}> child"
-                    + _values.suggest(tag, sections)
+                    + suggest(tag, sections)
                 )
             attrib = dict(xml_section.attrib)
             if tag == "default":
@@ -127,7 +128,7 @@ class ElementReader:
                     continue
                 raise errors.UnknownAttributeError(
                     f"{where(self.filename, xml)}: {element.path}: <{spec.tag}> has no attribute "
-                    f"{name!r}" + _values.suggest(name, attributes)
+                    f"{name!r}" + suggest(name, attributes)
                 )
             converter = attribute.converter
             if converter.names:
@@ -209,7 +210,7 @@ class ElementReader:
             if spec is None:
                 raise errors.SchemaError(
                     f"{where(filename, xml)}: {parent.path}: <{parent.tag}> cannot have a "
-                    f"<{tag}> child" + _values.suggest_child(tag, specs)
+                    f"<{tag}> child" + suggest_child(tag, specs)
                 )
             if tag == "replicate" or tag == "attach":
                 self.generated_names = True

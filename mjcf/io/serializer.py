@@ -13,19 +13,18 @@ other sections after the parent's, as `mjcf.compose.composition` says (names sco
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Protocol, cast
-
-import numpy as np
+from typing import TYPE_CHECKING, Protocol, cast
 
 from mjcf import errors
 from mjcf.compose import attachment, composition, defaults
+from mjcf.io.attribute_text import AttributeWriter
 from mjcf.io.file_names import FileNamer
 from mjcf.io.parser import MAX_DEPTH
 from mjcf.schema.values import escape
 from mjcf.tree import assets as _assets
 from mjcf.tree import bulk
 from mjcf.tree.builder import cache_text
-from mjcf.tree.element import stored_attributes, tree_children, value_of, written_empty
+from mjcf.tree.element import stored_attributes, tree_children, written_empty
 from mjcf.tree.root import own_version, section_of
 
 if TYPE_CHECKING:
@@ -166,8 +165,8 @@ def _refers_out(element: Element) -> bool:
     return False
 
 
-class _Writer:
-    """Accumulates XML fragments in `parts`."""
+class _Writer(AttributeWriter):
+    """Accumulates XML fragments in `parts` (the attributes' text: `AttributeWriter`)."""
 
     def __init__(
         self,
@@ -179,18 +178,13 @@ class _Writer:
         zero_threshold: float = 0.0,
         share_assets: bool = True,
     ) -> None:
+        composed = composition.composition_of(root, for_compile, share_assets)
+        super().__init__(precision, zero_threshold, files, composed)
         self.root = root
-        self.precision = precision
-        self.zero_threshold = zero_threshold
-        # Numbers are rewritten from their values, text read from files too, only when
-        # the output asks for fewer digits or for small numbers written as 0.
-        self.reformat = precision < 17 or zero_threshold > 0
         self.pretty = pretty_print
-        self.files = files
         self.for_compile = for_compile
         self.parts: list[str] = []
         self.owners: list[Element | None] = []  # the element each fragment (line) writes
-        self.composed = composition.composition_of(root, for_compile, share_assets)
         self._indents = _INDENTS if pretty_print else _NO_INDENTS
         self._newline_text = "\n" if pretty_print else ""
         self._writers: dict[composition.ModelContext, _Write] = {}
@@ -509,124 +503,7 @@ class _Writer:
         self.children(tree_children(frame.attached_model.worldbody), depth + 1, child_context)
         self._emit(f"{indent}</{tag}>{newline}")
 
-    def _own_name(self, element: Element, context: composition.ModelContext) -> str:
-        """' name="..."' for an element that MuJoCo names after its file, when its file
-        is written under another name; '' when it has a name of its own."""
-        identifier = element.spec.identifier
-        if identifier is None or identifier in stored_attributes(element):
-            return ""
-        name = element.identifier
-        if name is None:
-            return ""
-        return f' {identifier}="{escape(context.identifier_text(element, name))}"'
-
     def _check_required(self, element: Element) -> None:
         problem = element.spec.unmet(stored_attributes(element))
         if problem is not None:
             raise errors.AttributeValueError(f"{element.path}: {problem}")
-
-    # -- attributes -----------------------------------------------------------------------
-
-    def attributes(
-        self, element: Element, context: composition.ModelContext, override: dict | None = None
-    ) -> str:
-        """' name="value" ...' for the element's attributes as written in this output
-        (`override` replaces some; None values in it are left out)."""
-        return self._escaped_attributes(element, context, override)
-
-    def _escaped_attributes(
-        self, element: Element, context: composition.ModelContext, override: dict | None
-    ) -> str:
-        attrs = stored_attributes(element)
-        spec = element.spec
-        plain = context.plain
-        scoped = spec.scoped_attributes
-        special = spec.file_attributes
-        reformat = self.reformat
-        out = []
-        for name, value in attrs.items():
-            if override and name in override:
-                continue
-            if (
-                type(value) is str
-                and (plain or name not in scoped)
-                and name not in special
-                and not (reformat and spec.attributes[name].converter.reals)
-            ):
-                out.append(f' {name}="{escape(value)}"')
-            else:
-                text = self.value_text(element, spec.attributes[name], value, context)
-                out.append(f' {name}="{escape(text)}"')
-        if override:
-            identifier = spec.identifier
-            for name, value in override.items():
-                if value is None:
-                    continue
-                if name == identifier and name not in attrs:  # a generated name goes first
-                    out.insert(0, f' {name}="{escape(value)}"')
-                else:
-                    attribute = spec.attributes.get(name)
-                    if reformat and attribute is not None and attribute.converter.reals:
-                        value = self._number_text(attribute, value)
-                    out.append(f' {name}="{escape(value)}"')
-        return "".join(out)
-
-    def _escaped_value(
-        self, element: Element, name: str, value: object, context: composition.ModelContext
-    ) -> str:
-        return escape(self.value_text(element, element.spec.attributes[name], value, context))
-
-    def value_text(
-        self,
-        element: Element,
-        attribute: AttributeSpec,
-        value: Any,
-        context: composition.ModelContext,
-    ) -> str:
-        """The text of one attribute value in this output."""
-        converter = attribute.converter
-        if converter.scoped() and value == "":
-            return ""  # an empty name is no name: never scoped
-        if converter.refers:
-            return self._reference_text(element, attribute, value, context)
-        if converter.names:
-            return context.identifier_text(element, value)
-        if converter.files:
-            if value == "":  # no file, as MuJoCo reads it
-                return ""
-            if type(value) is str:  # resolve once, as reading the attribute would
-                value = value_of(element, attribute)
-            return self.files.name_for(element, attribute.name, value)
-        if self.reformat and converter.reals:
-            return self._number_text(attribute, value)
-        if type(value) is str:
-            return value
-        return attribute.converter.to_text(value, self.precision)
-
-    def _number_text(self, attribute: AttributeSpec, value: Any) -> str:
-        """Real numbers (a value, or text as read) written with `precision` digits,
-        those smaller in magnitude than `zero_threshold` as 0."""
-        if type(value) is str:
-            value = attribute.converter.from_text(value)
-        threshold = self.zero_threshold
-        if threshold > 0:
-            if isinstance(value, np.ndarray):
-                value = np.where(np.abs(value) < threshold, 0.0, value)
-            elif abs(value) < threshold:
-                value = 0.0
-        return attribute.converter.to_text(value, self.precision)
-
-    def _reference_text(
-        self,
-        element: Element,
-        attribute: AttributeSpec,
-        value: Any,
-        context: composition.ModelContext,
-    ) -> str:
-        if isinstance(value, list):
-            return " ".join(self._reference_text(element, attribute, v, context) for v in value)
-        if isinstance(value, str):
-            if attribute.is_list:
-                return " ".join(context.reference_text(attribute, v) for v in value.split())
-            return context.reference_text(attribute, value)
-        return self.composed.element_reference_text(element, attribute, value)

@@ -3,26 +3,30 @@
 Each `AttributeSpec` gets a converter from `converter_for`. A converter never sees the
 element: it raises `InvalidValue` saying what was expected, and the element adds its path
 and attribute name to make the user-facing `mjcf.AttributeValueError`. Stored values:
-single numbers are `int`/`float`, other numbers 1-D numpy arrays (the same array is
-returned to the user, so in-place edits change the model, as in dm_control), keywords and
-strings `str`, references `str` names or `Element`s, files `str` paths or `mjcf.Asset`s.
+single numbers are `int`/`float`, other numbers 1-D numpy arrays (the same `TrackedArray`
+is returned to the user, so in-place edits change the model, as in dm_control), keywords
+and strings `str`, references `str` names or `Element`s, files `str` paths or `mjcf.Asset`s.
 Text read from a file stays `str` until first read or changed, so parsing and writing a
 model never converts numbers it does not need to.
 """
 
 from __future__ import annotations
 
-import copy
 import math
 import numbers
 import re
 import struct
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any, Protocol, TypeVar, cast, overload
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from mjcf import errors
+# Tracked arrays and messages' suggestions have modules of their own; their names are
+# importable from here as they were.
+from mjcf.schema.suggestions import suggest as suggest
+from mjcf.schema.suggestions import suggest_child as suggest_child
+from mjcf.schema.tracked_array import TrackedArray as TrackedArray
+from mjcf.schema.tracked_array import track as track
 
 if TYPE_CHECKING:
     from mjcf.schema import AttributeSpec
@@ -45,58 +49,6 @@ class AssetBase:
     __slots__ = ()
 
 
-class _Owner(Protocol):
-    """What owns a tracked array: an element, told of every change."""
-
-    def _modified(self) -> None: ...
-
-
-_T = TypeVar("_T")
-
-
-class TrackedArray(np.ndarray):
-    """The array an element returns for a numeric attribute: editing it in place edits
-    the model, and counts as a change of the model (see `RootElement.version`)."""
-
-    _owner: _Owner | None = None
-
-    def __array_finalize__(self, obj: object) -> None:
-        # A view of the stored array edits the model too; other derived arrays do not.
-        self._owner = getattr(obj, "_owner", None) if self.base is obj else None
-
-    def __setitem__(self, key: Any, value: Any) -> None:
-        super().__setitem__(key, value)
-        owner = self._owner
-        if owner is not None:
-            owner._modified()
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        constructor, arguments, state = cast(tuple, super().__reduce__())  # an ndarray's: 3 items
-        return constructor, arguments, (state, self._owner)
-
-    def __setstate__(self, state: tuple) -> None:
-        array_state, owner = state
-        super().__setstate__(array_state)
-        self._owner = owner
-
-    def __deepcopy__(self, memo: dict[int, Any] | None) -> TrackedArray:
-        new = np.array(self).view(TrackedArray)
-        new._owner = copy.deepcopy(self._owner, memo)
-        return new
-
-
-@overload
-def track(value: np.ndarray, owner: _Owner) -> TrackedArray: ...
-@overload
-def track(value: _T, owner: _Owner) -> _T: ...
-def track(value: object, owner: _Owner) -> object:
-    """`value`, as a `TrackedArray` owned by `owner` if it is an array."""
-    if isinstance(value, np.ndarray):
-        value = value.view(TrackedArray)
-        value._owner = owner
-    return value
-
-
 def format_number(value: float, precision: int = 17) -> str:
     """Shortest text that reads back as exactly `value` (precision 17), or `precision`
     significant digits; integral values without a trailing '.0'."""
@@ -117,25 +69,6 @@ def escape(text: str) -> str:
     if '"' in text:
         text = text.replace('"', "&quot;")
     return text
-
-
-def suggest(word: str, choices: Iterable[str]) -> str:
-    """' (did you mean 'x'?)' for the closest choice, or ''."""
-    return errors.did_you_mean(word, choices, n=1)
-
-
-# Elements older MuJoCo had (dm_control's schema still has them), with what replaces them.
-_REMOVED_ELEMENTS = {
-    "composite": "MuJoCo 4 has no <composite>: build the object with <flexcomp> (cables, "
-    "cloth, soft bodies), or with bodies (nested for a chain, <replicate> for copies)",
-}
-
-
-def suggest_child(tag: str, allowed: Iterable[str]) -> str:
-    """What to say of child `tag` an element cannot have: what replaces an element
-    MuJoCo removed, else the closest allowed tag (see `suggest`)."""
-    removed = _REMOVED_ELEMENTS.get(tag)
-    return f" ({removed})" if removed else suggest(tag, allowed)
 
 
 # MuJoCo reads numbers as C's strtod and strtol do: decimal or hexadecimal reals,

@@ -21,12 +21,19 @@ import mujoco
 import numpy as np
 
 from mjcf import errors
-from mjcf.sim import fields, staleness
+from mjcf.sim import binding_index, fields, staleness
+from mjcf.sim.binding_index import Key, split_index
+
+# Where bound values are (rows, columns) and the empty binding have modules of their own;
+# their names are importable from here as they were.
+from mjcf.sim.binding_index import column_key as column_key
+from mjcf.sim.binding_index import resolve_columns as resolve_columns
+from mjcf.sim.empty_binding import EMPTY as EMPTY
+from mjcf.sim.empty_binding import EmptyBinding as EmptyBinding
 
 if TYPE_CHECKING:
     from mjcf.sim.physics import Physics
 
-Key = int | slice | tuple | np.ndarray
 Effect = staleness.Effect
 
 # Bits of `BoundPhysics._stale` (kept by the physics; defined here, where reads and writes
@@ -209,42 +216,6 @@ class WriteThrough(np.ndarray):
         return repr(self.view(np.ndarray))
 
 
-def column_key(target: Target, columns: Any) -> Key:
-    """The key into `target.array` for `columns` (index, slice, list, axis names) of the
-    bound rows; raises BindingError for a field without columns or an unknown name."""
-    array, key, field = target.array, target.key, target.field
-    if array.ndim < 2:
-        raise errors.BindingError(f"'{field.name}' has no columns to index: each row is one number")
-    cols = resolve_columns(field, columns)
-    if isinstance(key, int):  # one object, one row
-        return (key, cols)
-    if isinstance(key, np.ndarray) and isinstance(cols, np.ndarray):
-        return np.ix_(key, cols)
-    return (key, cols)
-
-
-def resolve_columns(field: fields.Field, columns: Any) -> Any:
-    """Column names of `field` ('x', ['x', 'z']) as indices; ints and slices pass through."""
-    if isinstance(columns, str):
-        return _column_index(field, columns)
-    if isinstance(columns, list | tuple | np.ndarray):
-        items = list(np.asarray(columns, dtype=object).reshape(-1))
-        if any(isinstance(item, str) for item in items):
-            return np.array([_column_index(field, str(item)) for item in items], dtype=np.intp)
-        return np.asarray(columns)
-    return columns
-
-
-def _column_index(field: fields.Field, name: str) -> int:
-    names = fields.column_names(field.name)
-    if names is None or name not in names:
-        valid = f"its columns are {list(names)}" if names else "its columns have no names"
-        raise errors.BindingError(
-            f"'{field.name}' has no column named {name!r}: {valid}; index columns by number"
-        )
-    return names.index(name)
-
-
 class _Entry(NamedTuple):
     """What a binding keeps of one field, made at its first read (see `Binding._entry`)."""
 
@@ -333,28 +304,8 @@ class Binding:
     def __init__(self, physics: Physics, kind: mujoco.mjtObj, ids: int | np.ndarray) -> None:
         """Validate ids; raises BindingError if empty, duplicated or out of range."""
         model = physics._model
-        single = np.ndim(ids) == 0
-        array = np.atleast_1d(np.asarray(ids))
-        name = fields.kind_name(kind)
-        if array.size == 0:
-            raise errors.BindingError(f"cannot bind an empty list of {name}s")
-        if array.ndim != 1 or not np.issubdtype(array.dtype, np.integer):
-            raise errors.BindingError(
-                f"{name} ids must be an int or a 1-D list of ints, got {ids!r}"
-            )
-        n = fields.count(model, kind)
-        bad = array[(array < 0) | (array >= n)]
-        if bad.size:
-            raise errors.BindingError(
-                f"{name} id {int(bad[0])} is out of range: the model has {n} {name}s"
-            )
-        if np.unique(array).size != array.size:
-            raise errors.BindingError(
-                f"{name} ids must not repeat (writes would race), got {array.tolist()}"
-            )
-        self.__setstate__(
-            {"physics": physics, "kind": kind, "ids": array.astype(np.intp), "single": single}
-        )
+        array, single = binding_index.checked_ids(model, kind, ids)
+        self.__setstate__({"physics": physics, "kind": kind, "ids": array, "single": single})
         object.__setattr__(self, "_model", model)
         object.__setattr__(self, "_data", physics._data)
         physics._live_bindings.add(self)  # so that the physics can `_detach` us
@@ -464,31 +415,13 @@ class Binding:
 
     def _key(self, field: fields.Field, wide: bool) -> Key:
         """The index into `field`'s first axis for the bound ids (cached per address scheme
-        and whether rows are arrays, `wide`, or numbers)."""
-        address = field.address
-        key = self._keys.get((address, wide))
-        if key is not None:
-            return key
-        rows, counts = fields.row_index(self._model, address, self._ids)
-        one_row_each = address is None or address.one_each
-        if address is not None and address.one_each and not counts.all():
-            missing = self._ids[counts == 0]
-            names = fields.names(self._model, self._kind)
-            mocap = " (they are not mocap bodies)" if address.start == "body_mocapid" else ""
-            raise errors.BindingError(
-                f"{fields.kind_name(self._kind)} "
-                f"{', '.join(repr(names[i] or i) for i in missing)} own no rows of "
-                f"'{field.name}' (indexed by {address.start}){mocap}"
+        and whether rows are arrays, `wide`, or numbers); raises BindingError."""
+        key = self._keys.get((field.address, wide))
+        if key is None:
+            key = binding_index.row_key(
+                self._model, self._kind, self._ids, self._single, field, wide
             )
-        if one_row_each and (counts == 1).all():
-            # One row each: index like a per-object field; a single object drops the axis.
-            # An int indexes a row of a 2-D field fastest (a view); a 1-D field needs
-            # (row, ...) to give a 0-d view rather than a detached scalar.
-            row = int(rows[0])
-            key = _compact(rows) if not self._single else row if wide else (row, Ellipsis)
-        else:
-            key = _compact(rows)
-        self._keys[(address, wide)] = key
+            self._keys[(field.address, wide)] = key
         return key
 
     def _detach(self) -> None:
@@ -521,7 +454,7 @@ class Binding:
     def __getitem__(self, index: str | tuple[str, Any]) -> np.ndarray:
         """dm_control's `binding['pos']` and `binding['pos', columns]`: columns by index,
         slice, list or name ('x', ['x', 'z']). Raises BindingError as attribute access."""
-        name, columns = _split_index(index)
+        name, columns = split_index(index)
         if columns is None:
             return getattr(self, name)
         self._check_field(name)
@@ -536,7 +469,7 @@ class Binding:
 
     def __setitem__(self, index: str | tuple[str, Any], value: Any) -> None:
         """Write `binding['pos'] = v` or `binding['pos', ['x', 'z']] = v` through."""
-        name, columns = _split_index(index)
+        name, columns = split_index(index)
         self._check_field(name)
         try:
             self._entry(name).target.write(value, columns)
@@ -570,64 +503,6 @@ class Binding:
             f"{fields.kind_name(self._kind)} bindings have no field '{name}'{hint}; "
             f"valid fields: {', '.join(valid)} (full MjModel/MjData names work too)"
         )
-
-
-class EmptyBinding:
-    """What binding no elements gives (`physics.bind([])`): every field reads as an empty
-    array, and only empty values can be written (a no-op: `()`, `[]`, an empty array);
-    writing any other raises BindingError, as dm_control refuses every write."""
-
-    __slots__ = ()
-
-    @property
-    def element_id(self) -> np.ndarray:
-        """No ids: an empty int array."""
-        return np.zeros(0, dtype=np.intp)
-
-    def __getattr__(self, name: str) -> np.ndarray:
-        if name.startswith("__"):
-            raise AttributeError(name)
-        return np.zeros(0)
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if np.size(value) != 0:  # dm_control's words, which its code and tests expect
-            raise errors.BindingError("Cannot assign a value to an empty binding.")
-
-    def __getitem__(self, index: Any) -> np.ndarray:
-        return np.zeros(0)
-
-    def __setitem__(self, index: Any, value: Any) -> None:
-        name, _ = _split_index(index)
-        self.__setattr__(str(name), value)
-
-    def __repr__(self) -> str:
-        return "<EmptyBinding of no elements>"
-
-
-EMPTY = EmptyBinding()
-
-
-def _split_index(index: Any) -> tuple[Any, Any]:
-    if isinstance(index, tuple):
-        if len(index) != 2:
-            raise errors.BindingError(
-                f"index a binding as binding['field'] or binding['field', columns], got {index!r}"
-            )
-        return index
-    return index, None
-
-
-def _compact(rows: np.ndarray) -> slice | np.ndarray:
-    """A slice (a view when read) if `rows` ascend by a constant step, else the index array."""
-    if rows.size == 0:
-        return slice(0, 0)
-    start = int(rows[0])
-    if rows.size == 1:
-        return slice(start, start + 1)
-    step = int(rows[1]) - start
-    if step > 0 and (np.diff(rows) == step).all():
-        return slice(start, int(rows[-1]) + 1, step)
-    return rows
 
 
 def _field_property(name: str) -> property:

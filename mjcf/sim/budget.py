@@ -23,7 +23,7 @@ from typing import NamedTuple
 from lxml import etree
 
 from mjcf import errors
-from mjcf.io import archives
+from mjcf.io import _limits, archives
 
 DEFAULT_ELEMENTS = 100_000
 DEFAULT_BYTES = 2 << 30
@@ -92,13 +92,14 @@ def current_budget() -> Budget:
     """The budget in force: `LIMITS` if a program set it, else the environment variables'
     (`MJCF_ELEMENT_LIMIT`; `MJCF_ALLOCATION_LIMIT` in bytes, or '4G' ...) over the
     defaults. Raises mjcf.BudgetError for a variable that is not a number."""
-    if LIMITS is not None:
-        return LIMITS
-    elements, size = os.environ.get(ELEMENTS_VARIABLE), os.environ.get(BYTES_VARIABLE)
     try:
-        return Budget(
-            int(elements) if elements else DEFAULT_ELEMENTS,
-            archives.parse_size(size) if size else DEFAULT_BYTES,
+        return _limits.in_force(
+            LIMITS,
+            Budget,
+            {
+                ELEMENTS_VARIABLE: (int, DEFAULT_ELEMENTS),
+                BYTES_VARIABLE: (archives.parse_size, DEFAULT_BYTES),
+            },
         )
     except (ValueError, errors.UnpackLimitError) as error:
         raise errors.BudgetError(
@@ -144,8 +145,8 @@ def measure(xml: str, assets: Mapping[str, bytes]) -> Measure:
     `<replicate>` expanded, and the memory it asks for by number (images by their
     headers, found in `assets` or on disk by absolute path). Raises mjcf.ParseError for
     text that is not XML."""
-    counted = _counted(xml)
-    images = [(line, _image_bytes(names, assets)) for line, names in counted.images]
+    counted, image_files = _counted(xml)
+    images = [(line, _image_bytes(names, assets)) for line, names in image_files]
     image_bytes = sum(size for _, size in images)
     line, size = max([(counted.bytes_line, counted.bytes_count), *images], key=lambda x: x[1])
     return Measure(counted.elements, counted.bytes + image_bytes, counted.element_line,
@@ -153,14 +154,8 @@ def measure(xml: str, assets: Mapping[str, bytes]) -> Measure:
 
 
 class _Counted(NamedTuple):
-    elements: int
-    bytes: int
-    element_line: int
-    element_count: int
-    bytes_line: int
-    bytes_count: int
+    measure: Measure  # what the text asks, but the pixels of the images it names
     images: list[tuple[int, list[str]]]  # the image files of each texture and hfield, by line
-    crash_line: int
 
 
 @functools.lru_cache(maxsize=16)
@@ -224,8 +219,9 @@ def _counted(xml: str) -> _Counted:
         most_elements = max(most_elements, (keys, size.sourceline or 0))
         asked += extra
         most_bytes = max(most_bytes, (_declared_bytes(size, {}) + extra, size.sourceline or 0))
-    return _Counted(elements, asked, most_elements[1], most_elements[0], most_bytes[1],
-                    most_bytes[0], images, crash_line)  # fmt: skip
+    measured = Measure(elements, asked, most_elements[1], most_elements[0], most_bytes[1],
+                       most_bytes[0], crash_line)  # fmt: skip
+    return _Counted(measured, images)
 
 
 # The elements that ask MuJoCo for more than one element's work.

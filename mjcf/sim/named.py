@@ -21,7 +21,7 @@ import numpy as np
 
 from mjcf import errors
 from mjcf.sim import binding as binding_module
-from mjcf.sim import fields, staleness
+from mjcf.sim import binding_index, fields, staleness
 
 if TYPE_CHECKING:
     from mjcf.sim.physics import Physics
@@ -246,7 +246,7 @@ class FieldIndexer:
 
     def _columns(self, key: Any) -> Any:
         try:
-            return binding_module.resolve_columns(self._field, key)
+            return binding_index.resolve_columns(self._field, key)
         except errors.BindingError as e:
             raise errors.NotFoundError(str(e)) from None
 

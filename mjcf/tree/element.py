@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, TypeVar, cast
 
 from mjcf import errors
 from mjcf.schema import ElementSpec
-from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest, suggest_child
 from mjcf.tree import debugging
 from mjcf.tree.element_list import OWN_SECTIONS, ElementList, attached_models
 from mjcf.tree.element_values import ALIASES, ElementValues, fill_new
@@ -34,9 +34,9 @@ _E = TypeVar("_E", bound="Element")
 
 class Element(ElementValues):
     """An MJCF element. Create elements with `parent.add(tag, **attributes)`. One class in
-    four files: this one (what an element is: its slots, its place in the tree, its
-    children, its name in its model's scope), `ElementValues` (its attributes),
-    `ElementChecks` (the checks of names and rules) and `ModelOperations` (finding,
+    five files: this one (what an element is: its slots, its place in the tree, its
+    children), `ElementValues` (its attributes), `ElementChecks` (the checks of names and
+    rules), `ElementNames` (its name in its model's scope) and `ModelOperations` (finding,
     removing, attaching, copying, writing: done above the tree, see `mjcf.tree.above`).
 
     Reading: mjcf's modules read an element through `spec`, `parent`, `root` and
@@ -198,6 +198,13 @@ class Element(ElementValues):
         an ancestor, or, for an attachment frame, by detaching its model)."""
         return self is not self._root and not self._is_registered()
 
+    def _is_registered(self) -> bool:
+        """Whether this element is part of its model's tree (not removed)."""
+        element: Element = self
+        while element._parent is not None:
+            element = element._parent
+        return element is self._root
+
     @property
     def identifier(self) -> str | None:
         """This element's name (its class for a default), or the name MuJoCo gives
@@ -251,7 +258,7 @@ class Element(ElementValues):
         known = list(spec.attributes) + list(spec.children)
         raise errors.UnknownAttributeError(
             f"{self.path}: <{spec.tag}> object has no attribute or child {name!r}"
-            + _values.suggest(name, known)
+            + suggest(name, known)
         )
 
     def __setattr__(self, name: str, value: Any) -> None:
@@ -291,7 +298,7 @@ class Element(ElementValues):
         """Raise mjcf.SchemaError: this element cannot have a `tag` child."""
         raise errors.SchemaError(
             f"{self.path}: <{self.tag}> cannot have a <{tag}> child"
-            + _values.suggest_child(tag, self._spec.children)
+            + suggest_child(tag, self._spec.children)
             + (f"; allowed: {', '.join(self._spec.children)}" if self._spec.children else "")
             + f" (<{tag}> is not a valid child of <{self.tag}>)"
         )
@@ -416,67 +423,6 @@ class Element(ElementValues):
         """(tag, stored attributes) of each child in this element's own tree, for the
         checks of what crashes MuJoCo (`ElementChecks._check_crash`)."""
         return [(child._spec.tag, child._attrs) for child in self._children]
-
-    # -- its name in its model's scope (which `mjcf.tree.namescope` keeps) ----------------
-
-    # The children of an element whose class sets this False (an attachment frame's
-    # joints) are named within it, not among their model's names (see
-    # mjcf.compose.attachment).
-    _names_children_in_model = True
-
-    def _named_in_model(self) -> bool:
-        """Whether this element's name is one of its model's names: not for a child of
-        an attachment frame, whose name is its own within the frame."""
-        parent = self._parent
-        return parent is None or parent._names_children_in_model
-
-    def _check_free_in_parent(self, name: str) -> None:
-        """Raise mjcf.NameClashError if another child of this element's parent has
-        `name` in the same namespace (for names kept within their parent)."""
-        parent = self._parent
-        assert parent is not None, "named within its parent"
-        for sibling in parent._children:
-            if (
-                sibling is not self
-                and sibling.spec.namespace == self._spec.namespace
-                and sibling.identifier == name
-            ):
-                raise errors.NameClashError(
-                    f"{self.path}: the name {name!r} is already used by another "
-                    f"{self._spec.namespace} of {parent.path}: {sibling.path}"
-                )
-
-    def _is_registered(self) -> bool:
-        """Whether this element is part of its model's tree (not removed)."""
-        element: Element = self
-        while element._parent is not None:
-            element = element._parent
-        return element is self._root
-
-    def _register(self) -> None:
-        """Record this element's name in its model's scope; raises mjcf.NameClashError
-        if another element has it."""
-        namespace = self._spec.namespace
-        if namespace is None:
-            return
-        if not self._named_in_model():
-            if self.identifier:
-                self._check_free_in_parent(self.identifier)
-            return
-        name = self.identifier
-        if name:  # an empty name (kept where MuJoCo requires the attribute) is no name
-            self._root.namescope.add(namespace, name, self, self._implicit())
-
-    def _implicit(self) -> bool:
-        return self._spec.identifier is not None and self._attrs.get(self._spec.identifier) is None
-
-    def _unregister_subtree(self) -> None:
-        scope = self._root.namescope
-        for element in self.iter():
-            namespace = element.spec.namespace
-            name = element.identifier
-            if namespace is not None and name is not None and element._named_in_model():
-                scope.remove(namespace, name, element)
 
     def __dir__(self) -> list[str]:
         names = set(super().__dir__())

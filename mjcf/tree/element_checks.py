@@ -1,5 +1,5 @@
 """The checks an element makes before a change: of a name (valid, free in its model's
-scope, which `mjcf.tree.namescope` keeps and is told of a rename) and of the rules
+scope, which `mjcf.tree.element_names` keeps the element in) and of the rules
 between values (at most one orientation of a body ...: MuJoCo's reader's rules; what
 crashes MuJoCo, see `mjcf.schema._refusals`). A part of `Element` (see
 `mjcf.tree.element`); each raises the `mjcf.Error` that says what is wrong, before
@@ -8,12 +8,12 @@ anything changes.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING, Any, cast
 
 from mjcf import errors
-from mjcf.tree.model_operations import ModelOperations
-from mjcf.tree.namescope import NAMED_AFTER_FILE, check_identifier, name_from_file
+from mjcf.tree.element_names import ElementNames
+from mjcf.tree.namescope import check_identifier
 
 if TYPE_CHECKING:
     from mjcf.schema import ElementSpec
@@ -26,7 +26,7 @@ def _element(checks: ElementChecks) -> Element:
     return cast("Element", checks)
 
 
-class ElementChecks(ModelOperations):
+class ElementChecks(ElementNames):
     """The checks of an element's names and rules; a base of `Element`, not used alone."""
 
     __slots__ = ()
@@ -38,13 +38,8 @@ class ElementChecks(ModelOperations):
         _attrs: dict[str, Any]
 
         @property
-        def identifier(self) -> str | None: ...
-        @property
         def path(self) -> str: ...
-        def iter(self) -> Iterator[Element]: ...
         def _is_registered(self) -> bool: ...
-        def _named_in_model(self) -> bool: ...
-        def _check_free_in_parent(self, name: str) -> None: ...
         def _children_attributes(self) -> list[tuple[str, Mapping[str, Any]]]: ...
 
     def _check_name(self, name: str) -> None:
@@ -66,33 +61,6 @@ class ElementChecks(ModelOperations):
             self._root.namescope.check_free(namespace, name, _element(self), renaming=True)
         else:
             self._check_free_in_parent(name)
-
-    def _rename(self, new_name: str | None) -> None:
-        namespace = self._spec.namespace
-        if namespace is None or not self._is_registered():
-            return
-        if not self._named_in_model():
-            if new_name is not None:
-                self._check_free_in_parent(new_name)
-            return
-        scope = self._root.namescope
-        scope.rename(namespace, self.identifier, new_name, _element(self))
-        if new_name is None and self._spec.tag in NAMED_AFTER_FILE:
-            implicit = name_from_file(self._attrs.get("file"))
-            if implicit is not None:
-                scope.add(namespace, implicit, _element(self), implicit=True)
-
-    def _rename_after_file(self, file_value: object) -> None:
-        namespace = self._spec.namespace  # an asset's: never None
-        if namespace is None or self._attrs.get("name") is not None or not self._is_registered():
-            return
-        scope = self._root.namescope
-        old = self.identifier
-        if old is not None:
-            scope.remove(namespace, old, _element(self))
-        new = name_from_file(file_value)
-        if new is not None:
-            scope.add(namespace, new, _element(self), implicit=True)
 
     def _check_crash(self, setting: list[str]) -> None:
         """Raise mjcf.SchemaError if setting the attributes `setting` makes this element,

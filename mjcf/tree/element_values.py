@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any, cast
 
 from mjcf import errors
 from mjcf.schema import values as _values
+from mjcf.schema.suggestions import suggest
+from mjcf.schema.tracked_array import track
 from mjcf.schema.values import ElementBase
 from mjcf.tree import assets, references
 from mjcf.tree.element_checks import ElementChecks
@@ -55,7 +57,7 @@ class ElementValues(ElementChecks):
         attribute = spec.attributes.get(ALIASES.get(name, name))
         if attribute is None:
             known = [*spec.attributes, "dclass" if "class" in spec.attributes else ""]
-            suggestion = _values.suggest(name, [k for k in known if k])
+            suggestion = suggest(name, [k for k in known if k])
             if action == "give":
                 problem = f"{name!r} is not a valid attribute of <{spec.tag}>{suggestion}"
             elif action == "read":
@@ -80,7 +82,7 @@ class ElementValues(ElementChecks):
             converted = self._convert(attribute, value, from_text=True)
             if converted is None:  # blank text, which MuJoCo reads as not set
                 return None
-            value = _values.track(converted, self)
+            value = track(converted, self)
             self._attrs[attribute.name] = value
         elif converter.refers:
             value = references.read(_element(self), attribute, value, self._attrs)
@@ -122,7 +124,7 @@ class ElementValues(ElementChecks):
             if self._attrs.pop(name, None) is not None:
                 self._modified()
             return
-        stored = _values.track(value, self)
+        stored = track(value, self)
         converter = attribute.converter
         if converter.names:
             self._check_name(stored)
@@ -158,7 +160,7 @@ class ElementValues(ElementChecks):
             if value is None:
                 converted.append((attribute, None))
                 continue
-            stored = _values.track(self._convert(attribute, value), self)
+            stored = track(self._convert(attribute, value), self)
             if stored is None:
                 converted.append((attribute, None))
                 continue

@@ -52,9 +52,16 @@ REACHING: dict[str, tuple[frozenset[str], bool, str]] = {
         "a fifth of writing an unchanged model (bench parse: write_ms)",
     ),
     "element": (
-        frozenset({"_version"}),
+        frozenset({"_version", "_register"}),
         True,
-        "counts each change of an element in its model's version, on every set",
+        "counts each change of an element in its model's version, on every set; records a "
+        "new child's name (`_register`: mjcf.tree.element_names, a part of Element)",
+    ),
+    "element_names": (
+        frozenset({"_children"}),
+        False,
+        "a part of Element: checks a name kept within its parent against the parent's "
+        "other children",
     ),
     "namescope": (
         frozenset({"_resolve"}),

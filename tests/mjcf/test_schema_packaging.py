@@ -15,10 +15,11 @@ from mjcf import schema
 from tests.conftest import INSTALLED_PACKAGES, REPO, gym_model
 
 # The schema, the refusals applied on top of it when it loads (what crashes MuJoCo), and
-# the attribute values it is made of (the bottom layer of mjcf).
+# the attribute values it is made of, with their arrays and messages' suggestions (the
+# bottom layer of mjcf).
 RUNTIME_SCHEMA = {
     "mjcf/schema/__init__.py", "mjcf/schema/_refusals.py", "mjcf/schema/mjcf_schema.json",
-    "mjcf/schema/values.py",
+    "mjcf/schema/values.py", "mjcf/schema/tracked_array.py", "mjcf/schema/suggestions.py",
 }  # fmt: skip
 
 
