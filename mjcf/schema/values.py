@@ -90,9 +90,16 @@ def track(value: np.ndarray, owner: _Owner) -> TrackedArray: ...
 @overload
 def track(value: _T, owner: _Owner) -> _T: ...
 def track(value: object, owner: _Owner) -> object:
-    """`value`, as a `TrackedArray` owned by `owner` if it is an array."""
+    """`value`, as a `TrackedArray` owned by `owner` if it is an array (the same memory).
+
+    The new array's base is never another `TrackedArray`: numpy's garbage collector support
+    does not see an array's base, so a tracked view of a tracked array would hold that
+    array, and through its owner the whole model, unseen, and the model, a cycle of
+    references, would never be freed."""
     if isinstance(value, np.ndarray):
-        value = value.view(TrackedArray)
+        if type(value) is TrackedArray and value._owner is owner:
+            return value  # tracked by `owner` already
+        value = np.asarray(value).view(TrackedArray)  # asarray: a plain view of its memory
         value._owner = owner
     return value
 
