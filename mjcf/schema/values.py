@@ -92,10 +92,12 @@ def track(value: _T, owner: _Owner) -> _T: ...
 def track(value: object, owner: _Owner) -> object:
     """`value`, as a `TrackedArray` owned by `owner` if it is an array (the same memory).
 
-    The new array's base is never another `TrackedArray`: numpy's garbage collector support
-    does not see an array's base, so a tracked view of a tracked array would hold that
-    array, and through its owner the whole model, unseen, and the model, a cycle of
-    references, would never be freed."""
+    An array `owner` tracks already is returned as it is, and another tracked array is
+    viewed through a plain view of the memory beneath it: numpy does not show an array's
+    base to the garbage collector, so a tracked view of a tracked array would hold that
+    array, and through its owner the whole model, unseen, and the model (a cycle of
+    references) would never be freed. (An unpickled tracked array owns its memory, so a
+    view of it holds it still.)"""
     if isinstance(value, np.ndarray):
         if type(value) is TrackedArray and value._owner is owner:
             return value  # tracked by `owner` already
