@@ -5,11 +5,9 @@
     assets = {m.file.get_vfs_filename(): m.file.contents for m in model.find_all('mesh')}
     mujoco.MjModel.from_xml_string(model.to_xml_string(), assets)   # Menagerie's recipe
 
-Files (model and included files too) are found as MuJoCo finds them (`file_path`) and read
-on first use, if regular and at most `FILE_SIZE_LIMIT` bytes, else mjcf.AssetError; the
-latest read are kept, `FILE_CACHE_LIMIT` bytes in all. Files given as `assets={'a.stl':
-data}` replace disk files of that name. Each has one plain name.
-"""
+Files, included ones too, are found as MuJoCo finds them (`file_path`) and read on first use, if
+regular and at most `FILE_SIZE_LIMIT` bytes (else mjcf.AssetError), the latest kept up to
+`FILE_CACHE_LIMIT` bytes; `assets={'a.stl': data}` replace disk files. Each has one plain name."""
 
 from __future__ import annotations
 
