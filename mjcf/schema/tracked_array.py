@@ -56,8 +56,17 @@ def track(value: np.ndarray, owner: _Owner) -> TrackedArray: ...
 @overload
 def track(value: _T, owner: _Owner) -> _T: ...
 def track(value: object, owner: _Owner) -> object:
-    """`value`, as a `TrackedArray` owned by `owner` if it is an array."""
+    """`value`, as a `TrackedArray` owned by `owner` if it is an array (the same memory).
+
+    An array `owner` tracks already is returned as it is, and another tracked array is
+    viewed through a plain view of the memory beneath it: numpy does not show an array's
+    base to the garbage collector, so a tracked view of a tracked array would hold that
+    array, and through its owner the whole model, unseen, and the model (a cycle of
+    references) would never be freed. (An unpickled tracked array owns its memory, so a
+    view of it holds it still.)"""
     if isinstance(value, np.ndarray):
-        value = value.view(TrackedArray)
+        if type(value) is TrackedArray and value._owner is owner:
+            return value  # tracked by `owner` already
+        value = np.asarray(value).view(TrackedArray)  # asarray: a plain view of its memory
         value._owner = owner
     return value

@@ -290,6 +290,18 @@ class _Renderer(mujoco.Renderer):
 
     _drawn_in: threading.Thread | None = None
 
+    def __init__(self, model: mujoco.MjModel, height: int, width: int) -> None:
+        try:
+            super().__init__(model, height, width)
+        except BaseException:
+            # MuJoCo does not free what it made in the OpenGL context before failing to make
+            # its render context there (a 10,000 x 10,000 framebuffer's buffers hold 1.5 GB
+            # on Mesa): the context is destroyed, never kept for reuse, which frees them.
+            if self._gl_context is not None and self._mjr_context is None:
+                self._gl_context.spoiled = True
+                self.close()
+            raise
+
     def abandon(self) -> None:
         """Keep this renderer's contexts unfreed until the process ends (another thread
         holds its OpenGL context, so they cannot be freed from this one), and empty it, so
@@ -421,7 +433,8 @@ def _egl_reuse(base: type) -> dict[str, Any]:
     to the next renderers: MuJoCo's first render context in an OpenGL context costs 120-140
     ms on Mesa's software rasterizer (its shaders are compiled then), a later one 7 ms, so a
     renderer made after a recompile costs 10 ms instead of 150. An EGL context has no size
-    and keeps no MuJoCo state once its renderer freed its render context."""
+    and keeps no MuJoCo state once its renderer freed its render context; one marked
+    `spoiled` (a render context failed in it) is destroyed instead."""
     egl = importlib.import_module("mujoco.egl")
 
     def __new__(cls: type, max_width: int, max_height: int) -> Any:
@@ -448,7 +461,7 @@ def _egl_reuse(base: type) -> dict[str, Any]:
             for slot in [slot for slot, shared in _group_contexts.items() if shared is self]:
                 del _group_contexts[slot]
         context = getattr(self, "_context", None)
-        if context and egl.EGL_DISPLAY is not None:
+        if context and egl.EGL_DISPLAY is not None and not getattr(self, "spoiled", False):
             with _idle_lock:
                 idle = _idle_contexts.setdefault(type(self), [])
                 if len(idle) < _IDLE_CONTEXTS:

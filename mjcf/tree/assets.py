@@ -5,16 +5,16 @@
     assets = {m.file.get_vfs_filename(): m.file.contents for m in model.find_all('mesh')}
     mujoco.MjModel.from_xml_string(model.to_xml_string(), assets)   # Menagerie's recipe
 
-Files (model and included files too) are found as MuJoCo finds them (`file_path`) and read
-on first use, if regular and at most `FILE_SIZE_LIMIT` bytes, else mjcf.AssetError. Files
-given as `assets={'a.stl': data}` replace disk files of that name. Each has one plain name.
-"""
+Files, included ones too, are found as MuJoCo finds them (`file_path`) and read on first use, if
+regular and at most `FILE_SIZE_LIMIT` bytes (else mjcf.AssetError), the latest kept up to
+`FILE_CACHE_LIMIT` bytes; `assets={'a.stl': data}` replace disk files. Each has one plain name."""
 
 from __future__ import annotations
 
 import copy
 import hashlib
 import os
+import threading
 from stat import S_ISREG
 from typing import IO, TYPE_CHECKING
 
@@ -35,7 +35,13 @@ BY_PATH = frozenset({"model"})
 # place, and so would a compile after it with none. Compiling gives such a mesh its file
 # under a name of its own values (tests/mjcf/test_mesh_cache.py checks the list).
 NOT_IN_MESH_CACHE_KEY = frozenset({"vertex", "normal", "texcoord", "face"})
+# Files read, by path: (mtime, size, contents), least recently read first, up to
+# FILE_CACHE_LIMIT bytes in all (a process that reads thousands of mesh files, one
+# model's after another, keeps the latest, not all); the oldest are read again if needed.
+FILE_CACHE_LIMIT = 256 << 20
 _file_cache: dict[str, tuple[int, int, bytes]] = {}
+_file_cache_bytes = 0
+_file_cache_lock = threading.Lock()
 # The most bytes mjcf reads of one model file or asset, or lets MuJoCo read: a larger
 # file is refused (mjcf.AssetError) rather than read until memory runs out. Raise it for
 # larger textures or height fields.
@@ -114,12 +120,22 @@ class Asset(AssetBase):
 
 
 def _read(path: str) -> bytes:
+    global _file_cache_bytes
     stat = check_file(path)
-    cached = _file_cache.get(path)
-    if cached is not None and cached[0] == stat.st_mtime_ns and cached[1] == stat.st_size:
-        return cached[2]
+    with _file_cache_lock:
+        cached = _file_cache.pop(path, None)
+        if cached is not None:
+            if cached[0] == stat.st_mtime_ns and cached[1] == stat.st_size:
+                _file_cache[path] = cached  # now the latest read
+                return cached[2]
+            _file_cache_bytes -= len(cached[2])
     data = read_file(path)
-    _file_cache[path] = (stat.st_mtime_ns, stat.st_size, data)
+    with _file_cache_lock:
+        if path not in _file_cache and len(data) <= FILE_CACHE_LIMIT:
+            while _file_cache and _file_cache_bytes + len(data) > FILE_CACHE_LIMIT:
+                _file_cache_bytes -= len(_file_cache.pop(next(iter(_file_cache)))[2])
+            _file_cache[path] = (stat.st_mtime_ns, stat.st_size, data)
+            _file_cache_bytes += len(data)
     return data
 
 

@@ -480,3 +480,21 @@ def test_textures_left_by_reference_compile_from_an_export_as_the_physics_compil
     mjcf.export_with_assets(model, out)
     exported = mujoco.MjModel.from_xml_path(str(out / "model.xml"))
     assert model_differences(exported, physics.model) == []
+
+
+def test_files_read_are_kept_up_to_a_limit_and_read_again_after(monkeypatch, tmp_path) -> None:
+    """A process that writes models of thousands of mesh files (a data set of objects, one
+    scene after another) keeps the latest read, `FILE_CACHE_LIMIT` bytes in all, not every
+    file it ever read; a file no longer kept is read again, as it is on disk then."""
+    monkeypatch.setattr(mjcf.tree.assets, "FILE_CACHE_LIMIT", 10_000)
+    files = [tmp_path / f"part{i}.stl" for i in range(30)]
+    for i, file in enumerate(files):
+        file.write_bytes(bytes([i]) * 1_000)
+    assets = [mjcf.Asset(None, ".stl", prefix=file.stem, path=str(file)) for file in files]
+    assert [asset.contents for asset in assets] == [file.read_bytes() for file in files]
+    kept = mjcf.tree.assets._file_cache
+    assert sum(len(contents) for _, _, contents in kept.values()) <= 10_000
+    assert str(files[-1]) in kept and str(files[0]) not in kept
+    assert assets[0].contents == files[0].read_bytes()
+    files[-1].write_bytes(b"changed")
+    assert assets[-1].contents == b"changed"

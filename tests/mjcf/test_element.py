@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import gc
 import pickle
 
 import numpy as np
@@ -55,6 +56,45 @@ def test_in_place_array_edits_change_the_model(arm: mjcf.RootElement) -> None:
     body.pos[2] = 2.5
     assert 'pos="0 0 2.5"' in body.to_xml_string()
     assert arm.version > version
+
+
+def _models_named(name: str) -> int:
+    gc.collect()
+    return sum(1 for o in gc.get_objects() if type(o) is mjcf.RootElement and o.model == name)
+
+
+def test_a_model_nothing_holds_is_freed_however_its_arrays_were_given() -> None:
+    """Elements and their arrays refer to each other, a cycle Python's collector frees
+    only if it sees every reference; numpy's arrays hide their base from it, so an array
+    kept as a view of another element's array would keep the model, and all it holds,
+    alive for good (every environment made and closed in a training loop)."""
+
+    def build() -> None:
+        model = mjcf.from_xml_string(
+            '<mujoco model="dropped"><default><joint damping="2"/></default>'
+            '<default><joint axis="0 1 0"/></default><worldbody>'  # merged into the first
+            '<body name="b" pos="0 0 1"><joint name="j"/>'
+            '<geom name="g" type="capsule" size="0.1"/></body>'
+            "</worldbody></mujoco>"
+        )
+        body = model.find("body", "b")
+        body.pos[2] = 2.0  # read from text, edited in place
+        body.add("site", name="s", pos=[0, 0, 1], quat=np.array([1.0, 0, 0, 0]))
+        model.find("joint", "j").set_attributes(axis=[0, 1, 0], range=[-1, 1])
+        model.find("geom", "g").fromto = [0, 0, 0, *body.pos]
+        model.find("site", "s").set_attributes(pos=model.find("joint", "j").axis)
+        mjcf.commit_defaults(model)
+        model.compile_model()
+        child = mjcf.RootElement(model="child")
+        child.visual.headlight.set_attributes(ambient=[0.4, 0.4, 0.4], diffuse=[0.8, 0.8, 0.8])
+        child.worldbody.add("geom", size=[0.1])
+        model.find("site", "s").attach(child).detach()  # the child's settings shared, then its own
+        model.compile_model()
+
+    before = _models_named("dropped")
+    for _ in range(3):
+        build()
+    assert _models_named("dropped") == before
 
 
 def test_class_is_dclass(arm: mjcf.RootElement) -> None:

@@ -150,3 +150,22 @@ def test_a_renderer_made_after_a_recompile_reuses_an_opengl_context_and_draws_th
     fresh = mjcf.Physics.from_mjcf_model(ant)
     np.testing.assert_array_equal(reused, fresh.render(64, 64))
     assert fresh._renderers[(64, 64)]._gl_context is not used
+
+
+def test_a_context_a_renderer_failed_in_is_freed_not_reused(ant):
+    """MuJoCo leaves in the OpenGL context what it made before failing to make its render
+    context there (1.5 GB of buffers for a 10,000 x 10,000 frame on Mesa): that context is
+    destroyed, which frees them, and never handed to a later renderer."""
+    if rendering.backend() != "egl":
+        pytest.skip("OpenGL contexts are reused on EGL only")
+    physics = mjcf.Physics.from_mjcf_model(ant)
+    first = physics.render(64, 64)
+    kept = physics._renderers[(64, 64)]._gl_context
+    physics.reload_from_mjcf_model(ant)  # closes the renderer: its context is kept for reuse
+    with pytest.raises(mjcf.RenderError, match="framebuffer"):
+        physics.render(1, 100_000)  # wider than any OpenGL buffer: fails in the kept context
+    idle = [context for kept_ones in rendering._idle_contexts.values() for context in kept_ones]
+    assert all(context is not kept for context in idle)
+    assert kept._context is None  # destroyed (EGL's GLContext.free)
+    np.testing.assert_array_equal(physics.render(64, 64), first)
+    assert physics._renderers[(64, 64)]._gl_context is not kept

@@ -13,6 +13,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+import mjcf
 import tasks  # noqa: F401 - registers the composer/* ids
 from tests.conftest import REPO
 
@@ -95,3 +96,21 @@ def test_no_memory_growth_over_steps_and_resets() -> None:
     tracemalloc.stop()
     env.close()
     assert after - before < 256 * 1024, f"Python memory grew by {after - before} bytes"
+
+
+def test_environments_made_and_closed_in_a_loop_are_freed() -> None:
+    """A job that makes and closes environments (a sweep, restarts) frees each with its MJCF
+    models: none is left once they are closed."""
+
+    def live_models() -> int:
+        gc.collect()
+        return sum(1 for o in gc.get_objects() if isinstance(o, mjcf.RootElement))
+
+    before = live_models()
+    for env_id in (ENV_ID, "composer/Reach-v0", "dm_control/walker-walk-v0") * 2:
+        env = gym.make(env_id)
+        env.reset(seed=0)
+        env.step(env.action_space.sample())
+        env.close()
+    del env
+    assert live_models() == before
