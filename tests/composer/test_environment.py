@@ -175,6 +175,22 @@ def test_a_step_runs_without_mujocos_profiling_timer_and_puts_it_back():
     assert _step_timer(plain)[1] > before  # and after a step that raised
 
 
+def test_a_step_without_the_timer_gives_the_numbers_of_a_timed_one(monkeypatch):
+    def entries(trajectory: list) -> list:
+        """(observation, reward) of each entry; a reset's observation with reward None."""
+        return [(e, None) if isinstance(e, dict) else e for e in trajectory]
+
+    untimed = entries(rollout(make_env(substeps=3, time_limit=1.0), seed=4))
+    monkeypatch.setattr(composer.environment.timer, "untimed", lambda call, *args: call(*args))
+    timed = entries(rollout(make_env(substeps=3, time_limit=1.0), seed=4))
+    assert len(untimed) == len(timed) > 100  # through a time-limit reset
+    for (obs, reward), (timed_obs, timed_reward) in zip(untimed, timed, strict=True):
+        assert reward == timed_reward
+        assert {k: v.tobytes() for k, v in obs.items()} == {
+            k: v.tobytes() for k, v in timed_obs.items()
+        }
+
+
 def test_reset_without_model_change_does_not_recompile():
     env = make_env()
     model, data = env.physics.model, env.physics.data
