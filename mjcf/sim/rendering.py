@@ -39,7 +39,8 @@ def make_renderer(
     place of the render settings `model` leaves to MuJoCo's defaults (`mjcf_xml`: the MJCF
     text it was compiled from, which says which it sets; None: a value other than MuJoCo's
     default counts as set). Raises RenderError when the size exceeds a framebuffer the model
-    sets or no OpenGL context can be made (naming the fix)."""
+    sets or the OpenGL implementation can make, or no OpenGL context can be made (naming
+    the fix)."""
     name = backend()
     chosen = fitted_settings(model, height, width, mjcf_xml)
     budget = render_meshes.face_budget(height, width) if _small(height, width) else None
@@ -57,7 +58,12 @@ def make_renderer(
         raise errors.RenderError(str(e)) from e
     except _NoContextError as e:
         raise errors.RenderError(_explicit_failure(name, str(e))) from e
-    except (ImportError, OSError, RuntimeError, AttributeError, mujoco.FatalError) as e:
+    except mujoco.FatalError as e:
+        if _INCOMPLETE_FRAMEBUFFER not in str(e):
+            raise errors.RenderError(_explicit_failure(name, f"FatalError: {e}")) from e
+        samples = chosen.get("quality.offsamples", _read(model, "quality.offsamples"))
+        raise errors.RenderError(_framebuffer_failure(name, height, width, samples, e)) from e
+    except (ImportError, OSError, RuntimeError, AttributeError) as e:
         raise errors.RenderError(_explicit_failure(name, f"{type(e).__name__}: {e}")) from e
 
 
@@ -502,6 +508,28 @@ def _glfw_reason(details: str) -> str:
     ):
         return "GLFW needs a display and $DISPLAY is not set"
     return details or "GLFW made no OpenGL context"
+
+
+# What MuJoCo's FatalError says when OpenGL made a context but not the frame's buffers.
+_INCOMPLETE_FRAMEBUFFER = "Offscreen framebuffer is not complete"
+
+
+def _framebuffer_failure(
+    name: str, height: int, width: int, samples: int, error: mujoco.FatalError
+) -> str:
+    """Why a frame of `height` x `width` drawn with `samples` multisamples got no buffers
+    (the context itself was made: the backend is not at fault)."""
+    multisampled = (
+        f" Drawn with {samples} samples a pixel (`<visual><quality offsamples>`), a frame "
+        "needs that many times the memory of one: offsamples=\"0\" draws larger ones."
+        if samples > 0 else ""
+    )  # fmt: skip
+    return (
+        f"a frame of {height} x {width} pixels (height x width) cannot be drawn with "
+        f"MUJOCO_GL={name!r}: its OpenGL implementation made no offscreen framebuffer that "
+        f"large (MuJoCo: {error}). Each side can be at most the implementation's "
+        f"GL_MAX_RENDERBUFFER_SIZE (16384 on Mesa); render a smaller frame.{multisampled}"
+    )
 
 
 def _explicit_failure(name: str, reason: str) -> str:

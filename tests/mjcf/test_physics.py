@@ -296,8 +296,13 @@ def test_render_without_a_display_names_the_fix(tmp_path):
 
 def test_render_request_errors():
     physics = Physics.from_xml_path(HUMANOID)
-    with pytest.raises(errors.RenderError, match="framebuffer"):
+    with pytest.raises(errors.RenderError, match="framebuffer") as raised:
         physics.render(1, 100_000)  # wider than any OpenGL buffer (10,000 x 10,000 is 1.5 GB)
+    # The size is at fault, not the backend, which made its context.
+    message = str(raised.value)
+    assert message.startswith("a frame of 1 x 100000 pixels (height x width) cannot be drawn")
+    assert "GL_MAX_RENDERBUFFER_SIZE" in message and "offsamples" in message
+    assert "Unset MUJOCO_GL" not in message and "apt-get" not in message
 
 
 @pytest.mark.parametrize(
