@@ -183,6 +183,13 @@ def test_the_suite_comparison_runs_ours_the_floor_envpool_and_gymnasium(tmp_path
         )
         assert size["vector"]["threads"] in counts and size["envpool"]["threads"] in counts
         assert size["vector_default_threads"] in counts
+        # What the floor goal leaves beyond MuJoCo's batch loop, and what ours spends there.
+        batch = size["batch"]["cpu_us"]
+        room = (size["floor"]["cpu_us"] / 0.95 - batch) * num_envs
+        assert size["room_us_a_call"] == pytest.approx(room)
+        ours = (size["vector"]["cpu_us"] - batch) * num_envs
+        assert size["ours_over_batch_us_a_call"] == pytest.approx(ours)
+    assert "room_us_a_call" in entry["output"]
 
 
 def test_the_suite_comparison_refuses_a_task_that_is_not_registered():
