@@ -394,7 +394,9 @@ class Environment(gymnasium.Env):
         self._reset_next_step = True
         for attempt in range(1, self._max_reset_attempts + 1):
             try:
-                started = self._reset_attempt()
+                # Untimed as a step is: an initialization's settling steps (cheetah's 200)
+                # run at C MuJoCo's speed, to the same numbers.
+                started = timer.untimed(self._reset_attempt)
             except EpisodeInitializationError as e:
                 if attempt == self._max_reset_attempts:
                     raise

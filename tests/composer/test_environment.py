@@ -191,6 +191,35 @@ def test_a_step_without_the_timer_gives_the_numbers_of_a_timed_one(monkeypatch):
         }
 
 
+class _SettlingSwing(SwingTask):
+    """Starts at a random angle, then lets the pendulum fall for 20 physics steps, as
+    cheetah's initialization settles it for 200."""
+
+    def initialize_episode(self, physics: mjcf.Physics, random_state: np.random.RandomState):
+        super().initialize_episode(physics, random_state)
+        for _ in range(20):
+            physics.step()
+
+
+def test_a_reset_settles_without_mujocos_profiling_timer_to_the_numbers_of_a_timed_one(
+    monkeypatch,
+):
+    env = composer.Environment(_SettlingSwing())
+    first, _ = env.reset(seed=3)  # a reset zeroes MjData's timers, then settles
+    count, duration = _step_timer(env.physics.data)
+    assert count >= 20 and duration == 0.0  # the settling steps ran, untimed
+    plain = mujoco.MjData(env.physics.model)
+    mujoco.mj_step(env.physics.model, plain)
+    assert _step_timer(plain)[1] > 0  # the timer is back after the reset
+    monkeypatch.setattr(composer.environment.timer, "untimed", lambda call, *args: call(*args))
+    timed = composer.Environment(_SettlingSwing())
+    timed_first, _ = timed.reset(seed=3)
+    assert _step_timer(timed.physics.data)[1] > 0  # this one was timed
+    assert {k: v.tobytes() for k, v in first.items()} == {
+        k: v.tobytes() for k, v in timed_first.items()
+    }
+
+
 def test_reset_without_model_change_does_not_recompile():
     env = make_env()
     model, data = env.physics.model, env.physics.data
