@@ -24,7 +24,8 @@ from typing import Any
 
 
 class WorkerError(RuntimeError):
-    """A side raised in its process; the message holds its traceback."""
+    """A side raised in its process (the message holds its traceback), or the process
+    died (the message names the side and its exit code or signal)."""
 
 
 def _serve(module_name: str, side: str, connection: Connection) -> None:
@@ -69,8 +70,17 @@ class Worker:
         child.close()
 
     def _call(self, *message: Any) -> Any:
-        self._connection.send(message)
-        status, reply = self._connection.recv()
+        try:
+            self._connection.send(message)
+            status, reply = self._connection.recv()
+        except (BrokenPipeError, ConnectionResetError, EOFError):
+            self._process.join(timeout=5)
+            code = self._process.exitcode
+            how = f"killed by signal {-code}" if code is not None and code < 0 else (
+                f"exit code {code}")  # fmt: skip
+            raise WorkerError(
+                f"side {self.side!r}'s process died ({how}) before answering {message[0]!r}"
+            ) from None
         if status == "error":
             raise WorkerError(f"side {self.side!r} raised:\n{reply}")
         return reply

@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
 import shutil
+import signal
 
 import pytest
 
@@ -86,6 +88,19 @@ def test_a_side_that_raises_in_its_process_raises_with_its_traceback():
     try:
         with pytest.raises(WorkerError, match="KeyError: 'no_such_side'"):
             worker.build(1, 1)
+    finally:
+        worker.close()
+
+
+def test_a_side_whose_process_dies_is_named_with_its_signal():
+    worker = Worker("bench.vector_sides", "no_such_side")
+    try:
+        worker.drop()  # the process is up and answering
+        os.kill(worker._process.pid, signal.SIGSEGV)
+        worker._process.join(timeout=30)
+        with pytest.raises(WorkerError, match=r"side 'no_such_side'.s process died \(killed by "
+                           r"signal 11\) before answering 'round'"):  # fmt: skip
+            worker.round(1)
     finally:
         worker.close()
 
