@@ -96,10 +96,10 @@ def test_a_side_whose_process_dies_is_named_with_its_signal():
     worker = Worker("bench.vector_sides", "no_such_side")
     try:
         worker.drop()  # the process is up and answering
-        os.kill(worker._process.pid, signal.SIGSEGV)
+        os.kill(worker._process.pid, signal.SIGKILL)
         worker._process.join(timeout=30)
         with pytest.raises(WorkerError, match=r"side 'no_such_side'.s process died \(killed by "
-                           r"signal 11\) before answering 'round'"):  # fmt: skip
+                           r"signal 9\) before answering 'round'"):  # fmt: skip
             worker.round(1)
     finally:
         worker.close()
