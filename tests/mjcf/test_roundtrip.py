@@ -12,8 +12,8 @@ import pytest
 
 import mjcf
 from tests.conftest import GYM_ASSETS, MENAGERIE, MUJOCO_TESTDATA, ROBOTIQ, UR5E, gym_model
+from tests.mjcf.attaching import differences_from_alone
 from tests.mjcf.compare import model_differences, trajectories_match
-from tests.mjcf.test_attachment import differences_from_alone
 
 SHIPPED = sorted(GYM_ASSETS.glob("*.xml")) + sorted(MUJOCO_TESTDATA.glob("*.xml"))
 ROBOTS = sorted(MENAGERIE.glob("*/*.xml"))

@@ -13,7 +13,7 @@ import pytest
 
 import mjcf
 from tests.conftest import UR5E, gym_model
-from tests.mjcf.test_attachment import differences_from_alone
+from tests.mjcf.attaching import differences_from_alone
 
 Obj = mujoco.mjtObj
 
